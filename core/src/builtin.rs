@@ -1,0 +1,301 @@
+//! Built-in scenes, usable by firmware with no files: the chapter's two pictures, the
+//! interference screen, and a showcase of every geometry and material kind.
+//!
+//! Each scene type has exactly the capacities it uses.
+
+use crate::camera::Camera;
+use crate::color::Color;
+use crate::error::Error;
+use crate::geometry::{Aabb, Plane, Sphere, Triangle};
+use crate::light::PointLight;
+use crate::material::Material;
+use crate::sample::Sampler;
+use crate::scene::{Scene, SceneView};
+use crate::texture::Texture;
+use crate::tile::RenderSettings;
+use crate::vec::Vec3;
+
+/// The chapter's pictures: four spheres on a floor, one light.
+pub type ChapterScene = Scene<4, 1, 0, 0, 5, 1>;
+/// The interference screen: one plane, one material, no light.
+pub type InterferenceScene = Scene<0, 1, 0, 0, 1, 0>;
+/// The showcase: every geometry and material kind.
+pub type ShowcaseScene = Scene<3, 2, 4, 2, 8, 2>;
+
+/// The built-in scenes, by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Builtin {
+    /// The chapter's first picture: direct light only.
+    ChapterDirect,
+    /// The chapter's second picture: one level of mirror reflection (the default).
+    ChapterReflect,
+    /// Young's interference fringes on a screen.
+    Interference,
+    /// Every geometry and material kind.
+    Showcase,
+}
+
+impl Builtin {
+    /// Every built-in scene.
+    pub const ALL: [Self; 4] = [
+        Self::ChapterDirect,
+        Self::ChapterReflect,
+        Self::Interference,
+        Self::Showcase,
+    ];
+
+    /// The default scene (the chapter's second picture).
+    pub const DEFAULT: Self = Self::ChapterReflect;
+
+    /// The scene's name (`chapter-direct`, `chapter-reflect`, `interference`,
+    /// `showcase`).
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::ChapterDirect => "chapter-direct",
+            Self::ChapterReflect => "chapter-reflect",
+            Self::Interference => "interference",
+            Self::Showcase => "showcase",
+        }
+    }
+
+    /// The scene called `name`, if any.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|b| b.name() == name)
+    }
+
+    /// The settings the scene is meant to be rendered with.
+    #[must_use]
+    pub fn settings(self) -> RenderSettings {
+        let (sampler, max_depth) = match self {
+            Self::ChapterDirect => (Sampler::Centre, 0),
+            Self::ChapterReflect => (Sampler::Centre, 1),
+            Self::Interference => (Sampler::Centre, 0),
+            Self::Showcase => (Sampler::Centre, 5),
+        };
+        RenderSettings {
+            sampler,
+            max_depth,
+            seed: 0,
+        }
+    }
+
+    /// Builds the scene (on the stack) and hands its view and camera to `f`.
+    pub fn with_scene<R>(self, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Result<R, Error> {
+        Ok(match self {
+            Self::ChapterDirect => {
+                let s = chapter_direct()?;
+                f(&s.view(), s.camera())
+            }
+            Self::ChapterReflect => {
+                let s = chapter_reflect()?;
+                f(&s.view(), s.camera())
+            }
+            Self::Interference => {
+                let s = interference()?;
+                f(&s.view(), s.camera())
+            }
+            Self::Showcase => {
+                let s = showcase()?;
+                f(&s.view(), s.camera())
+            }
+        })
+    }
+}
+
+/// The chapter's spheres; `mirror` gives the red sphere a slight and the green one a
+/// strong mirror reflectivity.
+fn chapter(mirror: bool) -> Result<ChapterScene, Error> {
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 1.8, 7.0),
+        Vec3::new(0.0, 0.9, 0.0),
+        Vec3::Y,
+        0.1,
+        100.0,
+    )?;
+    let mut s = ChapterScene::new(cam);
+    s.set_ambient(Color::splat(0.12))?;
+    s.set_background(Color::new(0.08, 0.09, 0.14))?;
+    let shiny = |c: Color| Material::matte(c).with_specular(0.4, 48.0);
+    let floor = s.add_material(Material::matte(Color::splat(0.75)))?;
+    let blue = s.add_material(shiny(Color::new(0.1, 0.25, 0.95))?)?;
+    let (red_k, green_k) = if mirror { (0.15, 0.8) } else { (0.0, 0.0) };
+    let red = s.add_material(
+        shiny(Color::new(0.9, 0.15, 0.1))?
+            .with_diffuse(1.0 - red_k)?
+            .with_reflectivity(red_k)?,
+    )?;
+    let green = s.add_material(
+        shiny(Color::new(0.15, 0.8, 0.2))?
+            .with_diffuse(1.0 - green_k)?
+            .with_reflectivity(green_k)?,
+    )?;
+    let yellow = s.add_material(shiny(Color::new(0.95, 0.8, 0.1))?)?;
+    s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y)?, floor)?;
+    s.add_sphere(Sphere::try_new(Vec3::new(0.0, 1.0, 0.0), 1.0)?, blue)?;
+    s.add_sphere(Sphere::try_new(Vec3::new(-2.3, 0.8, 0.4), 0.8)?, red)?;
+    s.add_sphere(Sphere::try_new(Vec3::new(2.2, 0.9, -0.3), 0.9)?, green)?;
+    s.add_sphere(Sphere::try_new(Vec3::new(0.9, 0.35, 1.9), 0.35)?, yellow)?;
+    // The white light above the blue sphere.
+    s.add_light(PointLight::try_new(
+        Vec3::new(0.0, 7.0, 1.0),
+        Color::WHITE,
+        40.0,
+    )?)?;
+    Ok(s)
+}
+
+/// The chapter's first picture: direct illumination only, a white light above the
+/// blue sphere.
+pub fn chapter_direct() -> Result<ChapterScene, Error> {
+    chapter(false)
+}
+
+/// The chapter's second picture: direct and one level of indirect illumination, with
+/// a slightly (red) and a very (green) mirror-like sphere.
+pub fn chapter_reflect() -> Result<ChapterScene, Error> {
+    chapter(true)
+}
+
+/// The chapter's interference example: Young's fringes (`d` = 2 mm,
+/// `lambda` = 500 nm, `L` = 3 m, spacing 0.75 mm) on a screen 7 mm high, seen head
+/// on. The texture is emitted as is (ambient light 1, no diffuse), so a pixel's value
+/// is the texture's, which makes the sampling error measurable.
+pub fn interference() -> Result<InterferenceScene, Error> {
+    let cam = Camera::try_new(Vec3::new(0.0, 0.0, 0.1), -Vec3::Z, Vec3::Y, 4.0, 0.01, 1.0)?;
+    let mut s = InterferenceScene::new(cam);
+    s.set_ambient(Color::WHITE)?;
+    let fringes = Texture::young(Color::new(0.0, 1.0, 0.6), 2e-3, 500e-9, 3.0)?;
+    let screen = s.add_material(
+        Material::matte(Color::WHITE)
+            .with_texture(fringes)?
+            .with_diffuse(0.0)?,
+    )?;
+    s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Z)?, screen)?;
+    Ok(s)
+}
+
+/// Every geometry kind (plane, sphere, triangle, box) and material kind (matte,
+/// specular, mirror, glass, checker and fringe textures) in one scene.
+pub fn showcase() -> Result<ShowcaseScene, Error> {
+    let cam = Camera::look_at(
+        Vec3::new(0.5, 2.6, 7.5),
+        Vec3::new(0.0, 0.8, 0.0),
+        Vec3::Y,
+        0.1,
+        100.0,
+    )?;
+    let mut s = ShowcaseScene::new(cam);
+    s.set_ambient(Color::splat(0.1))?;
+    s.set_background(Color::new(0.55, 0.7, 0.9))?;
+    let checker = Texture::Checker {
+        a: Color::splat(0.85),
+        b: Color::splat(0.15),
+        scale: 1.0,
+    };
+    let floor = s.add_material(
+        Material::matte(Color::WHITE)
+            .with_texture(checker)?
+            .with_reflectivity(0.1)?,
+    )?;
+    let wall = s.add_material(Material::matte(Color::new(0.8, 0.75, 0.7)))?;
+    let glass = s.add_material(
+        Material::matte(Color::WHITE)
+            .with_diffuse(0.0)?
+            .with_ambient(0.0)?
+            .with_specular(0.6, 200.0)?
+            .with_transparency(0.95, 1.5)?,
+    )?;
+    let mirror = s.add_material(
+        Material::matte(Color::splat(0.9))
+            .with_diffuse(0.05)?
+            .with_specular(0.5, 300.0)?
+            .with_reflectivity(0.9)?,
+    )?;
+    let plastic =
+        s.add_material(Material::matte(Color::new(0.9, 0.35, 0.1)).with_specular(0.5, 32.0)?)?;
+    let fringes = Texture::Fringes {
+        color: Color::new(1.0, 0.3, 0.8),
+        spacing: 0.125,
+    };
+    let fringed = s.add_material(Material::matte(Color::WHITE).with_texture(fringes)?)?;
+    let teal =
+        s.add_material(Material::matte(Color::new(0.1, 0.6, 0.6)).with_specular(0.3, 16.0)?)?;
+    let boxes = s.add_material(
+        Material::matte(Color::new(0.3, 0.3, 0.9))
+            .with_specular(0.2, 8.0)?
+            .with_reflectivity(0.2)?,
+    )?;
+    s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y)?, floor)?;
+    s.add_plane(Plane::try_new(Vec3::new(0.0, 0.0, -4.0), Vec3::Z)?, wall)?;
+    s.add_sphere(Sphere::try_new(Vec3::new(0.0, 1.0, 0.5), 1.0)?, glass)?;
+    s.add_sphere(Sphere::try_new(Vec3::new(-2.4, 1.1, -1.2), 1.1)?, mirror)?;
+    s.add_sphere(Sphere::try_new(Vec3::new(1.2, 0.35, 2.3), 0.35)?, teal)?;
+    s.add_box(
+        Aabb::try_new(Vec3::new(1.6, 0.0, -1.6), Vec3::new(2.8, 1.2, -0.4))?,
+        plastic,
+    )?;
+    s.add_box(
+        Aabb::try_new(Vec3::new(-1.1, 0.0, 1.6), Vec3::new(-0.5, 0.6, 2.2))?,
+        boxes,
+    )?;
+    // A pyramid of four triangles (the base stands on the floor).
+    let apex = Vec3::new(0.2, 1.9, -2.6);
+    let base = [
+        Vec3::new(-0.8, 0.0, -1.8),
+        Vec3::new(1.2, 0.0, -1.8),
+        Vec3::new(1.2, 0.0, -3.6),
+        Vec3::new(-0.8, 0.0, -3.6),
+    ];
+    for (i, &a) in base.iter().enumerate() {
+        let b = base.get((i + 1) % 4).copied().unwrap_or(a);
+        s.add_triangle(Triangle::try_new(a, b, apex)?, fringed)?;
+    }
+    s.add_light(PointLight::try_new(
+        Vec3::new(-3.0, 6.0, 4.0),
+        Color::new(1.0, 0.95, 0.9),
+        30.0,
+    )?)?;
+    s.add_light(PointLight::try_new(
+        Vec3::new(4.0, 4.0, 3.0),
+        Color::new(0.5, 0.6, 0.8),
+        12.0,
+    )?)?;
+    Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_builtin_builds_and_is_named() {
+        for b in Builtin::ALL {
+            assert_eq!(Builtin::from_name(b.name()), Some(b));
+            assert!(b.with_scene(|_, _| ()).is_ok());
+            assert!(b.settings().validate().is_ok());
+        }
+        assert_eq!(Builtin::from_name("nope"), None);
+    }
+
+    #[test]
+    fn showcase_uses_every_kind() {
+        let s = showcase().unwrap();
+        let v = s.view();
+        assert!(!v.spheres().is_empty() && !v.planes().is_empty());
+        assert!(!v.triangles().is_empty() && !v.boxes().is_empty());
+        let m = v.materials();
+        assert!(m.iter().any(|m| m.transparency() > 0.0));
+        assert!(m.iter().any(|m| m.reflectivity() > 0.5));
+        assert!(m.iter().any(|m| m.specular() > 0.0));
+        assert!(
+            m.iter()
+                .any(|m| matches!(m.texture(), Texture::Checker { .. }))
+        );
+        assert!(
+            m.iter()
+                .any(|m| matches!(m.texture(), Texture::Fringes { .. }))
+        );
+    }
+}

@@ -1,0 +1,234 @@
+//! The core's error: a small `Copy` enum whose `Display` is the message a user reads.
+//! Creating one never allocates.
+
+use core::fmt;
+
+/// Which number of the scene or settings an [`Error`] is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(missing_docs)] // each variant's doc is its Display text below
+pub enum Field {
+    CameraPosition,
+    CameraForward,
+    CameraUp,
+    FieldOfView,
+    Near,
+    Far,
+    SphereCenter,
+    SphereRadius,
+    PlanePoint,
+    PlaneNormal,
+    TriangleVertex,
+    BoxMin,
+    BoxMax,
+    Color,
+    Ambient,
+    Diffuse,
+    Specular,
+    Shininess,
+    Reflectivity,
+    Transparency,
+    RefractiveIndex,
+    TextureScale,
+    TextureColor,
+    LightPosition,
+    LightColor,
+    LightIntensity,
+    AmbientLight,
+    Background,
+    SubPixelOffset,
+}
+
+impl Field {
+    /// The name used in messages, e.g. `sphere radius`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::CameraPosition => "camera position",
+            Self::CameraForward => "camera forward",
+            Self::CameraUp => "camera up",
+            Self::FieldOfView => "camera field of view",
+            Self::Near => "camera near distance",
+            Self::Far => "camera far distance",
+            Self::SphereCenter => "sphere center",
+            Self::SphereRadius => "sphere radius",
+            Self::PlanePoint => "plane point",
+            Self::PlaneNormal => "plane normal",
+            Self::TriangleVertex => "triangle vertex",
+            Self::BoxMin => "box min corner",
+            Self::BoxMax => "box max corner",
+            Self::Color => "material color",
+            Self::Ambient => "material ambient weight",
+            Self::Diffuse => "material diffuse weight",
+            Self::Specular => "material specular weight",
+            Self::Shininess => "material shininess",
+            Self::Reflectivity => "material reflectivity",
+            Self::Transparency => "material transparency",
+            Self::RefractiveIndex => "material refractive index",
+            Self::TextureScale => "texture scale",
+            Self::TextureColor => "texture color",
+            Self::LightPosition => "light position",
+            Self::LightColor => "light color",
+            Self::LightIntensity => "light intensity",
+            Self::AmbientLight => "scene ambient light",
+            Self::Background => "scene background",
+            Self::SubPixelOffset => "sub-pixel offset",
+        }
+    }
+}
+
+/// A scene list, named in capacity errors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum List {
+    Spheres,
+    Planes,
+    Triangles,
+    Boxes,
+    Materials,
+    Lights,
+}
+
+impl List {
+    /// The list's name in messages.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Spheres => "spheres",
+            Self::Planes => "planes",
+            Self::Triangles => "triangles",
+            Self::Boxes => "boxes",
+            Self::Materials => "materials",
+            Self::Lights => "lights",
+        }
+    }
+}
+
+/// Everything that can go wrong when building a camera, a scene or a frame, or when
+/// rendering a tile. The `Display` text says what is wrong and which value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Error {
+    /// A number is NaN or infinite.
+    NotFinite(Field),
+    /// A direction has zero length (or cannot be normalised).
+    ZeroLength(Field),
+    /// A number must be strictly positive.
+    NotPositive(Field),
+    /// A number is outside its range; `range` says which.
+    OutOfRange {
+        /// The value's name.
+        field: Field,
+        /// The accepted range, e.g. `"(0, 180) degrees"`.
+        range: &'static str,
+    },
+    /// The near distance is not smaller than the far distance.
+    NearNotBeforeFar,
+    /// The viewport has no pixel (width or height 0).
+    EmptyViewport,
+    /// A primitive refers to a material that the scene does not have.
+    MaterialOutOfRange {
+        /// The material index asked for.
+        id: u16,
+        /// How many materials the scene has.
+        count: u16,
+    },
+    /// A scene list is full.
+    CapacityExceeded {
+        /// Which list.
+        list: List,
+        /// Its capacity (the `const` parameter of the scene type).
+        capacity: usize,
+    },
+    /// A triangle's three vertices are collinear (zero area).
+    DegenerateTriangle,
+    /// A box's min corner is above its max corner on some axis.
+    InvertedBox,
+    /// The recursion depth asked for is above [`crate::MAX_DEPTH`].
+    DepthTooLarge {
+        /// The depth asked for.
+        depth: u8,
+    },
+    /// A sampler with zero samples (stratified 0 or random 0), or more than 64x64.
+    BadSampleCount,
+    /// A tile coordinate outside the frame.
+    TileOutOfFrame,
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::NotFinite(field) => write!(f, "{} is NaN or infinite", field.name()),
+            Self::ZeroLength(field) => write!(f, "{} has zero length", field.name()),
+            Self::NotPositive(field) => write!(f, "{} must be > 0", field.name()),
+            Self::OutOfRange { field, range } => {
+                write!(f, "{} must be in {}", field.name(), range)
+            }
+            Self::NearNotBeforeFar => {
+                f.write_str("camera near distance must be smaller than the far distance")
+            }
+            Self::EmptyViewport => f.write_str("viewport must be at least 1x1 pixel"),
+            Self::MaterialOutOfRange { id, count } => write!(
+                f,
+                "material {id} does not exist (the scene has {count} material(s))"
+            ),
+            Self::CapacityExceeded { list, capacity } => write!(
+                f,
+                "too many {}: the scene holds at most {capacity}",
+                list.name()
+            ),
+            Self::DegenerateTriangle => f.write_str("triangle vertices are collinear (zero area)"),
+            Self::InvertedBox => f.write_str("box min corner must be <= max corner on every axis"),
+            Self::DepthTooLarge { depth } => write!(
+                f,
+                "recursion depth {depth} is above the maximum {}",
+                crate::shade::MAX_DEPTH
+            ),
+            Self::BadSampleCount => {
+                f.write_str("sampler needs 1 to 4096 samples per pixel (stratified k: 1 to 64)")
+            }
+            Self::TileOutOfFrame => f.write_str("tile coordinate is outside the frame"),
+        }
+    }
+}
+
+impl core::error::Error for Error {}
+
+/// Checks that `v` is finite.
+pub(crate) fn finite(v: f32, field: Field) -> Result<f32, Error> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Error::NotFinite(field))
+    }
+}
+
+/// Checks that every component of `v` is finite.
+pub(crate) fn finite3(v: crate::Vec3, field: Field) -> Result<crate::Vec3, Error> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Error::NotFinite(field))
+    }
+}
+
+/// Checks that `v` is finite and within `[lo, hi]`.
+pub(crate) fn in_range(
+    v: f32,
+    lo: f32,
+    hi: f32,
+    field: Field,
+    range: &'static str,
+) -> Result<f32, Error> {
+    let v = finite(v, field)?;
+    if v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(Error::OutOfRange { field, range })
+    }
+}
+
+/// Checks that `v` is finite and normalises it.
+pub(crate) fn unit(v: crate::Vec3, field: Field) -> Result<crate::Vec3, Error> {
+    finite3(v, field)?
+        .try_normalize()
+        .ok_or(Error::ZeroLength(field))
+}

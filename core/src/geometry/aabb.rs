@@ -1,0 +1,395 @@
+//! Axis-aligned boxes (the chapter's cube), intersected with a NaN-safe slab test.
+//!
+//! Each axis bounds the ray to a slab `[t_near, t_far]`. A direction component of
+//! `±0` gives `1/d = ±inf`, and a ray lying in a face plane gives `0 * inf = NaN`;
+//! the updates below are written so that a NaN never replaces a bound, which makes
+//! such a ray count as inside that slab, the same way on all six faces.
+
+use super::{Candidate, Shape, Surface};
+use crate::error::{Error, Field, finite3};
+use crate::math;
+use crate::ray::Ray;
+use crate::vec::Vec3;
+
+/// An axis-aligned box `[min, max]`; a flat box (`min == max` on an axis) is allowed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    min: Vec3,
+    max: Vec3,
+}
+
+/// The ray's parametric span inside the box and the faces that bound it.
+struct Span {
+    /// Entry time (0 when the origin is inside every slab).
+    t0: f32,
+    /// Face through which the ray enters (meaningful when `t0 > 0`).
+    entry: u8,
+    /// Exit time (`t_max` when no slab ends before it).
+    t1: f32,
+    /// Face through which the ray leaves (meaningful when `t1 < t_max`).
+    exit: u8,
+}
+
+impl Aabb {
+    /// A box from its min and max corners.
+    ///
+    /// # Errors
+    /// [`Error::NotFinite`] with [`Field::BoxMin`] or [`Field::BoxMax`] if a
+    /// component is NaN or infinite; [`Error::InvertedBox`] if `min > max` on some
+    /// axis.
+    pub fn try_new(min: Vec3, max: Vec3) -> Result<Self, Error> {
+        let min = finite3(min, Field::BoxMin)?;
+        let max = finite3(max, Field::BoxMax)?;
+        if min.x > max.x || min.y > max.y || min.z > max.z {
+            return Err(Error::InvertedBox);
+        }
+        Ok(Self { min, max })
+    }
+
+    /// The min corner.
+    #[must_use]
+    pub fn min(&self) -> Vec3 {
+        self.min
+    }
+
+    /// The max corner.
+    #[must_use]
+    pub fn max(&self) -> Vec3 {
+        self.max
+    }
+
+    /// The slab test: the span `[t0, t1]` of the ray inside the box, clipped to
+    /// `[0, t_max]`, or `None` when it is empty.
+    fn span(&self, ray: &Ray, t_max: f32) -> Option<Span> {
+        let mut s = Span {
+            t0: 0.0,
+            entry: 0,
+            t1: t_max,
+            exit: 0,
+        };
+        for axis in 0..3 {
+            let o = ray.origin.get(axis);
+            let inv = 1.0 / ray.dir.get(axis);
+            let lo_face = 2 * axis as u8;
+            // Choose the near plane by the sign of 1/d (as pbrt-v4's `dirIsNeg`)
+            // rather than by swapping after the fact: a NaN t_near would defeat the
+            // swap, and then -0.0 and +0.0 would treat a face plane differently.
+            let (near, far, near_face, far_face) = if inv < 0.0 {
+                (self.max.get(axis), self.min.get(axis), lo_face + 1, lo_face)
+            } else {
+                (self.min.get(axis), self.max.get(axis), lo_face, lo_face + 1)
+            };
+            let t_near = (near - o) * inv;
+            // Widened so that rounding cannot make a grazing ray miss (pbrt-v4).
+            let t_far = (far - o) * inv * (1.0 + 2.0 * math::gamma(3));
+            // Comparisons with NaN are false: a NaN slab leaves the span alone.
+            if t_near > s.t0 {
+                s.t0 = t_near;
+                s.entry = near_face;
+            }
+            if t_far < s.t1 {
+                s.t1 = t_far;
+                s.exit = far_face;
+            }
+        }
+        if s.t0 > s.t1 { None } else { Some(s) }
+    }
+
+    /// The nearest hit of a span: the entry when the origin is outside, else the exit.
+    fn nearest(s: &Span, t_max: f32) -> Option<(f32, u8)> {
+        let (t, face) = if s.t0 > 0.0 {
+            (s.t0, s.entry)
+        } else {
+            (s.t1, s.exit)
+        };
+        // False for NaN; t1 == t_max means no face ends the span before t_max.
+        if t > 0.0 && t < t_max {
+            Some((t, face))
+        } else {
+            None
+        }
+    }
+}
+
+/// Axis (0, 1, 2) and sign (`true` = max side) of a face index.
+fn face_axis(face: u8) -> (usize, bool) {
+    (usize::from(face / 2).min(2), face % 2 == 1)
+}
+
+impl Shape for Aabb {
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
+        let s = self.span(ray, t_max)?;
+        Self::nearest(&s, t_max).map(|(t, face)| Candidate {
+            t,
+            face,
+            ..Candidate::default()
+        })
+    }
+
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        // Any hit in (0, t_max) exists exactly when the nearest one does.
+        self.span(ray, t_max)
+            .and_then(|s| Self::nearest(&s, t_max))
+            .is_some()
+    }
+
+    fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
+        let (axis, positive) = face_axis(hit.face);
+        let plane = if positive {
+            self.max.get(axis)
+        } else {
+            self.min.get(axis)
+        };
+        // Snapping to the face makes the error along the normal exactly zero.
+        let point = ray.at(hit.t).with(axis, plane);
+        let error = (ray.origin.abs() + (ray.dir * hit.t).abs()) * math::gamma(3);
+        Surface {
+            point,
+            normal: Vec3::ZERO.with(axis, if positive { 1.0 } else { -1.0 }),
+            error: error.with(axis, 0.0),
+        }
+    }
+
+    fn uv(&self, surface: &Surface, hit: &Candidate) -> [f32; 2] {
+        let (a, b) = match face_axis(hit.face).0 {
+            0 => (1, 2),
+            1 => (0, 2),
+            _ => (0, 1),
+        };
+        let coord = |i: usize| {
+            let lo = self.min.get(i);
+            let extent = self.max.get(i) - lo;
+            // A flat box has no extent on that axis: 0, never 0/0.
+            if extent > 0.0 {
+                ((surface.point.get(i) - lo) / extent).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        };
+        [coord(a), coord(b)]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn boxed() -> Aabb {
+        Aabb::try_new(Vec3::new(-1.0, -2.0, -3.0), Vec3::new(1.0, 2.0, 3.0)).unwrap()
+    }
+
+    fn cube() -> Aabb {
+        Aabb::try_new(Vec3::splat(-1.0), Vec3::splat(1.0)).unwrap()
+    }
+
+    /// Deterministic xorshift32 in [-1, 1).
+    fn rand(state: &mut u32) -> f32 {
+        *state ^= *state << 13;
+        *state ^= *state >> 17;
+        *state ^= *state << 5;
+        (*state >> 8) as f32 / (1u32 << 23) as f32 - 1.0
+    }
+
+    /// Relative closeness allowing for the widened exit time.
+    fn close(a: f32, b: f32) -> bool {
+        (a - b).abs() <= 1e-6 * b.abs().max(1.0)
+    }
+
+    #[test]
+    fn hits_each_face() {
+        // Each ray enters a face at the point 3/4 of the way along both face axes.
+        let cases = [
+            (Vec3::new(-5.0, 1.0, 1.5), Vec3::X, 0, -Vec3::X),
+            (Vec3::new(5.0, 1.0, 1.5), -Vec3::X, 1, Vec3::X),
+            (Vec3::new(0.5, -6.0, 1.5), Vec3::Y, 2, -Vec3::Y),
+            (Vec3::new(0.5, 6.0, 1.5), -Vec3::Y, 3, Vec3::Y),
+            (Vec3::new(0.5, 1.0, -7.0), Vec3::Z, 4, -Vec3::Z),
+            (Vec3::new(0.5, 1.0, 7.0), -Vec3::Z, 5, Vec3::Z),
+        ];
+        let b = boxed();
+        for (o, d, face, n) in cases {
+            let ray = Ray::new(o, d);
+            let h = b.intersect(&ray, f32::INFINITY).unwrap();
+            assert_eq!((h.t, h.face), (4.0, face), "{o:?}");
+            let s = b.surface(&ray, &h);
+            assert_eq!(s.normal, n);
+            assert_eq!(s.point, o + d * 4.0);
+            assert_eq!(s.error.get(usize::from(face / 2)), 0.0);
+            assert_eq!(b.uv(&s, &h), [0.75, 0.75], "{o:?}");
+            assert!(b.occluded(&ray, f32::INFINITY));
+        }
+        // Oblique: enters -x at t = 3 / 0.8, at y = -1 + 0.6 * 3.75 = 1.25.
+        let ray = Ray::new(Vec3::new(-4.0, -1.0, 0.0), Vec3::new(0.8, 0.6, 0.0));
+        let h = b.intersect(&ray, f32::INFINITY).unwrap();
+        assert!(close(h.t, 3.75) && h.face == 0, "{h:?}");
+        let s = b.surface(&ray, &h);
+        assert_eq!(s.point.x, -1.0);
+        assert!((s.point.y - 1.25).abs() < 1e-6);
+    }
+
+    #[test]
+    fn origin_inside_returns_exit_face() {
+        let b = boxed();
+        for (d, t, face) in [(Vec3::Z, 3.0, 5), (-Vec3::X, 1.0, 0), (-Vec3::Y, 2.0, 2)] {
+            let ray = Ray::new(Vec3::ZERO, d);
+            let h = b.intersect(&ray, f32::INFINITY).unwrap();
+            assert!(close(h.t, t) && h.face == face, "{d:?} {h:?}");
+            let s = b.surface(&ray, &h);
+            assert_eq!(s.point, d * t, "snapped exactly to the face");
+            assert_eq!(s.normal, d);
+        }
+    }
+
+    #[test]
+    fn misses() {
+        let b = boxed();
+        for ray in [
+            Ray::new(Vec3::new(-5.0, 3.0, 0.0), Vec3::X),
+            Ray::new(Vec3::new(5.0, 0.0, 0.0), Vec3::X),
+            Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::new(0.6, 0.8, 0.0)),
+        ] {
+            assert_eq!(b.intersect(&ray, f32::INFINITY), None, "{ray:?}");
+            assert!(!b.occluded(&ray, f32::INFINITY));
+        }
+    }
+
+    #[test]
+    fn ray_in_a_face_plane_is_inside_that_slab_on_all_faces() {
+        let c = cube();
+        for axis in 0..3 {
+            let (b, other) = ((axis + 1) % 3, (axis + 2) % 3);
+            for plane in [-1.0, 1.0] {
+                for (sa, so) in [(0.0, 0.0), (-0.0, 0.0), (0.0, -0.0), (-0.0, -0.0)] {
+                    for sign in [1.0f32, -1.0] {
+                        let dir = Vec3::ZERO.with(axis, sa).with(other, so).with(b, sign);
+                        let enter = if sign > 0.0 { 2 * b } else { 2 * b + 1 } as u8;
+                        let at = |pb: f32, po: f32| {
+                            Vec3::ZERO.with(axis, plane).with(b, pb).with(other, po)
+                        };
+                        // From outside, within the face: enters through axis b.
+                        let ray = Ray::new(at(-10.0 * sign, 0.5), dir);
+                        let h = c.intersect(&ray, f32::INFINITY).unwrap();
+                        assert_eq!((h.t, h.face), (9.0, enter), "{ray:?}");
+                        assert!(c.occluded(&ray, f32::INFINITY));
+                        // Starting on the face: leaves through the opposite side.
+                        let ray = Ray::new(at(0.0, 0.5), dir);
+                        let h = c.intersect(&ray, f32::INFINITY).unwrap();
+                        assert!(close(h.t, 1.0) && h.face == enter ^ 1, "{ray:?} {h:?}");
+                        // In the plane but beside the face: no hit, no NaN.
+                        let ray = Ray::new(at(-10.0 * sign, 5.0), dir);
+                        assert_eq!(c.intersect(&ray, f32::INFINITY), None);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn ray_along_an_edge_from_a_corner() {
+        let c = cube();
+        for (dx, dy) in [(0.0, 0.0), (-0.0, 0.0), (0.0, -0.0), (-0.0, -0.0)] {
+            let dir = Vec3::new(dx, dy, 1.0);
+            let h = c.intersect(&Ray::new(Vec3::new(-1.0, -1.0, -5.0), dir), f32::INFINITY);
+            assert_eq!(h.map(|h| (h.t, h.face)), Some((4.0, 4)));
+            // From the corner itself: the origin is on the box, so the hit is the exit.
+            let ray = Ray::new(Vec3::splat(-1.0), dir);
+            let h = c.intersect(&ray, f32::INFINITY).unwrap();
+            assert!(close(h.t, 2.0) && h.face == 5, "{h:?}");
+            assert_eq!(c.surface(&ray, &h).point, Vec3::new(-1.0, -1.0, 1.0));
+            assert_eq!(c.uv(&c.surface(&ray, &h), &h), [0.0, 0.0]);
+        }
+    }
+
+    #[test]
+    fn flat_box_is_hit_and_uv_has_no_nan() {
+        let f = Aabb::try_new(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)).unwrap();
+        let ray = Ray::new(Vec3::new(0.5, 0.0, -5.0), Vec3::Z);
+        let h = f.intersect(&ray, f32::INFINITY).unwrap();
+        assert_eq!((h.t, h.face), (5.0, 4));
+        assert_eq!(f.uv(&f.surface(&ray, &h), &h), [0.75, 0.5]);
+        // Hit on an x face of the flat box: its z extent is zero.
+        let ray = Ray::new(Vec3::new(-3.0, 0.0, 0.0), Vec3::X);
+        let h = f.intersect(&ray, f32::INFINITY).unwrap();
+        assert_eq!((h.t, h.face), (2.0, 0));
+        assert_eq!(f.uv(&f.surface(&ray, &h), &h), [0.5, 0.0]);
+    }
+
+    #[test]
+    fn t_max_is_exclusive() {
+        let b = boxed();
+        let ray = Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::X);
+        assert_eq!(b.intersect(&ray, 4.0), None);
+        assert!(!b.occluded(&ray, 4.0));
+        assert_eq!(b.intersect(&ray, 4.001).map(|h| h.t), Some(4.0));
+        let inside = Ray::new(Vec3::ZERO, Vec3::Z);
+        assert_eq!(b.intersect(&inside, 2.9), None);
+        assert!(!b.occluded(&inside, 2.9));
+        assert!(b.occluded(&inside, 3.1));
+    }
+
+    #[test]
+    fn occluded_agrees_with_intersect_on_random_rays() {
+        let mut seed = 0x2545_f491;
+        let b = boxed();
+        let mut hits = 0;
+        for _ in 0..5000 {
+            let o = Vec3::new(rand(&mut seed), rand(&mut seed), rand(&mut seed)) * 5.0;
+            let Some(d) =
+                Vec3::new(rand(&mut seed), rand(&mut seed), rand(&mut seed)).try_normalize()
+            else {
+                continue;
+            };
+            let t_max = 10.0 * (rand(&mut seed) + 1.0);
+            let ray = Ray::new(o, d);
+            let h = b.intersect(&ray, t_max);
+            assert_eq!(b.occluded(&ray, t_max), h.is_some(), "{ray:?}");
+            if let Some(h) = h {
+                hits += 1;
+                assert!(h.t > 0.0 && h.t < t_max);
+                // The reported point lies on the reported face, within the box.
+                let s = b.surface(&ray, &h);
+                let (axis, positive) = face_axis(h.face);
+                let plane = if positive { b.max() } else { b.min() }.get(axis);
+                assert_eq!(s.point.get(axis), plane);
+                for i in 0..3 {
+                    let slack = 1e-5;
+                    assert!(
+                        s.point.get(i) >= b.min().get(i) - slack
+                            && s.point.get(i) <= b.max().get(i) + slack
+                    );
+                    assert!((s.point.get(i) - ray.at(h.t).get(i)).abs() <= 1e-5);
+                }
+                // The outward normal faces the ray exactly when it enters.
+                let entering = !(o.x > -1.0
+                    && o.x < 1.0
+                    && o.y > -2.0
+                    && o.y < 2.0
+                    && o.z > -3.0
+                    && o.z < 3.0);
+                assert_eq!(s.normal.dot(d) < 0.0, entering, "{ray:?} {h:?}");
+            }
+        }
+        assert!(hits > 500, "{hits}");
+    }
+
+    #[test]
+    fn constructor_errors() {
+        let nan = Vec3::new(f32::NAN, 0.0, 0.0);
+        let inf = Vec3::new(0.0, 0.0, f32::INFINITY);
+        assert_eq!(
+            Aabb::try_new(nan, Vec3::splat(1.0)),
+            Err(Error::NotFinite(Field::BoxMin))
+        );
+        assert_eq!(
+            Aabb::try_new(Vec3::ZERO, inf),
+            Err(Error::NotFinite(Field::BoxMax))
+        );
+        let inverted = Aabb::try_new(Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, 0.5, 1.0));
+        assert_eq!(inverted, Err(Error::InvertedBox));
+        let flat = Aabb::try_new(Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, 1.0, 1.0)).unwrap();
+        assert_eq!(
+            (flat.min(), flat.max()),
+            (Vec3::new(0.0, 1.0, 0.0), Vec3::splat(1.0))
+        );
+    }
+}

@@ -1,0 +1,191 @@
+//! Infinite plane: a point and a normal.
+
+use super::{Candidate, Shape, Surface, tangent_basis};
+use crate::error::{Error, Field, finite3, unit};
+use crate::math::gamma;
+use crate::ray::Ray;
+use crate::vec::Vec3;
+
+/// The infinite plane through `point` with unit normal `normal` (double-sided).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane {
+    point: Vec3,
+    normal: Vec3,
+}
+
+impl Plane {
+    /// A plane; the normal may have any non-zero finite length (it is normalised).
+    ///
+    /// ```
+    /// use tessera::{Error, Field, Plane, Vec3};
+    /// assert!(Plane::try_new(Vec3::ZERO, Vec3::new(0.0, 2.0, 0.0)).is_ok());
+    /// assert_eq!(
+    ///     Plane::try_new(Vec3::ZERO, Vec3::ZERO),
+    ///     Err(Error::ZeroLength(Field::PlaneNormal))
+    /// );
+    /// ```
+    pub fn try_new(point: Vec3, normal: Vec3) -> Result<Self, Error> {
+        Ok(Self {
+            point: finite3(point, Field::PlanePoint)?,
+            normal: unit(normal, Field::PlaneNormal)?,
+        })
+    }
+
+    /// A point of the plane.
+    #[must_use]
+    pub fn point(&self) -> Vec3 {
+        self.point
+    }
+
+    /// The unit normal.
+    #[must_use]
+    pub fn normal(&self) -> Vec3 {
+        self.normal
+    }
+
+    /// The time at which the ray meets the plane, or `None` when it runs parallel.
+    fn solve(&self, ray: &Ray) -> Option<f32> {
+        let denom = ray.dir.dot(self.normal);
+        if denom == 0.0 || denom.is_nan() {
+            return None; // parallel: never a hit, never a NaN
+        }
+        let t = (self.point - ray.origin).dot(self.normal) / denom;
+        t.is_finite().then_some(t)
+    }
+}
+
+impl Shape for Plane {
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
+        let t = self.solve(ray)?;
+        (t > 0.0 && t < t_max).then_some(Candidate {
+            t,
+            ..Candidate::default()
+        })
+    }
+
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.intersect(ray, t_max).is_some()
+    }
+
+    fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
+        let t = hit.t;
+        let dt = ray.dir * t;
+        let point = ray.origin + dt;
+        // Error of the time: the numerator (p0 - o).n carries gamma(5) of its
+        // operands, the division and the denominator gamma(4) of t. The point moves
+        // along the ray by that much; the final add rounds by gamma(2).
+        let denom = crate::math::abs(ray.dir.dot(self.normal));
+        let num_err = gamma(5) * (self.point.abs() + ray.origin.abs()).dot(self.normal.abs());
+        let t_err = num_err / denom + gamma(4) * t;
+        let error = (ray.origin.abs() + dt.abs()) * gamma(2) + ray.dir.abs() * t_err;
+        Surface {
+            point,
+            normal: self.normal,
+            error,
+        }
+    }
+
+    /// World-unit coordinates of the point along two tangents of the plane.
+    fn uv(&self, surface: &Surface, _hit: &Candidate) -> [f32; 2] {
+        let (t, b) = tangent_basis(self.normal);
+        let d = surface.point - self.point;
+        [d.dot(t), d.dot(b)]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ray::offset_origin;
+
+    #[test]
+    fn hit_from_above_and_below() {
+        let p = Plane::try_new(Vec3::new(0.0, -1.0, 0.0), Vec3::Y).unwrap();
+        let down = Ray::new(Vec3::new(2.0, 3.0, 0.0), -Vec3::Y);
+        let c = p.intersect(&down, f32::INFINITY).unwrap();
+        assert_eq!(c.t, 4.0);
+        let s = p.surface(&down, &c);
+        assert_eq!(s.point, Vec3::new(2.0, -1.0, 0.0));
+        assert_eq!(s.normal, Vec3::Y);
+        let up = Ray::new(Vec3::new(0.0, -3.0, 0.0), Vec3::Y);
+        assert_eq!(p.intersect(&up, f32::INFINITY).unwrap().t, 2.0);
+    }
+
+    #[test]
+    fn oblique_hit_matches_analytic_t() {
+        let p = Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap();
+        let d = Vec3::new(1.0, -1.0, 0.0).try_normalize().unwrap();
+        let r = Ray::new(Vec3::new(0.0, 1.0, 0.0), d);
+        let c = p.intersect(&r, f32::INFINITY).unwrap();
+        assert!((c.t - core::f32::consts::SQRT_2).abs() < 1e-6);
+    }
+
+    #[test]
+    fn parallel_and_receding_rays_miss_without_nan() {
+        let p = Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap();
+        assert!(
+            p.intersect(&Ray::new(Vec3::Y, Vec3::X), f32::INFINITY)
+                .is_none()
+        );
+        // In the plane itself: parallel, no hit, no NaN.
+        assert!(
+            p.intersect(&Ray::new(Vec3::ZERO, Vec3::X), f32::INFINITY)
+                .is_none()
+        );
+        assert!(
+            p.intersect(&Ray::new(Vec3::Y, Vec3::Y), f32::INFINITY)
+                .is_none()
+        );
+        assert!(!p.occluded(&Ray::new(Vec3::Y, -Vec3::Y), 0.5));
+    }
+
+    #[test]
+    fn secondary_rays_from_far_hits_do_not_self_intersect() {
+        let n = Vec3::new(0.3, 0.9, -0.2).try_normalize().unwrap();
+        let p = Plane::try_new(Vec3::new(1234.5, -77.25, 9000.0), n).unwrap();
+        let mut self_hits = 0;
+        for i in 0..500 {
+            let a = i as f32 * 0.731;
+            let o = Vec3::new(1000.0 + a * 13.0, 500.0, 8000.0 - a * 7.0);
+            let d = (Vec3::new(1234.5 + a, -77.25, 9000.0 + a * 0.5) - o)
+                .try_normalize()
+                .unwrap();
+            let r = Ray::new(o, d);
+            let Some(c) = p.intersect(&r, f32::INFINITY) else {
+                continue;
+            };
+            let s = p.surface(&r, &c);
+            // Reflected direction leaves the surface.
+            let w = d.reflect(n);
+            let o2 = offset_origin(s.point, s.error, n, w);
+            if p.intersect(&Ray::new(o2, w), f32::INFINITY).is_some() {
+                self_hits += 1;
+            }
+        }
+        assert_eq!(self_hits, 0);
+    }
+
+    #[test]
+    fn uv_is_in_world_units() {
+        let p = Plane::try_new(Vec3::ZERO, Vec3::Z).unwrap();
+        let s = Surface {
+            point: Vec3::new(3.0, 4.0, 0.0),
+            normal: Vec3::Z,
+            error: Vec3::ZERO,
+        };
+        let [u, v] = p.uv(&s, &Candidate::default());
+        assert!(((u * u + v * v) - 25.0).abs() < 1e-4);
+    }
+
+    #[test]
+    fn invalid_input_is_rejected() {
+        assert_eq!(
+            Plane::try_new(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Y),
+            Err(Error::NotFinite(Field::PlanePoint))
+        );
+        assert_eq!(
+            Plane::try_new(Vec3::ZERO, Vec3::new(0.0, f32::INFINITY, 0.0)),
+            Err(Error::NotFinite(Field::PlaneNormal))
+        );
+    }
+}

@@ -1,0 +1,520 @@
+//! Triangles, intersected with the watertight test of Woop, Benthin and Wald
+//! ("Watertight Ray/Triangle Intersection", JCGT 2013).
+//!
+//! The test works in a ray-aligned frame where the ray is the `+z` axis through the
+//! origin. Every vertex is transformed on its own, so two triangles sharing an edge
+//! see bit-identical edge endpoints; an edge function `ax*by - ay*bx` then has the
+//! exact sign of the 2D orientation, or is zero (rounding is monotone), and zero is
+//! resolved in `f64`. Neighbouring triangles therefore agree on which side of their
+//! shared edge the ray passes: no ray leaks between them.
+
+use super::{Candidate, Shape, Surface};
+use crate::error::{Error, Field, finite3};
+use crate::math;
+use crate::ray::Ray;
+use crate::vec::Vec3;
+
+/// A double-sided triangle. Its outward normal follows the winding:
+/// `(p1 - p0) x (p2 - p0)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+}
+
+/// The ray-frame quantities of one ray/triangle pair: the edge functions `u, v, w`
+/// (weights of `p0, p1, p2` scaled by `det`) and the scaled hit time `t * det`.
+struct Edges {
+    u: f32,
+    v: f32,
+    w: f32,
+    det: f32,
+    t_scaled: f32,
+}
+
+/// The 2D edge function `p x q`. A plain function (and no FMA contraction in Rust)
+/// so that every triangle rounds a shared edge identically.
+#[inline]
+fn edge(px: f32, py: f32, qx: f32, qy: f32) -> f32 {
+    px * qy - py * qx
+}
+
+/// [`edge`] with exact products: two `f32` products are exact in `f64`, so the sign
+/// of the difference is exact. Used only when the `f32` result is zero.
+#[inline]
+fn edge_f64(px: f32, py: f32, qx: f32, qy: f32) -> f32 {
+    (f64::from(px) * f64::from(qy) - f64::from(py) * f64::from(qx)) as f32
+}
+
+impl Triangle {
+    /// A triangle from its vertices.
+    ///
+    /// # Errors
+    /// [`Error::NotFinite`]`(`[`Field::TriangleVertex`]`)` if a component is NaN or
+    /// infinite; [`Error::DegenerateTriangle`] if the vertices are collinear, i.e. the
+    /// normal `(p1 - p0) x (p2 - p0)` cannot be normalised (scale-free: any finite
+    /// non-zero cross product is accepted, however small).
+    pub fn try_new(p0: Vec3, p1: Vec3, p2: Vec3) -> Result<Self, Error> {
+        let t = Self {
+            p0: finite3(p0, Field::TriangleVertex)?,
+            p1: finite3(p1, Field::TriangleVertex)?,
+            p2: finite3(p2, Field::TriangleVertex)?,
+        };
+        match t.cross().try_normalize() {
+            Some(_) => Ok(t),
+            None => Err(Error::DegenerateTriangle),
+        }
+    }
+
+    /// The vertices `[p0, p1, p2]`.
+    #[must_use]
+    pub fn vertices(&self) -> [Vec3; 3] {
+        [self.p0, self.p1, self.p2]
+    }
+
+    /// The unnormalised normal; the constructor guarantees it normalises.
+    fn cross(&self) -> Vec3 {
+        (self.p1 - self.p0).cross(self.p2 - self.p0)
+    }
+
+    /// The edge functions of the ray against this triangle, or `None` when the ray
+    /// passes outside an edge or the projected triangle has no area.
+    fn edges(&self, ray: &Ray) -> Option<Edges> {
+        // The ray frame: z is the direction's dominant axis, so the shear is bounded.
+        let kz = ray.dir.max_dimension();
+        let kx = if kz == 2 { 0 } else { kz + 1 };
+        let ky = if kx == 2 { 0 } else { kx + 1 };
+        // Swapping x and y for a negative z keeps the winding, hence the sign of det.
+        let (kx, ky) = if ray.dir.get(kz) < 0.0 {
+            (ky, kx)
+        } else {
+            (kx, ky)
+        };
+        let d = ray.dir.permute(kx, ky, kz);
+        if d.z == 0.0 || d.z.is_nan() {
+            // A zero (or NaN) direction has no frame.
+            return None;
+        }
+        let sx = d.x / d.z;
+        let sy = d.y / d.z;
+        let sz = 1.0 / d.z;
+
+        let a = (self.p0 - ray.origin).permute(kx, ky, kz);
+        let b = (self.p1 - ray.origin).permute(kx, ky, kz);
+        let c = (self.p2 - ray.origin).permute(kx, ky, kz);
+        let (ax, ay) = (a.x - sx * a.z, a.y - sy * a.z);
+        let (bx, by) = (b.x - sx * b.z, b.y - sy * b.z);
+        let (cx, cy) = (c.x - sx * c.z, c.y - sy * c.z);
+
+        let mut u = edge(cx, cy, bx, by);
+        let mut v = edge(ax, ay, cx, cy);
+        let mut w = edge(bx, by, ax, ay);
+        if u == 0.0 || v == 0.0 || w == 0.0 {
+            // The ray may pass exactly through an edge or vertex: settle each sign
+            // exactly, as the paper does, so neighbours cannot both say "outside".
+            u = edge_f64(cx, cy, bx, by);
+            v = edge_f64(ax, ay, cx, cy);
+            w = edge_f64(bx, by, ax, ay);
+        }
+        // Zeros count as inside, so a ray through an edge or vertex hits every
+        // triangle touching it.
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 {
+            // The ray lies in the triangle's plane (or the triangle projects to a line).
+            return None;
+        }
+        let t_scaled = u * (sz * a.z) + v * (sz * b.z) + w * (sz * c.z);
+        Some(Edges {
+            u,
+            v,
+            w,
+            det,
+            t_scaled,
+        })
+    }
+}
+
+impl Shape for Triangle {
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
+        let e = self.edges(ray)?;
+        // Reject out-of-range hits before dividing: t = t_scaled / det, so compare
+        // with the sign of det. A NaN det passes here and is caught below.
+        let (det, ts) = (e.det, e.t_scaled);
+        if det < 0.0 && (ts >= 0.0 || ts < t_max * det) {
+            return None;
+        }
+        if det > 0.0 && (ts <= 0.0 || ts > t_max * det) {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let t = ts * inv;
+        // Checked again after rounding; the comparisons are false for NaN.
+        if t > 0.0 && t < t_max {
+            Some(Candidate {
+                t,
+                b1: e.v * inv,
+                b2: e.w * inv,
+                face: 0,
+            })
+        } else {
+            None
+        }
+    }
+
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        // A triangle has one hit at most: any hit is the nearest.
+        self.intersect(ray, t_max).is_some()
+    }
+
+    fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
+        let (b1, b2) = (hit.b1, hit.b2);
+        // b0 is recomputed as u / det rather than 1 - b1 - b2: the subtraction has an
+        // absolute error of about one ulp of 1, which is not covered by the relative
+        // bound below when b0 is small and p0 is far from the origin.
+        let b0 = match self.edges(ray) {
+            Some(e) => e.u * (1.0 / e.det),
+            None => 1.0 - b1 - b2,
+        };
+        let b0 = if b0.is_finite() { b0 } else { 1.0 - b1 - b2 };
+        let (q0, q1, q2) = (self.p0 * b0, self.p1 * b1, self.p2 * b2);
+        Surface {
+            point: q0 + q1 + q2,
+            // pbrt-v4's bound for barycentric interpolation (pbrt 3rd ed. 3.9.6).
+            error: (q0.abs() + q1.abs() + q2.abs()) * math::gamma(7),
+            // The constructor checked that this normalises; Z only keeps it total.
+            normal: self.cross().normalize_or(Vec3::Z),
+        }
+    }
+
+    fn uv(&self, _surface: &Surface, hit: &Candidate) -> [f32; 2] {
+        [hit.b1, hit.b2]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri(a: Vec3, b: Vec3, c: Vec3) -> Triangle {
+        Triangle::try_new(a, b, c).unwrap()
+    }
+
+    fn ray_to(origin: Vec3, target: Vec3) -> Ray {
+        Ray::new(origin, (target - origin).try_normalize().unwrap())
+    }
+
+    /// Deterministic xorshift32 in [-1, 1).
+    fn rand(state: &mut u32) -> f32 {
+        *state ^= *state << 13;
+        *state ^= *state >> 17;
+        *state ^= *state << 5;
+        (*state >> 8) as f32 / (1u32 << 23) as f32 - 1.0
+    }
+
+    fn flat() -> Triangle {
+        let z = 2.0;
+        tri(
+            Vec3::new(0.0, 0.0, z),
+            Vec3::new(4.0, 0.0, z),
+            Vec3::new(0.0, 4.0, z),
+        )
+    }
+
+    #[test]
+    fn hit_at_known_t_and_barycentrics() {
+        // Target p0 + 0.25 (p1 - p0) + 0.5 (p2 - p0) = (1, 2, 2), 3 units away.
+        let target = Vec3::new(1.0, 2.0, 2.0);
+        for dir in [Vec3::Z, Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, -0.6, 0.8)] {
+            let ray = Ray::new(target - dir * 3.0, dir);
+            let h = flat().intersect(&ray, f32::INFINITY).unwrap();
+            assert!((h.t - 3.0).abs() < 1e-6, "{dir:?} {h:?}");
+            assert!(
+                (h.b1 - 0.25).abs() < 1e-6 && (h.b2 - 0.5).abs() < 1e-6,
+                "{h:?}"
+            );
+            assert_eq!(flat().uv(&flat().surface(&ray, &h), &h), [h.b1, h.b2]);
+            let s = flat().surface(&ray, &h);
+            assert!((s.point - target).length() < 1e-6);
+            assert_eq!(s.normal, Vec3::Z);
+            assert!(flat().occluded(&ray, f32::INFINITY));
+        }
+    }
+
+    #[test]
+    fn misses_outside_and_hits_back_face() {
+        let out = Ray::new(Vec3::new(3.0, 3.0, 0.0), Vec3::Z);
+        assert_eq!(flat().intersect(&out, f32::INFINITY), None);
+        assert!(!flat().occluded(&out, f32::INFINITY));
+        // Behind the origin.
+        let away = Ray::new(Vec3::new(1.0, 1.0, 0.0), -Vec3::Z);
+        assert_eq!(flat().intersect(&away, f32::INFINITY), None);
+        // From the back side: double-sided, normal still along the winding.
+        let back = Ray::new(Vec3::new(1.0, 1.0, 7.0), -Vec3::Z);
+        let h = flat().intersect(&back, f32::INFINITY).unwrap();
+        assert_eq!(h.t, 5.0);
+        assert_eq!(flat().surface(&back, &h).normal, Vec3::Z);
+    }
+
+    #[test]
+    fn parallel_and_grazing_rays_give_no_nan() {
+        let parallel = Ray::new(Vec3::new(-1.0, 1.0, 0.0), Vec3::X);
+        assert_eq!(flat().intersect(&parallel, f32::INFINITY), None);
+        // In the triangle's plane, through its interior, along several directions.
+        for dir in [
+            Vec3::X,
+            Vec3::Y,
+            Vec3::new(0.6, 0.8, 0.0),
+            Vec3::new(-0.8, 0.6, 0.0),
+        ] {
+            let ray = Ray::new(Vec3::new(1.0, 1.0, 2.0) - dir * 5.0, dir);
+            if let Some(h) = flat().intersect(&ray, f32::INFINITY) {
+                assert!(h.t.is_finite() && h.t > 0.0, "{h:?}");
+                assert!(h.b1.is_finite() && h.b2.is_finite(), "{h:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn t_max_is_exclusive() {
+        let ray = Ray::new(Vec3::new(1.0, 1.0, -1.0), Vec3::Z);
+        assert_eq!(flat().intersect(&ray, 3.0), None);
+        assert_eq!(flat().intersect(&ray, 2.999), None);
+        assert!(!flat().occluded(&ray, 3.0));
+        assert_eq!(flat().intersect(&ray, 3.001).unwrap().t, 3.0);
+    }
+
+    /// Eight triangles around `center`, with a rim that goes up and down.
+    fn fan(center: Vec3) -> [Triangle; 8] {
+        let ring = rim();
+        core::array::from_fn(|i| tri(center, center + ring[i], center + ring[(i + 1) % 8]))
+    }
+
+    fn rim() -> [Vec3; 8] {
+        let (x, y) = (
+            [1.0, 1.0, 0.0, -1.0, -1.0, -1.0, 0.0, 1.0],
+            [0.0, 1.0, 1.0, 1.0, 0.0, -1.0, -1.0, -1.0],
+        );
+        core::array::from_fn(|i| Vec3::new(x[i], y[i], if i % 2 == 0 { 0.25 } else { -0.25 }))
+    }
+
+    // The origins see the fan steeply enough (slope above its 0.56 gradient) that no
+    // spoke is a silhouette: a ray that only grazes a ridge may rightly miss it.
+    #[test]
+    fn fan_is_watertight_at_its_vertex_and_shared_edges() {
+        for center in [Vec3::ZERO, Vec3::new(148_376.0, 1234.0, -223_423.0)] {
+            let fan = fan(center);
+            // The shared vertex, and points on every shared edge (exact in f32).
+            let mut targets = [center; 25];
+            for (i, r) in rim().iter().enumerate() {
+                for (j, s) in [0.25, 0.5, 0.75].iter().enumerate() {
+                    targets[1 + 3 * i + j] = center + *r * *s;
+                }
+            }
+            let offsets = [
+                Vec3::new(0.3, 0.7, 5.0),
+                Vec3::new(-2.0, 1.0, 3.0),
+                Vec3::new(1.0, -3.0, -4.0),
+                Vec3::new(-0.1, 0.2, -1.0),
+                Vec3::new(4.0, 4.0, 8.0),
+                Vec3::new(0.0, 0.0, 2.0),
+            ];
+            let mut leaks = 0;
+            for o in offsets {
+                for target in targets {
+                    let ray = ray_to(center + o, target);
+                    let hit = fan
+                        .iter()
+                        .any(|t| t.intersect(&ray, f32::INFINITY).is_some());
+                    let occ = fan.iter().any(|t| t.occluded(&ray, f32::INFINITY));
+                    if !hit || !occ {
+                        leaks += 1;
+                    }
+                }
+            }
+            assert_eq!(leaks, 0, "center {center:?}");
+        }
+    }
+
+    fn octahedron(center: Vec3, r: f32) -> [Triangle; 8] {
+        core::array::from_fn(|i| {
+            let s = |bit: usize| if i & bit == 0 { r } else { -r };
+            let (a, b, c) = (Vec3::X * s(1), Vec3::Y * s(2), Vec3::Z * s(4));
+            // Outward winding: swap two vertices in the odd octants.
+            if s(1) * s(2) * s(4) > 0.0 {
+                tri(center + a, center + b, center + c)
+            } else {
+                tri(center + a, center + c, center + b)
+            }
+        })
+    }
+
+    #[test]
+    fn closed_octahedron_never_leaks() {
+        let mut seed = 0x1234_5678;
+        for (center, r, origin_offset) in [
+            (Vec3::ZERO, 1.0, Vec3::ZERO),
+            (Vec3::ZERO, 1.0, Vec3::new(0.1, -0.2, 0.3)),
+            (
+                Vec3::new(148_376.0, 1234.0, -223_423.0),
+                1000.0,
+                Vec3::new(3.0, -7.0, 1.0),
+            ),
+        ] {
+            let oct = octahedron(center, r);
+            let origin = center + origin_offset;
+            let mut dirs = [
+                Vec3::X,
+                -Vec3::Y,
+                Vec3::Z,
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.0, -1.0, 1.0),
+            ]
+            .map(|d| d.try_normalize().unwrap())
+            .to_vec();
+            while dirs.len() < 3000 {
+                let d = Vec3::new(rand(&mut seed), rand(&mut seed), rand(&mut seed));
+                if let Some(d) = d.try_normalize() {
+                    dirs.push(d);
+                }
+            }
+            for d in dirs {
+                let ray = Ray::new(origin, d);
+                let hits = oct.iter().filter_map(|t| t.intersect(&ray, f32::INFINITY));
+                let mut n = 0;
+                for h in hits {
+                    n += 1;
+                    assert!(h.t > 0.0 && h.t < 2.0 * r, "{d:?} {h:?}");
+                }
+                assert!(n >= 1, "leak at {d:?} from {origin:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn tiny_triangles_hit_by_their_centroid_ray() {
+        let c = Vec3::new(0.3, -0.2, 1.5);
+        for s in [1e-4, 3e-4, 1e-3, 1e-2, 1e-1] {
+            let t = tri(
+                c + Vec3::new(1.0, 0.0, 0.1) * s,
+                c + Vec3::new(-0.5, 0.866, 0.0) * s,
+                c + Vec3::new(-0.5, -0.866, -0.1) * s,
+            );
+            let [p0, p1, p2] = t.vertices();
+            let centroid = (p0 + p1 + p2) / 3.0;
+            let h = t
+                .intersect(&ray_to(Vec3::ZERO, centroid), f32::INFINITY)
+                .unwrap();
+            assert!((h.t - centroid.length()).abs() < 1e-5, "{s} {h:?}");
+            assert!(
+                (h.b1 - 1.0 / 3.0).abs() < 1e-2 && (h.b2 - 1.0 / 3.0).abs() < 1e-2,
+                "{s} {h:?}"
+            );
+        }
+    }
+
+    fn f64s(v: Vec3) -> [f64; 3] {
+        [f64::from(v.x), f64::from(v.y), f64::from(v.z)]
+    }
+
+    fn dot64(a: [f64; 3], b: [f64; 3]) -> f64 {
+        a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    }
+
+    // The bound covers the rounding of the interpolation, and so the distance off the
+    // plane (what `offset_origin` needs). Barycentric rounding only slides the point
+    // within the plane, by an amount that grows with the ray's length: checked loosely.
+    #[test]
+    fn surface_error_bounds_the_point() {
+        let mut seed = 0x9e37_79b9;
+        let far = Vec3::new(148_376.0, 1234.0, -223_423.0);
+        let mut worst = 0.0f64;
+        for (base, scale) in [
+            (Vec3::ZERO, 1.0),
+            (Vec3::new(10.0, -3.0, 7.0), 0.01),
+            (far, 5.0),
+        ] {
+            let t = tri(
+                base + Vec3::new(1.0, 0.1, 0.3) * scale,
+                base + Vec3::new(-0.2, 1.3, -0.4) * scale,
+                base + Vec3::new(-0.7, -0.9, 0.8) * scale,
+            );
+            let [p0, p1, p2] = t.vertices();
+            let [q0, q1, q2] = t.vertices().map(f64s);
+            let (e1, e2) = (
+                [q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]],
+                [q2[0] - q0[0], q2[1] - q0[1], q2[2] - q0[2]],
+            );
+            let n = [
+                e1[1] * e2[2] - e1[2] * e2[1],
+                e1[2] * e2[0] - e1[0] * e2[2],
+                e1[0] * e2[1] - e1[1] * e2[0],
+            ];
+            let n = n.map(|c| c / libm::sqrt(dot64(n, n)));
+            for _ in 0..500 {
+                let (r1, r2) = ((rand(&mut seed) + 1.0) / 2.0, (rand(&mut seed) + 1.0) / 2.0);
+                let (b1, b2) = if r1 + r2 > 1.0 {
+                    (1.0 - r1, 1.0 - r2)
+                } else {
+                    (r1, r2)
+                };
+                let target = p0 + (p1 - p0) * b1 + (p2 - p0) * b2;
+                let o = Vec3::new(rand(&mut seed), rand(&mut seed), rand(&mut seed));
+                let ray = ray_to(target + o * (3.0 * scale), target);
+                let Some(h) = t.intersect(&ray, f32::INFINITY) else {
+                    continue;
+                };
+                let s = t.surface(&ray, &h);
+                let (p, err) = (f64s(s.point), f64s(s.error));
+                assert!(err.iter().all(|&e| e > 0.0));
+                let e = t.edges(&ray).unwrap();
+                let b = [e.u * (1.0 / e.det), h.b1, h.b2].map(f64::from);
+                for i in 0..3 {
+                    let exact = b[0] * q0[i] + b[1] * q1[i] + b[2] * q2[i];
+                    assert!(
+                        (p[i] - exact).abs() <= err[i],
+                        "axis {i}: {p:?} {exact} {err:?}"
+                    );
+                }
+                let off_plane = dot64(n, [p[0] - q0[0], p[1] - q0[1], p[2] - q0[2]]).abs();
+                assert!(
+                    off_plane <= dot64(n.map(f64::abs), err),
+                    "{off_plane} {err:?}"
+                );
+                // The exact ray/plane point: a few ulps of the ray, over the cosine.
+                let (ro, rd) = (f64s(ray.origin), f64s(ray.dir));
+                let k = dot64(n, [q0[0] - ro[0], q0[1] - ro[1], q0[2] - ro[2]]) / dot64(n, rd);
+                let slide = (0..3)
+                    .map(|i| (p[i] - ro[i] - rd[i] * k).abs())
+                    .fold(0.0, f64::max);
+                let len = f64::from(ray.origin.abs().max_element() + s.point.abs().max_element());
+                worst = worst.max(slide * dot64(n, rd).abs() / len);
+            }
+        }
+        assert!(worst < 1e-6, "{worst}");
+    }
+
+    #[test]
+    fn constructor_errors() {
+        let (a, b, c) = (Vec3::ZERO, Vec3::X, Vec3::Y);
+        assert_eq!(
+            Triangle::try_new(a, b, Vec3::X * 2.0),
+            Err(Error::DegenerateTriangle)
+        );
+        assert_eq!(Triangle::try_new(a, a, c), Err(Error::DegenerateTriangle));
+        let nan = Vec3::new(0.0, f32::NAN, 0.0);
+        let inf = Vec3::new(0.0, 0.0, f32::NEG_INFINITY);
+        for (p, q, r) in [(nan, b, c), (a, inf, c), (a, b, nan)] {
+            assert_eq!(
+                Triangle::try_new(p, q, r),
+                Err(Error::NotFinite(Field::TriangleVertex))
+            );
+        }
+        // Scale-free: a tiny but proper triangle is accepted.
+        let tiny = Triangle::try_new(a, b * 1e-20, c * 1e-20).unwrap();
+        assert_eq!(tiny.vertices(), [a, b * 1e-20, c * 1e-20]);
+    }
+}

@@ -1,0 +1,74 @@
+//! # tessera: a ray tracer for microcontrollers
+//!
+//! `tessera` renders a ray-traced scene one fixed-size **tile** at a time, with `f32`
+//! math and fixed-capacity scene lists, so that a chip with a few KiB of RAM and no
+//! framebuffer can draw straight onto its display. There is no allocator, no `std`,
+//! no panicking path and a single audited `unsafe` spot (the Cortex-M4F `vsqrt.f32`).
+//!
+//! Why this shape: a 240x240 RGB framebuffer is 169 KiB, more than most small MCUs
+//! have. A tile of 16x16 pixels is 768 bytes; the caller owns it, renders tile
+//! `(tx, ty)` into it and sends it to the display before rendering the next one. A
+//! pixel depends only on the scene, the camera, the settings and its coordinates, so
+//! tiles may be rendered in any order, at any size, on any number of cores.
+//!
+//! The model is the course chapter "Le ray tracer en infographie": camera, viewport
+//! (`N_L x N_H` pixels), view frustum (near/far planes, vertical opening angle), the
+//! ray equation `r = r0 + v t`, geometries, materials, primitives, lights and a
+//! Whitted-style shader with reflection and transmission.
+//!
+//! ```
+//! use tessera::{builtin, RenderSettings, Tile, TileCoord, Viewport};
+//!
+//! let scene = builtin::chapter_direct()?;
+//! let frame = scene.frame(Viewport::new(40, 30), RenderSettings::default())?;
+//! let mut tile = Tile::<16>::new();
+//! frame.render_tile(&scene.view(), TileCoord::new(2, 1), &mut tile)?;
+//! // The last tile of a 40-pixel-wide frame holds 8 columns and 14 rows.
+//! assert_eq!((tile.width(), tile.height()), (8, 14));
+//! # Ok::<(), tessera::Error>(())
+//! ```
+#![no_std]
+#![deny(missing_docs)]
+#![deny(unsafe_code)]
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing,
+        clippy::unreachable,
+        clippy::todo,
+        clippy::unimplemented,
+    )
+)]
+
+pub mod builtin;
+pub mod camera;
+pub mod color;
+pub mod error;
+pub mod geometry;
+pub mod light;
+pub mod material;
+pub mod math;
+pub mod ray;
+pub mod sample;
+pub mod scene;
+pub mod shade;
+pub mod texture;
+pub mod tile;
+pub mod vec;
+
+pub use camera::{Camera, CameraBasis, Viewport};
+pub use color::{Color, Rgb8};
+pub use error::{Error, Field};
+pub use geometry::{Aabb, Plane, Sphere, Triangle};
+pub use light::PointLight;
+pub use material::{Material, MaterialId};
+pub use ray::Ray;
+pub use sample::{Sampler, SubPixel};
+pub use scene::{Primitive, Scene, SceneView};
+pub use shade::MAX_DEPTH;
+pub use texture::Texture;
+pub use tile::{Frame, RenderSettings, Tile, TileCoord};
+pub use vec::Vec3;

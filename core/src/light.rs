@@ -1,0 +1,83 @@
+//! Light sources: point lights with a colour and an intensity.
+
+use crate::color::Color;
+use crate::error::{Error, Field, finite, finite3};
+use crate::vec::Vec3;
+
+/// A point light: at a distance `r`, a surface facing it receives
+/// `color * intensity / r^2`. It casts shadows (a shadow ray per lit hit).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLight {
+    position: Vec3,
+    color: Color,
+    intensity: f32,
+}
+
+impl PointLight {
+    /// A point light; the colour components and the intensity must be finite and
+    /// `>= 0`.
+    pub fn try_new(position: Vec3, color: Color, intensity: f32) -> Result<Self, Error> {
+        let position = finite3(position, Field::LightPosition)?;
+        if !(color.is_finite()) {
+            return Err(Error::NotFinite(Field::LightColor));
+        }
+        if color.min_component() < 0.0 {
+            return Err(Error::OutOfRange {
+                field: Field::LightColor,
+                range: "[0, inf) per component",
+            });
+        }
+        if finite(intensity, Field::LightIntensity)? < 0.0 {
+            return Err(Error::OutOfRange {
+                field: Field::LightIntensity,
+                range: "[0, inf)",
+            });
+        }
+        Ok(Self {
+            position,
+            color,
+            intensity,
+        })
+    }
+
+    /// Position.
+    #[must_use]
+    pub fn position(&self) -> Vec3 {
+        self.position
+    }
+    /// Colour.
+    #[must_use]
+    pub fn color(&self) -> Color {
+        self.color
+    }
+    /// Intensity.
+    #[must_use]
+    pub fn intensity(&self) -> f32 {
+        self.intensity
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_lights_are_rejected() {
+        let p = Vec3::ZERO;
+        assert_eq!(
+            PointLight::try_new(Vec3::new(0.0, f32::NAN, 0.0), Color::WHITE, 1.0),
+            Err(Error::NotFinite(Field::LightPosition))
+        );
+        assert_eq!(
+            PointLight::try_new(p, Color::new(f32::INFINITY, 0.0, 0.0), 1.0),
+            Err(Error::NotFinite(Field::LightColor))
+        );
+        assert!(PointLight::try_new(p, Color::new(-1.0, 0.0, 0.0), 1.0).is_err());
+        assert!(PointLight::try_new(p, Color::WHITE, -1.0).is_err());
+        assert_eq!(
+            PointLight::try_new(p, Color::WHITE, f32::NAN),
+            Err(Error::NotFinite(Field::LightIntensity))
+        );
+        assert!(PointLight::try_new(p, Color::WHITE, 0.0).is_ok());
+    }
+}

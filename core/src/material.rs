@@ -1,0 +1,225 @@
+//! Materials: what a surface looks like (the chapter's "matériel").
+//!
+//! The local model is Blinn-Phong: `ambient * base * A + sum over lights of
+//! E * (diffuse * base * max(0, n.l) + specular * max(0, n.h)^shininess)` with
+//! `base` the texture colour, `A` the scene's ambient light and `E` the light's
+//! irradiance. On top, `reflectivity` sends a mirror ray and `transparency` a
+//! refracted ray (Snell's law, Fresnel by Schlick's approximation, total internal
+//! reflection), each weighted, each only when its weight is non-zero.
+
+use crate::color::Color;
+use crate::error::{Error, Field, finite, in_range};
+use crate::texture::Texture;
+
+/// A reference to a material of a scene (its index in the scene's material list).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct MaterialId(pub u16);
+
+/// A material. Build with [`Material::matte`] and the `with_*` methods, which check
+/// each number.
+///
+/// ```
+/// use tessera::{Color, Material};
+/// let glass = Material::matte(Color::WHITE)
+///     .with_diffuse(0.0).unwrap()
+///     .with_specular(0.5, 64.0).unwrap()
+///     .with_transparency(0.9, 1.5).unwrap();
+/// assert_eq!(glass.transparency(), 0.9);
+/// assert!(Material::matte(Color::WHITE).with_reflectivity(1.5).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    texture: Texture,
+    ambient: f32,
+    diffuse: f32,
+    specular: f32,
+    shininess: f32,
+    reflectivity: f32,
+    transparency: f32,
+    ior: f32,
+}
+
+const UNIT: &str = "[0, 1]";
+
+impl Material {
+    /// A diffuse material of one colour: ambient 1, diffuse 1, no specular, no
+    /// mirror, opaque. Colour components should be in `[0, 1]`; they are checked
+    /// when the material is added to a scene.
+    #[must_use]
+    pub const fn matte(color: Color) -> Self {
+        Self {
+            texture: Texture::Solid(color),
+            ambient: 1.0,
+            diffuse: 1.0,
+            specular: 0.0,
+            shininess: 1.0,
+            reflectivity: 0.0,
+            transparency: 0.0,
+            ior: 1.0,
+        }
+    }
+
+    /// Replaces the colour by a texture.
+    pub fn with_texture(mut self, texture: Texture) -> Result<Self, Error> {
+        texture.validate()?;
+        self.texture = texture;
+        Ok(self)
+    }
+
+    /// Ambient weight in `[0, 1]`: how much of the scene's ambient light it returns.
+    pub fn with_ambient(mut self, ambient: f32) -> Result<Self, Error> {
+        self.ambient = in_range(ambient, 0.0, 1.0, Field::Ambient, UNIT)?;
+        Ok(self)
+    }
+
+    /// Diffuse (Lambert) weight in `[0, 1]`.
+    pub fn with_diffuse(mut self, diffuse: f32) -> Result<Self, Error> {
+        self.diffuse = in_range(diffuse, 0.0, 1.0, Field::Diffuse, UNIT)?;
+        Ok(self)
+    }
+
+    /// Specular (Blinn-Phong) weight in `[0, 1]` and shininess exponent in
+    /// `[1, 10000]`.
+    pub fn with_specular(mut self, specular: f32, shininess: f32) -> Result<Self, Error> {
+        self.specular = in_range(specular, 0.0, 1.0, Field::Specular, UNIT)?;
+        self.shininess = in_range(shininess, 1.0, 10_000.0, Field::Shininess, "[1, 10000]")?;
+        Ok(self)
+    }
+
+    /// Mirror reflectivity in `[0, 1]`: the weight of the reflected ray.
+    pub fn with_reflectivity(mut self, reflectivity: f32) -> Result<Self, Error> {
+        self.reflectivity = in_range(reflectivity, 0.0, 1.0, Field::Reflectivity, UNIT)?;
+        Ok(self)
+    }
+
+    /// Transparency in `[0, 1]` (the weight of the transmitted light before Fresnel)
+    /// and index of refraction in `[1, 4]` relative to the surrounding medium.
+    pub fn with_transparency(mut self, transparency: f32, ior: f32) -> Result<Self, Error> {
+        self.transparency = in_range(transparency, 0.0, 1.0, Field::Transparency, UNIT)?;
+        self.ior = in_range(ior, 1.0, 4.0, Field::RefractiveIndex, "[1, 4]")?;
+        Ok(self)
+    }
+
+    /// Checks every number (used when the material is added to a scene, so that a
+    /// material built field by field by a parser is checked too).
+    pub fn validate(&self) -> Result<(), Error> {
+        self.texture.validate()?;
+        in_range(self.ambient, 0.0, 1.0, Field::Ambient, UNIT)?;
+        in_range(self.diffuse, 0.0, 1.0, Field::Diffuse, UNIT)?;
+        in_range(self.specular, 0.0, 1.0, Field::Specular, UNIT)?;
+        in_range(
+            self.shininess,
+            1.0,
+            10_000.0,
+            Field::Shininess,
+            "[1, 10000]",
+        )?;
+        in_range(self.reflectivity, 0.0, 1.0, Field::Reflectivity, UNIT)?;
+        in_range(self.transparency, 0.0, 1.0, Field::Transparency, UNIT)?;
+        in_range(self.ior, 1.0, 4.0, Field::RefractiveIndex, "[1, 4]")?;
+        finite(self.ior, Field::RefractiveIndex)?;
+        Ok(())
+    }
+
+    /// The texture (or solid colour).
+    #[must_use]
+    pub fn texture(&self) -> &Texture {
+        &self.texture
+    }
+    /// Ambient weight.
+    #[must_use]
+    pub fn ambient(&self) -> f32 {
+        self.ambient
+    }
+    /// Diffuse weight.
+    #[must_use]
+    pub fn diffuse(&self) -> f32 {
+        self.diffuse
+    }
+    /// Specular weight.
+    #[must_use]
+    pub fn specular(&self) -> f32 {
+        self.specular
+    }
+    /// Blinn-Phong exponent.
+    #[must_use]
+    pub fn shininess(&self) -> f32 {
+        self.shininess
+    }
+    /// Mirror reflectivity.
+    #[must_use]
+    pub fn reflectivity(&self) -> f32 {
+        self.reflectivity
+    }
+    /// Transparency.
+    #[must_use]
+    pub fn transparency(&self) -> f32 {
+        self.transparency
+    }
+    /// Index of refraction.
+    #[must_use]
+    pub fn ior(&self) -> f32 {
+        self.ior
+    }
+    /// True when a light can change this material's colour (diffuse or specular).
+    #[must_use]
+    pub fn is_lit(&self) -> bool {
+        self.diffuse > 0.0 || self.specular > 0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_weight_is_checked() {
+        let m = Material::matte(Color::WHITE);
+        assert!(matches!(
+            m.with_ambient(-0.1),
+            Err(Error::OutOfRange {
+                field: Field::Ambient,
+                ..
+            })
+        ));
+        assert!(matches!(
+            m.with_diffuse(1.1),
+            Err(Error::OutOfRange {
+                field: Field::Diffuse,
+                ..
+            })
+        ));
+        assert!(matches!(
+            m.with_specular(0.5, 0.5),
+            Err(Error::OutOfRange {
+                field: Field::Shininess,
+                ..
+            })
+        ));
+        assert_eq!(
+            m.with_specular(f32::NAN, 8.0),
+            Err(Error::NotFinite(Field::Specular))
+        );
+        assert!(matches!(
+            m.with_reflectivity(2.0),
+            Err(Error::OutOfRange {
+                field: Field::Reflectivity,
+                ..
+            })
+        ));
+        assert!(matches!(
+            m.with_transparency(0.5, 0.5),
+            Err(Error::OutOfRange {
+                field: Field::RefractiveIndex,
+                ..
+            })
+        ));
+        assert_eq!(
+            m.with_transparency(0.5, f32::INFINITY),
+            Err(Error::NotFinite(Field::RefractiveIndex))
+        );
+        let bad_color = Material::matte(Color::new(0.0, -1.0, 0.0));
+        assert!(bad_color.validate().is_err());
+        assert!(m.validate().is_ok());
+    }
+}

@@ -1,0 +1,283 @@
+//! The one math module: every square root, power and trigonometric call of the core.
+//!
+//! Free functions, never method syntax: on the host `x.sqrt()` would silently resolve
+//! to `std` and the host would no longer compute what the chip computes.
+//!
+//! Backends:
+//! - default (**exact**): `libm`, except `sqrt` on Cortex-M4F, which uses the FPU's
+//!   `vsqrt.f32`. Both are correctly rounded (IEEE 754), so the host and the chip give
+//!   the same bits.
+//! - feature `fast-math`: `micromath` approximations (a trade to be measured: fewer
+//!   instructions, larger error).
+//!
+//! Per-pixel paths use only `sqrt`, `powf`, `floor` and the polynomial
+//! [`cos_turns`]; `tan`, `atan2` and `acos` run once a frame or only for textured
+//! spheres (libm's `sinf`/`cosf` go through `f64`, which is software on an M4F).
+
+/// Square root, correctly rounded with the exact backend.
+#[inline]
+#[must_use]
+pub fn sqrt(x: f32) -> f32 {
+    backend::sqrt(x)
+}
+
+/// `x` raised to the power `y`.
+#[inline]
+#[must_use]
+pub fn powf(x: f32, y: f32) -> f32 {
+    backend::powf(x, y)
+}
+
+/// Tangent of `x` radians (used once a frame).
+#[inline]
+#[must_use]
+pub fn tan(x: f32) -> f32 {
+    backend::tan(x)
+}
+
+/// Four-quadrant arc tangent of `y / x`, in radians.
+#[inline]
+#[must_use]
+pub fn atan2(y: f32, x: f32) -> f32 {
+    backend::atan2(y, x)
+}
+
+/// Arc cosine in radians; the argument is clamped to `[-1, 1]` first, so rounding
+/// just outside the domain never yields NaN.
+#[inline]
+#[must_use]
+pub fn acos(x: f32) -> f32 {
+    backend::acos(x.clamp(-1.0, 1.0))
+}
+
+/// Largest integer not greater than `x`.
+#[inline]
+#[must_use]
+pub fn floor(x: f32) -> f32 {
+    libm::floorf(x)
+}
+
+/// Absolute value (bit operation: exact, no branch, keeps NaN a NaN).
+#[inline]
+#[must_use]
+pub fn abs(x: f32) -> f32 {
+    f32::from_bits(x.to_bits() & 0x7fff_ffff)
+}
+
+/// `x` with the sign of `s` (bit operation).
+#[inline]
+#[must_use]
+pub fn copysign(x: f32, s: f32) -> f32 {
+    f32::from_bits((x.to_bits() & 0x7fff_ffff) | (s.to_bits() & 0x8000_0000))
+}
+
+/// The next representable `f32` above `x` (pbrt's `NextFloatUp`); `+inf` and NaN
+/// are returned unchanged, `-0.0` steps like `+0.0`.
+#[must_use]
+pub fn next_up(x: f32) -> f32 {
+    if x.is_infinite() && x > 0.0 || x.is_nan() {
+        return x;
+    }
+    let x = if x == 0.0 { 0.0 } else { x };
+    let bits = x.to_bits();
+    let bits = if x >= 0.0 { bits + 1 } else { bits - 1 };
+    f32::from_bits(bits)
+}
+
+/// The next representable `f32` below `x` (pbrt's `NextFloatDown`).
+#[must_use]
+pub fn next_down(x: f32) -> f32 {
+    -next_up(-x)
+}
+
+/// pbrt's `gamma(n) = n u / (1 - n u)` with `u = 2^-24`: the relative bound on the
+/// rounding error of `n` successive f32 operations.
+#[inline]
+#[must_use]
+pub const fn gamma(n: u32) -> f32 {
+    let nu = n as f32 * (f32::EPSILON * 0.5);
+    nu / (1.0 - nu)
+}
+
+/// `cos(2 pi x)` in plain f32 arithmetic (no libm, no f64): argument reduction to a
+/// quarter turn, then the even Taylor polynomial to degree 12 (truncation error below
+/// 1e-8 on `[0, pi/2]`). Absolute error about 2e-7 for any finite `x`; used per pixel
+/// by the interference texture, so it must not go through `f64`.
+#[must_use]
+pub fn cos_turns(x: f32) -> f32 {
+    if !x.is_finite() {
+        return f32::NAN;
+    }
+    // Exact: x - round(x) has no rounding error for any f32 x.
+    let r = abs(x - libm::roundf(x)); // in [0, 0.5]
+    let (z, sign) = if r > 0.25 { (0.5 - r, -1.0) } else { (r, 1.0) };
+    let t = z * core::f32::consts::TAU; // [0, pi/2]
+    let t2 = t * t;
+    // cos t = 1 - t^2/2! + t^4/4! - ... + t^12/12!, Horner form.
+    let p = 1.0
+        + t2 * (-1.0 / 2.0
+            + t2 * (1.0 / 24.0
+                + t2 * (-1.0 / 720.0
+                    + t2 * (1.0 / 40_320.0
+                        + t2 * (-1.0 / 3_628_800.0 + t2 * (1.0 / 479_001_600.0))))));
+    sign * p
+}
+
+/// `sin(2 pi x)`, from [`cos_turns`] of the quarter-turn complement.
+#[must_use]
+pub fn sin_turns(x: f32) -> f32 {
+    if !x.is_finite() {
+        return f32::NAN;
+    }
+    let r = x - libm::roundf(x); // exact, in [-0.5, 0.5]
+    cos_turns(0.25 - r)
+}
+
+#[cfg(not(feature = "fast-math"))]
+mod backend {
+    #[inline]
+    pub fn sqrt(x: f32) -> f32 {
+        #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+        {
+            super::vsqrt(x)
+        }
+        #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+        {
+            libm::sqrtf(x)
+        }
+    }
+    #[inline]
+    pub fn powf(x: f32, y: f32) -> f32 {
+        libm::powf(x, y)
+    }
+    #[inline]
+    pub fn tan(x: f32) -> f32 {
+        libm::tanf(x)
+    }
+    #[inline]
+    pub fn atan2(y: f32, x: f32) -> f32 {
+        libm::atan2f(y, x)
+    }
+    #[inline]
+    pub fn acos(x: f32) -> f32 {
+        libm::acosf(x)
+    }
+}
+
+#[cfg(feature = "fast-math")]
+mod backend {
+    use micromath::F32Ext;
+    #[inline]
+    pub fn sqrt(x: f32) -> f32 {
+        F32Ext::sqrt(x)
+    }
+    #[inline]
+    pub fn powf(x: f32, y: f32) -> f32 {
+        F32Ext::powf(x, y)
+    }
+    #[inline]
+    pub fn tan(x: f32) -> f32 {
+        F32Ext::tan(x)
+    }
+    #[inline]
+    pub fn atan2(y: f32, x: f32) -> f32 {
+        F32Ext::atan2(y, x)
+    }
+    #[inline]
+    pub fn acos(x: f32) -> f32 {
+        F32Ext::acos(x)
+    }
+}
+
+/// The single audited `unsafe` spot of the core: the Cortex-M4F FPU square root.
+///
+/// Why asm: `libm::sqrtf` is a software loop (hundreds of cycles); the FPU does it
+/// in 14 cycles. `core` has no stable `f32::sqrt`, and on stable Rust 1.95 the
+/// `sreg` register class is refused for `thumbv7em-none-eabihf` (rustc only knows
+/// the FPU there as LLVM's `vfp2sp`, which it does not expose), so the value moves
+/// through a core register and `s0` is saved and restored around the instruction.
+///
+/// Soundness: the block reads one core register and writes another; `s0` is pushed
+/// and popped, so no register the compiler uses changes; it writes only below the
+/// stack pointer (hence no `nostack`) and touches no memory Rust can see (`nomem`).
+/// Every ARM hard-float (`eabihf`) target has a VFP unit with `vsqrt.f32`. IEEE 754
+/// requires sqrt to be correctly rounded, so it returns the same bits as
+/// `libm::sqrtf` on the host (checked by the firmware test against the host).
+#[cfg(all(target_arch = "arm", target_abi = "eabihf", not(feature = "fast-math")))]
+#[allow(unsafe_code)]
+#[inline]
+fn vsqrt(x: f32) -> f32 {
+    let r: u32;
+    // SAFETY: see the function documentation.
+    unsafe {
+        core::arch::asm!(
+            "vpush {{s0}}",
+            "vmov s0, {x}",
+            "vsqrt.f32 s0, s0",
+            "vmov {r}, s0",
+            "vpop {{s0}}",
+            x = in(reg) x.to_bits(),
+            r = lateout(reg) r,
+            // Not `preserves_flags`: vsqrt may set the FPSCR exception flags.
+            options(pure, nomem)
+        );
+    }
+    f32::from_bits(r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cos_turns_matches_f64_cos() {
+        let mut worst = 0.0f64;
+        for i in -20_000..=20_000 {
+            let x = i as f32 * 0.000_173_1 + 0.013;
+            let exact = (core::f64::consts::TAU * x as f64).cos();
+            worst = worst.max((cos_turns(x) as f64 - exact).abs());
+        }
+        assert!(worst < 4e-7, "worst error {worst}");
+        assert_eq!(cos_turns(0.0), 1.0);
+        assert!((cos_turns(0.5) + 1.0).abs() < 1e-7);
+        assert!(cos_turns(f32::NAN).is_nan());
+    }
+
+    #[test]
+    fn sin_turns_matches_f64_sin() {
+        for i in -2_000..=2_000 {
+            let x = i as f32 * 0.001_37;
+            let exact = (core::f64::consts::TAU * x as f64).sin();
+            assert!((sin_turns(x) as f64 - exact).abs() < 4e-7, "x = {x}");
+        }
+    }
+
+    #[test]
+    fn next_up_and_down_step_one_ulp() {
+        assert_eq!(next_up(1.0), 1.0 + f32::EPSILON);
+        assert_eq!(next_down(1.0), 1.0 - f32::EPSILON / 2.0);
+        assert_eq!(next_up(0.0), f32::from_bits(1));
+        assert_eq!(next_up(-0.0), f32::from_bits(1));
+        assert_eq!(next_down(0.0), -f32::from_bits(1));
+        assert_eq!(next_up(-1.0), -1.0 + f32::EPSILON / 2.0);
+        assert_eq!(next_up(f32::INFINITY), f32::INFINITY);
+        assert_eq!(next_up(f32::MAX), f32::INFINITY);
+    }
+
+    #[test]
+    fn abs_and_copysign_are_bit_exact() {
+        assert_eq!(abs(-0.0).to_bits(), 0);
+        assert_eq!(abs(-3.5), 3.5);
+        assert_eq!(copysign(2.0, -0.0), -2.0);
+        assert!(abs(f32::NAN).is_nan());
+    }
+
+    #[test]
+    #[cfg(not(feature = "fast-math"))]
+    fn sqrt_is_correctly_rounded() {
+        // sqrt(2) rounded to nearest f32 and a perfect square.
+        assert_eq!(sqrt(2.0), core::f32::consts::SQRT_2);
+        assert_eq!(sqrt(6.25), 2.5);
+        assert_eq!(acos(1.000_001), 0.0);
+    }
+}

@@ -1,0 +1,206 @@
+//! Where in a pixel the rays go: the chapter's corner, the centre, a fixed offset,
+//! stratified (jittered) k x k, or n random positions (anti-aliasing).
+//!
+//! Random numbers come from a hash of `(pixel x, pixel y, sample index, seed)`, so a
+//! pixel's samples never depend on the tile size, the tile order or the thread count.
+
+use crate::error::{Error, Field};
+
+/// A fixed position inside a pixel, each coordinate in `[0, 1)` (`(0, 0)` = top-left
+/// corner, `(0.5, 0.5)` = centre).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SubPixel {
+    x: f32,
+    y: f32,
+}
+
+impl SubPixel {
+    /// A sub-pixel position; each coordinate must be finite and in `[0, 1)`.
+    pub fn try_new(x: f32, y: f32) -> Result<Self, Error> {
+        let ok = |v: f32| (0.0..1.0).contains(&v);
+        if ok(x) && ok(y) {
+            Ok(Self { x, y })
+        } else {
+            Err(Error::OutOfRange {
+                field: Field::SubPixelOffset,
+                range: "[0, 1) on each axis",
+            })
+        }
+    }
+
+    /// The `x` offset.
+    #[must_use]
+    pub fn x(&self) -> f32 {
+        self.x
+    }
+    /// The `y` offset.
+    #[must_use]
+    pub fn y(&self) -> f32 {
+        self.y
+    }
+}
+
+/// How a pixel is sampled.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Sampler {
+    /// One ray through the top-left corner of the pixel (the chapter's `r0`).
+    Corner,
+    /// One ray through the centre of the pixel (the default).
+    #[default]
+    Centre,
+    /// One ray through a fixed position in the pixel.
+    Offset(SubPixel),
+    /// `k x k` rays, one at a random position in each cell of a `k x k` grid
+    /// (jittered stratification), `1 <= k <= 64`.
+    Stratified(u8),
+    /// `n` rays at random positions in the pixel, `1 <= n <= 4096`.
+    Random(u16),
+}
+
+impl Sampler {
+    /// Checks the sample count.
+    pub fn validate(&self) -> Result<(), Error> {
+        match *self {
+            Self::Stratified(k) if k == 0 || k > 64 => Err(Error::BadSampleCount),
+            Self::Random(n) if n == 0 || n > 4096 => Err(Error::BadSampleCount),
+            _ => Ok(()),
+        }
+    }
+
+    /// Rays per pixel.
+    #[must_use]
+    pub fn count(&self) -> u32 {
+        match *self {
+            Self::Corner | Self::Centre | Self::Offset(_) => 1,
+            Self::Stratified(k) => u32::from(k) * u32::from(k),
+            Self::Random(n) => u32::from(n),
+        }
+    }
+
+    /// Offset `(dx, dy)` in `[0, 1)^2` of sample `index` of pixel `(px, py)`.
+    #[must_use]
+    pub fn offset(&self, px: u32, py: u32, index: u32, seed: u32) -> (f32, f32) {
+        match *self {
+            Self::Corner => (0.0, 0.0),
+            Self::Centre => (0.5, 0.5),
+            Self::Offset(s) => (s.x, s.y),
+            Self::Stratified(k) => {
+                let k = u32::from(k.max(1));
+                let (cx, cy) = (index % k, index / k);
+                let (jx, jy) = random_pair(px, py, index, seed);
+                let inv = 1.0 / k as f32;
+                (
+                    below_one((cx as f32 + jx) * inv),
+                    below_one((cy as f32 + jy) * inv),
+                )
+            }
+            Self::Random(_) => random_pair(px, py, index, seed),
+        }
+    }
+}
+
+/// Clamps a rounded-up `1.0` back into `[0, 1)`.
+fn below_one(v: f32) -> f32 {
+    v.min(1.0 - f32::EPSILON / 2.0)
+}
+
+/// A 32-bit integer hash with good avalanche (Wellons' "lowbias32").
+#[inline]
+#[must_use]
+pub fn mix(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    x
+}
+
+/// The hash of a pixel's sample: every input changes every output bit.
+#[must_use]
+pub fn hash(px: u32, py: u32, index: u32, seed: u32) -> u32 {
+    let h = mix(seed ^ 0x9e37_79b9);
+    let h = mix(h ^ px);
+    let h = mix(h.wrapping_add(0x85eb_ca6b) ^ py);
+    mix(h.wrapping_add(0xc2b2_ae35) ^ index)
+}
+
+/// Two uniform numbers in `[0, 1)` for a pixel's sample.
+#[must_use]
+pub fn random_pair(px: u32, py: u32, index: u32, seed: u32) -> (f32, f32) {
+    let h = hash(px, py, index, seed);
+    (unit(h), unit(mix(h ^ 0x68e3_1da4)))
+}
+
+/// The top 24 bits of `h` as a float in `[0, 1)` (exactly representable).
+#[inline]
+fn unit(h: u32) -> f32 {
+    (h >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fixed_samplers() {
+        assert_eq!(Sampler::Corner.offset(3, 4, 0, 1), (0.0, 0.0));
+        assert_eq!(Sampler::Centre.offset(3, 4, 0, 1), (0.5, 0.5));
+        let s = SubPixel::try_new(0.25, 0.75).unwrap();
+        assert_eq!(Sampler::Offset(s).offset(9, 9, 0, 0), (0.25, 0.75));
+        assert!(SubPixel::try_new(1.0, 0.0).is_err());
+        assert!(SubPixel::try_new(f32::NAN, 0.0).is_err());
+        assert!(SubPixel::try_new(-0.1, 0.0).is_err());
+    }
+
+    #[test]
+    fn stratified_puts_one_sample_in_each_cell() {
+        let k = 4u8;
+        let s = Sampler::Stratified(k);
+        assert_eq!(s.count(), 16);
+        let mut seen = [false; 16];
+        for i in 0..16 {
+            let (x, y) = s.offset(17, 5, i, 42);
+            assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&y));
+            let cell = (y * 4.0) as usize * 4 + (x * 4.0) as usize;
+            assert!(!seen[cell], "two samples in cell {cell}");
+            seen[cell] = true;
+        }
+    }
+
+    #[test]
+    fn random_is_deterministic_and_uniform() {
+        let s = Sampler::Random(8);
+        assert_eq!(s.offset(1, 2, 3, 4), s.offset(1, 2, 3, 4));
+        assert_ne!(s.offset(1, 2, 3, 4), s.offset(1, 2, 3, 5));
+        assert_ne!(s.offset(1, 2, 3, 4), s.offset(2, 1, 3, 4));
+        // Mean and a 10-bin histogram over many pixels.
+        let mut bins = [0u32; 10];
+        let mut sum = 0.0f64;
+        let n = 100_000u32;
+        for i in 0..n {
+            let (x, y) = s.offset(i % 317, i / 317, i % 8, 7);
+            sum += f64::from(x) + f64::from(y);
+            bins[(x * 10.0) as usize] += 1;
+        }
+        assert!((sum / f64::from(2 * n) - 0.5).abs() < 0.005);
+        for b in bins {
+            assert!((9_500..10_500).contains(&b), "{bins:?}");
+        }
+    }
+
+    #[test]
+    fn bad_counts_are_rejected() {
+        assert_eq!(
+            Sampler::Stratified(0).validate(),
+            Err(Error::BadSampleCount)
+        );
+        assert_eq!(
+            Sampler::Stratified(65).validate(),
+            Err(Error::BadSampleCount)
+        );
+        assert_eq!(Sampler::Random(0).validate(), Err(Error::BadSampleCount));
+        assert_eq!(Sampler::Random(4097).validate(), Err(Error::BadSampleCount));
+        assert!(Sampler::Random(4096).validate().is_ok());
+    }
+}

@@ -1,0 +1,351 @@
+//! The scene: primitives (a geometry and a material reference), materials, lights,
+//! the camera, an ambient light and a background colour.
+//!
+//! Fixed capacity, sized per scene: one `heapless` list per geometry kind, plus
+//! materials and lights, each with its own `const` capacity. A scene of spheres
+//! alone sets the other capacities to 0 and pays neither RAM nor a loop for them.
+//! Adding past a capacity returns [`Error::CapacityExceeded`]; every value is
+//! checked when it is added, so a scene that exists is a valid scene.
+
+use crate::camera::{Camera, Viewport};
+use crate::color::Color;
+use crate::error::{Error, List};
+use crate::geometry::{Aabb, Plane, Sphere, Triangle};
+use crate::light::PointLight;
+use crate::material::{Material, MaterialId};
+use crate::tile::{Frame, RenderSettings};
+use heapless::Vec;
+
+/// An object of the scene: a geometry and the material it is made of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Primitive<G> {
+    /// The shape.
+    pub geometry: G,
+    /// Its material, an index checked against the scene's materials when added.
+    pub material: MaterialId,
+}
+
+/// A scene with capacities `S` spheres, `P` planes, `T` triangles, `B` boxes, `M`
+/// materials and `L` lights.
+///
+/// ```
+/// use tessera::{Camera, Color, Error, Material, Scene, Sphere, Vec3};
+/// use tessera::error::List;
+///
+/// let cam = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0)?;
+/// let mut scene: Scene<1, 0, 0, 0, 1, 0> = Scene::new(cam);
+/// let blue = scene.add_material(Material::matte(Color::new(0.1, 0.2, 0.9)))?;
+/// scene.add_sphere(Sphere::try_new(Vec3::ZERO, 1.0)?, blue)?;
+/// let full = scene.add_sphere(Sphere::try_new(Vec3::ZERO, 2.0)?, blue);
+/// assert_eq!(full, Err(Error::CapacityExceeded { list: List::Spheres, capacity: 1 }));
+/// # Ok::<(), Error>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct Scene<
+    const S: usize,
+    const P: usize,
+    const T: usize,
+    const B: usize,
+    const M: usize,
+    const L: usize,
+> {
+    camera: Camera,
+    ambient: Color,
+    background: Color,
+    spheres: Vec<Primitive<Sphere>, S>,
+    planes: Vec<Primitive<Plane>, P>,
+    triangles: Vec<Primitive<Triangle>, T>,
+    boxes: Vec<Primitive<Aabb>, B>,
+    materials: Vec<Material, M>,
+    lights: Vec<PointLight, L>,
+}
+
+fn push<X, const N: usize>(list: &mut Vec<X, N>, x: X, which: List) -> Result<(), Error> {
+    list.push(x).map_err(|_| Error::CapacityExceeded {
+        list: which,
+        capacity: N,
+    })
+}
+
+fn color_ok(c: Color, field: crate::error::Field) -> Result<Color, Error> {
+    if !c.is_finite() {
+        return Err(Error::NotFinite(field));
+    }
+    if c.min_component() < 0.0 {
+        return Err(Error::OutOfRange {
+            field,
+            range: "[0, inf) per component",
+        });
+    }
+    Ok(c)
+}
+
+impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: usize, const L: usize>
+    Scene<S, P, T, B, M, L>
+{
+    /// An empty scene seen by `camera`, with no ambient light and a black background.
+    #[must_use]
+    pub const fn new(camera: Camera) -> Self {
+        Self {
+            camera,
+            ambient: Color::BLACK,
+            background: Color::BLACK,
+            spheres: Vec::new(),
+            planes: Vec::new(),
+            triangles: Vec::new(),
+            boxes: Vec::new(),
+            materials: Vec::new(),
+            lights: Vec::new(),
+        }
+    }
+
+    /// Sets the ambient light (finite, `>= 0` per component).
+    pub fn set_ambient(&mut self, ambient: Color) -> Result<(), Error> {
+        self.ambient = color_ok(ambient, crate::error::Field::AmbientLight)?;
+        Ok(())
+    }
+
+    /// Sets the background colour seen by rays that hit nothing.
+    pub fn set_background(&mut self, background: Color) -> Result<(), Error> {
+        self.background = color_ok(background, crate::error::Field::Background)?;
+        Ok(())
+    }
+
+    /// Replaces the camera.
+    pub fn set_camera(&mut self, camera: Camera) {
+        self.camera = camera;
+    }
+
+    /// Adds a material (checked) and returns its reference.
+    pub fn add_material(&mut self, material: Material) -> Result<MaterialId, Error> {
+        material.validate()?;
+        let id = u16::try_from(self.materials.len()).map_err(|_| Error::CapacityExceeded {
+            list: List::Materials,
+            capacity: M,
+        })?;
+        push(&mut self.materials, material, List::Materials)?;
+        Ok(MaterialId(id))
+    }
+
+    fn check_material(&self, id: MaterialId) -> Result<(), Error> {
+        if usize::from(id.0) < self.materials.len() {
+            Ok(())
+        } else {
+            Err(Error::MaterialOutOfRange {
+                id: id.0,
+                count: u16::try_from(self.materials.len()).unwrap_or(u16::MAX),
+            })
+        }
+    }
+
+    /// Adds a sphere made of `material`.
+    pub fn add_sphere(&mut self, geometry: Sphere, material: MaterialId) -> Result<(), Error> {
+        self.check_material(material)?;
+        push(
+            &mut self.spheres,
+            Primitive { geometry, material },
+            List::Spheres,
+        )
+    }
+
+    /// Adds a plane made of `material`.
+    pub fn add_plane(&mut self, geometry: Plane, material: MaterialId) -> Result<(), Error> {
+        self.check_material(material)?;
+        push(
+            &mut self.planes,
+            Primitive { geometry, material },
+            List::Planes,
+        )
+    }
+
+    /// Adds a triangle made of `material`.
+    pub fn add_triangle(&mut self, geometry: Triangle, material: MaterialId) -> Result<(), Error> {
+        self.check_material(material)?;
+        push(
+            &mut self.triangles,
+            Primitive { geometry, material },
+            List::Triangles,
+        )
+    }
+
+    /// Adds an axis-aligned box made of `material`.
+    pub fn add_box(&mut self, geometry: Aabb, material: MaterialId) -> Result<(), Error> {
+        self.check_material(material)?;
+        push(
+            &mut self.boxes,
+            Primitive { geometry, material },
+            List::Boxes,
+        )
+    }
+
+    /// Adds a point light.
+    pub fn add_light(&mut self, light: PointLight) -> Result<(), Error> {
+        push(&mut self.lights, light, List::Lights)
+    }
+
+    /// The camera.
+    #[must_use]
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// A borrowed, capacity-free view of the scene: what the renderer reads.
+    #[must_use]
+    pub fn view(&self) -> SceneView<'_> {
+        SceneView {
+            spheres: &self.spheres,
+            planes: &self.planes,
+            triangles: &self.triangles,
+            boxes: &self.boxes,
+            materials: &self.materials,
+            lights: &self.lights,
+            ambient: self.ambient,
+            background: self.background,
+        }
+    }
+
+    /// The frame of this scene's camera for `viewport` and `settings` (all checked).
+    pub fn frame(&self, viewport: Viewport, settings: RenderSettings) -> Result<Frame, Error> {
+        Frame::try_new(&self.camera, viewport, settings)
+    }
+}
+
+/// A scene as the renderer sees it: slices, no capacities, so the renderer is
+/// compiled once whatever the scene's capacities.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneView<'a> {
+    pub(crate) spheres: &'a [Primitive<Sphere>],
+    pub(crate) planes: &'a [Primitive<Plane>],
+    pub(crate) triangles: &'a [Primitive<Triangle>],
+    pub(crate) boxes: &'a [Primitive<Aabb>],
+    pub(crate) materials: &'a [Material],
+    pub(crate) lights: &'a [PointLight],
+    pub(crate) ambient: Color,
+    pub(crate) background: Color,
+}
+
+impl<'a> SceneView<'a> {
+    /// The spheres.
+    #[must_use]
+    pub fn spheres(&self) -> &'a [Primitive<Sphere>] {
+        self.spheres
+    }
+    /// The planes.
+    #[must_use]
+    pub fn planes(&self) -> &'a [Primitive<Plane>] {
+        self.planes
+    }
+    /// The triangles.
+    #[must_use]
+    pub fn triangles(&self) -> &'a [Primitive<Triangle>] {
+        self.triangles
+    }
+    /// The boxes.
+    #[must_use]
+    pub fn boxes(&self) -> &'a [Primitive<Aabb>] {
+        self.boxes
+    }
+    /// The materials.
+    #[must_use]
+    pub fn materials(&self) -> &'a [Material] {
+        self.materials
+    }
+    /// The lights.
+    #[must_use]
+    pub fn lights(&self) -> &'a [PointLight] {
+        self.lights
+    }
+    /// The ambient light.
+    #[must_use]
+    pub fn ambient(&self) -> Color {
+        self.ambient
+    }
+    /// The background colour.
+    #[must_use]
+    pub fn background(&self) -> Color {
+        self.background
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Vec3;
+
+    fn cam() -> Camera {
+        Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0).unwrap()
+    }
+
+    #[test]
+    fn capacities_are_enforced_per_list() {
+        let mut s: Scene<1, 1, 1, 1, 1, 1> = Scene::new(cam());
+        let m = s.add_material(Material::matte(Color::WHITE)).unwrap();
+        assert_eq!(
+            s.add_material(Material::matte(Color::WHITE)),
+            Err(Error::CapacityExceeded {
+                list: List::Materials,
+                capacity: 1
+            })
+        );
+        let sph = Sphere::try_new(Vec3::ZERO, 1.0).unwrap();
+        let pl = Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap();
+        let tri = Triangle::try_new(Vec3::ZERO, Vec3::X, Vec3::Y).unwrap();
+        let bx = Aabb::try_new(Vec3::ZERO, Vec3::splat(1.0)).unwrap();
+        let li = PointLight::try_new(Vec3::Y, Color::WHITE, 1.0).unwrap();
+        s.add_sphere(sph, m).unwrap();
+        s.add_plane(pl, m).unwrap();
+        s.add_triangle(tri, m).unwrap();
+        s.add_box(bx, m).unwrap();
+        s.add_light(li).unwrap();
+        let full = |list| Err(Error::CapacityExceeded { list, capacity: 1 });
+        assert_eq!(s.add_sphere(sph, m), full(List::Spheres));
+        assert_eq!(s.add_plane(pl, m), full(List::Planes));
+        assert_eq!(s.add_triangle(tri, m), full(List::Triangles));
+        assert_eq!(s.add_box(bx, m), full(List::Boxes));
+        assert_eq!(s.add_light(li), full(List::Lights));
+        // Zero capacity: a spheres-only scene refuses other kinds.
+        let mut only: Scene<2, 0, 0, 0, 1, 0> = Scene::new(cam());
+        let m = only.add_material(Material::matte(Color::WHITE)).unwrap();
+        assert_eq!(
+            only.add_plane(pl, m),
+            Err(Error::CapacityExceeded {
+                list: List::Planes,
+                capacity: 0
+            })
+        );
+    }
+
+    #[test]
+    fn material_references_are_checked() {
+        let mut s: Scene<2, 0, 0, 0, 2, 0> = Scene::new(cam());
+        let sph = Sphere::try_new(Vec3::ZERO, 1.0).unwrap();
+        assert_eq!(
+            s.add_sphere(sph, MaterialId(0)),
+            Err(Error::MaterialOutOfRange { id: 0, count: 0 })
+        );
+        s.add_material(Material::matte(Color::WHITE)).unwrap();
+        assert_eq!(
+            s.add_sphere(sph, MaterialId(3)),
+            Err(Error::MaterialOutOfRange { id: 3, count: 1 })
+        );
+        assert!(s.add_sphere(sph, MaterialId(0)).is_ok());
+        let bad = Material::matte(Color::new(f32::NAN, 0.0, 0.0));
+        assert!(s.add_material(bad).is_err());
+    }
+
+    #[test]
+    fn ambient_and_background_are_checked() {
+        let mut s: Scene<0, 0, 0, 0, 0, 0> = Scene::new(cam());
+        assert!(s.set_ambient(Color::new(0.0, f32::NAN, 0.0)).is_err());
+        assert!(s.set_background(Color::new(-1.0, 0.0, 0.0)).is_err());
+        assert!(s.set_ambient(Color::splat(0.1)).is_ok());
+    }
+
+    #[test]
+    fn unused_kinds_cost_no_memory() {
+        use core::mem::size_of;
+        let spheres_only = size_of::<Scene<4, 0, 0, 0, 2, 1>>();
+        let with_triangles = size_of::<Scene<4, 0, 16, 0, 2, 1>>();
+        assert!(with_triangles >= spheres_only + 16 * size_of::<Primitive<Triangle>>());
+    }
+}

@@ -1,0 +1,175 @@
+//! Surface colours that vary with the texture coordinate `uv`.
+
+use crate::color::Color;
+use crate::error::{Error, Field, finite};
+use crate::math;
+
+/// What colours a surface: one colour, or a procedural uv texture.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Texture {
+    /// One colour everywhere; needs no uv (the shader never computes one).
+    Solid(Color),
+    /// Squares alternating between `a` and `b`, `scale` squares per uv unit.
+    Checker {
+        /// Colour of the squares where `floor(u s) + floor(v s)` is even.
+        a: Color,
+        /// Colour of the other squares.
+        b: Color,
+        /// Squares per uv unit, `> 0`.
+        scale: f32,
+    },
+    /// Young's double-slit interference fringes along `u` (the chapter's example):
+    /// `I(u) = cos^2(pi d u / (lambda L))`, bright fringes every
+    /// `i = lambda L / d`. With `u` in metres and the chapter's values
+    /// (`d` = 2 mm, `lambda` = 500 nm, `L` = 3 m) the spacing is 0.75 mm. Build it
+    /// with [`Texture::young`].
+    Fringes {
+        /// Colour of a bright fringe (the dark fringes are black).
+        color: Color,
+        /// Fringe spacing `i = lambda L / d`, in uv units.
+        spacing: f32,
+    },
+}
+
+impl Texture {
+    /// Young's fringes for slit distance `d`, wavelength `lambda` and screen
+    /// distance `screen`, all in the units of `u` (metres for the chapter).
+    ///
+    /// ```
+    /// use tessera::{Color, Texture};
+    /// let t = Texture::young(Color::WHITE, 2e-3, 500e-9, 3.0).unwrap();
+    /// let Texture::Fringes { spacing, .. } = t else { unreachable!() };
+    /// assert!((spacing - 0.75e-3).abs() < 1e-9);
+    /// ```
+    pub fn young(color: Color, d: f32, lambda: f32, screen: f32) -> Result<Self, Error> {
+        for v in [d, lambda, screen] {
+            if finite(v, Field::TextureScale)? <= 0.0 {
+                return Err(Error::NotPositive(Field::TextureScale));
+            }
+        }
+        let spacing = lambda * screen / d;
+        if !spacing.is_normal() {
+            return Err(Error::OutOfRange {
+                field: Field::TextureScale,
+                range: "a fringe spacing that is a normal f32",
+            });
+        }
+        let t = Self::Fringes { color, spacing };
+        t.validate()?;
+        Ok(t)
+    }
+
+    /// True when evaluating needs a texture coordinate.
+    #[must_use]
+    pub fn needs_uv(&self) -> bool {
+        !matches!(self, Self::Solid(_))
+    }
+
+    /// The colour at `uv`.
+    #[must_use]
+    pub fn eval(&self, uv: [f32; 2]) -> Color {
+        match *self {
+            Self::Solid(c) => c,
+            Self::Checker { a, b, scale } => {
+                let [u, v] = uv;
+                // `as i64` saturates (and maps NaN to 0): no panic for any input.
+                let cell = math::floor(u * scale) as i64 + math::floor(v * scale) as i64;
+                if cell & 1 == 0 { a } else { b }
+            }
+            Self::Fringes { color, spacing } => color * fringe_intensity(uv[0] / spacing),
+        }
+    }
+
+    /// Checks colours (finite, `>= 0`) and scales (finite, `> 0`).
+    pub fn validate(&self) -> Result<(), Error> {
+        let color_ok = |c: Color| c.is_finite() && c.min_component() >= 0.0;
+        let (colors_ok, scale) = match *self {
+            Self::Solid(c) => (color_ok(c), 1.0),
+            Self::Checker { a, b, scale } => (color_ok(a) && color_ok(b), scale),
+            Self::Fringes { color, spacing } => (color_ok(color), spacing),
+        };
+        if !colors_ok {
+            return Err(Error::OutOfRange {
+                field: Field::TextureColor,
+                range: "finite components >= 0",
+            });
+        }
+        if finite(scale, Field::TextureScale)? <= 0.0 {
+            return Err(Error::NotPositive(Field::TextureScale));
+        }
+        Ok(())
+    }
+}
+
+/// `cos^2(pi x) = (1 + cos(2 pi x)) / 2`, `x` in fringes: 1 on bright fringes
+/// (integer `x`), 0 half-way between.
+#[must_use]
+pub fn fringe_intensity(x: f32) -> f32 {
+    0.5 + 0.5 * math::cos_turns(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn checker_alternates_per_cell() {
+        let t = Texture::Checker {
+            a: Color::WHITE,
+            b: Color::BLACK,
+            scale: 2.0,
+        };
+        assert_eq!(t.eval([0.1, 0.1]), Color::WHITE);
+        assert_eq!(t.eval([0.6, 0.1]), Color::BLACK);
+        assert_eq!(t.eval([0.6, 0.6]), Color::WHITE);
+        assert_eq!(t.eval([-0.1, 0.1]), Color::BLACK);
+        assert_eq!(t.eval([f32::NAN, 1e30]), t.eval([0.0, 1e30]));
+    }
+
+    #[test]
+    fn young_fringes_follow_cos_squared() {
+        let t = Texture::young(Color::WHITE, 2e-3, 500e-9, 3.0).unwrap();
+        let i = 0.75e-3f32;
+        // Bright at 0 and every spacing, dark half-way, half intensity at a quarter.
+        assert!((t.eval([0.0, 0.0]).r - 1.0).abs() < 1e-6);
+        assert!((t.eval([3.0 * i, 0.0]).r - 1.0).abs() < 1e-5);
+        assert!(t.eval([0.5 * i, 0.0]).r.abs() < 1e-5);
+        assert!((t.eval([0.25 * i, 0.0]).r - 0.5).abs() < 1e-5);
+        for k in 0..200 {
+            let u = k as f64 * 0.013e-3;
+            let exact = (core::f64::consts::PI * 2e-3 * u / (500e-9 * 3.0))
+                .cos()
+                .powi(2);
+            assert!(
+                (t.eval([u as f32, 0.0]).r as f64 - exact).abs() < 1e-4,
+                "u = {u}"
+            );
+        }
+    }
+
+    #[test]
+    fn bad_textures_are_rejected() {
+        assert_eq!(
+            Texture::young(Color::WHITE, 0.0, 500e-9, 3.0),
+            Err(Error::NotPositive(Field::TextureScale))
+        );
+        let bad = Texture::Checker {
+            a: Color::new(f32::NAN, 0.0, 0.0),
+            b: Color::BLACK,
+            scale: 1.0,
+        };
+        assert!(matches!(
+            bad.validate(),
+            Err(Error::OutOfRange {
+                field: Field::TextureColor,
+                ..
+            })
+        ));
+        let bad = Texture::Checker {
+            a: Color::WHITE,
+            b: Color::BLACK,
+            scale: -1.0,
+        };
+        assert_eq!(bad.validate(), Err(Error::NotPositive(Field::TextureScale)));
+    }
+}

@@ -1,0 +1,294 @@
+//! Frames and tiles: the contract between the renderer and whoever owns the pixels.
+//!
+//! A [`Frame`] is the camera basis and the render settings, checked once. The caller
+//! owns a [`Tile<N>`] buffer (`N x N` pixels, `N` fixed at compile time) and asks the
+//! frame to render tile `(tx, ty)` into it, in any order. No allocation, no
+//! framebuffer: the RAM is one tile buffer plus the renderer's stack.
+//!
+//! | tile | buffer (`size_of::<Tile<N>>()`) |
+//! |------|---------------------------------|
+//! | 8x8  | 200 bytes                       |
+//! | 16x16| 776 bytes                       |
+//! | 32x32| 3080 bytes                      |
+//!
+//! (3 bytes a pixel plus 8 bytes of coordinates; checked by a unit test.) The
+//! renderer's stack does not depend on `N`: its largest item is the pending-ray stack
+//! of the shader, `(MAX_DEPTH + 1) x 40` bytes; the peak measured on a Cortex-M4F is
+//! in the README.
+
+use crate::camera::{Camera, CameraBasis, Viewport};
+use crate::color::{Color, Rgb8};
+use crate::error::Error;
+use crate::sample::Sampler;
+use crate::scene::SceneView;
+use crate::shade::MAX_DEPTH;
+
+/// How a frame is rendered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Where the rays go in each pixel.
+    pub sampler: Sampler,
+    /// Reflection/transmission bounces (0 = direct illumination only), at most
+    /// [`MAX_DEPTH`].
+    pub max_depth: u8,
+    /// Seed of the random samplers.
+    pub seed: u32,
+}
+
+impl Default for RenderSettings {
+    /// Pixel centres, 3 bounces, seed 0.
+    fn default() -> Self {
+        Self {
+            sampler: Sampler::Centre,
+            max_depth: 3,
+            seed: 0,
+        }
+    }
+}
+
+impl RenderSettings {
+    /// Checks the sampler and the depth.
+    pub fn validate(&self) -> Result<(), Error> {
+        self.sampler.validate()?;
+        if self.max_depth > MAX_DEPTH {
+            return Err(Error::DepthTooLarge {
+                depth: self.max_depth,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Which tile of the frame: tile `(tx, ty)` covers pixels `tx*N .. tx*N + N` by
+/// `ty*N .. ty*N + N`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct TileCoord {
+    /// Column of tiles, from the left.
+    pub tx: u16,
+    /// Row of tiles, from the top.
+    pub ty: u16,
+}
+
+impl TileCoord {
+    /// Tile `(tx, ty)`.
+    #[must_use]
+    pub const fn new(tx: u16, ty: u16) -> Self {
+        Self { tx, ty }
+    }
+}
+
+/// A tile buffer of `N x N` pixels, owned by the caller. Tiles on the right and
+/// bottom edges of a frame may be partial: [`Tile::width`] and [`Tile::height`] say
+/// how much of the buffer holds pixels; the rest is black.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Tile<const N: usize> {
+    coord: TileCoord,
+    width: u16,
+    height: u16,
+    pixels: [[Rgb8; N]; N],
+}
+
+impl<const N: usize> Default for Tile<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> Tile<N> {
+    const SIZE_OK: () = assert!(N >= 1 && N <= 256, "tile size must be 1 to 256");
+
+    /// An empty (black, 0 x 0) tile buffer.
+    #[must_use]
+    pub const fn new() -> Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::SIZE_OK;
+        Self {
+            coord: TileCoord::new(0, 0),
+            width: 0,
+            height: 0,
+            pixels: [[Rgb8::new(0, 0, 0); N]; N],
+        }
+    }
+
+    /// The tile's coordinate in the frame (of the last render).
+    #[must_use]
+    pub fn coord(&self) -> TileCoord {
+        self.coord
+    }
+    /// Columns of the buffer that hold pixels.
+    #[must_use]
+    pub fn width(&self) -> u16 {
+        self.width
+    }
+    /// Rows of the buffer that hold pixels.
+    #[must_use]
+    pub fn height(&self) -> u16 {
+        self.height
+    }
+    /// The frame coordinates of the tile's top-left pixel.
+    #[must_use]
+    pub fn origin(&self) -> (u32, u32) {
+        (
+            u32::from(self.coord.tx) * N as u32,
+            u32::from(self.coord.ty) * N as u32,
+        )
+    }
+    /// Pixel `(x, y)` of the tile, if it holds one.
+    #[must_use]
+    pub fn pixel(&self, x: usize, y: usize) -> Option<Rgb8> {
+        if x < usize::from(self.width) && y < usize::from(self.height) {
+            self.pixels.get(y)?.get(x).copied()
+        } else {
+            None
+        }
+    }
+    /// The rows that hold pixels, each `width` long, top to bottom.
+    pub fn rows(&self) -> impl Iterator<Item = &[Rgb8]> {
+        let w = usize::from(self.width);
+        self.pixels
+            .iter()
+            .take(usize::from(self.height))
+            .map(move |r| r.get(..w).unwrap_or(&[]))
+    }
+    /// The pixels row by row (what `fill_contiguous` wants).
+    pub fn pixels(&self) -> impl Iterator<Item = Rgb8> + '_ {
+        self.rows().flat_map(|r| r.iter().copied())
+    }
+}
+
+/// A checked camera basis and render settings: what every tile of a frame shares.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    basis: CameraBasis,
+    settings: RenderSettings,
+    inv_count: f32,
+}
+
+impl Frame {
+    /// The frame of `camera` over `viewport` with `settings` (checked).
+    pub fn try_new(
+        camera: &Camera,
+        viewport: Viewport,
+        settings: RenderSettings,
+    ) -> Result<Self, Error> {
+        settings.validate()?;
+        Ok(Self {
+            basis: CameraBasis::try_new(camera, viewport)?,
+            settings,
+            inv_count: 1.0 / settings.sampler.count() as f32,
+        })
+    }
+
+    /// The camera basis.
+    #[must_use]
+    pub fn basis(&self) -> &CameraBasis {
+        &self.basis
+    }
+    /// The settings.
+    #[must_use]
+    pub fn settings(&self) -> &RenderSettings {
+        &self.settings
+    }
+    /// The viewport.
+    #[must_use]
+    pub fn viewport(&self) -> Viewport {
+        self.basis.viewport()
+    }
+
+    /// How many tiles of `n x n` pixels cover the frame, across and down.
+    #[must_use]
+    pub fn tile_grid(&self, n: usize) -> (u16, u16) {
+        let vp = self.viewport();
+        let n = n.max(1);
+        let across = usize::from(vp.width).div_ceil(n);
+        let down = usize::from(vp.height).div_ceil(n);
+        (
+            u16::try_from(across).unwrap_or(u16::MAX),
+            u16::try_from(down).unwrap_or(u16::MAX),
+        )
+    }
+
+    /// The linear colour of pixel `(x, y)`: the mean of its samples.
+    #[must_use]
+    pub fn pixel_color(&self, scene: &SceneView<'_>, x: u32, y: u32) -> Color {
+        let s = &self.settings;
+        let mut sum = Color::BLACK;
+        for i in 0..s.sampler.count() {
+            let (dx, dy) = s.sampler.offset(x, y, i, s.seed);
+            let (ray, t_far) = self.basis.ray(x as f32 + dx, y as f32 + dy);
+            sum += scene.trace(ray, t_far, s.max_depth);
+        }
+        sum * self.inv_count
+    }
+
+    /// Pixel `(x, y)` as an 8-bit output pixel.
+    #[must_use]
+    pub fn render_pixel(&self, scene: &SceneView<'_>, x: u32, y: u32) -> Rgb8 {
+        self.pixel_color(scene, x, y).to_rgb8()
+    }
+
+    /// Renders tile `coord` into `tile`. Pixels of the buffer beyond the frame's
+    /// right or bottom edge are set to black and excluded from `width`/`height`.
+    ///
+    /// Returns [`Error::TileOutOfFrame`] (and leaves `tile` untouched) when the tile
+    /// lies entirely outside the frame.
+    pub fn render_tile<const N: usize>(
+        &self,
+        scene: &SceneView<'_>,
+        coord: TileCoord,
+        tile: &mut Tile<N>,
+    ) -> Result<(), Error> {
+        let vp = self.viewport();
+        let (x0, y0) = (usize::from(coord.tx) * N, usize::from(coord.ty) * N);
+        let (w, h) = (usize::from(vp.width), usize::from(vp.height));
+        if x0 >= w || y0 >= h {
+            return Err(Error::TileOutOfFrame);
+        }
+        let (tw, th) = ((w - x0).min(N), (h - y0).min(N));
+        tile.coord = coord;
+        // Both fit in u16: they are at most N <= 256.
+        tile.width = u16::try_from(tw).unwrap_or(0);
+        tile.height = u16::try_from(th).unwrap_or(0);
+        for (j, row) in tile.pixels.iter_mut().enumerate() {
+            for (i, px) in row.iter_mut().enumerate() {
+                *px = if i < tw && j < th {
+                    self.render_pixel(scene, (x0 + i) as u32, (y0 + j) as u32)
+                } else {
+                    Rgb8::default()
+                };
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::mem::size_of;
+
+    #[test]
+    fn tile_buffer_sizes_match_the_docs() {
+        assert_eq!(size_of::<Tile<8>>(), 8 * 8 * 3 + 8);
+        assert_eq!(size_of::<Tile<16>>(), 16 * 16 * 3 + 8);
+        assert_eq!(size_of::<Tile<32>>(), 32 * 32 * 3 + 8);
+    }
+
+    #[test]
+    fn settings_are_checked() {
+        let mut s = RenderSettings {
+            max_depth: MAX_DEPTH + 1,
+            ..RenderSettings::default()
+        };
+        assert_eq!(
+            s.validate(),
+            Err(Error::DepthTooLarge {
+                depth: MAX_DEPTH + 1
+            })
+        );
+        s.max_depth = MAX_DEPTH;
+        assert!(s.validate().is_ok());
+        s.sampler = Sampler::Random(0);
+        assert_eq!(s.validate(), Err(Error::BadSampleCount));
+    }
+}
