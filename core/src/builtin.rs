@@ -229,9 +229,9 @@ pub fn showcase() -> Result<ShowcaseScene, Error> {
     )?;
     s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y)?, floor)?;
     s.add_plane(Plane::try_new(Vec3::new(0.0, 0.0, -4.0), Vec3::Z)?, wall)?;
-    s.add_sphere(Sphere::try_new(Vec3::new(0.0, 1.0, 0.5), 1.0)?, glass)?;
-    s.add_sphere(Sphere::try_new(Vec3::new(-2.4, 1.1, -1.2), 1.1)?, mirror)?;
-    s.add_sphere(Sphere::try_new(Vec3::new(1.2, 0.35, 2.3), 0.35)?, teal)?;
+    s.add_sphere(Sphere::try_new(Vec3::new(0.8, 1.0, 0.9), 1.0)?, glass)?;
+    s.add_sphere(Sphere::try_new(Vec3::new(-2.6, 1.1, -1.0), 1.1)?, mirror)?;
+    s.add_sphere(Sphere::try_new(Vec3::new(2.3, 0.35, 2.1), 0.35)?, teal)?;
     s.add_box(
         Aabb::try_new(Vec3::new(1.6, 0.0, -1.6), Vec3::new(2.8, 1.2, -0.4))?,
         plastic,
@@ -241,12 +241,12 @@ pub fn showcase() -> Result<ShowcaseScene, Error> {
         boxes,
     )?;
     // A pyramid of four triangles (the base stands on the floor).
-    let apex = Vec3::new(0.2, 1.9, -2.6);
+    let apex = Vec3::new(-0.6, 1.9, -2.4);
     let base = [
-        Vec3::new(-0.8, 0.0, -1.8),
-        Vec3::new(1.2, 0.0, -1.8),
-        Vec3::new(1.2, 0.0, -3.6),
-        Vec3::new(-0.8, 0.0, -3.6),
+        Vec3::new(-1.5, 0.0, -1.5),
+        Vec3::new(0.3, 0.0, -1.5),
+        Vec3::new(0.3, 0.0, -3.3),
+        Vec3::new(-1.5, 0.0, -3.3),
     ];
     for (i, &a) in base.iter().enumerate() {
         let b = base.get((i + 1) % 4).copied().unwrap_or(a);

@@ -1,1 +1,41 @@
-//! Shared helpers of the integration tests.
+//! Shared helpers of the integration tests: scenes built for tests and a place to
+//! write the images a test renders.
+
+use std::path::PathBuf;
+use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};
+
+/// The analytic scene: the camera at the centre of a diffuse sphere of radius `r`,
+/// a point light of intensity `intensity` at the same centre, no ambient light.
+/// Every visible point is at distance `r` from the light, faces it, and receives
+/// `intensity / r^2`: every pixel is `diffuse * color * intensity / r^2`.
+pub fn inside_sphere(
+    r: f32,
+    intensity: f32,
+    diffuse: f32,
+    color: Color,
+) -> Result<Scene<1, 0, 0, 0, 1, 1>, tessera::Error> {
+    let center = Vec3::new(0.25, -0.5, 0.75) * r;
+    let cam = Camera::try_new(
+        center,
+        Vec3::new(0.3, -0.2, -1.0),
+        Vec3::Y,
+        75.0,
+        r * 0.01,
+        r * 10.0,
+    )?;
+    let mut s = Scene::new(cam);
+    let m = s.add_material(Material::matte(color).with_diffuse(diffuse)?)?;
+    s.add_sphere(Sphere::try_new(center, r)?, m)?;
+    s.add_light(PointLight::try_new(center, Color::WHITE, intensity)?)?;
+    Ok(s)
+}
+
+/// A folder under the target directory for images written by tests (created).
+pub fn output_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join("target")
+        .join("test-images");
+    let _ = std::fs::create_dir_all(&dir);
+    dir
+}

@@ -1,1 +1,5 @@
-//! Integration tests.
+//! Integration tests of tessera: one binary, one module per concern.
+
+mod analytic;
+mod builtin_images;
+mod tiles;

@@ -1,0 +1,140 @@
+//! Host side of tessera: renders frames tile by tile with the core, assembles the
+//! tiles into an [`image::RgbImage`], and writes PNG files without ever leaving a
+//! half-written file behind.
+
+use image::{Rgb, RgbImage};
+use std::fmt;
+use std::io::Write;
+use std::path::Path;
+use tessera::{Camera, Frame, RenderSettings, SceneView, Tile, TileCoord, Viewport};
+
+/// The tile sizes the host can render with (the core fixes the size at compile
+/// time; the host instantiates these three).
+pub const TILE_SIZES: [usize; 3] = [8, 16, 32];
+
+/// What can go wrong on the host.
+#[derive(Debug)]
+pub enum HostError {
+    /// The core refused the scene, camera or settings.
+    Core(tessera::Error),
+    /// A tile size other than 8, 16 or 32.
+    TileSize(usize),
+    /// Writing the output failed.
+    Io {
+        /// The file.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Encoding the PNG failed.
+    Encode(String),
+}
+
+impl fmt::Display for HostError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Core(e) => write!(f, "{e}"),
+            Self::TileSize(n) => write!(f, "tile size {n} is not one of 8, 16, 32"),
+            Self::Io { path, source } => write!(f, "cannot write {path}: {source}"),
+            Self::Encode(e) => write!(f, "cannot encode the PNG: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for HostError {}
+
+impl From<tessera::Error> for HostError {
+    fn from(e: tessera::Error) -> Self {
+        Self::Core(e)
+    }
+}
+
+/// Renders the whole frame tile by tile with tiles of `N x N`, in the order given
+/// by `order` (a permutation of the tile indices, row-major; `None` = row-major).
+pub fn render_tiles<const N: usize>(
+    scene: &SceneView<'_>,
+    frame: &Frame,
+    order: Option<&[usize]>,
+) -> Result<RgbImage, HostError> {
+    let vp = frame.viewport();
+    let mut img = RgbImage::new(u32::from(vp.width), u32::from(vp.height));
+    let (across, down) = frame.tile_grid(N);
+    let count = usize::from(across) * usize::from(down);
+    let row_major: Vec<usize> = (0..count).collect();
+    let order = order.unwrap_or(&row_major);
+    let mut tile = Tile::<N>::new();
+    for &i in order {
+        let coord = TileCoord::new(
+            (i % usize::from(across)) as u16,
+            (i / usize::from(across)) as u16,
+        );
+        frame.render_tile(scene, coord, &mut tile)?;
+        place(&mut img, &tile);
+    }
+    Ok(img)
+}
+
+/// Copies a rendered tile into its place in the image.
+pub fn place<const N: usize>(img: &mut RgbImage, tile: &Tile<N>) {
+    let (x0, y0) = tile.origin();
+    for (j, row) in tile.rows().enumerate() {
+        for (i, p) in row.iter().enumerate() {
+            img.put_pixel(x0 + i as u32, y0 + j as u32, Rgb([p.r, p.g, p.b]));
+        }
+    }
+}
+
+/// Renders `scene` seen by `camera` at `viewport` with `settings`, in tiles of
+/// `tile` pixels (8, 16 or 32).
+pub fn render(
+    scene: &SceneView<'_>,
+    camera: &Camera,
+    viewport: Viewport,
+    settings: RenderSettings,
+    tile: usize,
+) -> Result<RgbImage, HostError> {
+    let frame = Frame::try_new(camera, viewport, settings)?;
+    match tile {
+        8 => render_tiles::<8>(scene, &frame, None),
+        16 => render_tiles::<16>(scene, &frame, None),
+        32 => render_tiles::<32>(scene, &frame, None),
+        n => Err(HostError::TileSize(n)),
+    }
+}
+
+/// Writes `img` as a PNG at `path` atomically: the bytes go to a temporary file in
+/// the same folder, which is then renamed over `path`. An existing file at `path`
+/// is either replaced whole or left untouched.
+pub fn write_png(img: &RgbImage, path: &Path) -> Result<(), HostError> {
+    let shown = path.display().to_string();
+    let io = |source| HostError::Io {
+        path: shown.clone(),
+        source,
+    };
+    let mut bytes = Vec::new();
+    img.write_to(
+        &mut std::io::Cursor::new(&mut bytes),
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| HostError::Encode(e.to_string()))?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "out.png".into());
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = std::fs::File::create(&tmp)
+        .and_then(|mut f| {
+            f.write_all(&bytes)?;
+            f.sync_all()
+        })
+        .and_then(|()| std::fs::rename(&tmp, path));
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(io(e));
+    }
+    Ok(())
+}

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Runs every check and test of tessera, installing what a fresh machine lacks first:
+# the thumbv7em-none-eabihf target (the core is cross-built for a Cortex-M4F) and
+# qemu-system-arm (the firmware tests run under emulation).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+say() { printf '\n== %s\n' "$*"; }
+
+say "toolchain: $(rustc --version)"
+if ! rustup target list --installed | grep -qx thumbv7em-none-eabihf; then
+  say "installing the thumbv7em-none-eabihf target"
+  rustup target add thumbv7em-none-eabihf
+fi
+rustup component list --installed | grep -q '^clippy' || rustup component add clippy
+rustup component list --installed | grep -q '^rustfmt' || rustup component add rustfmt
+if ! command -v qemu-system-arm >/dev/null 2>&1; then
+  say "installing qemu-system-arm"
+  sudo_cmd=""
+  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq qemu-system-arm >/dev/null
+fi
+qemu-system-arm --version | head -n 1
+
+say "format"
+cargo fmt --all -- --check
+
+say "clippy (exact and fast-math backends)"
+cargo clippy --workspace --all-targets -- -D warnings
+cargo clippy -p tessera --all-targets --features fast-math -- -D warnings
+
+say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends"
+cargo build -p tessera --target thumbv7em-none-eabihf --release
+cargo build -p tessera --target thumbv7em-none-eabihf --release --features fast-math
+
+say "tests"
+cargo test --workspace
