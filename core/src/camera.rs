@@ -333,6 +333,11 @@ mod tests {
         let (r, _) = b.ray(2.0, 1.0);
         assert_eq!(r.dir, -Vec3::Z);
         assert_eq!(r.origin, Vec3::new(0.0, 0.0, -1.0));
+        // The centre pixel of a 5 x 3 viewport, (2, 1), sampled at its centre
+        // (2.5, 1.5) = (N_L/2, N_H/2): straight ahead.
+        let b53 = CameraBasis::try_new(&cam, Viewport::new(5, 3)).unwrap();
+        let (r, _) = b53.ray(2.0 + 0.5, 1.0 + 0.5);
+        assert_eq!(r.dir, -Vec3::Z);
         // Centre of pixel (1, 0): (1.5, 0.5) -> d = (-0.5, 0.5, -1).
         let (r, _) = b.ray(1.5, 0.5);
         let s = 1.5f32.sqrt();

@@ -68,7 +68,7 @@ pub use material::{Material, MaterialId};
 pub use ray::Ray;
 pub use sample::{Sampler, SubPixel};
 pub use scene::{Primitive, Scene, SceneView};
-pub use shade::MAX_DEPTH;
+pub use shade::{MAX_DEPTH, RayCount};
 pub use texture::Texture;
 pub use tile::{Frame, RenderSettings, Tile, TileCoord};
 pub use vec::Vec3;

@@ -24,6 +24,33 @@ use crate::vec::Vec3;
 /// The deepest reflection/transmission recursion a frame may ask for.
 pub const MAX_DEPTH: u8 = 8;
 
+/// How many rays a trace cast, by kind (for reports and for tests of what is not
+/// traced).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayCount {
+    /// Camera rays.
+    pub primary: u64,
+    /// Reflected and refracted rays.
+    pub secondary: u64,
+    /// Shadow rays.
+    pub shadow: u64,
+}
+
+impl RayCount {
+    /// All rays.
+    #[must_use]
+    pub fn total(&self) -> u64 {
+        self.primary + self.secondary + self.shadow
+    }
+
+    /// Adds another count to this one.
+    pub fn add(&mut self, o: &Self) {
+        self.primary += o.primary;
+        self.secondary += o.secondary;
+        self.shadow += o.shadow;
+    }
+}
+
 /// A ray waiting to be traced, with the weight of its contribution.
 #[derive(Clone, Copy)]
 struct Pending {
@@ -137,6 +164,17 @@ impl<'a> SceneView<'a> {
     /// transmissions down to `max_depth` bounces (clamped to [`MAX_DEPTH`]).
     #[must_use]
     pub fn trace(&self, ray: Ray, t_max: f32, max_depth: u8) -> Color {
+        self.trace_counted(ray, t_max, max_depth, &mut RayCount::default())
+    }
+
+    /// [`SceneView::trace`], adding the rays it casts to `count`.
+    pub fn trace_counted(
+        &self,
+        ray: Ray,
+        t_max: f32,
+        max_depth: u8,
+        count: &mut RayCount,
+    ) -> Color {
         let max_depth = max_depth.min(MAX_DEPTH);
         let mut stack: heapless::Vec<Pending, { MAX_DEPTH as usize + 1 }> = heapless::Vec::new();
         let mut total = Color::BLACK;
@@ -148,6 +186,11 @@ impl<'a> SceneView<'a> {
             depth: 0,
         });
         while let Some(p) = stack.pop() {
+            if p.depth == 0 {
+                count.primary += 1;
+            } else {
+                count.secondary += 1;
+            }
             let Some(nearest) = self.nearest(&p.ray, p.t_max) else {
                 total += p.weight * self.background;
                 continue;
@@ -155,7 +198,7 @@ impl<'a> SceneView<'a> {
             let Some(hit) = self.shaded(&nearest, &p.ray) else {
                 continue; // unreachable for a validated scene: no material, no light
             };
-            total += p.weight * self.local(&hit, &p.ray);
+            total += p.weight * self.local(&hit, &p.ray, count);
             if p.depth < max_depth {
                 for (ray, w) in secondary(&hit, &p.ray).into_iter().flatten() {
                     let weight = p.weight * w;
@@ -175,7 +218,7 @@ impl<'a> SceneView<'a> {
     }
 
     /// Ambient + direct light at a hit (no secondary rays).
-    fn local(&self, hit: &Shaded<'_>, ray: &Ray) -> Color {
+    fn local(&self, hit: &Shaded<'_>, ray: &Ray, count: &mut RayCount) -> Color {
         let m = hit.material;
         let mut c = hit.base * self.ambient * m.ambient();
         if !m.is_lit() {
@@ -196,6 +239,7 @@ impl<'a> SceneView<'a> {
                 continue; // light behind the surface as seen from the ray
             }
             let origin = offset_origin(s.point, s.error, n, l);
+            count.shadow += 1;
             if self.occluded(&Ray::new(origin, l), dist) {
                 continue;
             }

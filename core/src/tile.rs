@@ -21,7 +21,7 @@ use crate::color::{Color, Rgb8};
 use crate::error::Error;
 use crate::sample::Sampler;
 use crate::scene::SceneView;
-use crate::shade::MAX_DEPTH;
+use crate::shade::{MAX_DEPTH, RayCount};
 
 /// How a frame is rendered.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -211,12 +211,23 @@ impl Frame {
     /// The linear colour of pixel `(x, y)`: the mean of its samples.
     #[must_use]
     pub fn pixel_color(&self, scene: &SceneView<'_>, x: u32, y: u32) -> Color {
+        self.pixel_color_counted(scene, x, y, &mut RayCount::default())
+    }
+
+    /// [`Frame::pixel_color`], adding the rays cast to `count`.
+    pub fn pixel_color_counted(
+        &self,
+        scene: &SceneView<'_>,
+        x: u32,
+        y: u32,
+        count: &mut RayCount,
+    ) -> Color {
         let s = &self.settings;
         let mut sum = Color::BLACK;
         for i in 0..s.sampler.count() {
             let (dx, dy) = s.sampler.offset(x, y, i, s.seed);
             let (ray, t_far) = self.basis.ray(x as f32 + dx, y as f32 + dy);
-            sum += scene.trace(ray, t_far, s.max_depth);
+            sum += scene.trace_counted(ray, t_far, s.max_depth, count);
         }
         sum * self.inv_count
     }

@@ -2,4 +2,5 @@
 
 mod analytic;
 mod builtin_images;
+mod frustum;
 mod tiles;
