@@ -2,6 +2,8 @@
 //! tiles into an [`image::RgbImage`], and writes PNG files without ever leaving a
 //! half-written file behind.
 
+pub mod desc;
+
 use image::{Rgb, RgbImage};
 use std::fmt;
 use std::io::Write;
