@@ -120,16 +120,21 @@ fn chapter(mirror: bool) -> Result<ChapterScene, Error> {
     let shiny = |c: Color| Material::matte(c).with_specular(0.4, 48.0);
     let floor = s.add_material(Material::matte(Color::splat(0.75)))?;
     let blue = s.add_material(shiny(Color::new(0.1, 0.25, 0.95))?)?;
-    let (red_k, green_k) = if mirror { (0.15, 0.8) } else { (0.0, 0.0) };
+    // (reflectivity, diffuse): what the mirror takes, the diffuse term gives back.
+    let ((red_kr, red_kd), (green_kr, green_kd)) = if mirror {
+        ((0.15, 0.85), (0.8, 0.2))
+    } else {
+        ((0.0, 1.0), (0.0, 1.0))
+    };
     let red = s.add_material(
         shiny(Color::new(0.9, 0.15, 0.1))?
-            .with_diffuse(1.0 - red_k)?
-            .with_reflectivity(red_k)?,
+            .with_diffuse(red_kd)?
+            .with_reflectivity(red_kr)?,
     )?;
     let green = s.add_material(
         shiny(Color::new(0.15, 0.8, 0.2))?
-            .with_diffuse(1.0 - green_k)?
-            .with_reflectivity(green_k)?,
+            .with_diffuse(green_kd)?
+            .with_reflectivity(green_kr)?,
     )?;
     let yellow = s.add_material(shiny(Color::new(0.95, 0.8, 0.1))?)?;
     s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y)?, floor)?;

@@ -249,6 +249,17 @@ impl Frame {
         coord: TileCoord,
         tile: &mut Tile<N>,
     ) -> Result<(), Error> {
+        self.render_tile_counted(scene, coord, tile, &mut RayCount::default())
+    }
+
+    /// [`Frame::render_tile`], adding the rays cast to `count`.
+    pub fn render_tile_counted<const N: usize>(
+        &self,
+        scene: &SceneView<'_>,
+        coord: TileCoord,
+        tile: &mut Tile<N>,
+        count: &mut RayCount,
+    ) -> Result<(), Error> {
         let vp = self.viewport();
         let (x0, y0) = (usize::from(coord.tx) * N, usize::from(coord.ty) * N);
         let (w, h) = (usize::from(vp.width), usize::from(vp.height));
@@ -263,7 +274,8 @@ impl Frame {
         for (j, row) in tile.pixels.iter_mut().enumerate() {
             for (i, px) in row.iter_mut().enumerate() {
                 *px = if i < tw && j < th {
-                    self.render_pixel(scene, (x0 + i) as u32, (y0 + j) as u32)
+                    self.pixel_color_counted(scene, (x0 + i) as u32, (y0 + j) as u32, count)
+                        .to_rgb8()
                 } else {
                     Rgb8::default()
                 };

@@ -8,8 +8,8 @@ use serde::Deserialize;
 use std::fmt;
 use tessera::error::Field;
 use tessera::{
-    Aabb, Camera, Color, Material, MaterialId, Plane, PointLight, Sampler, Scene, Sphere,
-    SubPixel, Texture, Triangle, Vec3,
+    Aabb, Camera, Color, Material, MaterialId, Plane, PointLight, Sampler, Scene, Sphere, SubPixel,
+    Texture, Triangle, Vec3,
 };
 
 /// The host's scene capacities: spheres, planes, triangles, boxes, materials, lights.
@@ -482,12 +482,24 @@ fn core_material(m: &MaterialDesc) -> Result<Material, (tessera::Error, Option<S
             d,
             wavelength,
             distance,
-        }) => Texture::young(c3(*color), *d as f32, *wavelength as f32, *distance as f32)
-            .map_err(|e| (e, Some(format!("d {d} wavelength {wavelength} distance {distance}"))))?,
+        }) => Texture::young(c3(*color), *d as f32, *wavelength as f32, *distance as f32).map_err(
+            |e| {
+                (
+                    e,
+                    Some(format!("d {d} wavelength {wavelength} distance {distance}")),
+                )
+            },
+        )?,
     };
     let texture_value = || match &m.texture {
         None => Some(show(&m.color)),
-        Some(t) => Some(format!("{t:?}")),
+        Some(TextureDesc::Checker { a, b, scale }) => {
+            Some(format!("a {} b {} scale {scale}", show(a), show(b)))
+        }
+        Some(TextureDesc::Fringes { color, spacing }) => {
+            Some(format!("color {} spacing {spacing}", show(color)))
+        }
+        Some(TextureDesc::Young { color, .. }) => Some(format!("color {}", show(color))),
     };
     let base = Material::matte(Color::WHITE)
         .with_texture(texture)
@@ -498,9 +510,13 @@ fn core_material(m: &MaterialDesc) -> Result<Material, (tessera::Error, Option<S
         .map_err(|e| (e, one(m.diffuse)))?
         .with_specular(m.specular as f32, m.shininess as f32)
         .map_err(|e| {
-            let v = if matches!(e, tessera::Error::OutOfRange { field: Field::Shininess, .. }
-                | tessera::Error::NotFinite(Field::Shininess))
-            {
+            let v = if matches!(
+                e,
+                tessera::Error::OutOfRange {
+                    field: Field::Shininess,
+                    ..
+                } | tessera::Error::NotFinite(Field::Shininess)
+            ) {
                 m.shininess
             } else {
                 m.specular
@@ -511,9 +527,13 @@ fn core_material(m: &MaterialDesc) -> Result<Material, (tessera::Error, Option<S
         .map_err(|e| (e, one(m.reflectivity)))?
         .with_transparency(m.transparency as f32, m.ior as f32)
         .map_err(|e| {
-            let v = if matches!(e, tessera::Error::OutOfRange { field: Field::RefractiveIndex, .. }
-                | tessera::Error::NotFinite(Field::RefractiveIndex))
-            {
+            let v = if matches!(
+                e,
+                tessera::Error::OutOfRange {
+                    field: Field::RefractiveIndex,
+                    ..
+                } | tessera::Error::NotFinite(Field::RefractiveIndex)
+            ) {
                 m.ior
             } else {
                 m.transparency
@@ -569,11 +589,24 @@ mod tests {
 
     #[test]
     fn samplers_parse_and_print() {
-        for s in ["corner", "centre", "stratified:3", "random:16", "offset:0.25,0.75"] {
+        for s in [
+            "corner",
+            "centre",
+            "stratified:3",
+            "random:16",
+            "offset:0.25,0.75",
+        ] {
             assert_eq!(sampler_name(&parse_sampler(s).unwrap()), s);
         }
         assert_eq!(parse_sampler("center").unwrap(), Sampler::Centre);
-        for s in ["", "stratified:0", "random:x", "offset:1,0", "gauss", "random:5000"] {
+        for s in [
+            "",
+            "stratified:0",
+            "random:x",
+            "offset:1,0",
+            "gauss",
+            "random:5000",
+        ] {
             assert!(parse_sampler(s).is_err(), "{s}");
         }
     }

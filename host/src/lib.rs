@@ -2,13 +2,16 @@
 //! tiles into an [`image::RgbImage`], and writes PNG files without ever leaving a
 //! half-written file behind.
 
+pub mod compare;
 pub mod desc;
+pub mod file;
+pub mod reference;
 
 use image::{Rgb, RgbImage};
 use std::fmt;
 use std::io::Write;
 use std::path::Path;
-use tessera::{Camera, Frame, RenderSettings, SceneView, Tile, TileCoord, Viewport};
+use tessera::{Camera, Frame, RayCount, RenderSettings, SceneView, Tile, TileCoord, Viewport};
 
 /// The tile sizes the host can render with (the core fixes the size at compile
 /// time; the host instantiates these three).
@@ -30,6 +33,8 @@ pub enum HostError {
     },
     /// Encoding the PNG failed.
     Encode(String),
+    /// The thread pool could not be built.
+    Threads(String),
 }
 
 impl fmt::Display for HostError {
@@ -39,6 +44,7 @@ impl fmt::Display for HostError {
             Self::TileSize(n) => write!(f, "tile size {n} is not one of 8, 16, 32"),
             Self::Io { path, source } => write!(f, "cannot write {path}: {source}"),
             Self::Encode(e) => write!(f, "cannot encode the PNG: {e}"),
+            Self::Threads(e) => write!(f, "cannot start the render threads: {e}"),
         }
     }
 }
@@ -86,8 +92,65 @@ pub fn place<const N: usize>(img: &mut RgbImage, tile: &Tile<N>) {
     }
 }
 
+/// Renders every tile of `frame` with tiles of `N x N` on the current rayon pool,
+/// calling `on_tile` after each tile (for progress), and assembles the image. The
+/// bytes do not depend on the number of threads: a pixel depends only on its
+/// coordinates, and each tile is placed where it belongs.
+pub fn render_parallel<const N: usize>(
+    scene: &SceneView<'_>,
+    frame: &Frame,
+    on_tile: &(dyn Fn() + Sync),
+) -> Result<(RgbImage, RayCount), HostError> {
+    use rayon::prelude::*;
+    let vp = frame.viewport();
+    let (across, down) = frame.tile_grid(N);
+    let count = usize::from(across) * usize::from(down);
+    let tiles: Vec<(Tile<N>, RayCount)> = (0..count)
+        .into_par_iter()
+        .map(|i| {
+            let coord = TileCoord::new(
+                (i % usize::from(across)) as u16,
+                (i / usize::from(across)) as u16,
+            );
+            let mut tile = Tile::<N>::new();
+            let mut rays = RayCount::default();
+            frame.render_tile_counted(scene, coord, &mut tile, &mut rays)?;
+            on_tile();
+            Ok((tile, rays))
+        })
+        .collect::<Result<_, tessera::Error>>()?;
+    let mut img = RgbImage::new(u32::from(vp.width), u32::from(vp.height));
+    let mut rays = RayCount::default();
+    for (tile, r) in &tiles {
+        place(&mut img, tile);
+        rays.add(r);
+    }
+    Ok((img, rays))
+}
+
+/// [`render_parallel`] for a tile size chosen at run time (8, 16 or 32), on a pool
+/// of `threads` threads (0 = one per core).
+pub fn render_with(
+    scene: &SceneView<'_>,
+    frame: &Frame,
+    tile: usize,
+    threads: usize,
+    on_tile: &(dyn Fn() + Sync),
+) -> Result<(RgbImage, RayCount), HostError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| HostError::Threads(e.to_string()))?;
+    pool.install(|| match tile {
+        8 => render_parallel::<8>(scene, frame, on_tile),
+        16 => render_parallel::<16>(scene, frame, on_tile),
+        32 => render_parallel::<32>(scene, frame, on_tile),
+        n => Err(HostError::TileSize(n)),
+    })
+}
+
 /// Renders `scene` seen by `camera` at `viewport` with `settings`, in tiles of
-/// `tile` pixels (8, 16 or 32).
+/// `tile` pixels (8, 16 or 32), one after the other on this thread.
 pub fn render(
     scene: &SceneView<'_>,
     camera: &Camera,

@@ -1,106 +1,324 @@
-//! `tessera`: render a built-in scene to a PNG.
+//! `tessera`: render a scene to PNG, or compare the core with the f64 reference.
 //!
 //! ```text
-//! tessera [render] [SCENE] [-o OUT.png] [--size WxH] [--tile 8|16|32]
+//! tessera                                   # = tessera render: the default scene -> tessera.png
+//! tessera render [SCENE] -o out.png [--size WxH] [--tile N] [--sampler S] [--depth D] [--seed S] [--threads N]
+//! tessera compare [SCENE] [--heatmap diff.png] ...
+//! tessera scenes                            # list the built-in scenes
 //! ```
-//! With no SCENE it renders the default scene (the chapter's second picture) at
-//! 320x240 to `tessera.png`.
+//! SCENE is a built-in scene name or a `.toml` scene file.
 
-use std::path::PathBuf;
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
-use tessera::Viewport;
 use tessera::builtin::Builtin;
+use tessera::{Frame, RenderSettings, Viewport};
+use tessera_host::desc::{SceneDesc, parse_sampler, sampler_name};
 
-struct Args {
-    scene: Builtin,
-    out: PathBuf,
-    viewport: Viewport,
-    tile: usize,
+#[derive(Parser)]
+#[command(
+    name = "tessera",
+    version,
+    about = "A ray tracer for microcontrollers: host tools"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
 }
 
-fn usage() -> String {
-    let names: Vec<&str> = Builtin::ALL.iter().map(|b| b.name()).collect();
-    format!(
-        "usage: tessera [render] [SCENE] [-o OUT.png] [--size WxH] [--tile 8|16|32]\n\
-         scenes: {} (default {})",
-        names.join(", "),
-        Builtin::DEFAULT.name()
-    )
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to a PNG (the default command).
+    Render(RenderArgs),
+    /// Render with the core (f32) and the reference (f64) and print the accuracy.
+    Compare(CompareArgs),
+    /// List the built-in scenes.
+    Scenes,
 }
 
-fn parse(mut it: impl Iterator<Item = String>) -> Result<Args, String> {
-    let mut args = Args {
-        scene: Builtin::DEFAULT,
-        out: PathBuf::from("tessera.png"),
-        viewport: Viewport::new(320, 240),
-        tile: 16,
-    };
-    let mut first = true;
-    while let Some(a) = it.next() {
-        let mut value = |flag: &str| it.next().ok_or(format!("{flag} needs a value"));
-        match a.as_str() {
-            "render" if first => {}
-            "-o" | "--output" => args.out = PathBuf::from(value(&a)?),
-            "--size" => {
-                let v = value(&a)?;
-                let (w, h) = v
-                    .split_once('x')
-                    .and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)))
-                    .ok_or(format!("--size: expected WxH like 320x240, got {v:?}"))?;
-                args.viewport = Viewport::new(w, h);
-            }
-            "--tile" => {
-                let v = value(&a)?;
-                args.tile = v
-                    .parse()
-                    .map_err(|_| format!("--tile: expected 8, 16 or 32, got {v:?}"))?;
-            }
-            "-h" | "--help" => return Err(usage()),
-            s if !s.starts_with('-') => {
-                args.scene =
-                    Builtin::from_name(s).ok_or(format!("unknown scene {s:?}\n{}", usage()))?;
-            }
-            s => return Err(format!("unknown option {s:?}\n{}", usage())),
-        }
-        first = false;
+#[derive(Args, Default)]
+struct Common {
+    /// A built-in scene name (see `tessera scenes`) or a .toml scene file
+    /// [default: the chapter's second picture, chapter-reflect]
+    scene: Option<String>,
+    /// Image size in pixels, WxH [default: the scene file's, or 320x240]
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u16, u16)>,
+    /// Samples per pixel: corner, centre, offset:X,Y, stratified:K, random:N
+    #[arg(long, value_parser = parse_sampler)]
+    sampler: Option<tessera::Sampler>,
+    /// Reflection/refraction depth (0 to 8)
+    #[arg(long)]
+    depth: Option<u8>,
+    /// Seed of the random samplers
+    #[arg(long)]
+    seed: Option<u32>,
+    /// Tile size: 8, 16 or 32
+    #[arg(long, value_parser = parse_tile)]
+    tile: Option<usize>,
+    /// Render threads (0 = one per core)
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+}
+
+#[derive(Args, Default)]
+struct RenderArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Output PNG
+    #[arg(short, long, default_value = "tessera.png")]
+    output: PathBuf,
+}
+
+#[derive(Args)]
+struct CompareArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Where to write the difference heat-map PNG
+    #[arg(long, default_value = "compare-heatmap.png")]
+    heatmap: PathBuf,
+}
+
+fn parse_size(s: &str) -> Result<(u16, u16), String> {
+    let bad = || format!("expected WxH with 1 to 65535 pixels each, like 320x240, got {s:?}");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u16 = w.trim().parse().map_err(|_| bad())?;
+    let h: u16 = h.trim().parse().map_err(|_| bad())?;
+    if w == 0 || h == 0 {
+        return Err(bad());
     }
-    Ok(args)
+    Ok((w, h))
 }
 
-fn run(args: &Args) -> Result<(), String> {
+fn parse_tile(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if tessera_host::TILE_SIZES.contains(&n) => Ok(n),
+        _ => Err(format!("expected 8, 16 or 32, got {s:?}")),
+    }
+}
+
+/// A scene to render: a built-in (rendered from the core's own code) or a file.
+enum Source {
+    Builtin(Builtin),
+    File(String, Box<SceneDesc>),
+}
+
+impl Source {
+    fn open(name: Option<&str>) -> Result<Self, String> {
+        let Some(name) = name else {
+            return Ok(Self::Builtin(Builtin::DEFAULT));
+        };
+        if let Some(b) = Builtin::from_name(name) {
+            return Ok(Self::Builtin(b));
+        }
+        let path = Path::new(name);
+        if !path.exists() && !name.ends_with(".toml") {
+            let names: Vec<&str> = Builtin::ALL.iter().map(|b| b.name()).collect();
+            return Err(format!(
+                "{name:?} is neither a built-in scene ({}) nor an existing file",
+                names.join(", ")
+            ));
+        }
+        let desc = tessera_host::file::load(path).map_err(|e| e.to_string())?;
+        Ok(Self::File(name.to_string(), Box::new(desc)))
+    }
+
+    fn name(&self) -> &str {
+        match self {
+            Self::Builtin(b) => b.name(),
+            Self::File(n, _) => n,
+        }
+    }
+
+    /// The scene description (for the reference).
+    fn desc(&self) -> SceneDesc {
+        match self {
+            Self::Builtin(b) => tessera_host::file::builtin_desc(*b),
+            Self::File(_, d) => (**d).clone(),
+        }
+    }
+
+    /// The scene's own settings, viewport and tile size.
+    fn defaults(&self) -> Result<(RenderSettings, Viewport, usize), String> {
+        match self {
+            Self::Builtin(b) => Ok((b.settings(), Viewport::new(320, 240), 16)),
+            Self::File(name, d) => Ok((
+                d.settings().map_err(|e| format!("{name}: {e}"))?,
+                d.viewport(),
+                d.render.tile,
+            )),
+        }
+    }
+
+    /// Settings, viewport and tile size after the command-line overrides.
+    fn settings(&self, c: &Common) -> Result<(RenderSettings, Viewport, usize), String> {
+        let (mut s, mut vp, mut tile) = self.defaults()?;
+        if let Some(x) = c.sampler {
+            s.sampler = x;
+        }
+        if let Some(d) = c.depth {
+            s.max_depth = d;
+        }
+        if let Some(x) = c.seed {
+            s.seed = x;
+        }
+        if let Some((w, h)) = c.size {
+            vp = Viewport::new(w, h);
+        }
+        if let Some(t) = c.tile {
+            tile = t;
+        }
+        s.validate().map_err(|e| e.to_string())?;
+        Ok((s, vp, tile))
+    }
+
+    /// Runs `f` with the core scene's view and camera.
+    fn with_core<R>(
+        &self,
+        f: impl FnOnce(&tessera::SceneView<'_>, &tessera::Camera) -> R,
+    ) -> Result<R, String> {
+        match self {
+            Self::Builtin(b) => b.with_scene(f).map_err(|e| e.to_string()),
+            Self::File(name, d) => {
+                let s = d.to_core().map_err(|e| format!("{name}: {e}"))?;
+                Ok(f(&s.view(), s.camera()))
+            }
+        }
+    }
+}
+
+fn progress(tiles: u64, work: u64) -> ProgressBar {
+    // Only on a terminal, and only for renders that take more than a moment.
+    if !std::io::stderr().is_terminal() || work < (1 << 21) {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(tiles);
+    if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} tiles, {eta} left") {
+        bar.set_style(style);
+    }
+    bar
+}
+
+fn render(args: &RenderArgs) -> Result<(), String> {
+    let source = Source::open(args.common.scene.as_deref())?;
+    let (settings, vp, tile) = source.settings(&args.common)?;
     let start = Instant::now();
-    let img = args
-        .scene
-        .with_scene(|view, camera| {
-            tessera_host::render(
-                view,
-                camera,
-                args.viewport,
-                args.scene.settings(),
-                args.tile,
-            )
-        })
-        .map_err(|e| e.to_string())?
-        .map_err(|e| e.to_string())?;
-    tessera_host::write_png(&img, &args.out).map_err(|e| e.to_string())?;
+    let (img, rays) = source.with_core(|view, camera| {
+        let frame = Frame::try_new(camera, vp, settings).map_err(|e| e.to_string())?;
+        let (across, down) = frame.tile_grid(tile);
+        let work = u64::from(vp.width) * u64::from(vp.height) * u64::from(settings.sampler.count());
+        let bar = progress(u64::from(across) * u64::from(down), work);
+        let out =
+            tessera_host::render_with(view, &frame, tile, args.common.threads, &|| bar.inc(1))
+                .map_err(|e| e.to_string());
+        bar.finish_and_clear();
+        out
+    })??;
+    let secs = start.elapsed().as_secs_f64();
+    tessera_host::write_png(&img, &args.output).map_err(|e| e.to_string())?;
+    let threads = if args.common.threads == 0 {
+        rayon::current_num_threads()
+    } else {
+        args.common.threads
+    };
     println!(
-        "wrote {} ({} {}x{}, {:.2} s)",
-        args.out.display(),
-        args.scene.name(),
-        args.viewport.width,
-        args.viewport.height,
-        start.elapsed().as_secs_f64()
+        "{}: {}x{}, {} sample(s)/px ({}), depth {}, {tile}x{tile} tiles, {threads} thread(s): \
+         {secs:.3} s, {} rays, {:.2} Mrays/s",
+        source.name(),
+        vp.width,
+        vp.height,
+        settings.sampler.count(),
+        sampler_name(&settings.sampler),
+        settings.max_depth,
+        rays.total(),
+        rays.total() as f64 / secs.max(1e-9) / 1e6,
+    );
+    println!("wrote {}", args.output.display());
+    Ok(())
+}
+
+fn compare(args: &CompareArgs) -> Result<(), String> {
+    let source = Source::open(args.common.scene.as_deref())?;
+    let (settings, vp, tile) = source.settings(&args.common)?;
+    let (core_img, core_non_finite) = source.with_core(|view, camera| {
+        let frame = Frame::try_new(camera, vp, settings).map_err(|e| e.to_string())?;
+        let (img, _) = tessera_host::render_with(view, &frame, tile, args.common.threads, &|| {})
+            .map_err(|e| e.to_string())?;
+        let mut non_finite = 0;
+        for y in 0..u32::from(vp.height) {
+            for x in 0..u32::from(vp.width) {
+                if !frame.pixel_color(view, x, y).is_finite() {
+                    non_finite += 1;
+                }
+            }
+        }
+        Ok::<_, String>((img, non_finite))
+    })??;
+    let desc = source.desc();
+    let reference = tessera_host::reference::render(&desc, vp, &settings)
+        .map_err(|e| format!("{}: {e}", source.name()))?;
+    let ref_img = reference.to_rgb8();
+    let acc = tessera_host::compare::measure(
+        &core_img,
+        core_non_finite,
+        &ref_img,
+        reference.non_finite(),
+        &reference.signature,
+    )?;
+    println!(
+        "{}: {}x{}, {} sample(s)/px ({}), depth {}: core (f32, {}) vs reference (f64)",
+        source.name(),
+        vp.width,
+        vp.height,
+        settings.sampler.count(),
+        sampler_name(&settings.sampler),
+        settings.max_depth,
+        if cfg!(feature = "fast-math") {
+            "fast-math"
+        } else {
+            "exact math"
+        },
+    );
+    println!("{acc}");
+    let map = tessera_host::compare::heatmap(&core_img, &ref_img, &reference.signature);
+    tessera_host::write_png(&map, &args.heatmap).map_err(|e| e.to_string())?;
+    println!(
+        "wrote {} (black: equal, blue: 1 LSB, green: 2, yellow: 3-4, red: 5+; grey: band)",
+        args.heatmap.display()
     );
     Ok(())
 }
 
 fn main() -> ExitCode {
-    match parse(std::env::args().skip(1)).and_then(|a| run(&a)) {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => render(&RenderArgs::default_for_main()),
+        Some(Command::Render(a)) => render(&a),
+        Some(Command::Compare(a)) => compare(&a),
+        Some(Command::Scenes) => {
+            for b in Builtin::ALL {
+                println!("{}", b.name());
+            }
+            Ok(())
+        }
+    };
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("tessera: {e}");
+            eprintln!("tessera: error: {e}");
             ExitCode::FAILURE
+        }
+    }
+}
+
+impl RenderArgs {
+    fn default_for_main() -> Self {
+        Self {
+            common: Common::default(),
+            output: PathBuf::from("tessera.png"),
         }
     }
 }

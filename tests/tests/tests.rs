@@ -3,4 +3,6 @@
 mod analytic;
 mod builtin_images;
 mod frustum;
+mod golden;
+mod reference;
 mod tiles;

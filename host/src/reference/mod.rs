@@ -1,0 +1,183 @@
+//! The reference renderer: an independent, straightforward whole-image renderer in
+//! `f64` with `std` math (no tiles, no culling, no fixed capacity, plain `Vec`s),
+//! implementing the core's model and shading from the same [`SceneDesc`]. It is the
+//! truth the `f32` core is measured against; it shares with the core only the
+//! sub-pixel sample positions ([`tessera::Sampler::offset`]).
+//!
+//! Besides the colours, each pixel gets a [`RefImage::signature`]: a hash of what
+//! every ray of every sample hit (primitive kind and index, or nothing) and of every
+//! shadow ray's outcome. Neighbours with different signatures straddle a silhouette,
+//! a reflected or refracted silhouette, or a shadow edge.
+
+pub mod geometry;
+pub mod scene;
+pub mod shade;
+pub mod vec;
+
+use crate::desc::{CameraDesc, DescError, SceneDesc};
+use geometry::Ray;
+use scene::RefScene;
+use shade::{Signature, Tracer};
+use vec::V3;
+
+/// A reference image: linear `f64` colours and per-pixel signatures, row-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RefImage {
+    /// Width, pixels.
+    pub width: u32,
+    /// Height, pixels.
+    pub height: u32,
+    /// Linear RGB of each pixel (mean of its samples), row by row.
+    pub pixels: Vec<[f64; 3]>,
+    /// Hash of the primitives and shadow outcomes met by each pixel's rays.
+    pub signature: Vec<u64>,
+}
+
+impl RefImage {
+    /// The 8-bit image, quantised as the core's `Color::to_rgb8`: clamp to
+    /// `[0, 1]`, times 255, plus 0.5, truncate; NaN gives 0.
+    #[must_use]
+    pub fn to_rgb8(&self) -> image::RgbImage {
+        let q = |v: f64| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        image::RgbImage::from_fn(self.width, self.height, |x, y| {
+            let p = self.pixels[(y * self.width + x) as usize];
+            image::Rgb([q(p[0]), q(p[1]), q(p[2])])
+        })
+    }
+
+    /// How many pixels have a NaN or infinite component.
+    #[must_use]
+    pub fn non_finite(&self) -> usize {
+        self.pixels
+            .iter()
+            .filter(|p| p.iter().any(|v| !v.is_finite()))
+            .count()
+    }
+}
+
+/// The camera's per-frame vectors in `f64` (chapter notation: `n c_a`, `u1`, `u2`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RefCamera {
+    position: V3,
+    near_forward: V3,
+    u1: V3,
+    u2: V3,
+    half_width: f64,
+    half_height: f64,
+    far_over_near_minus_one: f64,
+}
+
+impl RefCamera {
+    /// The camera of a description (assumed validated) for a viewport.
+    pub fn new(c: &CameraDesc, viewport: tessera::Viewport) -> Result<Self, DescError> {
+        let position = V3::from_array(c.position);
+        let forward = match (c.forward, c.look_at) {
+            (Some(f), None) => V3::from_array(f),
+            (None, Some(t)) => V3::from_array(t) - position,
+            _ => {
+                return Err(DescError {
+                    item: "camera".into(),
+                    message: "give exactly one of `forward` and `look_at`".into(),
+                });
+            }
+        };
+        let fwd = forward.normalize();
+        let up = V3::from_array(c.up).normalize();
+        let (nl, nh) = (f64::from(viewport.width), f64::from(viewport.height));
+        let height = 2.0 * c.near * (c.fovy.to_radians() / 2.0).tan();
+        let width = nl / nh * height;
+        let right = right_vector(fwd, up);
+        let down = fwd.cross(right).normalize();
+        Ok(Self {
+            position,
+            near_forward: fwd * c.near,
+            u1: right * (width / nl),
+            u2: down * (height / nh),
+            half_width: nl / 2.0,
+            half_height: nh / 2.0,
+            far_over_near_minus_one: (c.far - c.near) / c.near,
+        })
+    }
+
+    /// The primary ray through viewport point `(x, y)` (pixel units, `(0, 0)` the
+    /// top-left corner): origin on the near plane, unit direction, and the time at
+    /// which it reaches the far plane.
+    #[must_use]
+    pub fn ray(&self, x: f64, y: f64) -> (Ray, f64) {
+        let d =
+            self.near_forward + self.u1 * (x - self.half_width) + self.u2 * (y - self.half_height);
+        let len = d.length();
+        let ray = Ray {
+            origin: self.position + d,
+            dir: d * (1.0 / len),
+        };
+        (ray, len * self.far_over_near_minus_one)
+    }
+}
+
+/// `normalize(fwd x up)` after one Gram-Schmidt step against `fwd`; when `up` is
+/// (nearly) parallel to `fwd`, the world axis least aligned with `fwd` replaces it.
+fn right_vector(fwd: V3, up: V3) -> V3 {
+    let mut right = fwd.cross(up);
+    if right.length() <= 1e-6 {
+        let a = fwd.abs();
+        let axis = if a.x <= a.y && a.x <= a.z {
+            V3::X
+        } else if a.y <= a.z {
+            V3::Y
+        } else {
+            V3::Z
+        };
+        right = fwd.cross(axis);
+    }
+    (right - fwd * fwd.dot(right)).normalize()
+}
+
+/// Renders `desc` at `viewport` with `settings` in `f64`. First rejects exactly
+/// what the core rejects (`desc.to_core()` and the core's frame check, results
+/// discarded), then renders from the description's own values.
+pub fn render(
+    desc: &SceneDesc,
+    viewport: tessera::Viewport,
+    settings: &tessera::RenderSettings,
+) -> Result<RefImage, DescError> {
+    let core = desc.to_core()?;
+    core.frame(viewport, *settings).map_err(|e| DescError {
+        item: "render".into(),
+        message: e.to_string(),
+    })?;
+    drop(core);
+    let camera = RefCamera::new(&desc.camera, viewport)?;
+    let scene = RefScene::from_desc(desc)?;
+    let tracer = Tracer {
+        scene: &scene,
+        max_depth: settings.max_depth,
+    };
+    let (width, height) = (u32::from(viewport.width), u32::from(viewport.height));
+    let count = settings.sampler.count();
+    let mut pixels = Vec::with_capacity((width * height) as usize);
+    let mut signature = Vec::with_capacity(pixels.capacity());
+    for y in 0..height {
+        for x in 0..width {
+            let mut sig = Signature::default();
+            let mut sum = V3::ZERO;
+            for i in 0..count {
+                let (dx, dy) = settings.sampler.offset(x, y, i, settings.seed);
+                let (ray, t_far) =
+                    camera.ray(f64::from(x) + f64::from(dx), f64::from(y) + f64::from(dy));
+                sum = sum + tracer.trace_camera(&ray, t_far, &mut sig);
+            }
+            pixels.push((sum * (1.0 / f64::from(count))).to_array());
+            signature.push(sig.0);
+        }
+    }
+    Ok(RefImage {
+        width,
+        height,
+        pixels,
+        signature,
+    })
+}
+
+#[cfg(test)]
+mod tests;

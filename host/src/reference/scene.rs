@@ -1,0 +1,263 @@
+//! The reference scene: the description's values in `f64`, in plain `Vec`s, with
+//! its textures and the nearest-hit and shadow queries (a plain loop over every
+//! primitive).
+
+use super::geometry::{Hit, Ray, Shape};
+use super::vec::V3;
+use crate::desc::{DescError, SceneDesc, TextureDesc};
+use std::f64::consts::PI;
+
+/// A texture in `f64`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tex {
+    /// One colour.
+    Solid(V3),
+    /// `a` where `floor(u s) + floor(v s)` is even, else `b`.
+    Checker {
+        /// Even squares.
+        a: V3,
+        /// Odd squares.
+        b: V3,
+        /// Squares per uv unit.
+        scale: f64,
+    },
+    /// `color (0.5 + 0.5 cos(2 pi u / spacing))`.
+    Fringes {
+        /// Bright colour.
+        color: V3,
+        /// Fringe spacing, uv units.
+        spacing: f64,
+    },
+}
+
+impl Tex {
+    /// For a checker, the parity of the cell at `uv` (0 = colour `a`); `None` for
+    /// textures without edges.
+    #[must_use]
+    pub fn checker_parity(&self, [u, v]: [f64; 2]) -> Option<u64> {
+        match *self {
+            Self::Checker { scale, .. } => {
+                let cell = ((u * scale).floor() as i64).wrapping_add((v * scale).floor() as i64);
+                Some(cell.rem_euclid(2) as u64)
+            }
+            _ => None,
+        }
+    }
+
+    /// The colour at `uv`.
+    #[must_use]
+    pub fn eval(&self, [u, v]: [f64; 2]) -> V3 {
+        match *self {
+            Self::Solid(c) => c,
+            Self::Checker { a, b, scale } => {
+                // `as i64` saturates and maps NaN to 0, as in the core.
+                let cell = ((u * scale).floor() as i64).wrapping_add((v * scale).floor() as i64);
+                if cell.rem_euclid(2) == 0 { a } else { b }
+            }
+            Self::Fringes { color, spacing } => {
+                color * (0.5 + 0.5 * (2.0 * PI * u / spacing).cos())
+            }
+        }
+    }
+}
+
+/// A material in `f64`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mat {
+    /// Base colour.
+    pub texture: Tex,
+    /// Ambient weight `ka`.
+    pub ka: f64,
+    /// Diffuse weight `kd`.
+    pub kd: f64,
+    /// Specular weight `ks`.
+    pub ks: f64,
+    /// Blinn-Phong exponent.
+    pub shininess: f64,
+    /// Mirror weight `kr`.
+    pub kr: f64,
+    /// Transparency `kt`.
+    pub kt: f64,
+    /// Index of refraction.
+    pub ior: f64,
+}
+
+/// A point light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    /// Position.
+    pub position: V3,
+    /// Colour times intensity.
+    pub power: V3,
+}
+
+/// A primitive: shape, kind (0 sphere, 1 plane, 2 triangle, 3 box), index in its
+/// kind's list, material index.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Object {
+    /// The shape.
+    pub shape: Shape,
+    /// Kind, for the signature.
+    pub kind: u64,
+    /// Index in the description's list of that kind.
+    pub index: u64,
+    /// Index in [`RefScene::materials`].
+    pub material: usize,
+}
+
+/// The scene in `f64`: every primitive in one list, spheres, planes, triangles,
+/// boxes in that order (ties in `t` go to the earlier one, as in the core).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RefScene {
+    /// Ambient light.
+    pub ambient: V3,
+    /// Colour of a miss.
+    pub background: V3,
+    /// Materials.
+    pub materials: Vec<Mat>,
+    /// Lights.
+    pub lights: Vec<Light>,
+    /// Primitives.
+    pub objects: Vec<Object>,
+}
+
+impl RefScene {
+    /// The scene of a description (assumed validated by `to_core`).
+    pub fn from_desc(desc: &SceneDesc) -> Result<Self, DescError> {
+        let v = V3::from_array;
+        let materials = desc
+            .materials
+            .iter()
+            .map(|m| Mat {
+                texture: match &m.texture {
+                    None => Tex::Solid(v(m.color)),
+                    Some(TextureDesc::Checker { a, b, scale }) => Tex::Checker {
+                        a: v(*a),
+                        b: v(*b),
+                        scale: *scale,
+                    },
+                    Some(TextureDesc::Young {
+                        color,
+                        d,
+                        wavelength,
+                        distance,
+                    }) => Tex::Fringes {
+                        color: v(*color),
+                        spacing: wavelength * distance / d,
+                    },
+                    Some(TextureDesc::Fringes { color, spacing }) => Tex::Fringes {
+                        color: v(*color),
+                        spacing: *spacing,
+                    },
+                },
+                ka: m.ambient,
+                kd: m.diffuse,
+                ks: m.specular,
+                shininess: m.shininess,
+                kr: m.reflectivity,
+                kt: m.transparency,
+                ior: m.ior,
+            })
+            .collect();
+        let lights = desc
+            .lights
+            .iter()
+            .map(|l| Light {
+                position: v(l.position),
+                power: v(l.color) * l.intensity,
+            })
+            .collect();
+        let mut objects = Vec::new();
+        let mut add = |kind: u64, index: usize, shape: Shape, name: &str| {
+            let material = desc.material_index(name).ok_or_else(|| DescError {
+                item: format!("primitive {kind}:{index}"),
+                message: format!("unknown material {name:?}"),
+            })?;
+            objects.push(Object {
+                shape,
+                kind,
+                index: index as u64,
+                material,
+            });
+            Ok::<(), DescError>(())
+        };
+        for (i, s) in desc.spheres.iter().enumerate() {
+            let shape = Shape::Sphere {
+                center: v(s.center),
+                radius: s.radius,
+            };
+            add(0, i, shape, &s.material)?;
+        }
+        for (i, p) in desc.planes.iter().enumerate() {
+            let shape = Shape::Plane {
+                point: v(p.point),
+                normal: v(p.normal).normalize(),
+            };
+            add(1, i, shape, &p.material)?;
+        }
+        for (i, t) in desc.triangles.iter().enumerate() {
+            let shape = Shape::Triangle {
+                p: t.vertices.map(v),
+            };
+            add(2, i, shape, &t.material)?;
+        }
+        for (i, b) in desc.boxes.iter().enumerate() {
+            let shape = Shape::Box {
+                min: v(b.min),
+                max: v(b.max),
+            };
+            add(3, i, shape, &b.material)?;
+        }
+        Ok(Self {
+            ambient: v(desc.ambient),
+            background: v(desc.background),
+            materials,
+            lights,
+            objects,
+        })
+    }
+
+    /// The nearest primitive hit with `0 < t < t_max`.
+    #[must_use]
+    pub fn nearest(&self, ray: &Ray, t_max: f64) -> Option<(&Object, Hit)> {
+        let mut best: Option<(&Object, Hit)> = None;
+        let mut limit = t_max;
+        for o in &self.objects {
+            if let Some(h) = o.shape.intersect(ray, limit) {
+                limit = h.t;
+                best = Some((o, h));
+            }
+        }
+        best
+    }
+
+    /// True when a primitive is hit with `0 < t < t_max`.
+    #[must_use]
+    pub fn blocked(&self, ray: &Ray, t_max: f64) -> bool {
+        self.objects
+            .iter()
+            .any(|o| o.shape.intersect(ray, t_max).is_some())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn textures() {
+        let (a, b) = (V3::new(1.0, 1.0, 1.0), V3::ZERO);
+        let t = Tex::Checker { a, b, scale: 2.0 };
+        assert_eq!(t.eval([0.1, 0.1]), a);
+        assert_eq!(t.eval([0.6, 0.1]), b);
+        assert_eq!(t.eval([0.6, 0.6]), a);
+        assert_eq!(t.eval([-0.1, 0.1]), b);
+        let f = Tex::Fringes {
+            color: a,
+            spacing: 0.75e-3,
+        };
+        assert!((f.eval([0.0, 0.0]).x - 1.0).abs() < 1e-15);
+        assert!(f.eval([0.375e-3, 0.0]).x.abs() < 1e-15);
+        assert!((f.eval([0.1875e-3, 0.0]).x - 0.5).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,360 @@
+//! Tests of the reference renderer against hand-computed values and against the core.
+
+use super::*;
+use crate::desc::{
+    BoxDesc, LightDesc, MaterialDesc, PlaneDesc, RenderDesc, SphereDesc, TextureDesc, TriangleDesc,
+};
+use tessera::{RenderSettings, Sampler, Viewport};
+
+fn material(name: &str, color: [f64; 3]) -> MaterialDesc {
+    MaterialDesc {
+        name: name.into(),
+        color,
+        texture: None,
+        ambient: 1.0,
+        diffuse: 1.0,
+        specular: 0.0,
+        shininess: 1.0,
+        reflectivity: 0.0,
+        transparency: 0.0,
+        ior: 1.0,
+    }
+}
+
+fn camera(position: [f64; 3], forward: [f64; 3]) -> CameraDesc {
+    CameraDesc {
+        position,
+        forward: Some(forward),
+        look_at: None,
+        up: [0.0, 1.0, 0.0],
+        fovy: 60.0,
+        near: 0.1,
+        far: 100.0,
+    }
+}
+
+fn empty(camera: CameraDesc) -> SceneDesc {
+    SceneDesc {
+        ambient: [0.0; 3],
+        background: [0.0; 3],
+        camera,
+        render: RenderDesc::default(),
+        materials: Vec::new(),
+        lights: Vec::new(),
+        spheres: Vec::new(),
+        planes: Vec::new(),
+        triangles: Vec::new(),
+        boxes: Vec::new(),
+    }
+}
+
+/// Camera inside a diffuse sphere of radius r, point light at the centre: every
+/// pixel is kd * color * I / r^2 exactly (the light is straight along the normal).
+#[test]
+fn inside_a_lit_sphere_every_pixel_is_kd_color_i_over_r2() {
+    for r in [0.5, 2.0, 10.0, 300.0] {
+        let centre = [1.0, -2.0, 3.0];
+        let mut d = empty(camera(centre, [0.3, -0.2, -1.0]));
+        d.camera.near = r / 100.0;
+        d.camera.far = 4.0 * r;
+        let mut m = material("wall", [0.5, 0.25, 1.0]);
+        m.diffuse = 0.8;
+        d.materials.push(m);
+        let intensity = 0.7 * r * r;
+        d.lights.push(LightDesc {
+            position: centre,
+            color: [1.0, 0.5, 1.0],
+            intensity,
+        });
+        d.spheres.push(SphereDesc {
+            center: centre,
+            radius: r,
+            material: "wall".into(),
+        });
+        let settings = RenderSettings {
+            sampler: Sampler::Stratified(2),
+            max_depth: 2,
+            seed: 9,
+        };
+        let img = render(&d, Viewport::new(24, 16), &settings).unwrap();
+        let e = intensity / (r * r);
+        let expect = [0.8 * 0.5 * e, 0.8 * 0.25 * 0.5 * e, 0.8 * e];
+        for p in &img.pixels {
+            for (a, b) in p.iter().zip(expect) {
+                assert!((a - b).abs() < 1e-12, "r = {r}: {p:?} vs {expect:?}");
+            }
+        }
+        assert_eq!(img.non_finite(), 0);
+        assert!(img.signature.iter().all(|&s| s == img.signature[0]));
+    }
+}
+
+/// The chapter's worked example: fovy 90, n = 1, 4 x 2, r_cam = 0, c_a = -z,
+/// c_h = +y. H = 2, L = 4, u1 = (1, 0, 0), u2 = (0, -1, 0); the corner of pixel
+/// (0, 0) is (-2, 1, -1), direction (-2, 1, -1) / sqrt(6).
+#[test]
+fn worked_camera_example() {
+    let mut c = camera([0.0; 3], [0.0, 0.0, -1.0]);
+    (c.fovy, c.near, c.far) = (90.0, 1.0, 10.0);
+    let cam = RefCamera::new(&c, Viewport::new(4, 2)).unwrap();
+    let (ray, t_far) = cam.ray(0.0, 0.0);
+    let s6 = 6f64.sqrt();
+    assert!((ray.dir - V3::new(-2.0 / s6, 1.0 / s6, -1.0 / s6)).length() < 1e-15);
+    assert!((ray.origin - V3::new(-2.0, 1.0, -1.0)).length() < 1e-15);
+    // The far plane z = -10 is 9 sqrt(6) away along that ray.
+    assert!((t_far - 9.0 * s6).abs() < 1e-13);
+    assert!((ray.at(t_far).z + 10.0).abs() < 1e-13);
+    // The image centre looks straight ahead; look_at gives the same camera.
+    assert_eq!(cam.ray(2.0, 1.0).0.dir, -V3::Z);
+    c.forward = None;
+    c.look_at = Some([0.0, 0.0, -7.0]);
+    assert_eq!(RefCamera::new(&c, Viewport::new(4, 2)).unwrap(), cam);
+    // up parallel to forward still gives an orthonormal frame.
+    c.up = [0.0, 0.0, -3.0];
+    let cam = RefCamera::new(&c, Viewport::new(4, 2)).unwrap();
+    assert!(cam.u1.dot(cam.u2).abs() < 1e-15 && cam.u1.dot(V3::Z).abs() < 1e-15);
+}
+
+#[test]
+fn quantisation_and_non_finite() {
+    let img = RefImage {
+        width: 3,
+        height: 1,
+        pixels: vec![
+            [0.5, -1.0, 2.0],
+            [f64::NAN, 1.0 / 255.0, 0.499 / 255.0],
+            [f64::INFINITY, 0.0, 0.0],
+        ],
+        signature: vec![0; 3],
+    };
+    let rgb = img.to_rgb8();
+    assert_eq!(rgb.get_pixel(0, 0).0, [128, 0, 255]);
+    assert_eq!(rgb.get_pixel(1, 0).0, [0, 1, 0]);
+    assert_eq!(rgb.get_pixel(2, 0).0, [255, 0, 0]);
+    assert_eq!(img.non_finite(), 2);
+}
+
+#[test]
+fn invalid_scenes_are_rejected_like_the_core() {
+    let mut d = empty(camera([0.0; 3], [0.0, 0.0, -1.0]));
+    d.materials.push(material("m", [1.0; 3]));
+    d.spheres.push(SphereDesc {
+        center: [0.0, 0.0, -3.0],
+        radius: -1.0,
+        material: "m".into(),
+    });
+    let s = RenderSettings::default();
+    let e = render(&d, Viewport::new(4, 4), &s).unwrap_err();
+    assert_eq!(e.item, "sphere 1");
+    d.spheres[0].radius = 1.0;
+    d.spheres[0].material = "nope".into();
+    assert!(render(&d, Viewport::new(4, 4), &s).is_err());
+    d.spheres[0].material = "m".into();
+    assert!(render(&d, Viewport::new(0, 4), &s).is_err());
+    let deep = RenderSettings { max_depth: 9, ..s };
+    assert!(render(&d, Viewport::new(4, 4), &deep).is_err());
+    assert!(render(&d, Viewport::new(4, 4), &s).is_ok());
+}
+
+/// Two spheres (one a mirror), a glass sphere, a checker floor, a fringed
+/// triangle, a box, two lights.
+fn test_scene() -> SceneDesc {
+    let mut d = empty(CameraDesc {
+        position: [0.0, 1.6, 6.0],
+        forward: None,
+        look_at: Some([0.0, 0.6, 0.0]),
+        up: [0.0, 1.0, 0.0],
+        fovy: 50.0,
+        near: 0.1,
+        far: 100.0,
+    });
+    d.ambient = [0.1, 0.1, 0.12];
+    d.background = [0.2, 0.3, 0.5];
+    let mut red = material("red", [0.8, 0.2, 0.2]);
+    (red.specular, red.shininess) = (0.5, 32.0);
+    let mut mirror = material("mirror", [0.9, 0.9, 0.9]);
+    (mirror.diffuse, mirror.reflectivity) = (0.2, 0.7);
+    (mirror.specular, mirror.shininess) = (0.3, 64.0);
+    let mut glass = material("glass", [1.0; 3]);
+    (
+        glass.ambient,
+        glass.diffuse,
+        glass.specular,
+        glass.shininess,
+    ) = (0.0, 0.0, 0.5, 64.0);
+    (glass.transparency, glass.ior) = (0.9, 1.5);
+    let mut floor = material("floor", [1.0; 3]);
+    floor.texture = Some(TextureDesc::Checker {
+        a: [0.9, 0.9, 0.9],
+        b: [0.1, 0.1, 0.1],
+        scale: 1.0,
+    });
+    floor.diffuse = 0.8;
+    let mut fringes = material("fringes", [1.0; 3]);
+    fringes.texture = Some(TextureDesc::Fringes {
+        color: [0.2, 0.9, 0.3],
+        spacing: 0.25,
+    });
+    let mut young = material("young", [1.0; 3]);
+    young.texture = Some(TextureDesc::Young {
+        color: [1.0, 0.8, 0.2],
+        d: 2e-3,
+        wavelength: 500e-9,
+        distance: 1000.0,
+    });
+    d.materials = vec![red, mirror, glass, floor, fringes, young];
+    d.lights = vec![
+        LightDesc {
+            position: [4.0, 6.0, 3.0],
+            color: [1.0, 1.0, 1.0],
+            intensity: 40.0,
+        },
+        LightDesc {
+            position: [-5.0, 4.0, 5.0],
+            color: [0.5, 0.5, 1.0],
+            intensity: 20.0,
+        },
+    ];
+    let sphere = |center, radius, m: &str| SphereDesc {
+        center,
+        radius,
+        material: m.into(),
+    };
+    d.spheres = vec![
+        sphere([-1.2, 1.0, 0.0], 1.0, "red"),
+        sphere([1.2, 1.0, -0.5], 1.0, "mirror"),
+        sphere([0.2, 0.6, 2.0], 0.6, "glass"),
+    ];
+    d.planes = vec![PlaneDesc {
+        point: [0.0, 0.0, 0.0],
+        normal: [0.0, 2.0, 0.0],
+        material: "floor".into(),
+    }];
+    d.triangles = vec![TriangleDesc {
+        vertices: [[-3.5, 0.0, -3.0], [2.5, 0.0, -3.0], [-0.5, 3.5, -4.0]],
+        material: "fringes".into(),
+    }];
+    d.boxes = vec![BoxDesc {
+        min: [1.9, 0.0, 1.0],
+        max: [2.7, 0.8, 1.8],
+        material: "young".into(),
+    }];
+    d
+}
+
+/// Share of channel values within 0, 1 and 2 LSB of the core, and the share of
+/// pixels whose three channels are all within 1 LSB.
+fn agreement(a: &image::RgbImage, b: &image::RgbImage) -> ([f64; 3], f64) {
+    let mut within = [0usize; 3];
+    let mut pixels_1 = 0;
+    for (p, q) in a.pixels().zip(b.pixels()) {
+        let worst = (0..3).map(|c| p.0[c].abs_diff(q.0[c])).max().unwrap_or(0);
+        for (k, w) in within.iter_mut().enumerate() {
+            if usize::from(worst) <= k {
+                *w += 1;
+            }
+        }
+        pixels_1 += usize::from(worst <= 1);
+    }
+    let n = (a.width() * a.height()) as f64;
+    (within.map(|w| w as f64 / n), pixels_1 as f64 / n)
+}
+
+#[test]
+fn agrees_with_the_core_on_a_hand_written_scene() {
+    let d = test_scene();
+    let vp = Viewport::new(160, 120);
+    for settings in [
+        RenderSettings {
+            sampler: Sampler::Centre,
+            max_depth: 4,
+            seed: 0,
+        },
+        RenderSettings {
+            sampler: Sampler::Stratified(2),
+            max_depth: 4,
+            seed: 7,
+        },
+    ] {
+        let reference = render(&d, vp, &settings).unwrap();
+        assert_eq!(reference.non_finite(), 0);
+        let scene = d.to_core().unwrap();
+        let core = crate::render(&scene.view(), scene.camera(), vp, settings, 16).unwrap();
+        let (within, pixels_1) = agreement(&reference.to_rgb8(), &core);
+        println!(
+            "{:?}: pixels within 0/1/2 LSB: {:.4} / {:.4} / {:.4}",
+            settings.sampler, within[0], within[1], within[2]
+        );
+        assert!(pixels_1 >= 0.99, "{within:?}");
+        // Every kind of primitive is seen: signatures vary across the image.
+        let mut kinds = reference.signature.clone();
+        kinds.sort_unstable();
+        kinds.dedup();
+        assert!(kinds.len() > 20, "{}", kinds.len());
+    }
+}
+
+#[test]
+fn signatures_mark_silhouettes_and_shadows() {
+    // One sphere over a floor, lit from above: the sphere's pixels, the floor in
+    // its shadow and the lit floor have three different signatures.
+    let mut d = empty(camera([0.0, 1.0, 5.0], [0.0, -0.2, -1.0]));
+    d.materials.push(material("m", [0.8; 3]));
+    d.lights.push(LightDesc {
+        position: [0.0, 10.0, 0.0],
+        color: [1.0; 3],
+        intensity: 100.0,
+    });
+    d.spheres.push(SphereDesc {
+        center: [0.0, 1.0, 0.0],
+        radius: 0.5,
+        material: "m".into(),
+    });
+    d.planes.push(PlaneDesc {
+        point: [0.0; 3],
+        normal: [0.0, 1.0, 0.0],
+        material: "m".into(),
+    });
+    let vp = Viewport::new(64, 48);
+    let img = render(&d, vp, &RenderSettings::default()).unwrap();
+    let cam = RefCamera::new(&d.camera, vp).unwrap();
+    let scene = RefScene::from_desc(&d).unwrap();
+    // Classify every pixel centre by hand: what the camera ray hits first, and
+    // whether the floor point sees the light.
+    let mut classes = std::collections::HashMap::new();
+    for y in 0..48u32 {
+        for x in 0..64u32 {
+            let (ray, t_far) = cam.ray(f64::from(x) + 0.5, f64::from(y) + 0.5);
+            let s = scene.objects[0].shape.intersect(&ray, t_far);
+            let f = scene.objects[1].shape.intersect(&ray, t_far);
+            let class = match (s, f) {
+                (Some(h), _) => {
+                    // Lit side (a shadow ray is cast) or the side facing away.
+                    let p = ray.at(h.t);
+                    let n = (p - V3::new(0.0, 1.0, 0.0)).normalize();
+                    if n.dot((V3::new(0.0, 10.0, 0.0) - p).normalize()) > 0.0 {
+                        0
+                    } else {
+                        4
+                    }
+                }
+                (None, Some(h)) => {
+                    let p = ray.at(h.t);
+                    let up = Ray {
+                        origin: p,
+                        dir: (V3::new(0.0, 10.0, 0.0) - p).normalize(),
+                    };
+                    1 + u8::from(scene.objects[0].shape.intersect(&up, 1e9).is_some())
+                }
+                (None, None) => 3,
+            };
+            let sig = img.signature[(y * 64 + x) as usize];
+            assert_eq!(*classes.entry(class).or_insert(sig), sig, "class {class}");
+        }
+    }
+    let mut sigs: Vec<u64> = classes.values().copied().collect();
+    sigs.sort_unstable();
+    sigs.dedup();
+    assert_eq!(sigs.len(), classes.len());
+    assert!(classes.len() >= 3, "{classes:?}");
+}

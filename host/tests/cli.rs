@@ -1,0 +1,245 @@
+//! The real `tessera` binary: the default render, a scene file, and bad input. Every
+//! failure must print a clear message on stderr, exit non-zero, and leave an
+//! existing output file untouched.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_tessera"))
+}
+
+/// A fresh, empty folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tessera-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes")
+}
+
+#[test]
+fn no_arguments_renders_the_default_scene_and_says_where() {
+    let dir = scratch("default");
+    let out = bin().current_dir(&dir).output().unwrap();
+    assert!(out.status.success(), "stderr: {}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("chapter-reflect: 320x240"), "{stdout}");
+    assert!(stdout.contains("rays/s"), "{stdout}");
+    assert!(stdout.contains("wrote tessera.png"), "{stdout}");
+    let img = image::open(dir.join("tessera.png")).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (320, 240));
+    // Same bytes as the library renders.
+    let want = tessera::builtin::Builtin::DEFAULT
+        .with_scene(|v, c| {
+            tessera_host::render(
+                v,
+                c,
+                tessera::Viewport::new(320, 240),
+                tessera::builtin::Builtin::DEFAULT.settings(),
+                16,
+            )
+        })
+        .unwrap()
+        .unwrap();
+    assert_eq!(img.as_raw(), want.as_raw());
+}
+
+#[test]
+fn one_thread_and_many_threads_write_the_same_bytes() {
+    let dir = scratch("threads");
+    for (t, name) in [("1", "one.png"), ("4", "four.png")] {
+        let out = bin()
+            .current_dir(&dir)
+            .args([
+                "render",
+                "showcase",
+                "--size",
+                "97x61",
+                "--sampler",
+                "stratified:2",
+            ])
+            .args(["--threads", t, "--tile", "8", "-o", name])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", text(&out.stderr));
+    }
+    let a = std::fs::read(dir.join("one.png")).unwrap();
+    let b = std::fs::read(dir.join("four.png")).unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn a_scene_file_renders_with_its_own_settings() {
+    let dir = scratch("file");
+    let scene = scenes().join("chapter-direct.toml");
+    let out = bin()
+        .current_dir(&dir)
+        .arg("render")
+        .arg(&scene)
+        .args(["--size", "64x48", "-o", "f.png"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let img = image::open(dir.join("f.png")).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (64, 48));
+}
+
+/// Runs the binary on bad input with an existing output file and checks the
+/// failure contract; returns stderr.
+fn fails(dir: &Path, args: &[&str]) -> String {
+    let out_png = dir.join("out.png");
+    std::fs::write(&out_png, b"precious").unwrap();
+    let out: Output = bin().current_dir(dir).args(args).output().unwrap();
+    let stderr = text(&out.stderr);
+    assert!(!out.status.success(), "{args:?} succeeded");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        !stderr.contains("Error {") && !stderr.contains("Some("),
+        "{stderr}"
+    );
+    assert_eq!(
+        std::fs::read(&out_png).unwrap(),
+        b"precious",
+        "{args:?} touched the output"
+    );
+    let leftovers: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+    stderr
+}
+
+fn write(dir: &Path, name: &str, body: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, body).unwrap();
+    p.to_string_lossy().into_owned()
+}
+
+const HEAD: &str = r#"
+[camera]
+position = [0.0, 0.0, 5.0]
+look_at = [0.0, 0.0, 0.0]
+near = 0.1
+far = 100.0
+
+[[material]]
+name = "m"
+"#;
+
+#[test]
+fn bad_input_gives_a_clear_message_and_keeps_the_output() {
+    let dir = scratch("bad");
+    let e = fails(&dir, &["render", "missing.toml", "-o", "out.png"]);
+    assert!(e.contains("missing.toml"), "{e}");
+
+    let e = fails(&dir, &["render", "no-such-scene", "-o", "out.png"]);
+    assert!(e.contains("no-such-scene") && e.contains("built-in"), "{e}");
+
+    let f = write(&dir, "syntax.toml", "[camera\nposition = [0, 0, 5]\n");
+    let e = fails(&dir, &["render", &f, "-o", "out.png"]);
+    assert!(e.contains("syntax.toml:1:"), "{e}");
+
+    let f = write(
+        &dir,
+        "unknown.toml",
+        &format!("{HEAD}\n[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradiuss = 1.0\nmaterial = \"m\"\n"),
+    );
+    let e = fails(&dir, &["render", &f, "-o", "out.png"]);
+    assert!(e.contains("unknown.toml:") && e.contains("radiuss"), "{e}");
+
+    let f = write(
+        &dir,
+        "nan.toml",
+        &format!("{HEAD}\n[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = nan\nmaterial = \"m\"\n"),
+    );
+    let e = fails(&dir, &["render", &f, "-o", "out.png"]);
+    assert!(e.contains("sphere 1") && e.contains("NaN"), "{e}");
+
+    let f = write(
+        &dir,
+        "negative.toml",
+        &format!(
+            "{HEAD}\n[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = \"m\"\n\n[[sphere]]\ncenter = [1.0, 0.0, 0.0]\nradius = -1.0\nmaterial = \"m\"\n"
+        ),
+    );
+    let e = fails(&dir, &["render", &f, "-o", "out.png"]);
+    assert!(
+        e.contains("sphere 2: sphere radius must be > 0, got -1"),
+        "{e}"
+    );
+
+    let mut many = HEAD.to_string();
+    for i in 0..1025 {
+        many.push_str(&format!(
+            "\n[[sphere]]\ncenter = [{i}.0, 0.0, 0.0]\nradius = 0.5\nmaterial = \"m\"\n"
+        ));
+    }
+    let f = write(&dir, "many.toml", &many);
+    let e = fails(&dir, &["render", &f, "-o", "out.png"]);
+    assert!(
+        e.contains("sphere 1025") && e.contains("at most 1024"),
+        "{e}"
+    );
+
+    let e = fails(&dir, &["render", "--size", "0x10", "-o", "out.png"]);
+    assert!(e.contains("--size"), "{e}");
+    let e = fails(&dir, &["render", "--sampler", "random:0", "-o", "out.png"]);
+    assert!(e.contains("random"), "{e}");
+    let e = fails(&dir, &["render", "--depth", "9", "-o", "out.png"]);
+    assert!(e.contains("depth 9"), "{e}");
+    let e = fails(&dir, &["render", "--tile", "12", "-o", "out.png"]);
+    assert!(e.contains("8, 16 or 32"), "{e}");
+}
+
+#[test]
+fn unwritable_output_is_an_error_that_names_the_file() {
+    let dir = scratch("unwritable");
+    let target = dir.join("no-such-folder").join("x.png");
+    let t = target.to_string_lossy().into_owned();
+    let e = fails(&dir, &["render", "--size", "16x16", "-o", &t]);
+    assert!(e.contains("cannot write") && e.contains("x.png"), "{e}");
+    // A folder in the way of the file.
+    std::fs::create_dir_all(dir.join("taken.png")).unwrap();
+    let e = fails(&dir, &["render", "--size", "16x16", "-o", "taken.png"]);
+    assert!(e.contains("taken.png"), "{e}");
+}
+
+#[test]
+fn compare_prints_the_figures_and_writes_a_heatmap() {
+    let dir = scratch("compare");
+    let out = bin()
+        .current_dir(&dir)
+        .args([
+            "compare",
+            "chapter-direct",
+            "--size",
+            "80x60",
+            "--heatmap",
+            "h.png",
+        ])
+        .output()
+        .unwrap();
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    for key in [
+        "PSNR",
+        "mean FLIP",
+        "max abs difference",
+        "within 0 / 1 / 2 LSB",
+        "NaN/Inf",
+    ] {
+        assert!(stdout.contains(key), "{key} missing: {stdout}");
+    }
+    let map = image::open(dir.join("h.png")).unwrap().to_rgb8();
+    assert_eq!(map.dimensions(), (80, 60));
+}
