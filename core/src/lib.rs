@@ -46,6 +46,7 @@
 pub mod builtin;
 pub mod camera;
 pub mod color;
+pub mod display;
 pub mod error;
 pub mod geometry;
 pub mod light;
@@ -61,6 +62,7 @@ pub mod vec;
 
 pub use camera::{Camera, CameraBasis, Viewport};
 pub use color::{Color, Rgb8};
+pub use display::{DrawError, draw_tile};
 pub use error::{Error, Field};
 pub use geometry::{Aabb, Plane, Sphere, Triangle};
 pub use light::PointLight;
