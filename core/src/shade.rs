@@ -143,6 +143,12 @@ impl<'a> SceneView<'a> {
         best
     }
 
+    /// The time of the nearest hit of `ray` with `0 < t < t_max`, if any.
+    #[must_use]
+    pub fn first_hit(&self, ray: &Ray, t_max: f32) -> Option<f32> {
+        self.nearest(ray, t_max).map(|n| n.hit.t)
+    }
+
     /// True when anything blocks `ray` before `t_max`.
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         occluded_in(self.spheres, ray, t_max)

@@ -6,6 +6,7 @@ pub mod compare;
 pub mod desc;
 pub mod file;
 pub mod reference;
+pub mod simulate;
 
 use image::{Rgb, RgbImage};
 use std::fmt;
@@ -167,21 +168,26 @@ pub fn render(
     }
 }
 
-/// Writes `img` as a PNG at `path` atomically: the bytes go to a temporary file in
-/// the same folder, which is then renamed over `path`. An existing file at `path`
-/// is either replaced whole or left untouched.
+/// Writes `img` as a PNG at `path` atomically (see [`write_atomic`]).
 pub fn write_png(img: &RgbImage, path: &Path) -> Result<(), HostError> {
-    let shown = path.display().to_string();
-    let io = |source| HostError::Io {
-        path: shown.clone(),
-        source,
-    };
     let mut bytes = Vec::new();
     img.write_to(
         &mut std::io::Cursor::new(&mut bytes),
         image::ImageFormat::Png,
     )
     .map_err(|e| HostError::Encode(e.to_string()))?;
+    write_atomic(&bytes, path)
+}
+
+/// Writes `bytes` at `path` atomically: they go to a temporary file in the same
+/// folder, which is then renamed over `path`. An existing file at `path` is either
+/// replaced whole or left untouched, and no temporary file is left behind.
+pub fn write_atomic(bytes: &[u8], path: &Path) -> Result<(), HostError> {
+    let shown = path.display().to_string();
+    let io = |source| HostError::Io {
+        path: shown.clone(),
+        source,
+    };
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => std::path::PathBuf::from("."),
@@ -193,7 +199,7 @@ pub fn write_png(img: &RgbImage, path: &Path) -> Result<(), HostError> {
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
     let result = std::fs::File::create(&tmp)
         .and_then(|mut f| {
-            f.write_all(&bytes)?;
+            f.write_all(bytes)?;
             f.sync_all()
         })
         .and_then(|()| std::fs::rename(&tmp, path));

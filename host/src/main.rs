@@ -4,6 +4,7 @@
 //! tessera                                   # = tessera render: the default scene -> tessera.png
 //! tessera render [SCENE] -o out.png [--size WxH] [--tile N] [--sampler S] [--depth D] [--seed S] [--threads N]
 //! tessera compare [SCENE] [--heatmap diff.png] ...
+//! tessera simulate [SCENE] [--color rgb565] [-o panel.png] [--orbit 36 -o orbit.gif]
 //! tessera scenes                            # list the built-in scenes
 //! ```
 //! SCENE is a built-in scene name or a `.toml` scene file.
@@ -35,8 +36,33 @@ enum Command {
     Render(RenderArgs),
     /// Render with the core (f32) and the reference (f64) and print the accuracy.
     Compare(CompareArgs),
+    /// Draw a scene onto a simulated display panel (embedded-graphics-simulator) and
+    /// save what the panel shows.
+    Simulate(SimulateArgs),
     /// List the built-in scenes.
     Scenes,
+}
+
+#[derive(Args)]
+struct SimulateArgs {
+    #[command(flatten)]
+    common: Common,
+    /// The panel's colour type: rgb565, rgb555, rgb888 or gray8
+    #[arg(long, default_value = "rgb565")]
+    color: tessera_host::simulate::PanelColor,
+    /// Output: a PNG, or with --orbit an animated GIF (.gif) or numbered PNG frames
+    /// (NAME-000.png, ...) [default: simulator.png, or simulator-orbit.gif]
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Render an orbit of the camera around what it looks at, in this many frames
+    #[arg(long)]
+    orbit: Option<u32>,
+    /// Delay between orbit frames in the GIF, milliseconds
+    #[arg(long, default_value_t = 80)]
+    delay_ms: u32,
+    /// Also show the frame(s) in an SDL window (build with --features sdl)
+    #[arg(long)]
+    window: bool,
 }
 
 #[derive(Args, Default)]
@@ -292,12 +318,135 @@ fn compare(args: &CompareArgs) -> Result<(), String> {
     Ok(())
 }
 
+fn simulate(args: &SimulateArgs) -> Result<(), String> {
+    use tessera_host::simulate as sim;
+    let source = Source::open(args.common.scene.as_deref())?;
+    let (settings, mut vp, tile) = source.settings(&args.common)?;
+    if args.common.size.is_none() {
+        vp = Viewport::new(240, 240);
+    }
+    if args.orbit == Some(0) {
+        return Err("--orbit needs at least 1 frame".into());
+    }
+    let start = Instant::now();
+    let frames = source.with_core(|view, camera| {
+        let cameras = match args.orbit {
+            None => vec![*camera],
+            Some(n) => {
+                sim::orbit(camera, sim::pivot(view, camera), n).map_err(|e| e.to_string())?
+            }
+        };
+        let bar = progress(
+            cameras.len() as u64,
+            u64::from(vp.width) * u64::from(vp.height) * cameras.len() as u64,
+        );
+        let mut frames = Vec::new();
+        for cam in &cameras {
+            let frame = Frame::try_new(cam, vp, settings).map_err(|e| e.to_string())?;
+            frames.push(
+                sim::simulate_tiled(view, &frame, args.color, tile).map_err(|e| e.to_string())?,
+            );
+            bar.inc(1);
+        }
+        bar.finish_and_clear();
+        Ok::<_, String>(frames)
+    })??;
+    let secs = start.elapsed().as_secs_f64();
+    let written = match (args.orbit, &args.output) {
+        (None, out) => {
+            let out = out
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("simulator.png"));
+            let img = frames.first().ok_or("no frame rendered")?;
+            tessera_host::write_png(img, &out).map_err(|e| e.to_string())?;
+            out.display().to_string()
+        }
+        (Some(_), out) => {
+            let out = out
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("simulator-orbit.gif"));
+            let is_gif = out
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("gif"));
+            if is_gif {
+                let bytes = sim::gif(&frames, args.delay_ms).map_err(|e| e.to_string())?;
+                tessera_host::write_atomic(&bytes, &out).map_err(|e| e.to_string())?;
+                out.display().to_string()
+            } else {
+                let stem = out.with_extension("");
+                let mut first = String::new();
+                for (i, f) in frames.iter().enumerate() {
+                    let p = PathBuf::from(format!("{}-{i:03}.png", stem.display()));
+                    tessera_host::write_png(f, &p).map_err(|e| e.to_string())?;
+                    if i == 0 {
+                        first = p.display().to_string();
+                    }
+                }
+                format!("{} frames, {first} ...", frames.len())
+            }
+        }
+    };
+    println!(
+        "{}: {} frame(s) of {}x{} {} panel, {} sample(s)/px ({}), depth {}: {secs:.3} s",
+        source.name(),
+        frames.len(),
+        vp.width,
+        vp.height,
+        args.color,
+        settings.sampler.count(),
+        sampler_name(&settings.sampler),
+        settings.max_depth,
+    );
+    println!("wrote {written}");
+    if args.window {
+        show_window(&frames, args.delay_ms)?;
+    }
+    Ok(())
+}
+
+#[cfg(feature = "sdl")]
+fn show_window(frames: &[image::RgbImage], delay_ms: u32) -> Result<(), String> {
+    use embedded_graphics_core::pixelcolor::Rgb888;
+    use embedded_graphics_core::prelude::*;
+    use embedded_graphics_simulator::{OutputSettings, SimulatorDisplay, SimulatorEvent, Window};
+    let Some(first) = frames.first() else {
+        return Ok(());
+    };
+    let size = Size::new(first.width(), first.height());
+    let mut display = SimulatorDisplay::<Rgb888>::with_default_color(size, Rgb888::BLACK);
+    let mut window = Window::new("tessera", &OutputSettings::default());
+    let mut i = 0usize;
+    loop {
+        if let Some(f) = frames.get(i % frames.len()) {
+            for (x, y, p) in f.enumerate_pixels() {
+                let _ = Pixel(
+                    Point::new(x as i32, y as i32),
+                    Rgb888::new(p[0], p[1], p[2]),
+                )
+                .draw(&mut display);
+            }
+        }
+        window.update(&display);
+        if window.events().any(|e| e == SimulatorEvent::Quit) {
+            return Ok(());
+        }
+        std::thread::sleep(std::time::Duration::from_millis(u64::from(delay_ms)));
+        i += 1;
+    }
+}
+
+#[cfg(not(feature = "sdl"))]
+fn show_window(_: &[image::RgbImage], _: u32) -> Result<(), String> {
+    Err("this tessera was built without the SDL window: rebuild with `--features sdl` (needs libsdl2-dev)".into())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         None => render(&RenderArgs::default_for_main()),
         Some(Command::Render(a)) => render(&a),
         Some(Command::Compare(a)) => compare(&a),
+        Some(Command::Simulate(a)) => simulate(&a),
         Some(Command::Scenes) => {
             for b in Builtin::ALL {
                 println!("{}", b.name());

@@ -1,0 +1,214 @@
+//! What a panel would show: frames drawn through the core's `DrawTarget` output onto
+//! an `embedded-graphics-simulator` display of a chosen colour type (default
+//! 240x240 `Rgb565`), saved as PNG, or as an animated GIF of a camera orbit.
+
+use crate::HostError;
+use embedded_graphics_core::pixelcolor::{Gray8, PixelColor, Rgb555, Rgb565, Rgb888};
+use embedded_graphics_core::prelude::Size;
+use embedded_graphics_simulator::{OutputSettings, SimulatorDisplay};
+use image::RgbImage;
+use std::fmt;
+use std::str::FromStr;
+use tessera::{Camera, Frame, SceneView, Tile, Vec3};
+
+/// The colour type of the simulated panel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PanelColor {
+    /// 16-bit 5-6-5, the usual SPI TFT (ST7789, ILI9341).
+    #[default]
+    Rgb565,
+    /// 15-bit 5-5-5.
+    Rgb555,
+    /// 24-bit.
+    Rgb888,
+    /// 8-bit grey (luma).
+    Gray8,
+}
+
+impl FromStr for PanelColor {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "rgb565" => Ok(Self::Rgb565),
+            "rgb555" => Ok(Self::Rgb555),
+            "rgb888" => Ok(Self::Rgb888),
+            "gray8" | "grey8" => Ok(Self::Gray8),
+            _ => Err(format!(
+                "expected rgb565, rgb555, rgb888 or gray8, got {s:?}"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for PanelColor {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Rgb565 => "rgb565",
+            Self::Rgb555 => "rgb555",
+            Self::Rgb888 => "rgb888",
+            Self::Gray8 => "gray8",
+        })
+    }
+}
+
+/// Draws `frame` onto a simulated panel of colour type `C` through
+/// [`tessera::Frame::draw`] (tiles of N x N, one `fill_contiguous` each) and returns
+/// what the panel shows, as 8-bit RGB.
+fn panel<C, const N: usize>(scene: &SceneView<'_>, frame: &Frame) -> Result<RgbImage, HostError>
+where
+    C: PixelColor + From<Rgb888> + Into<Rgb888>,
+{
+    let vp = frame.viewport();
+    let size = Size::new(u32::from(vp.width), u32::from(vp.height));
+    let mut display =
+        SimulatorDisplay::<C>::with_default_color(size, C::from(Rgb888::new(0, 0, 0)));
+    frame
+        .draw(scene, &mut Tile::<N>::new(), &mut display)
+        .map_err(|e| match e {
+            tessera::DrawError::Render(e) => HostError::Core(e),
+            tessera::DrawError::Display(never) => match never {},
+        })?;
+    let out = display.to_rgb_output_image(&OutputSettings::default());
+    let buf = out.as_image_buffer();
+    RgbImage::from_raw(buf.width(), buf.height(), buf.as_raw().to_vec())
+        .ok_or_else(|| HostError::Encode("simulator image has an unexpected size".into()))
+}
+
+/// What a panel of colour type `color` shows for `frame`, drawn in 16x16 tiles.
+pub fn simulate(
+    scene: &SceneView<'_>,
+    frame: &Frame,
+    color: PanelColor,
+) -> Result<RgbImage, HostError> {
+    simulate_tiled(scene, frame, color, 16)
+}
+
+/// [`simulate`] with tiles of `tile` pixels (8, 16 or 32).
+pub fn simulate_tiled(
+    scene: &SceneView<'_>,
+    frame: &Frame,
+    color: PanelColor,
+    tile: usize,
+) -> Result<RgbImage, HostError> {
+    fn with<const N: usize>(
+        scene: &SceneView<'_>,
+        frame: &Frame,
+        color: PanelColor,
+    ) -> Result<RgbImage, HostError> {
+        match color {
+            PanelColor::Rgb565 => panel::<Rgb565, N>(scene, frame),
+            PanelColor::Rgb555 => panel::<Rgb555, N>(scene, frame),
+            PanelColor::Rgb888 => panel::<Rgb888, N>(scene, frame),
+            PanelColor::Gray8 => panel::<Gray8, N>(scene, frame),
+        }
+    }
+    match tile {
+        8 => with::<8>(scene, frame, color),
+        16 => with::<16>(scene, frame, color),
+        32 => with::<32>(scene, frame, color),
+        n => Err(HostError::TileSize(n)),
+    }
+}
+
+/// The cameras of an orbit of `frames` steps around the vertical (camera up) axis
+/// through `pivot`, starting at `camera`.
+pub fn orbit(camera: &Camera, pivot: Vec3, frames: u32) -> Result<Vec<Camera>, HostError> {
+    let axis = camera.up();
+    let arm = camera.position() - pivot;
+    (0..frames.max(1))
+        .map(|k| {
+            let a = std::f32::consts::TAU * k as f32 / frames.max(1) as f32;
+            let (s, c) = a.sin_cos();
+            // Rodrigues' rotation of the arm about the axis.
+            let rotated = arm * c + axis.cross(arm) * s + axis * (axis.dot(arm) * (1.0 - c));
+            let position = pivot + rotated;
+            Camera::try_new(
+                position,
+                pivot - position,
+                camera.up(),
+                camera.fovy_degrees(),
+                camera.near(),
+                camera.far(),
+            )
+            .map_err(HostError::Core)
+        })
+        .collect()
+}
+
+/// The point the camera looks at: where its central ray first hits the scene, or,
+/// if it hits nothing, the point of its forward line nearest the origin (at least
+/// ten near distances ahead).
+pub fn pivot(scene: &SceneView<'_>, camera: &Camera) -> Vec3 {
+    let ray = tessera::Ray::new(camera.position(), camera.forward());
+    let t = scene
+        .first_hit(&ray, camera.far())
+        .unwrap_or_else(|| (-camera.position()).dot(camera.forward()))
+        .max(10.0 * camera.near());
+    ray.at(t)
+}
+
+/// Encodes frames as an endlessly looping animated GIF (`delay_ms` per frame).
+pub fn gif(frames: &[RgbImage], delay_ms: u32) -> Result<Vec<u8>, HostError> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    let mut bytes = Vec::new();
+    {
+        let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
+        enc.set_repeat(Repeat::Infinite)
+            .map_err(|e| HostError::Encode(e.to_string()))?;
+        for f in frames {
+            let rgba = image::DynamicImage::ImageRgb8(f.clone()).to_rgba8();
+            let frame = image::Frame::from_parts(
+                rgba,
+                0,
+                0,
+                image::Delay::from_numer_denom_ms(delay_ms, 1),
+            );
+            enc.encode_frame(frame)
+                .map_err(|e| HostError::Encode(e.to_string()))?;
+        }
+    }
+    Ok(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tessera::builtin::Builtin;
+    use tessera::{RenderSettings, Viewport};
+
+    #[test]
+    fn rgb565_panel_shows_the_tiles_quantised_to_565() {
+        let b = Builtin::ChapterReflect;
+        b.with_scene(|view, cam| {
+            let frame = Frame::try_new(cam, Viewport::new(50, 30), b.settings()).unwrap();
+            let shown = simulate(view, &frame, PanelColor::Rgb565).unwrap();
+            let host = crate::render_tiles::<16>(view, &frame, None).unwrap();
+            for (a, h) in shown.pixels().zip(host.pixels()) {
+                let want: Rgb888 = Rgb565::from(Rgb888::new(h[0], h[1], h[2])).into();
+                use embedded_graphics_core::pixelcolor::RgbColor;
+                assert_eq!(a.0, [want.r(), want.g(), want.b()]);
+            }
+            let exact = simulate(view, &frame, PanelColor::Rgb888).unwrap();
+            assert_eq!(exact.as_raw(), host.as_raw());
+        })
+        .unwrap();
+    }
+
+    #[test]
+    fn orbit_keeps_the_distance_and_returns_home() {
+        let cam =
+            Camera::look_at(Vec3::new(0.0, 1.0, 5.0), Vec3::ZERO, Vec3::Y, 0.1, 50.0).unwrap();
+        let cams = orbit(&cam, Vec3::ZERO, 8).unwrap();
+        assert_eq!(cams.len(), 8);
+        for c in &cams {
+            assert!((c.position().length() - cam.position().length()).abs() < 1e-4);
+        }
+        assert!((cams[0].position() - cam.position()).length() < 1e-5);
+        // Half way round: the other side.
+        assert!((cams[4].position().z + 5.0).abs() < 1e-4);
+        let frames: Vec<RgbImage> = (0..2).map(|_| RgbImage::new(4, 4)).collect();
+        let g = gif(&frames, 50).unwrap();
+        assert_eq!(&g[..6], b"GIF89a");
+        let _ = RenderSettings::default();
+    }
+}
