@@ -243,3 +243,40 @@ fn compare_prints_the_figures_and_writes_a_heatmap() {
     let map = image::open(dir.join("h.png")).unwrap().to_rgb8();
     assert_eq!(map.dimensions(), (80, 60));
 }
+
+#[test]
+fn simulate_saves_what_a_240x240_rgb565_panel_shows() {
+    use embedded_graphics_core::pixelcolor::{Rgb565, Rgb888, RgbColor};
+    let dir = scratch("simulate");
+    let out = bin()
+        .current_dir(&dir)
+        .args(["simulate", "-o", "panel.png"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("240x240 rgb565 panel"));
+    let shown = image::open(dir.join("panel.png")).unwrap().to_rgb8();
+    assert_eq!(shown.dimensions(), (240, 240));
+    let b = tessera::builtin::Builtin::DEFAULT;
+    let host = b
+        .with_scene(|v, c| {
+            tessera_host::render(v, c, tessera::Viewport::new(240, 240), b.settings(), 16)
+        })
+        .unwrap()
+        .unwrap();
+    for (s, h) in shown.pixels().zip(host.pixels()) {
+        let want: Rgb888 = Rgb565::from(Rgb888::new(h[0], h[1], h[2])).into();
+        assert_eq!(s.0, [want.r(), want.g(), want.b()]);
+    }
+    // An orbit as an animated GIF.
+    let out = bin()
+        .current_dir(&dir)
+        .args(["simulate", "--orbit", "3", "--size", "32x32", "-o", "o.gif"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let gif = std::fs::read(dir.join("o.gif")).unwrap();
+    assert_eq!(&gif[..6], b"GIF89a");
+    let e = fails(&dir, &["simulate", "--color", "rgb999", "-o", "out.png"]);
+    assert!(e.contains("rgb565"), "{e}");
+}
