@@ -109,13 +109,18 @@ fn resolve<'a, G: Shape>(
     list: &'a [Primitive<G>],
     n: &Nearest,
     ray: &Ray,
+    footprint: Option<&[Ray; 4]>,
 ) -> Option<Shaded<'a>> {
     let prim = list.get(n.index)?;
     let material = view.materials.get(usize::from(prim.material.0))?;
     let surface = prim.geometry.surface(ray, &n.hit);
     let texture = material.texture();
     let base = if texture.needs_uv() {
-        texture.eval(prim.geometry.uv(&surface, &n.hit))
+        let uv = prim.geometry.uv(&surface, &n.hit);
+        match footprint.and_then(|f| uv_box(&prim.geometry, f, uv)) {
+            Some((lo, hi)) => texture.eval_box(lo, hi),
+            None => texture.eval(uv),
+        }
     } else {
         texture.eval([0.0, 0.0])
     };
@@ -124,6 +129,29 @@ fn resolve<'a, G: Shape>(
         material,
         base,
     })
+}
+
+/// The uv bounding box of a pixel's footprint on `shape`: where the rays through the
+/// pixel's four corners meet the same shape. `None` (point sampling instead) when a
+/// corner ray misses it, or when the box spans more than half the uv range of a
+/// wrapping parametrisation (a sphere's seam).
+fn uv_box<G: Shape>(
+    shape: &G,
+    corners: &[Ray; 4],
+    centre: [f32; 2],
+) -> Option<([f32; 2], [f32; 2])> {
+    let (mut lo, mut hi) = (centre, centre);
+    for r in corners {
+        let c = shape.intersect(r, f32::INFINITY)?;
+        let [u, v] = shape.uv(&shape.surface(r, &c), &c);
+        lo = [lo[0].min(u), lo[1].min(v)];
+        hi = [hi[0].max(u), hi[1].max(v)];
+    }
+    // A footprint that wraps (sphere seam) is not a box of the texture.
+    if shape.uv_wraps() && (hi[0] - lo[0] > 0.5 || hi[1] - lo[1] > 0.5) {
+        return None;
+    }
+    Some((lo, hi))
 }
 
 impl<'a> SceneView<'a> {
@@ -157,12 +185,12 @@ impl<'a> SceneView<'a> {
             || occluded_in(self.boxes, ray, t_max)
     }
 
-    fn shaded(&self, n: &Nearest, ray: &Ray) -> Option<Shaded<'a>> {
+    fn shaded(&self, n: &Nearest, ray: &Ray, footprint: Option<&[Ray; 4]>) -> Option<Shaded<'a>> {
         match n.kind {
-            Kind::Sphere => resolve(self, self.spheres, n, ray),
-            Kind::Plane => resolve(self, self.planes, n, ray),
-            Kind::Triangle => resolve(self, self.triangles, n, ray),
-            Kind::Box => resolve(self, self.boxes, n, ray),
+            Kind::Sphere => resolve(self, self.spheres, n, ray, footprint),
+            Kind::Plane => resolve(self, self.planes, n, ray, footprint),
+            Kind::Triangle => resolve(self, self.triangles, n, ray, footprint),
+            Kind::Box => resolve(self, self.boxes, n, ray, footprint),
         }
     }
 
@@ -180,6 +208,20 @@ impl<'a> SceneView<'a> {
         t_max: f32,
         max_depth: u8,
         count: &mut RayCount,
+    ) -> Color {
+        self.trace_footprint(ray, t_max, max_depth, count, None)
+    }
+
+    /// [`SceneView::trace_counted`] where the camera ray carries the four rays
+    /// through its pixel's corners: a texture it hits is averaged exactly over the
+    /// pixel's footprint (box filter) instead of evaluated at one point.
+    pub fn trace_footprint(
+        &self,
+        ray: Ray,
+        t_max: f32,
+        max_depth: u8,
+        count: &mut RayCount,
+        footprint: Option<&[Ray; 4]>,
     ) -> Color {
         let max_depth = max_depth.min(MAX_DEPTH);
         let mut stack: heapless::Vec<Pending, { MAX_DEPTH as usize + 1 }> = heapless::Vec::new();
@@ -201,7 +243,8 @@ impl<'a> SceneView<'a> {
                 total += p.weight * self.background;
                 continue;
             };
-            let Some(hit) = self.shaded(&nearest, &p.ray) else {
+            let corners = if p.depth == 0 { footprint } else { None };
+            let Some(hit) = self.shaded(&nearest, &p.ray, corners) else {
                 continue; // unreachable for a validated scene: no material, no light
             };
             total += p.weight * self.local(&hit, &p.ray, count);

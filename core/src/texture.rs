@@ -80,6 +80,42 @@ impl Texture {
         }
     }
 
+    /// The exact mean of the texture over the uv box `[lo, hi]` (a box filter):
+    /// what a pixel whose footprint is that box should show, in one evaluation.
+    /// Fringes average `cos^2` analytically along `u`; a checker is the product of
+    /// two square waves, whose box means are differences of their integrals (triangle
+    /// waves). A box narrower than about 1e-4 of a period falls back to the centre.
+    #[must_use]
+    pub fn eval_box(&self, lo: [f32; 2], hi: [f32; 2]) -> Color {
+        let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+        match *self {
+            Self::Solid(c) => c,
+            Self::Checker { a, b, scale } => {
+                let su = square_mean(lo[0] * scale, hi[0] * scale);
+                let sv = square_mean(lo[1] * scale, hi[1] * scale);
+                match (su, sv) {
+                    (Some(su), Some(sv)) => {
+                        let even = 0.5 * (1.0 + su * sv);
+                        a * even + b * (1.0 - even)
+                    }
+                    _ => self.eval(mid),
+                }
+            }
+            Self::Fringes { color, spacing } => {
+                let (x0, x1) = (lo[0] / spacing, hi[0] / spacing);
+                let w = x1 - x0;
+                if !(w > 1e-4) {
+                    return self.eval(mid);
+                }
+                // mean of 0.5 + 0.5 cos(2 pi x) over [x0, x1].
+                let m = 0.5
+                    + 0.5 * (math::sin_turns(x1) - math::sin_turns(x0))
+                        / (core::f32::consts::TAU * w);
+                color * m.clamp(0.0, 1.0)
+            }
+        }
+    }
+
     /// Checks colours (finite, `>= 0`) and scales (finite, `> 0`).
     pub fn validate(&self) -> Result<(), Error> {
         let color_ok = |c: Color| c.is_finite() && c.min_component() >= 0.0;
@@ -99,6 +135,22 @@ impl Texture {
         }
         Ok(())
     }
+}
+
+/// The mean over `[x0, x1]` of the square wave that is +1 on even cells
+/// `[2k, 2k+1)` and -1 on odd ones; `None` for an empty or non-finite interval.
+fn square_mean(x0: f32, x1: f32) -> Option<f32> {
+    let w = x1 - x0;
+    if !(w > 1e-4) || !w.is_finite() {
+        return None;
+    }
+    // The integral from 0: a triangle wave rising on even cells, falling on odd.
+    let tri = |x: f32| {
+        let n = math::floor(x);
+        let f = x - n;
+        if (n as i64) & 1 == 0 { f } else { 1.0 - f }
+    };
+    Some(((tri(x1) - tri(x0)) / w).clamp(-1.0, 1.0))
 }
 
 /// `cos^2(pi x) = (1 + cos(2 pi x)) / 2`, `x` in fringes: 1 on bright fringes
@@ -145,6 +197,48 @@ mod tests {
                 "u = {u}"
             );
         }
+    }
+
+    #[test]
+    fn box_means_match_numerical_integration() {
+        let checker = Texture::Checker {
+            a: Color::WHITE,
+            b: Color::BLACK,
+            scale: 1.0,
+        };
+        let fringes = Texture::Fringes {
+            color: Color::WHITE,
+            spacing: 0.75,
+        };
+        for (lo, hi) in [
+            ([0.1f32, 0.2f32], [0.9f32, 0.7f32]),
+            ([0.3, -1.7], [2.9, 0.4]),
+            ([-3.25, 5.5], [-0.5, 5.75]),
+            ([10.0, 10.0], [10.4, 13.0]),
+        ] {
+            for t in [checker, fringes] {
+                // Midpoint rule on a fine grid, in f64.
+                let n = 800;
+                let mut sum = 0.0f64;
+                for i in 0..n {
+                    for j in 0..n {
+                        let u = lo[0] as f64 + (hi[0] - lo[0]) as f64 * (i as f64 + 0.5) / n as f64;
+                        let v = lo[1] as f64 + (hi[1] - lo[1]) as f64 * (j as f64 + 0.5) / n as f64;
+                        sum += t.eval([u as f32, v as f32]).r as f64;
+                    }
+                }
+                let want = sum / (n * n) as f64;
+                let got = t.eval_box(lo, hi).r as f64;
+                assert!(
+                    (got - want).abs() < 3e-3,
+                    "{t:?} {lo:?}..{hi:?}: {got} vs {want}"
+                );
+            }
+        }
+        // Whole periods average to the mean; a tiny box is the point value.
+        assert!((fringes.eval_box([0.0, 0.0], [7.5, 1.0]).r - 0.5).abs() < 1e-5);
+        assert!((checker.eval_box([0.0, 0.0], [4.0, 4.0]).r - 0.5).abs() < 1e-6);
+        assert_eq!(checker.eval_box([0.2, 0.2], [0.2, 0.2]), Color::WHITE);
     }
 
     #[test]

@@ -547,13 +547,14 @@ fn core_material(m: &MaterialDesc) -> Result<Material, (tessera::Error, Option<S
 pub fn parse_sampler(s: &str) -> Result<Sampler, String> {
     let bad = || {
         format!(
-            "sampler {s:?} is not one of corner, centre, offset:X,Y, stratified:K (1-64), random:N (1-4096)"
+            "sampler {s:?} is not one of corner, centre, prefiltered, offset:X,Y, stratified:K (1-64), random:N (1-4096)"
         )
     };
     let sampler = match s.split_once(':') {
         None => match s {
             "corner" => Sampler::Corner,
             "centre" | "center" => Sampler::Centre,
+            "prefiltered" => Sampler::Prefiltered,
             _ => return Err(bad()),
         },
         Some(("stratified", k)) => Sampler::Stratified(k.trim().parse().map_err(|_| bad())?),
@@ -580,6 +581,7 @@ pub fn sampler_name(s: &Sampler) -> String {
         Sampler::Offset(o) => format!("offset:{},{}", o.x(), o.y()),
         Sampler::Stratified(k) => format!("stratified:{k}"),
         Sampler::Random(n) => format!("random:{n}"),
+        Sampler::Prefiltered => "prefiltered".into(),
     }
 }
 

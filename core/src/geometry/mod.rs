@@ -71,6 +71,12 @@ pub trait Shape {
     /// Texture coordinate `(u, v)` of a hit, each usually in `[0, 1]` (planes: world
     /// units along the plane's tangents).
     fn uv(&self, surface: &Surface, hit: &Candidate) -> [f32; 2];
+
+    /// True when `uv` wraps around (a sphere's longitude): a footprint crossing the
+    /// seam is not a box of the texture.
+    fn uv_wraps(&self) -> bool {
+        false
+    }
 }
 
 /// An orthonormal basis `(t, b)` completing the unit vector `n` (Duff et al. 2017,

@@ -110,6 +110,10 @@ impl Shape for Sphere {
         }
     }
 
+    fn uv_wraps(&self) -> bool {
+        true
+    }
+
     /// Longitude/latitude: `u` from `atan2(z, x)` (0 to 1 around y), `v` from the
     /// polar angle (0 at the top, +y, to 1 at the bottom).
     fn uv(&self, surface: &Surface, _hit: &Candidate) -> [f32; 2] {

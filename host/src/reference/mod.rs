@@ -161,11 +161,19 @@ pub fn render(
         for x in 0..width {
             let mut sig = Signature::default();
             let mut sum = V3::ZERO;
-            for i in 0..count {
-                let (dx, dy) = settings.sampler.offset(x, y, i, settings.seed);
-                let (ray, t_far) =
-                    camera.ray(f64::from(x) + f64::from(dx), f64::from(y) + f64::from(dy));
-                sum = sum + tracer.trace_camera(&ray, t_far, &mut sig);
+            if settings.sampler == tessera::Sampler::Prefiltered {
+                let (px, py) = (f64::from(x), f64::from(y));
+                let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+                    .map(|(dx, dy)| camera.ray(px + dx, py + dy).0);
+                let (ray, t_far) = camera.ray(px + 0.5, py + 0.5);
+                sum = tracer.trace_camera_prefiltered(&ray, t_far, &corners, &mut sig);
+            } else {
+                for i in 0..count {
+                    let (dx, dy) = settings.sampler.offset(x, y, i, settings.seed);
+                    let (ray, t_far) =
+                        camera.ray(f64::from(x) + f64::from(dx), f64::from(y) + f64::from(dy));
+                    sum = sum + tracer.trace_camera(&ray, t_far, &mut sig);
+                }
             }
             pixels.push((sum * (1.0 / f64::from(count))).to_array());
             signature.push(sig.0);

@@ -44,6 +44,49 @@ impl Tex {
         }
     }
 
+    /// The mean colour over the uv box `[lo, hi]`, in closed form: `cos^2` fringes
+    /// integrate to a difference of sines; a checker is the product of two square
+    /// waves, whose means are differences of triangle waves. A box thinner than
+    /// 1e-9 of a period is the point value at its centre.
+    #[must_use]
+    pub fn eval_box(&self, lo: [f64; 2], hi: [f64; 2]) -> V3 {
+        let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+        match *self {
+            Self::Solid(c) => c,
+            Self::Checker { a, b, scale } => {
+                let square_mean = |x0: f64, x1: f64| {
+                    let tri = |x: f64| {
+                        let n = x.floor();
+                        if (n as i64).rem_euclid(2) == 0 {
+                            x - n
+                        } else {
+                            1.0 - (x - n)
+                        }
+                    };
+                    (x1 - x0 > 1e-9).then(|| (tri(x1) - tri(x0)) / (x1 - x0))
+                };
+                match (
+                    square_mean(lo[0] * scale, hi[0] * scale),
+                    square_mean(lo[1] * scale, hi[1] * scale),
+                ) {
+                    (Some(su), Some(sv)) => {
+                        let even = 0.5 * (1.0 + su * sv);
+                        a * even + b * (1.0 - even)
+                    }
+                    _ => self.eval(mid),
+                }
+            }
+            Self::Fringes { color, spacing } => {
+                let (x0, x1) = (lo[0] / spacing, hi[0] / spacing);
+                if x1 - x0 <= 1e-9 {
+                    return self.eval(mid);
+                }
+                let s = |x: f64| (2.0 * PI * x).sin();
+                color * (0.5 + 0.5 * (s(x1) - s(x0)) / (2.0 * PI * (x1 - x0)))
+            }
+        }
+    }
+
     /// The colour at `uv`.
     #[must_use]
     pub fn eval(&self, [u, v]: [f64; 2]) -> V3 {

@@ -57,11 +57,32 @@ impl Tracer<'_> {
     /// The colour of a camera ray (depth 0) up to `t_max`.
     pub fn trace_camera(&self, ray: &Ray, t_max: f64, sig: &mut Signature) -> V3 {
         sig.push(CAMERA);
-        self.trace(ray, t_max, 0, sig)
+        self.trace(ray, t_max, 0, None, sig)
+    }
+
+    /// The colour of a camera ray whose texture lookup is averaged over the pixel's
+    /// footprint: the box spanned by the uv of the four corner rays on the same
+    /// shape (point lookup if a corner misses it or it wraps round a sphere).
+    pub fn trace_camera_prefiltered(
+        &self,
+        ray: &Ray,
+        t_max: f64,
+        corners: &[Ray; 4],
+        sig: &mut Signature,
+    ) -> V3 {
+        sig.push(CAMERA);
+        self.trace(ray, t_max, 0, Some(corners), sig)
     }
 
     /// The colour seen along `ray` (with its reflections and refractions).
-    fn trace(&self, ray: &Ray, t_max: f64, depth: u8, sig: &mut Signature) -> V3 {
+    fn trace(
+        &self,
+        ray: &Ray,
+        t_max: f64,
+        depth: u8,
+        corners: Option<&[Ray; 4]>,
+        sig: &mut Signature,
+    ) -> V3 {
         let Some((obj, hit)) = self.scene.nearest(ray, t_max) else {
             sig.push(MISS);
             return self.scene.background;
@@ -71,7 +92,23 @@ impl Tracer<'_> {
         let p = ray.at(hit.t);
         let normal = obj.shape.normal(p, &hit);
         let uv = obj.shape.uv(p, normal, &hit);
-        let base = m.texture.eval(uv);
+        let footprint = corners.and_then(|cs| {
+            let (mut lo, mut hi) = (uv, uv);
+            for c in cs {
+                let h = obj.shape.intersect(c, f64::INFINITY)?;
+                let q = c.at(h.t);
+                let [u, v] = obj.shape.uv(q, obj.shape.normal(q, &h), &h);
+                lo = [lo[0].min(u), lo[1].min(v)];
+                hi = [hi[0].max(u), hi[1].max(v)];
+            }
+            let is_sphere = matches!(obj.shape, crate::reference::geometry::Shape::Sphere { .. });
+            let wraps = is_sphere && (hi[0] - lo[0] > 0.5 || hi[1] - lo[1] > 0.5);
+            (!wraps).then_some((lo, hi))
+        });
+        let base = match footprint {
+            Some((lo, hi)) => m.texture.eval_box(lo, hi),
+            None => m.texture.eval(uv),
+        };
         // A checker's cell edges are discontinuities too: rounding may put a
         // sample on either side, so they belong in the silhouette band.
         if let Some(parity) = m.texture.checker_parity(uv) {
@@ -81,7 +118,7 @@ impl Tracer<'_> {
         if depth < self.max_depth {
             for (role, child, w) in secondary(m, p, normal, ray).into_iter().flatten() {
                 sig.push(role);
-                c = c + self.trace(&child, f64::INFINITY, depth + 1, sig) * w;
+                c = c + self.trace(&child, f64::INFINITY, depth + 1, None, sig) * w;
             }
         }
         c
