@@ -104,7 +104,7 @@ impl Texture {
             Self::Fringes { color, spacing } => {
                 let (x0, x1) = (lo[0] / spacing, hi[0] / spacing);
                 let w = x1 - x0;
-                if !(w > 1e-4) {
+                if w.is_nan() || w <= 1e-4 {
                     return self.eval(mid);
                 }
                 // mean of 0.5 + 0.5 cos(2 pi x) over [x0, x1].
@@ -141,7 +141,7 @@ impl Texture {
 /// `[2k, 2k+1)` and -1 on odd ones; `None` for an empty or non-finite interval.
 fn square_mean(x0: f32, x1: f32) -> Option<f32> {
     let w = x1 - x0;
-    if !(w > 1e-4) || !w.is_finite() {
+    if w.is_nan() || w <= 1e-4 || !w.is_finite() {
         return None;
     }
     // The integral from 0: a triangle wave rising on even cells, falling on odd.

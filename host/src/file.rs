@@ -546,7 +546,7 @@ color = [0.9, 0.1, 0.1]
         let text = format!("{HEAD}\n[render]\nsampler = \"gauss\"\n");
         assert_eq!(
             msg(&text),
-            "t.toml:11: render: sampler \"gauss\" is not one of corner, centre, offset:X,Y, \
+            "t.toml:11: render: sampler \"gauss\" is not one of corner, centre, prefiltered, offset:X,Y, \
              stratified:K (1-64), random:N (1-4096)"
         );
         let text = format!("{HEAD}\n[render]\nsampler = \"offset:0.5,1\"\n");
