@@ -2,6 +2,7 @@
 
 mod analytic;
 mod builtin_images;
+mod convergence;
 mod frustum;
 mod golden;
 mod reference;
