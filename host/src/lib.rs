@@ -7,6 +7,7 @@ pub mod desc;
 pub mod file;
 pub mod reference;
 pub mod simulate;
+pub mod trade;
 
 use image::{Rgb, RgbImage};
 use std::fmt;

@@ -39,8 +39,32 @@ enum Command {
     /// Draw a scene onto a simulated display panel (embedded-graphics-simulator) and
     /// save what the panel shows.
     Simulate(SimulateArgs),
+    /// Measure the speed/accuracy trade of this build's math backend: one row per
+    /// setting (tab-separated), host ns/pixel on one thread and accuracy against a
+    /// converged f64 reference.
+    Trade(TradeArgs),
     /// List the built-in scenes.
     Scenes,
+}
+
+#[derive(Args)]
+struct TradeArgs {
+    /// Built-in scenes to measure, comma-separated [default: all]
+    #[arg(long, value_delimiter = ',')]
+    scenes: Vec<String>,
+    /// Image size
+    #[arg(long, value_parser = parse_size, default_value = "128x96")]
+    size: (u16, u16),
+    /// Timed runs per setting (the median and the spread are reported)
+    #[arg(long, default_value_t = 5)]
+    runs: usize,
+    /// Also measure the f64 reference with each setting (the ceiling)
+    #[arg(long)]
+    reference: bool,
+    /// Folder caching the converged references (NAME-WxH.png), shared between
+    /// builds of both backends
+    #[arg(long)]
+    truth_dir: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -440,6 +464,47 @@ fn show_window(_: &[image::RgbImage], _: u32) -> Result<(), String> {
     Err("this tessera was built without the SDL window: rebuild with `--features sdl` (needs libsdl2-dev)".into())
 }
 
+fn trade(args: &TradeArgs) -> Result<(), String> {
+    use tessera_host::trade;
+    let scenes: Vec<Builtin> = if args.scenes.is_empty() {
+        Builtin::ALL.to_vec()
+    } else {
+        args.scenes
+            .iter()
+            .map(|n| Builtin::from_name(n).ok_or(format!("unknown built-in scene {n:?}")))
+            .collect::<Result<_, _>>()?
+    };
+    let vp = Viewport::new(args.size.0, args.size.1);
+    println!("{}", trade::Row::TSV_HEADER);
+    for b in scenes {
+        let cached = args
+            .truth_dir
+            .as_ref()
+            .map(|d| d.join(format!("{}-{}x{}.png", b.name(), vp.width, vp.height)));
+        let truth = match cached.as_ref().and_then(|p| image::open(p).ok()) {
+            Some(img) => img.to_rgb8(),
+            None => {
+                let t = trade::converged(&tessera_host::file::builtin_desc(b), vp)
+                    .map_err(|e| e.to_string())?;
+                if let Some(p) = &cached {
+                    if let Some(dir) = p.parent() {
+                        std::fs::create_dir_all(dir)
+                            .map_err(|e| format!("{}: {e}", dir.display()))?;
+                    }
+                    tessera_host::write_png(&t, p).map_err(|e| e.to_string())?;
+                }
+                t
+            }
+        };
+        for row in trade::measure_scene(b, vp, args.runs, &truth, args.reference)
+            .map_err(|e| e.to_string())?
+        {
+            println!("{}", row.tsv());
+        }
+    }
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -447,6 +512,7 @@ fn main() -> ExitCode {
         Some(Command::Render(a)) => render(&a),
         Some(Command::Compare(a)) => compare(&a),
         Some(Command::Simulate(a)) => simulate(&a),
+        Some(Command::Trade(a)) => trade(&a),
         Some(Command::Scenes) => {
             for b in Builtin::ALL {
                 println!("{}", b.name());
