@@ -5,5 +5,6 @@ mod builtin_images;
 mod convergence;
 mod frustum;
 mod golden;
+mod interference;
 mod reference;
 mod tiles;
