@@ -30,6 +30,11 @@ say "clippy (exact and fast-math backends)"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy -p tessera --all-targets --features fast-math -- -D warnings
 
+say "firmware test image (tests/firmware): format and clippy, both backends"
+cargo fmt --manifest-path tests/firmware/Cargo.toml -- --check
+cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
+
 say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends"
 cargo build -p tessera --target thumbv7em-none-eabihf --release
 cargo build -p tessera --target thumbv7em-none-eabihf --release --features fast-math

@@ -1,5 +1,8 @@
-//! Shared helpers of the integration tests: scenes built for tests and a place to
-//! write the images a test renders.
+//! Shared helpers of the integration tests: scenes built for tests, a place to
+//! write the images a test renders, and the firmware test image under qemu
+//! ([`firmware`]).
+
+pub mod firmware;
 
 use std::path::PathBuf;
 use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};

@@ -1,0 +1,512 @@
+//! The firmware test image (`tests/firmware`, package `tessera-fw`): building it for
+//! the Cortex-M4F and running it under qemu's `mps2-an386` board.
+//!
+//! Protocol: [`run`] writes the run list to `tessera-fw.runs` in a fresh temporary
+//! folder, one [`Run`] per line (`<scene> <sampler> <depth> <tile> <width> <height>
+//! <seed>`), starts qemu there with semihosting and `-icount shift=0`, and reads
+//! back what the firmware wrote: one result line per run on its standard output,
+//! and for run `i` the file `tessera-fw-<i>.rgb`, the frame's pixels in row-major
+//! image order, 3 bytes (R, G, B) each, no header.
+//!
+//! Instruction counts: with `-icount shift=0` a guest instruction takes 1 ns of
+//! virtual time and SysTick (processor clock, 25 MHz) ticks every 40 instructions;
+//! the firmware counts ticks only inside `render_tile`, so `instructions` is
+//! `ticks x 40`, exact to 40 instructions per tile, and repeatable bit for bit.
+
+use image::RgbImage;
+use std::fmt;
+use std::io::ErrorKind;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+use tessera::builtin::Builtin;
+use tessera::{RenderSettings, Sampler};
+
+/// The firmware's target.
+pub const TARGET: &str = "thumbv7em-none-eabihf";
+/// The emulator.
+pub const QEMU: &str = "qemu-system-arm";
+/// qemu's arguments before the ELF (the same as the runner in `.cargo/config.toml`).
+pub const QEMU_ARGS: [&str; 10] = [
+    "-cpu",
+    "cortex-m4",
+    "-machine",
+    "mps2-an386",
+    "-nographic",
+    "-semihosting-config",
+    "enable=on,target=native",
+    "-icount",
+    "shift=0",
+    "-kernel",
+];
+/// A qemu run taking longer than this is killed and reported as an error.
+pub const TIMEOUT: Duration = Duration::from_secs(300);
+/// Guest instructions per SysTick tick (1 ns per instruction, 25 MHz SysTick).
+pub const INSTRUCTIONS_PER_TICK: u64 = 40;
+/// The largest run list the firmware reads, bytes.
+pub const RUNS_MAX: usize = 4096;
+/// What to do when qemu is missing.
+pub const INSTALL_HINT: &str =
+    "run `bash tests/run-all.sh`, which installs qemu-system-arm and the thumbv7em target";
+
+/// The repository's root folder.
+#[must_use]
+pub fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map_or_else(|| PathBuf::from(".."), Path::to_path_buf)
+}
+
+/// The firmware package's folder (`tests/firmware`).
+#[must_use]
+pub fn firmware_dir() -> PathBuf {
+    repo_root().join("tests").join("firmware")
+}
+
+/// The first line of `qemu-system-arm --version`, or an error saying how to
+/// install qemu.
+pub fn qemu_version() -> Result<String, String> {
+    match Command::new(QEMU).arg("--version").output() {
+        Ok(out) if out.status.success() => Ok(String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .next()
+            .unwrap_or("")
+            .trim()
+            .to_string()),
+        Ok(out) => Err(format!(
+            "`{QEMU} --version` failed ({}): {INSTALL_HINT}",
+            out.status
+        )),
+        Err(e) if e.kind() == ErrorKind::NotFound => {
+            Err(format!("{QEMU} is not installed: {INSTALL_HINT}"))
+        }
+        Err(e) => Err(format!("cannot run {QEMU}: {e}; {INSTALL_HINT}")),
+    }
+}
+
+/// Builds the firmware (release profile of `tests/firmware`) and returns the ELF's
+/// path. The exact and fast-math images have their own target folders under
+/// `tests/firmware/target/`, so both exist side by side. Cargo runs from the
+/// repository root so that the root `.cargo/config.toml` (linker script) applies.
+pub fn build(fast_math: bool) -> Result<PathBuf, String> {
+    let root = repo_root();
+    let backend = if fast_math { "fast-math" } else { "exact" };
+    let target_dir = firmware_dir().join("target").join(backend);
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut cmd = Command::new(cargo);
+    cmd.current_dir(&root)
+        .args(["build", "--release", "--target", TARGET, "--manifest-path"])
+        .arg(firmware_dir().join("Cargo.toml"))
+        .arg("--target-dir")
+        .arg(&target_dir);
+    if fast_math {
+        cmd.args(["--features", "fast-math"]);
+    }
+    // Flags from the environment would replace the config's `-Tlink.x`.
+    for var in [
+        "RUSTFLAGS",
+        "CARGO_ENCODED_RUSTFLAGS",
+        "CARGO_BUILD_RUSTFLAGS",
+        "CARGO_TARGET_DIR",
+        "CARGO_BUILD_TARGET",
+        "CARGO_BUILD_TARGET_DIR",
+    ] {
+        cmd.env_remove(var);
+    }
+    let out = cmd
+        .output()
+        .map_err(|e| format!("cannot run cargo to build the firmware: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "building the firmware ({backend}) failed ({}); is the {TARGET} target \
+             installed? ({INSTALL_HINT})\n{}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    let elf = target_dir.join(TARGET).join("release").join("tessera-fw");
+    if elf.is_file() {
+        Ok(elf)
+    } else {
+        Err(format!(
+            "the firmware build left no ELF at {}",
+            elf.display()
+        ))
+    }
+}
+
+/// One render on the chip.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Run {
+    /// The built-in scene.
+    pub scene: Builtin,
+    /// Corner, centre, stratified or random (the firmware parses no offsets).
+    pub sampler: Sampler,
+    /// Reflection/transmission depth.
+    pub depth: u8,
+    /// Tile size: 8, 16 or 32.
+    pub tile: usize,
+    /// Width, pixels.
+    pub width: u16,
+    /// Height, pixels.
+    pub height: u16,
+    /// Seed of the random samplers.
+    pub seed: u32,
+}
+
+impl Run {
+    /// `scene` with its own settings, tiles of 16, `width x height`.
+    #[must_use]
+    pub fn of(scene: Builtin, width: u16, height: u16) -> Self {
+        let s = scene.settings();
+        Self {
+            scene,
+            sampler: s.sampler,
+            depth: s.max_depth,
+            tile: 16,
+            width,
+            height,
+            seed: s.seed,
+        }
+    }
+
+    /// The settings the firmware renders with.
+    #[must_use]
+    pub fn settings(&self) -> RenderSettings {
+        RenderSettings {
+            sampler: self.sampler,
+            max_depth: self.depth,
+            seed: self.seed,
+        }
+    }
+
+    /// The sampler as the run list writes it.
+    pub fn sampler_text(&self) -> Result<String, String> {
+        Ok(match self.sampler {
+            Sampler::Corner => "corner".into(),
+            Sampler::Centre => "centre".into(),
+            Sampler::Prefiltered => "prefiltered".into(),
+            Sampler::Stratified(k) => format!("stratified:{k}"),
+            Sampler::Random(n) => format!("random:{n}"),
+            Sampler::Offset(_) => return Err("the firmware takes no offset sampler".into()),
+        })
+    }
+
+    /// The run's line in the run list.
+    pub fn line(&self) -> Result<String, String> {
+        Ok(format!(
+            "{} {} {} {} {} {} {}",
+            self.scene.name(),
+            self.sampler_text()?,
+            self.depth,
+            self.tile,
+            self.width,
+            self.height,
+            self.seed
+        ))
+    }
+}
+
+impl fmt::Display for Run {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line() {
+            Ok(l) => f.write_str(&l),
+            Err(_) => write!(f, "{self:?}"),
+        }
+    }
+}
+
+/// What the chip reported for one run.
+#[derive(Clone, Debug)]
+pub struct RunResult {
+    /// The frame.
+    pub pixels: RgbImage,
+    /// SysTick ticks inside `render_tile`.
+    pub ticks: u64,
+    /// `ticks x 40`: guest instructions inside `render_tile`.
+    pub instructions: u64,
+    /// Pixels of the frame.
+    pub pixels_count: u64,
+    /// Peak stack of the firmware during the run, bytes from the top of RAM.
+    pub stack: u64,
+    /// Stack the harness itself used when the run started (its `main` frame); the
+    /// difference `stack - stack_base` is the scene (built on the stack by
+    /// `Builtin::with_scene`), the frame and the renderer.
+    pub stack_base: u64,
+    /// Peak stack below the tile loop's stack pointer: what `render_tile` needs.
+    pub stack_render: u64,
+}
+
+impl RunResult {
+    /// Instructions per pixel.
+    #[must_use]
+    pub fn instructions_per_pixel(&self) -> f64 {
+        self.instructions as f64 / self.pixels_count.max(1) as f64
+    }
+}
+
+/// Everything one qemu run reported.
+#[derive(Clone, Debug)]
+pub struct Output {
+    /// One result per run, in order.
+    pub runs: Vec<RunResult>,
+    /// The largest `stack` over the runs, bytes.
+    pub stack_peak: u64,
+    /// Bytes between the end of the statics and the top of RAM.
+    pub stack_available: u64,
+    /// The calibration loop's instruction count (`2 x` its iterations).
+    pub calibration_instructions: u64,
+    /// The ticks the calibration loop took.
+    pub calibration_ticks: u64,
+    /// qemu's standard output.
+    pub stdout: String,
+}
+
+/// A temporary folder, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new() -> Result<Self, String> {
+        static COUNT: AtomicUsize = AtomicUsize::new(0);
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.subsec_nanos());
+        let dir = std::env::temp_dir().join(format!(
+            "tessera-fw-{}-{}-{nanos}",
+            std::process::id(),
+            COUNT.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        Ok(Self(dir))
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Runs `runs` on the firmware `elf` under qemu (one qemu process for the whole
+/// list). A qemu failure, a timeout, an `error:`/`panic:` report or a missing
+/// result is an `Err` carrying qemu's output.
+pub fn run(elf: &Path, runs: &[Run]) -> Result<Output, String> {
+    let dir = TempDir::new()?;
+    let mut list = String::new();
+    for r in runs {
+        list.push_str(&r.line()?);
+        list.push('\n');
+    }
+    let write = |name: &str, bytes: &[u8]| {
+        std::fs::write(dir.0.join(name), bytes).map_err(|e| format!("cannot write {name}: {e}"))
+    };
+    if list.len() > RUNS_MAX {
+        return Err(format!(
+            "the run list is {} bytes, the firmware reads at most {RUNS_MAX}: split it",
+            list.len()
+        ));
+    }
+    write("tessera-fw.runs", list.as_bytes())?;
+    let file = |name: &str| {
+        std::fs::File::create(dir.0.join(name)).map_err(|e| format!("cannot create {name}: {e}"))
+    };
+    let mut child = Command::new(QEMU)
+        .args(QEMU_ARGS)
+        .arg(elf)
+        .current_dir(&dir.0)
+        .stdin(Stdio::null())
+        .stdout(file("qemu.stdout")?)
+        .stderr(file("qemu.stderr")?)
+        .spawn()
+        .map_err(|e| {
+            if e.kind() == ErrorKind::NotFound {
+                format!("{QEMU} is not installed: {INSTALL_HINT}")
+            } else {
+                format!("cannot start {QEMU}: {e}")
+            }
+        })?;
+    let start = Instant::now();
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Ok(status),
+            Ok(None) if start.elapsed() > TIMEOUT => {
+                let _ = child.kill();
+                let _ = child.wait();
+                break Err(format!("qemu ran for more than {} s", TIMEOUT.as_secs()));
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(10)),
+            Err(e) => break Err(format!("waiting for qemu: {e}")),
+        }
+    };
+    let read = |name: &str| std::fs::read_to_string(dir.0.join(name)).unwrap_or_default();
+    let (stdout, stderr) = (read("qemu.stdout"), read("qemu.stderr"));
+    let fail = |why: String| {
+        format!(
+            "firmware run of {} failed: {why}\n--- run list\n{list}--- qemu stdout\n{stdout}--- qemu stderr\n{stderr}",
+            elf.display()
+        )
+    };
+    let status = status.map_err(&fail)?;
+    if !status.success() {
+        return Err(fail(format!("qemu exited with {status}")));
+    }
+    if let Some(l) = stdout
+        .lines()
+        .find(|l| l.starts_with("error:") || l.starts_with("panic:") || l.starts_with("hard fault"))
+    {
+        return Err(fail(l.to_string()));
+    }
+    parse_output(&stdout, runs, &dir.0).map_err(fail)
+}
+
+/// The value of `key=` in a result line.
+fn field<'a>(line: &'a str, key: &str) -> Result<&'a str, String> {
+    line.split_whitespace()
+        .find_map(|w| w.strip_prefix(key)?.strip_prefix('='))
+        .ok_or_else(|| format!("no {key}= in {line:?}"))
+}
+
+fn number(line: &str, key: &str) -> Result<u64, String> {
+    let v = field(line, key)?;
+    v.parse()
+        .map_err(|_| format!("{key}={v} is not a number in {line:?}"))
+}
+
+fn parse_output(stdout: &str, runs: &[Run], dir: &Path) -> Result<Output, String> {
+    let line = |prefix: &str| {
+        stdout
+            .lines()
+            .find(|l| l.starts_with(prefix))
+            .ok_or_else(|| format!("no `{prefix}` line"))
+    };
+    let done = number(line("done ")?, "runs")?;
+    if done != runs.len() as u64 {
+        return Err(format!("{done} runs done, {} asked", runs.len()));
+    }
+    let cal = line("calibration ")?;
+    let stack = line("stack peak=")?;
+    let mut results = Vec::with_capacity(runs.len());
+    for (i, run) in runs.iter().enumerate() {
+        let l = line(&format!("run {i} "))?;
+        let size = format!("{}x{}", run.width, run.height);
+        if field(l, "scene")? != run.scene.name() || field(l, "size")? != size {
+            return Err(format!("run {i} reported {l:?}, asked {run}"));
+        }
+        let ticks = number(l, "ticks")?;
+        let instructions = number(l, "instructions")?;
+        if instructions != ticks * INSTRUCTIONS_PER_TICK {
+            return Err(format!("run {i}: instructions != ticks x 40 in {l:?}"));
+        }
+        let name = format!("tessera-fw-{i}.rgb");
+        let bytes =
+            std::fs::read(dir.join(&name)).map_err(|e| format!("cannot read {name}: {e}"))?;
+        let n = bytes.len();
+        let (w, h) = (u32::from(run.width), u32::from(run.height));
+        let pixels = RgbImage::from_raw(w, h, bytes)
+            .filter(|_| n == (w * h * 3) as usize)
+            .ok_or_else(|| format!("{name} is {n} bytes, not {w}x{h}x3"))?;
+        results.push(RunResult {
+            pixels,
+            ticks,
+            instructions,
+            pixels_count: number(l, "pixels")?,
+            stack: number(l, "stack")?,
+            stack_base: number(l, "base")?,
+            stack_render: number(l, "render")?,
+        });
+    }
+    Ok(Output {
+        runs: results,
+        stack_peak: number(stack, "peak")?,
+        stack_available: number(stack, "available")?,
+        calibration_instructions: number(cal, "instructions")?,
+        calibration_ticks: number(cal, "ticks")?,
+        stdout: stdout.to_string(),
+    })
+}
+
+/// Section sizes of an ELF, bytes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Sizes {
+    /// `.vector_table` (flash).
+    pub vector_table: u64,
+    /// `.text` (flash).
+    pub text: u64,
+    /// `.rodata` (flash).
+    pub rodata: u64,
+    /// `.data` (flash for its initial values and RAM).
+    pub data: u64,
+    /// `.bss` (RAM).
+    pub bss: u64,
+    /// `.uninit` (RAM).
+    pub uninit: u64,
+}
+
+impl Sizes {
+    /// Flash used: vector table, code, read-only data and `.data`'s initial values.
+    #[must_use]
+    pub fn flash(&self) -> u64 {
+        self.vector_table + self.text + self.rodata + self.data
+    }
+    /// RAM taken by statics (the stack has the rest).
+    #[must_use]
+    pub fn ram(&self) -> u64 {
+        self.data + self.bss + self.uninit
+    }
+}
+
+/// The section sizes of `elf` (read with the `object` crate).
+pub fn sections(elf: &Path) -> Result<Sizes, String> {
+    use object::{Object, ObjectSection};
+    let bytes = std::fs::read(elf).map_err(|e| format!("cannot read {}: {e}", elf.display()))?;
+    let file = object::File::parse(&*bytes)
+        .map_err(|e| format!("{} is not an object file: {e}", elf.display()))?;
+    let mut s = Sizes::default();
+    for sec in file.sections() {
+        let slot = match sec.name().unwrap_or("") {
+            ".vector_table" => &mut s.vector_table,
+            ".text" => &mut s.text,
+            ".rodata" => &mut s.rodata,
+            ".data" => &mut s.data,
+            ".bss" => &mut s.bss,
+            ".uninit" => &mut s.uninit,
+            _ => continue,
+        };
+        *slot += sec.size();
+    }
+    Ok(s)
+}
+
+/// The FLASH and RAM lengths of `tests/firmware/memory.x`, bytes.
+pub fn memory_budget() -> Result<(u64, u64), String> {
+    let path = firmware_dir().join("memory.x");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let length = |region: &str| -> Result<u64, String> {
+        let l = text
+            .lines()
+            .find(|l| l.trim_start().starts_with(region))
+            .ok_or_else(|| format!("no {region} region in memory.x"))?;
+        let v = l
+            .split("LENGTH")
+            .nth(1)
+            .and_then(|v| v.split('=').nth(1))
+            .map(str::trim)
+            .ok_or_else(|| format!("no LENGTH for {region} in memory.x"))?;
+        let (digits, unit) = match v.strip_suffix('K') {
+            Some(d) => (d, 1024),
+            None => match v.strip_suffix('M') {
+                Some(d) => (d, 1024 * 1024),
+                None => (v, 1),
+            },
+        };
+        digits
+            .trim()
+            .parse::<u64>()
+            .map(|n| n * unit)
+            .map_err(|_| format!("bad LENGTH {v:?} for {region} in memory.x"))
+    };
+    Ok((length("FLASH")?, length("RAM")?))
+}

@@ -1,0 +1,156 @@
+//! The core on a Cortex-M4F: the firmware test image (`tests/firmware`) under qemu
+//! (`mps2-an386`) renders the built-in scenes byte for byte like the host, with
+//! repeatable instruction counts.
+//!
+//! These tests need `qemu-system-arm` and the `thumbv7em-none-eabihf` target; without
+//! them they fail and say to run `bash tests/run-all.sh`, which installs both.
+
+use image::RgbImage;
+use std::path::PathBuf;
+use std::sync::OnceLock;
+use tessera::Viewport;
+use tessera::builtin::Builtin;
+use tessera::{Sampler, Sampler::*};
+use tessera_tests::firmware::{self, Output, Run};
+
+/// The exact-math firmware, built once for every test of this binary.
+fn elf() -> PathBuf {
+    static ELF: OnceLock<Result<PathBuf, String>> = OnceLock::new();
+    ELF.get_or_init(|| {
+        firmware::qemu_version()?;
+        firmware::build(false)
+    })
+    .clone()
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run(runs: &[Run]) -> Output {
+    firmware::run(&elf(), runs).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The host build of the core, same settings and tile size.
+fn host(run: &Run) -> RgbImage {
+    let vp = Viewport::new(run.width, run.height);
+    run.scene
+        .with_scene(|view, cam| tessera_host::render(view, cam, vp, run.settings(), run.tile))
+        .unwrap()
+        .unwrap()
+}
+
+fn with(scene: Builtin, sampler: Sampler, seed: u32, width: u16, height: u16) -> Run {
+    Run {
+        sampler,
+        seed,
+        ..Run::of(scene, width, height)
+    }
+}
+
+#[test]
+fn firmware_pixels_equal_the_host_build_byte_for_byte() {
+    let mut runs = Vec::new();
+    for b in Builtin::ALL {
+        for sampler in [Centre, Stratified(2), Random(3)] {
+            runs.push(with(b, sampler, 7, 64, 64));
+        }
+    }
+    // The two other tile sizes, at a size where the edge tiles are partial.
+    runs.push(Run {
+        tile: 8,
+        ..with(Builtin::ChapterReflect, Stratified(2), 1, 77, 53)
+    });
+    runs.push(Run {
+        tile: 32,
+        ..with(Builtin::Showcase, Random(2), 3, 77, 53)
+    });
+    let out = run(&runs);
+    let mut bad = Vec::new();
+    for (i, (r, chip)) in runs.iter().zip(&out.runs).enumerate() {
+        let want = host(r);
+        if want.as_raw() != chip.pixels.as_raw() {
+            let differ = want
+                .pixels()
+                .zip(chip.pixels.pixels())
+                .filter(|(a, b)| a != b)
+                .count();
+            let dir = tessera_tests::output_dir();
+            let _ = chip.pixels.save(dir.join(format!("firmware-{i}-chip.png")));
+            let _ = want.save(dir.join(format!("firmware-{i}-host.png")));
+            bad.push(format!("run {i} ({r}): {differ} pixels differ"));
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "chip and host differ (images in target/test-images):\n{}",
+        bad.join("\n")
+    );
+}
+
+#[test]
+fn instruction_counts_repeat_exactly() {
+    let runs = [
+        Run::of(Builtin::ChapterReflect, 32, 32),
+        with(Builtin::Showcase, Random(2), 5, 32, 24),
+        Run {
+            tile: 8,
+            ..Run::of(Builtin::Interference, 40, 24)
+        },
+    ];
+    let (a, b) = (run(&runs), run(&runs));
+    for (i, (x, y)) in a.runs.iter().zip(&b.runs).enumerate() {
+        assert_eq!(x.ticks, y.ticks, "run {i}: ticks");
+        assert_eq!(x.stack, y.stack, "run {i}: stack");
+        assert_eq!(x.pixels.as_raw(), y.pixels.as_raw(), "run {i}: pixels");
+    }
+    assert_eq!(a.calibration_ticks, b.calibration_ticks);
+}
+
+#[test]
+fn counts_are_sane_and_deeper_recursion_costs_more() {
+    let depth = |depth| Run {
+        depth,
+        ..Run::of(Builtin::ChapterReflect, 32, 32)
+    };
+    let runs = [
+        depth(0),
+        depth(1),
+        depth(3),
+        with(Builtin::ChapterReflect, Stratified(2), 0, 32, 32),
+    ];
+    let out = run(&runs);
+    // SysTick ticks once every 40 instructions (the calibration loop's length is
+    // known to the instruction).
+    let measured = out.calibration_ticks * firmware::INSTRUCTIONS_PER_TICK;
+    assert!(
+        measured.abs_diff(out.calibration_instructions) <= firmware::INSTRUCTIONS_PER_TICK,
+        "calibration: {} instructions took {} ticks",
+        out.calibration_instructions,
+        out.calibration_ticks
+    );
+    for (r, res) in runs.iter().zip(&out.runs) {
+        assert!(res.ticks > 0, "{r}: no ticks");
+        assert_eq!(res.pixels_count, 32 * 32, "{r}");
+        assert_eq!(
+            res.instructions,
+            res.ticks * firmware::INSTRUCTIONS_PER_TICK
+        );
+        assert!(
+            0 < res.stack_base
+                && 0 < res.stack_render
+                && res.stack_base + res.stack_render < res.stack
+                && res.stack <= out.stack_peak,
+            "{r}: stack {} base {} render {} peak {}",
+            res.stack,
+            res.stack_base,
+            res.stack_render,
+            out.stack_peak
+        );
+    }
+    assert!(out.stack_peak < out.stack_available);
+    let cost: Vec<u64> = out.runs.iter().map(|r| r.instructions).collect();
+    assert!(
+        cost[0] < cost[1] && cost[1] < cost[2],
+        "depth 0, 1, 3: {cost:?}"
+    );
+    // Four samples a pixel cost more than three times one.
+    assert!(cost[3] > 3 * cost[1], "centre vs stratified:2: {cost:?}");
+}
