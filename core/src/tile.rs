@@ -12,9 +12,9 @@
 //! | 32x32| 3080 bytes                      |
 //!
 //! (3 bytes a pixel plus 8 bytes of coordinates; checked by a unit test.) The
-//! renderer's stack does not depend on `N`: its largest item is the pending-ray stack
-//! of the shader, `(MAX_DEPTH + 1) x 40` bytes; the peak measured on a Cortex-M4F is
-//! in the README.
+//! renderer's stack does not depend on `N`: measured on a Cortex-M4F (qemu, stack
+//! painting; `docs/chip-cost.md`), `render_tile` needs 1.5 to 1.7 KiB below its
+//! caller, the shader's pending-ray stack (`MAX_DEPTH + 1` rays) included.
 
 use crate::camera::{Camera, CameraBasis, Viewport};
 use crate::color::{Color, Rgb8};
