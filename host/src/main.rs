@@ -252,6 +252,19 @@ fn progress(tiles: u64, work: u64) -> ProgressBar {
     bar
 }
 
+/// `NAME: WxH, N sample(s)/px (SAMPLER), depth D`: the start of every summary line.
+fn describe(source: &Source, vp: Viewport, settings: &RenderSettings) -> String {
+    format!(
+        "{}: {}x{}, {} sample(s)/px ({}), depth {}",
+        source.name(),
+        vp.width,
+        vp.height,
+        settings.sampler.count(),
+        sampler_name(&settings.sampler),
+        settings.max_depth
+    )
+}
+
 fn render(args: &RenderArgs) -> Result<(), String> {
     let source = Source::open(args.common.scene.as_deref())?;
     let (settings, vp, tile) = source.settings(&args.common)?;
@@ -275,14 +288,8 @@ fn render(args: &RenderArgs) -> Result<(), String> {
         args.common.threads
     };
     println!(
-        "{}: {}x{}, {} sample(s)/px ({}), depth {}, {tile}x{tile} tiles, {threads} thread(s): \
-         {secs:.3} s, {} rays, {:.2} Mrays/s",
-        source.name(),
-        vp.width,
-        vp.height,
-        settings.sampler.count(),
-        sampler_name(&settings.sampler),
-        settings.max_depth,
+        "{}, {tile}x{tile} tiles, {threads} thread(s): {secs:.3} s, {} rays, {:.2} Mrays/s",
+        describe(&source, vp, &settings),
         rays.total(),
         rays.total() as f64 / secs.max(1e-9) / 1e6,
     );
@@ -319,13 +326,8 @@ fn compare(args: &CompareArgs) -> Result<(), String> {
         &reference.signature,
     )?;
     println!(
-        "{}: {}x{}, {} sample(s)/px ({}), depth {}: core (f32, {}) vs reference (f64)",
-        source.name(),
-        vp.width,
-        vp.height,
-        settings.sampler.count(),
-        sampler_name(&settings.sampler),
-        settings.max_depth,
+        "{}: core (f32, {}) vs reference (f64)",
+        describe(&source, vp, &settings),
         if cfg!(feature = "fast-math") {
             "fast-math"
         } else {
@@ -411,15 +413,10 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
         }
     };
     println!(
-        "{}: {} frame(s) of {}x{} {} panel, {} sample(s)/px ({}), depth {}: {secs:.3} s",
-        source.name(),
+        "{}, {} frame(s) on an {} panel: {secs:.3} s",
+        describe(&source, vp, &settings),
         frames.len(),
-        vp.width,
-        vp.height,
         args.color,
-        settings.sampler.count(),
-        sampler_name(&settings.sampler),
-        settings.max_depth,
     );
     println!("wrote {written}");
     if args.window {

@@ -254,7 +254,11 @@ fn simulate_saves_what_a_240x240_rgb565_panel_shows() {
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", text(&out.stderr));
-    assert!(text(&out.stdout).contains("240x240 rgb565 panel"));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("240x240") && stdout.contains("rgb565 panel"),
+        "{stdout}"
+    );
     let shown = image::open(dir.join("panel.png")).unwrap().to_rgb8();
     assert_eq!(shown.dimensions(), (240, 240));
     let b = tessera::builtin::Builtin::DEFAULT;
