@@ -6,6 +6,11 @@
 //! reflectivity and a refracted ray weighted by its transparency (Snell, Schlick's
 //! Fresnel, total internal reflection), to a configurable depth.
 //!
+//! Simplifications, on purpose (Whitted's model, as in the chapter): shadow rays stop
+//! at any surface, transparent or not (no caustics, no coloured shadows); only camera
+//! rays are clipped by the far plane; colours are linear, written without a gamma
+//! curve.
+//!
 //! Bounded stack: there is no recursion. Pending rays wait on a fixed-size stack
 //! with their weight; each ray adds `weight x local colour` and pushes at most two
 //! children. Depth-first, a depth limit `D` needs at most `D + 1` slots, so the
