@@ -201,6 +201,12 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             lights: &self.lights,
             ambient: self.ambient,
             background: self.background,
+            // Model only what the scene requires: without a mirror or a transparent
+            // material no secondary ray can exist, so the tracer skips that work.
+            secondary: self
+                .materials
+                .iter()
+                .any(|m| m.reflectivity() > 0.0 || m.transparency() > 0.0),
         }
     }
 
@@ -222,6 +228,7 @@ pub struct SceneView<'a> {
     pub(crate) lights: &'a [PointLight],
     pub(crate) ambient: Color,
     pub(crate) background: Color,
+    pub(crate) secondary: bool,
 }
 
 impl<'a> SceneView<'a> {

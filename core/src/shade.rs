@@ -114,7 +114,7 @@ fn resolve<'a, G: Shape>(
     list: &'a [Primitive<G>],
     n: &Nearest,
     ray: &Ray,
-    footprint: Option<&[Ray; 4]>,
+    footprint: Option<&Footprint<'_>>,
 ) -> Option<Shaded<'a>> {
     let prim = list.get(n.index)?;
     let material = view.materials.get(usize::from(prim.material.0))?;
@@ -136,17 +136,41 @@ fn resolve<'a, G: Shape>(
     })
 }
 
+/// A camera ray's pixel, for the prefiltered sampler: the four corner rays are
+/// only built when the ray hits a textured surface.
+#[derive(Clone, Copy, Debug)]
+pub struct Footprint<'a> {
+    basis: &'a crate::camera::CameraBasis,
+    x: f32,
+    y: f32,
+}
+
+impl<'a> Footprint<'a> {
+    /// The footprint of pixel `(x, y)` (its top-left corner) of `basis`.
+    #[must_use]
+    pub fn new(basis: &'a crate::camera::CameraBasis, x: f32, y: f32) -> Self {
+        Self { basis, x, y }
+    }
+
+    /// The rays through the pixel's four corners.
+    #[must_use]
+    pub fn corners(&self) -> [Ray; 4] {
+        [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+            .map(|(dx, dy)| self.basis.ray(self.x + dx, self.y + dy).0)
+    }
+}
+
 /// The uv bounding box of a pixel's footprint on `shape`: where the rays through the
 /// pixel's four corners meet the same shape. `None` (point sampling instead) when a
 /// corner ray misses it, or when the box spans more than half the uv range of a
 /// wrapping parametrisation (a sphere's seam).
 fn uv_box<G: Shape>(
     shape: &G,
-    corners: &[Ray; 4],
+    footprint: &Footprint<'_>,
     centre: [f32; 2],
 ) -> Option<([f32; 2], [f32; 2])> {
     let (mut lo, mut hi) = (centre, centre);
-    for r in corners {
+    for r in &footprint.corners() {
         let c = shape.intersect(r, f32::INFINITY)?;
         let [u, v] = shape.uv(&shape.surface(r, &c), &c);
         lo = [lo[0].min(u), lo[1].min(v)];
@@ -190,7 +214,12 @@ impl<'a> SceneView<'a> {
             || occluded_in(self.boxes, ray, t_max)
     }
 
-    fn shaded(&self, n: &Nearest, ray: &Ray, footprint: Option<&[Ray; 4]>) -> Option<Shaded<'a>> {
+    fn shaded(
+        &self,
+        n: &Nearest,
+        ray: &Ray,
+        footprint: Option<&Footprint<'_>>,
+    ) -> Option<Shaded<'a>> {
         match n.kind {
             Kind::Sphere => resolve(self, self.spheres, n, ray, footprint),
             Kind::Plane => resolve(self, self.planes, n, ray, footprint),
@@ -217,18 +246,22 @@ impl<'a> SceneView<'a> {
         self.trace_footprint(ray, t_max, max_depth, count, None)
     }
 
-    /// [`SceneView::trace_counted`] where the camera ray carries the four rays
-    /// through its pixel's corners: a texture it hits is averaged exactly over the
-    /// pixel's footprint (box filter) instead of evaluated at one point.
+    /// [`SceneView::trace_counted`] where the camera ray carries its pixel: a texture
+    /// it hits is averaged exactly over the pixel's footprint (box filter) instead of
+    /// evaluated at one point.
     pub fn trace_footprint(
         &self,
         ray: Ray,
         t_max: f32,
         max_depth: u8,
         count: &mut RayCount,
-        footprint: Option<&[Ray; 4]>,
+        footprint: Option<&Footprint<'_>>,
     ) -> Color {
-        let max_depth = max_depth.min(MAX_DEPTH);
+        let max_depth = if self.secondary {
+            max_depth.min(MAX_DEPTH)
+        } else {
+            0
+        };
         let mut stack: heapless::Vec<Pending, { MAX_DEPTH as usize + 1 }> = heapless::Vec::new();
         let mut total = Color::BLACK;
         // Cannot fail: the stack is empty.

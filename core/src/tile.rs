@@ -226,15 +226,9 @@ impl Frame {
         let mut sum = Color::BLACK;
         if s.sampler == Sampler::Prefiltered {
             let (px, py) = (x as f32, y as f32);
-            let corner = |dx: f32, dy: f32| self.basis.ray(px + dx, py + dy).0;
-            let corners = [
-                corner(0.0, 0.0),
-                corner(1.0, 0.0),
-                corner(0.0, 1.0),
-                corner(1.0, 1.0),
-            ];
+            let footprint = crate::shade::Footprint::new(&self.basis, px, py);
             let (ray, t_far) = self.basis.ray(px + 0.5, py + 0.5);
-            return scene.trace_footprint(ray, t_far, s.max_depth, count, Some(&corners));
+            return scene.trace_footprint(ray, t_far, s.max_depth, count, Some(&footprint));
         }
         for i in 0..s.sampler.count() {
             let (dx, dy) = s.sampler.offset(x, y, i, s.seed);
