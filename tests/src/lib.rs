@@ -1,6 +1,8 @@
 //! Shared helpers of the integration tests: scenes built for tests and a place to
 //! write the images a test renders.
 
+pub mod extremes;
+
 use std::path::PathBuf;
 use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};
 
