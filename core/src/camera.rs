@@ -19,7 +19,7 @@
 //! rounded to the precision of `r_cam` and the difference loses the pixel offsets
 //! (several pixels of error at `|r_cam| / n = 1e5` in `f32`).
 
-use crate::error::{Error, Field, finite3, in_range, unit};
+use crate::error::{Error, Field, in_range, length, unit};
 use crate::math;
 use crate::ray::Ray;
 use crate::vec::Vec3;
@@ -43,7 +43,8 @@ impl Camera {
     /// normalised) and need not be perpendicular; `up` may even be parallel to
     /// `forward` (a valid basis is still built, with an arbitrary but deterministic
     /// roll). `fovy_degrees` is the vertical opening angle in `(0, 180)`;
-    /// `0 < near < far`, all finite.
+    /// `0 < near < far`, all finite; the position's components and `far` within
+    /// [`crate::MAX_EXTENT`], `near` at least [`crate::MIN_LENGTH`].
     ///
     /// ```
     /// use tessera::{Camera, Error, Vec3};
@@ -60,7 +61,7 @@ impl Camera {
         near: f32,
         far: f32,
     ) -> Result<Self, Error> {
-        let position = finite3(position, Field::CameraPosition)?;
+        let position = crate::error::position(position, Field::CameraPosition)?;
         let forward = unit(forward, Field::CameraForward)?;
         let up = unit(up, Field::CameraUp)?;
         let fovy_degrees = in_range(
@@ -84,6 +85,9 @@ impl Camera {
         if near >= far {
             return Err(Error::NearNotBeforeFar);
         }
+        // The supported range of scene lengths (see `MIN_LENGTH`, `MAX_EXTENT`).
+        let near = length(near, Field::Near)?;
+        let far = length(far, Field::Far)?;
         Ok(Self {
             position,
             forward,
@@ -450,7 +454,23 @@ mod tests {
             CameraBasis::try_new(&cam, Viewport::new(5, 0)),
             Err(Error::EmptyViewport)
         );
-        let tiny = ok(o, z, y, 60.0, 1e-38, 1.0).unwrap();
-        assert!(CameraBasis::try_new(&tiny, Viewport::new(1000, 1000)).is_err());
+        assert!(matches!(
+            ok(o, z, y, 60.0, 1e-38, 1.0),
+            Err(Error::OutOfRange {
+                field: Field::Near,
+                ..
+            })
+        ));
+        assert!(matches!(
+            ok(o, z, y, 60.0, 0.1, 1e19),
+            Err(Error::OutOfRange {
+                field: Field::Far,
+                ..
+            })
+        ));
+        // A valid near distance but an opening so small that a pixel is not a
+        // normal f32.
+        let narrow = ok(o, z, y, 1e-30, crate::MIN_LENGTH, 1.0).unwrap();
+        assert!(CameraBasis::try_new(&narrow, Viewport::new(1000, 1000)).is_err());
     }
 }

@@ -192,6 +192,53 @@ impl fmt::Display for Error {
 
 impl core::error::Error for Error {}
 
+/// The largest coordinate magnitude and length a scene may use: `2^60` (about
+/// `1.15e18`). Squared distances between points of such a scene stay below
+/// `2^124`, inside the `f32` range with room for the renderer's sums, so the image
+/// of a scene does not depend on its unit (see `docs/extremes.md`: a scene scaled
+/// by `2^k` renders bit-identically as long as it validates).
+pub const MAX_EXTENT: f32 = f32::from_bits((127 + 60) << 23);
+
+/// The smallest sphere radius and camera near distance: `2^-52` (about `2.2e-16`).
+/// Their squares, and the products of two scene lengths that the intersection tests
+/// form, then stay normal `f32` numbers (above `2^-126`) with 22 binades to spare,
+/// so that even the discriminant of a ray passing within `2^-20` of a sphere's
+/// silhouette is normal: rounding stays relative (the image does not depend on the
+/// scene's unit) and flushing denormals to zero changes nothing. Below, near-grazing
+/// rays start to meet denormals (measured in `docs/extremes.md`).
+pub const MIN_LENGTH: f32 = f32::from_bits((127 - 52) << 23);
+
+/// The range message for coordinates.
+const EXTENT_RANGE: &str = "[-2^60, 2^60] (about 1.15e18) per component";
+/// The range message for sizes.
+const LENGTH_RANGE: &str = "[2^-52, 2^60] (about 2.2e-16 to 1.15e18)";
+
+/// Checks that every component of `v` is finite and within [`MAX_EXTENT`].
+pub(crate) fn position(v: crate::Vec3, field: Field) -> Result<crate::Vec3, Error> {
+    let v = finite3(v, field)?;
+    if v.abs().max_element() <= MAX_EXTENT {
+        Ok(v)
+    } else {
+        Err(Error::OutOfRange {
+            field,
+            range: EXTENT_RANGE,
+        })
+    }
+}
+
+/// Checks that a size (already known finite and `> 0`) is within
+/// `[MIN_LENGTH, MAX_EXTENT]`.
+pub(crate) fn length(v: f32, field: Field) -> Result<f32, Error> {
+    if (MIN_LENGTH..=MAX_EXTENT).contains(&v) {
+        Ok(v)
+    } else {
+        Err(Error::OutOfRange {
+            field,
+            range: LENGTH_RANGE,
+        })
+    }
+}
+
 /// Checks that `v` is finite.
 pub(crate) fn finite(v: f32, field: Field) -> Result<f32, Error> {
     if v.is_finite() {

@@ -1,7 +1,7 @@
 //! Light sources: point lights with a colour and an intensity.
 
 use crate::color::Color;
-use crate::error::{Error, Field, finite, finite3};
+use crate::error::{Error, Field, finite};
 use crate::vec::Vec3;
 
 /// A point light: at a distance `r`, a surface facing it receives
@@ -15,9 +15,9 @@ pub struct PointLight {
 
 impl PointLight {
     /// A point light; the colour components and the intensity must be finite and
-    /// `>= 0`.
+    /// `>= 0`, the position's components within [`crate::MAX_EXTENT`].
     pub fn try_new(position: Vec3, color: Color, intensity: f32) -> Result<Self, Error> {
-        let position = finite3(position, Field::LightPosition)?;
+        let position = crate::error::position(position, Field::LightPosition)?;
         if !(color.is_finite()) {
             return Err(Error::NotFinite(Field::LightColor));
         }

@@ -350,7 +350,9 @@ impl SceneDesc {
         };
         cam.map_err(|e| {
             let value = match e {
-                tessera::Error::NotFinite(f) | tessera::Error::ZeroLength(f) => match f {
+                tessera::Error::NotFinite(f)
+                | tessera::Error::ZeroLength(f)
+                | tessera::Error::OutOfRange { field: f, .. } => match f {
                     Field::CameraPosition => Some(show(&c.position)),
                     Field::CameraForward => c.forward.or(c.look_at).map(|v| show(&v)),
                     Field::CameraUp => Some(show(&c.up)),
@@ -359,7 +361,6 @@ impl SceneDesc {
                     Field::Far => Some(show(&[c.far])),
                     _ => None,
                 },
-                tessera::Error::OutOfRange { .. } => Some(show(&[c.fovy])),
                 tessera::Error::NotPositive(_) => Some(show(&[c.near])),
                 tessera::Error::NearNotBeforeFar => Some(format!("near {} far {}", c.near, c.far)),
                 _ => None,
@@ -391,7 +392,11 @@ impl SceneDesc {
             let light = PointLight::try_new(v3(l.position), c3(l.color), l.intensity as f32)
                 .map_err(|e| {
                     let v = match e {
-                        tessera::Error::NotFinite(Field::LightPosition) => show(&l.position),
+                        tessera::Error::NotFinite(Field::LightPosition)
+                        | tessera::Error::OutOfRange {
+                            field: Field::LightPosition,
+                            ..
+                        } => show(&l.position),
                         tessera::Error::NotFinite(Field::LightColor)
                         | tessera::Error::OutOfRange {
                             field: Field::LightColor,
@@ -416,7 +421,11 @@ impl SceneDesc {
             let item = format!("sphere {}", i + 1);
             let g = Sphere::try_new(v3(d.center), d.radius as f32).map_err(|e| {
                 let v = match e {
-                    tessera::Error::NotFinite(Field::SphereCenter) => show(&d.center),
+                    tessera::Error::NotFinite(Field::SphereCenter)
+                    | tessera::Error::OutOfRange {
+                        field: Field::SphereCenter,
+                        ..
+                    } => show(&d.center),
                     _ => show(&[d.radius]),
                 };
                 err(item.clone(), e, Some(v))
@@ -428,7 +437,11 @@ impl SceneDesc {
             let item = format!("plane {}", i + 1);
             let g = Plane::try_new(v3(d.point), v3(d.normal)).map_err(|e| {
                 let v = match e {
-                    tessera::Error::NotFinite(Field::PlanePoint) => show(&d.point),
+                    tessera::Error::NotFinite(Field::PlanePoint)
+                    | tessera::Error::OutOfRange {
+                        field: Field::PlanePoint,
+                        ..
+                    } => show(&d.point),
                     _ => show(&d.normal),
                 };
                 err(item.clone(), e, Some(v))

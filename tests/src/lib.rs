@@ -4,6 +4,8 @@
 
 pub mod firmware;
 
+pub mod extremes;
+
 use std::path::PathBuf;
 use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};
 

@@ -6,7 +6,7 @@
 //! such a ray count as inside that slab, the same way on all six faces.
 
 use super::{Candidate, Shape, Surface};
-use crate::error::{Error, Field, finite3};
+use crate::error::{Error, Field, position};
 use crate::math;
 use crate::ray::Ray;
 use crate::vec::Vec3;
@@ -35,11 +35,12 @@ impl Aabb {
     ///
     /// # Errors
     /// [`Error::NotFinite`] with [`Field::BoxMin`] or [`Field::BoxMax`] if a
-    /// component is NaN or infinite; [`Error::InvertedBox`] if `min > max` on some
+    /// component is NaN or infinite, [`Error::OutOfRange`] if it is beyond
+    /// [`crate::MAX_EXTENT`]; [`Error::InvertedBox`] if `min > max` on some
     /// axis.
     pub fn try_new(min: Vec3, max: Vec3) -> Result<Self, Error> {
-        let min = finite3(min, Field::BoxMin)?;
-        let max = finite3(max, Field::BoxMax)?;
+        let min = position(min, Field::BoxMin)?;
+        let max = position(max, Field::BoxMax)?;
         if min.x > max.x || min.y > max.y || min.z > max.z {
             return Err(Error::InvertedBox);
         }

@@ -1,7 +1,7 @@
 //! Infinite plane: a point and a normal.
 
 use super::{Candidate, Shape, Surface, tangent_basis};
-use crate::error::{Error, Field, finite3, unit};
+use crate::error::{Error, Field, position, unit};
 use crate::math::gamma;
 use crate::ray::Ray;
 use crate::vec::Vec3;
@@ -14,7 +14,8 @@ pub struct Plane {
 }
 
 impl Plane {
-    /// A plane; the normal may have any non-zero finite length (it is normalised).
+    /// A plane; the normal may have any non-zero finite length (it is normalised);
+    /// the point's components must be within [`crate::MAX_EXTENT`].
     ///
     /// ```
     /// use tessera::{Error, Field, Plane, Vec3};
@@ -26,7 +27,7 @@ impl Plane {
     /// ```
     pub fn try_new(point: Vec3, normal: Vec3) -> Result<Self, Error> {
         Ok(Self {
-            point: finite3(point, Field::PlanePoint)?,
+            point: position(point, Field::PlanePoint)?,
             normal: unit(normal, Field::PlaneNormal)?,
         })
     }

@@ -9,7 +9,7 @@
 //! shared edge the ray passes: no ray leaks between them.
 
 use super::{Candidate, Shape, Surface};
-use crate::error::{Error, Field, finite3};
+use crate::error::{Error, Field, position};
 use crate::math;
 use crate::ray::Ray;
 use crate::vec::Vec3;
@@ -24,13 +24,14 @@ pub struct Triangle {
 }
 
 /// The ray-frame quantities of one ray/triangle pair: the edge functions `u, v, w`
-/// (weights of `p0, p1, p2` scaled by `det`) and the scaled hit time `t * det`.
+/// (weights of `p0, p1, p2` scaled by `det`) and the vertices' ray-frame depths
+/// `z_i = sz * a_z` (the hit time is their barycentric mean).
 struct Edges {
     u: f32,
     v: f32,
     w: f32,
     det: f32,
-    t_scaled: f32,
+    z: [f32; 3],
 }
 
 /// The 2D edge function `p x q`. A plain function (and no FMA contraction in Rust)
@@ -52,14 +53,15 @@ impl Triangle {
     ///
     /// # Errors
     /// [`Error::NotFinite`]`(`[`Field::TriangleVertex`]`)` if a component is NaN or
-    /// infinite; [`Error::DegenerateTriangle`] if the vertices are collinear, i.e. the
+    /// infinite, [`Error::OutOfRange`] if it is beyond [`crate::MAX_EXTENT`];
+    /// [`Error::DegenerateTriangle`] if the vertices are collinear, i.e. the
     /// normal `(p1 - p0) x (p2 - p0)` cannot be normalised (scale-free: any finite
     /// non-zero cross product is accepted, however small).
     pub fn try_new(p0: Vec3, p1: Vec3, p2: Vec3) -> Result<Self, Error> {
         let t = Self {
-            p0: finite3(p0, Field::TriangleVertex)?,
-            p1: finite3(p1, Field::TriangleVertex)?,
-            p2: finite3(p2, Field::TriangleVertex)?,
+            p0: position(p0, Field::TriangleVertex)?,
+            p1: position(p1, Field::TriangleVertex)?,
+            p2: position(p2, Field::TriangleVertex)?,
         };
         match t.cross().try_normalize() {
             Some(_) => Ok(t),
@@ -124,13 +126,12 @@ impl Triangle {
             // The ray lies in the triangle's plane (or the triangle projects to a line).
             return None;
         }
-        let t_scaled = u * (sz * a.z) + v * (sz * b.z) + w * (sz * c.z);
         Some(Edges {
             u,
             v,
             w,
             det,
-            t_scaled,
+            z: [sz * a.z, sz * b.z, sz * c.z],
         })
     }
 }
@@ -138,25 +139,19 @@ impl Triangle {
 impl Shape for Triangle {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
         let e = self.edges(ray)?;
-        // Reject out-of-range hits before dividing: t = t_scaled / det, so compare
-        // with the sign of det. A NaN det passes here and is caught below.
-        let (det, ts) = (e.det, e.t_scaled);
-        if det < 0.0 && (ts >= 0.0 || ts < t_max * det) {
-            return None;
-        }
-        if det > 0.0 && (ts <= 0.0 || ts > t_max * det) {
-            return None;
-        }
-        let inv = 1.0 / det;
-        let t = ts * inv;
-        // Checked again after rounding; the comparisons are false for NaN.
+        // t = (u z0 + v z1 + w z2) / det, evaluated as the barycentric mean of the
+        // depths. Woop's delayed division forms `u z0 + ...`, a product of three
+        // lengths, which leaves the f32 range for scenes scaled beyond about 2^+-40
+        // (its bits then change with the scale); the barycentrics are scale-free and
+        // the depths linear, so every quantity here stays within the range of the
+        // squared lengths that the edge functions need anyway.
+        let inv = 1.0 / e.det;
+        let (b0, b1, b2) = (e.u * inv, e.v * inv, e.w * inv);
+        let [z0, z1, z2] = e.z;
+        let t = b0 * z0 + b1 * z1 + b2 * z2;
+        // False for NaN.
         if t > 0.0 && t < t_max {
-            Some(Candidate {
-                t,
-                b1: e.v * inv,
-                b2: e.w * inv,
-                face: 0,
-            })
+            Some(Candidate { t, b1, b2, face: 0 })
         } else {
             None
         }
