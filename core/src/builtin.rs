@@ -81,6 +81,33 @@ impl Builtin {
         }
     }
 
+    /// Builds the scene scaled by `2^k` (see [`Scene::scaled_pow2`]) and hands its
+    /// view and camera to `f`.
+    pub fn with_scaled_scene<R>(
+        self,
+        k: i32,
+        f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
+    ) -> Result<R, Error> {
+        Ok(match self {
+            Self::ChapterDirect => {
+                let s = chapter_direct()?.scaled_pow2(k)?;
+                f(&s.view(), s.camera())
+            }
+            Self::ChapterReflect => {
+                let s = chapter_reflect()?.scaled_pow2(k)?;
+                f(&s.view(), s.camera())
+            }
+            Self::Interference => {
+                let s = interference()?.scaled_pow2(k)?;
+                f(&s.view(), s.camera())
+            }
+            Self::Showcase => {
+                let s = showcase()?.scaled_pow2(k)?;
+                f(&s.view(), s.camera())
+            }
+        })
+    }
+
     /// Builds the scene (on the stack) and hands its view and camera to `f`.
     pub fn with_scene<R>(self, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Result<R, Error> {
         Ok(match self {

@@ -189,6 +189,92 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
         &self.camera
     }
 
+    /// The same scene with every length multiplied by `2^k` (positions, radii, the
+    /// camera's near and far, plane textures' world-unit scales) and every light
+    /// intensity by `4^k`, so that the image is unchanged in exact arithmetic. The
+    /// products are exact while the values stay normal `f32`, and every value is
+    /// checked again (a scale beyond the supported range is refused). Used to check
+    /// scale invariance, on the host and on the chip.
+    ///
+    /// A textured material used both by a plane (whose uv are world units) and by
+    /// another kind (whose uv are not) cannot be scaled consistently:
+    /// [`Error::OutOfRange`] on the texture scale.
+    pub fn scaled_pow2(&self, k: i32) -> Result<Self, Error> {
+        use crate::error::Field;
+        use crate::texture::Texture;
+        let k = k.clamp(-200, 200);
+        let f = libm::ldexpf(1.0, k);
+        let c = &self.camera;
+        let mut out = Self::new(Camera::try_new(
+            c.position() * f,
+            c.forward(),
+            c.up(),
+            c.fovy_degrees(),
+            c.near() * f,
+            c.far() * f,
+        )?);
+        out.set_ambient(self.ambient)?;
+        out.set_background(self.background)?;
+        let on_planes = |i: usize| self.planes.iter().any(|p| usize::from(p.material.0) == i);
+        let elsewhere = |i: usize| {
+            self.spheres.iter().any(|p| usize::from(p.material.0) == i)
+                || self
+                    .triangles
+                    .iter()
+                    .any(|p| usize::from(p.material.0) == i)
+                || self.boxes.iter().any(|p| usize::from(p.material.0) == i)
+        };
+        for (i, m) in self.materials.iter().enumerate() {
+            let t = *m.texture();
+            let mut m = *m;
+            if t.needs_uv() && on_planes(i) {
+                if elsewhere(i) {
+                    return Err(Error::OutOfRange {
+                        field: Field::TextureScale,
+                        range: "a texture used by planes only, to be scaled",
+                    });
+                }
+                m = m.with_texture(match t {
+                    Texture::Checker { a, b, scale } => Texture::Checker {
+                        a,
+                        b,
+                        scale: scale / f,
+                    },
+                    Texture::Fringes { color, spacing } => Texture::Fringes {
+                        color,
+                        spacing: spacing * f,
+                    },
+                    solid => solid,
+                })?;
+            }
+            out.add_material(m)?;
+        }
+        for l in &self.lights {
+            out.add_light(PointLight::try_new(
+                l.position() * f,
+                l.color(),
+                l.intensity() * f * f,
+            )?)?;
+        }
+        for p in &self.spheres {
+            let g = Sphere::try_new(p.geometry.center() * f, p.geometry.radius() * f)?;
+            out.add_sphere(g, p.material)?;
+        }
+        for p in &self.planes {
+            let g = Plane::try_new(p.geometry.point() * f, p.geometry.normal())?;
+            out.add_plane(g, p.material)?;
+        }
+        for p in &self.triangles {
+            let [a, b, c] = p.geometry.vertices();
+            out.add_triangle(Triangle::try_new(a * f, b * f, c * f)?, p.material)?;
+        }
+        for p in &self.boxes {
+            let g = Aabb::try_new(p.geometry.min() * f, p.geometry.max() * f)?;
+            out.add_box(g, p.material)?;
+        }
+        Ok(out)
+    }
+
     /// A borrowed, capacity-free view of the scene: what the renderer reads.
     #[must_use]
     pub fn view(&self) -> SceneView<'_> {

@@ -153,6 +153,8 @@ pub struct Run {
     pub height: u16,
     /// Seed of the random samplers.
     pub seed: u32,
+    /// The scene scaled by `2^scale` (`Scene::scaled_pow2`); 0 = as built.
+    pub scale: i32,
 }
 
 impl Run {
@@ -168,6 +170,7 @@ impl Run {
             width,
             height,
             seed: s.seed,
+            scale: 0,
         }
     }
 
@@ -195,9 +198,14 @@ impl Run {
 
     /// The run's line in the run list.
     pub fn line(&self) -> Result<String, String> {
+        let scene = if self.scale == 0 {
+            self.scene.name().to_string()
+        } else {
+            format!("{}@{}", self.scene.name(), self.scale)
+        };
         Ok(format!(
             "{} {} {} {} {} {} {}",
-            self.scene.name(),
+            scene,
             self.sampler_text()?,
             self.depth,
             self.tile,

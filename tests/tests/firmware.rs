@@ -32,7 +32,9 @@ fn run(runs: &[Run]) -> Output {
 fn host(run: &Run) -> RgbImage {
     let vp = Viewport::new(run.width, run.height);
     run.scene
-        .with_scene(|view, cam| tessera_host::render(view, cam, vp, run.settings(), run.tile))
+        .with_scaled_scene(run.scale, |view, cam| {
+            tessera_host::render(view, cam, vp, run.settings(), run.tile)
+        })
         .unwrap()
         .unwrap()
 }
@@ -153,4 +155,40 @@ fn counts_are_sane_and_deeper_recursion_costs_more() {
     );
     // Four samples a pixel cost more than three times one.
     assert!(cost[3] > 3 * cost[1], "centre vs stratified:2: {cost:?}");
+}
+
+/// Extreme scales on the chip (issue 6, case 12): every built-in scene scaled by
+/// 2^k at the ends of the supported range gives, on the Cortex-M4F, the same bits as
+/// the host build and as the unscaled scene.
+#[test]
+fn extreme_scales_render_the_same_bits_on_the_chip() {
+    let mut runs = Vec::new();
+    for b in Builtin::ALL {
+        // The interference screen's near distance (0.01) reaches the smallest
+        // supported length (2^-52) first: its range starts at k = -45.
+        let low = if b == Builtin::Interference { -45 } else { -48 };
+        for scale in [0, low, -20, 20, 48] {
+            runs.push(Run {
+                scale,
+                ..with(b, Centre, 3, 48, 36)
+            });
+        }
+    }
+    let out = run(&runs);
+    for (r, got) in runs.iter().zip(&out.runs) {
+        let want = host(r);
+        assert!(
+            got.pixels.as_raw() == want.as_raw(),
+            "{} at 2^{}: chip differs from host",
+            r.scene.name(),
+            r.scale
+        );
+        let unscaled = host(&Run { scale: 0, ..*r });
+        assert!(
+            want.as_raw() == unscaled.as_raw(),
+            "{} at 2^{}: not scale invariant",
+            r.scene.name(),
+            r.scale
+        );
+    }
 }

@@ -204,7 +204,7 @@ fn render_tiles<const N: usize>(
     out: &HostFile,
     tile: &mut Tile<N>,
 ) -> Result<(u64, usize), FwError> {
-    run.scene.with_scene(|view, camera| {
+    run.scene.with_scaled_scene(run.scale, |view, camera| {
         let frame = Frame::try_new(camera, Viewport::new(run.width, run.height), run.settings)?;
         let (across, down) = frame.tile_grid(N);
         let mut ticks = 0;

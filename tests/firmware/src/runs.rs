@@ -1,5 +1,6 @@
 //! The run list: one run per line,
-//! `<scene> <sampler> <depth> <tile 8|16|32> <width> <height> <seed>`, with the
+//! `<scene>[@k] <sampler> <depth> <tile 8|16|32> <width> <height> <seed>` (`@k`
+//! scales the scene by `2^k`), with the
 //! sampler as `corner`, `centre`, `prefiltered`, `stratified:K` or `random:N`. Blank lines and
 //! lines starting with `#` are skipped.
 
@@ -20,13 +21,20 @@ pub struct Run<'a> {
     pub width: u16,
     /// Image height, pixels.
     pub height: u16,
+    /// The scene is scaled by `2^scale` (`Builtin::with_scaled_scene`).
+    pub scale: i32,
 }
 
 /// Parses one line (already known not to be blank or a comment).
 pub fn parse(line: &str) -> Result<Run<'_>, &'static str> {
     let mut f = line.split_ascii_whitespace();
     let mut next = |what| f.next().ok_or(what);
-    let scene = next("missing scene")?;
+    // `name` or `name@k`: the scene scaled by 2^k (lengths; intensities by 4^k).
+    let token = next("missing scene")?;
+    let (scene, scale) = match token.split_once('@') {
+        Some((name, k)) => (name, k.parse().map_err(|_| "bad scale after @")?),
+        None => (token, 0),
+    };
     let scene = Builtin::from_name(scene).ok_or("unknown scene")?;
     let sampler_text = next("missing sampler")?;
     let sampler = parse_sampler(sampler_text)?;
@@ -54,6 +62,7 @@ pub fn parse(line: &str) -> Result<Run<'_>, &'static str> {
         tile,
         width,
         height,
+        scale,
     })
 }
 
