@@ -80,6 +80,23 @@ impl Sphere {
         if l2.is_nan() || l2 * (shrink * shrink) > reach * reach {
             return None;
         }
+        // Well inside the silhouette (the line passes within r/2 of the centre, with
+        // room for the error of l) and with the origin well off the surface
+        // (|c| = ||f|^2 - r^2| >= r^2/4): the discriminant is at least 3/4 r^2,
+        // nothing cancels, and Ray Tracing Gems' roots c/q and q are accurate. Rays
+        // near the silhouette, and rays leaving or entering the sphere's own surface
+        // (c near 0: the near root would be rounding noise), take the refinement.
+        let half = 0.5 * r - err;
+        let c = f.length_squared() - r * r;
+        if half > 0.0 && l2 < half * half && math::abs(c) >= 0.25 * r * r {
+            let b = -f.dot(ray.dir);
+            let disc = r * r - l2;
+            let q = b + math::copysign(math::sqrt(disc), b);
+            if q != 0.0 {
+                let (t0, t1) = (c / q, q);
+                return Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) });
+            }
+        }
         self.refined_roots(ray)
     }
 
