@@ -121,6 +121,7 @@ fn case01(md: &mut String) -> f64 {
          38 wrong hit/miss answers at 3.2e5 and 1e6 radii: its centre-to-line vector is \
          the difference of two vectors of length `|f|` and carries a few ulp of `|f|`. \
          The core now rejects clear misses with the plain test and its rounding bound, \
+         keeps the plain roots for rays well inside the silhouette and off the surface, \
          and computes the others with error-free transformations, see \
          `Sphere::refined_roots`.)"
     );
