@@ -44,3 +44,18 @@ pub fn output_dir() -> PathBuf {
     let _ = std::fs::create_dir_all(&dir);
     dir
 }
+
+/// The first line of `cmd --version` (for the reports), or `cmd: unknown`.
+pub fn tool_version(cmd: &str) -> String {
+    std::process::Command::new(cmd)
+        .arg("--version")
+        .output()
+        .ok()
+        .and_then(|o| {
+            String::from_utf8_lossy(&o.stdout)
+                .lines()
+                .next()
+                .map(str::to_string)
+        })
+        .unwrap_or_else(|| format!("{cmd}: unknown"))
+}

@@ -13,7 +13,7 @@
 use image::RgbImage;
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use std::process::{Command, ExitCode};
+use std::process::ExitCode;
 use tessera::Viewport;
 use tessera::builtin::Builtin;
 use tessera::{Sampler, Sampler::*};
@@ -116,20 +116,6 @@ fn difference(a: &RgbImage, b: &RgbImage) -> (u8, Option<f64>) {
     (max, psnr)
 }
 
-fn tool_version(cmd: &str) -> String {
-    Command::new(cmd)
-        .arg("--version")
-        .output()
-        .ok()
-        .and_then(|o| {
-            String::from_utf8_lossy(&o.stdout)
-                .lines()
-                .next()
-                .map(str::to_string)
-        })
-        .unwrap_or_else(|| format!("{cmd}: unknown"))
-}
-
 fn kib(bytes: u64) -> String {
     format!("{:.1} KiB", bytes as f64 / 1024.0)
 }
@@ -148,7 +134,7 @@ fn thousands(n: u64) -> String {
 
 fn report() -> Result<PathBuf, String> {
     let qemu = firmware::qemu_version()?;
-    let rustc = tool_version("rustc");
+    let rustc = tessera_tests::tool_version("rustc");
     let (flash, ram) = firmware::memory_budget()?;
     println!("building the firmware (exact and fast-math)...");
     let exact_elf = firmware::build(false)?;

@@ -274,20 +274,6 @@ fn cpu_model() -> String {
         .unwrap_or_else(|| "unknown (no /proc/cpuinfo)".into())
 }
 
-fn tool_version(cmd: &str) -> String {
-    Command::new(cmd)
-        .arg("--version")
-        .output()
-        .ok()
-        .and_then(|o| {
-            String::from_utf8_lossy(&o.stdout)
-                .lines()
-                .next()
-                .map(str::to_string)
-        })
-        .unwrap_or_else(|| format!("{cmd}: unknown"))
-}
-
 fn thousands(n: f64) -> String {
     let s = format!("{:.0}", n.round());
     let mut out = String::new();
@@ -675,7 +661,7 @@ fn document(
          renders: a difference smaller than the two rows' min-max spread is noise.",
         trade_args(true)[..5].join(" ") + " --truth-dir target/trade-truth --reference",
         trade_args(false)[..5].join(" ") + " --truth-dir target/trade-truth",
-        tool_version("rustc")
+        tessera_tests::tool_version("rustc")
     );
     let _ = writeln!(
         w,
@@ -696,7 +682,7 @@ fn document(
          firmware ({chip_runs} renders each, {}). Instructions, not cycles.",
         CHIP_SCENES[0].name(),
         CHIP_SCENES[1].name(),
-        tool_version(firmware::QEMU)
+        tessera_tests::tool_version(firmware::QEMU)
     );
     let _ = writeln!(
         w,
