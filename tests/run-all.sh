@@ -40,4 +40,10 @@ cargo build -p tessera --target thumbv7em-none-eabihf --release
 cargo build -p tessera --target thumbv7em-none-eabihf --release --features fast-math
 
 say "tests"
-cargo test --workspace
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+cargo test --workspace 2>&1 | tee "$log"
+# One closing line for the whole run (cargo prints one per test binary, the last
+# of which is often an empty doc-test binary).
+awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed;?$/) p += $(i-1); if ($i ~ /^failed;?$/) f += $(i-1) } }
+     END { printf "tests: %d passed, %d failed\n", p, f }' "$log"
