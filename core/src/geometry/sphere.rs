@@ -86,7 +86,7 @@ impl Sphere {
         // nothing cancels, and Ray Tracing Gems' roots c/q and q are accurate. Rays
         // near the silhouette, and rays leaving or entering the sphere's own surface
         // (c near 0: the near root would be rounding noise), take the refinement.
-        let half = 0.5 * r - err;
+        let half = 0.8 * r - err;
         let c = f.length_squared() - r * r;
         if half > 0.0 && l2 < half * half && math::abs(c) >= 0.25 * r * r {
             let b = -f.dot(ray.dir);
