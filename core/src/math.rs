@@ -67,6 +67,22 @@ pub fn acos(x: f32) -> f32 {
     backend::acos(x.clamp(-1.0, 1.0))
 }
 
+/// The larger of `a` and `b` by one comparison (if either is NaN, `b`). Not
+/// `f32::max`: on the Cortex-M4F (no `vmaxnm`) that lowers to a call of the IEEE
+/// `fmaxf` routine, which made the sphere test 37% more expensive per pixel.
+#[inline]
+#[must_use]
+pub fn max(a: f32, b: f32) -> f32 {
+    if a > b { a } else { b }
+}
+
+/// The smaller of `a` and `b` by one comparison (if either is NaN, `b`); see [`max`].
+#[inline]
+#[must_use]
+pub fn min(a: f32, b: f32) -> f32 {
+    if a < b { a } else { b }
+}
+
 /// Largest integer not greater than `x`.
 #[inline]
 #[must_use]

@@ -105,7 +105,7 @@ impl Sampler {
 
 /// Clamps a rounded-up `1.0` back into `[0, 1)`.
 fn below_one(v: f32) -> f32 {
-    v.min(1.0 - f32::EPSILON / 2.0)
+    crate::math::min(v, 1.0 - f32::EPSILON / 2.0)
 }
 
 /// A 32-bit integer hash with good avalanche (Wellons' "lowbias32").

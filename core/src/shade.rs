@@ -398,7 +398,7 @@ fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, Color)>; 2] {
 #[must_use]
 pub fn refract(d: Vec3, n: Vec3, cos_i: f32, ior: f32, entering: bool) -> Option<(Vec3, f32)> {
     let eta = if entering { 1.0 / ior } else { ior };
-    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
+    let sin2_i = math::max(1.0 - cos_i * cos_i, 0.0);
     let sin2_t = eta * eta * sin2_i;
     if sin2_t >= 1.0 {
         return None;

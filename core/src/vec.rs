@@ -129,7 +129,8 @@ impl Vec3 {
     #[inline]
     #[must_use]
     pub fn max_element(self) -> f32 {
-        self.x.max(self.y).max(self.z)
+        // Compare-select, not `f32::max` (a library call on the Cortex-M4F).
+        math::max(math::max(self.x, self.y), self.z)
     }
 
     /// Index (0, 1, 2) of the component with the largest absolute value; ties go to
