@@ -69,7 +69,8 @@ pub fn acos(x: f32) -> f32 {
 
 /// The larger of `a` and `b` by one comparison (if either is NaN, `b`). Not
 /// `f32::max`: on the Cortex-M4F (no `vmaxnm`) that lowers to a call of the IEEE
-/// `fmaxf` routine, which made the sphere test 37% more expensive per pixel.
+/// `fmaxf` routine (measured: 1,374 -> 1,228 instructions per pixel on
+/// chapter-direct when the sphere test stopped using it).
 #[inline]
 #[must_use]
 pub fn max(a: f32, b: f32) -> f32 {

@@ -1634,20 +1634,7 @@ pub fn lit_sphere_at(
     center: Vec3,
     r: f32,
 ) -> Result<tessera::Scene<1, 0, 0, 0, 1, 1>, tessera::Error> {
-    use tessera::{Material, PointLight, Scene};
-    let cam = Camera::try_new(
-        center,
-        Vec3::new(0.3, -0.2, -1.0),
-        Vec3::Y,
-        75.0,
-        r * 0.01,
-        r * 10.0,
-    )?;
-    let mut s = Scene::new(cam);
-    let m = s.add_material(Material::matte(Color::new(0.9, 0.6, 0.3)).with_diffuse(0.8)?)?;
-    s.add_sphere(Sphere::try_new(center, r)?, m)?;
-    s.add_light(PointLight::try_new(center, Color::WHITE, 0.9 * r * r)?)?;
-    Ok(s)
+    crate::inside_sphere_at(center, r, 0.9 * r * r, 0.8, Color::new(0.9, 0.6, 0.3))
 }
 
 /// Largest difference (LSB) of a [`lit_sphere_at`] render (32x24, pixel centres)

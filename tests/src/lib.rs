@@ -19,7 +19,23 @@ pub fn inside_sphere(
     diffuse: f32,
     color: Color,
 ) -> Result<Scene<1, 0, 0, 0, 1, 1>, tessera::Error> {
-    let center = Vec3::new(0.25, -0.5, 0.75) * r;
+    inside_sphere_at(
+        Vec3::new(0.25, -0.5, 0.75) * r,
+        r,
+        intensity,
+        diffuse,
+        color,
+    )
+}
+
+/// [`inside_sphere`] centred at `center` (anywhere: the far-from-origin cases).
+pub fn inside_sphere_at(
+    center: Vec3,
+    r: f32,
+    intensity: f32,
+    diffuse: f32,
+    color: Color,
+) -> Result<Scene<1, 0, 0, 0, 1, 1>, tessera::Error> {
     let cam = Camera::try_new(
         center,
         Vec3::new(0.3, -0.2, -1.0),
