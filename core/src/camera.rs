@@ -179,6 +179,9 @@ pub struct CameraBasis {
     half_width: f32,
     half_height: f32,
     far_over_near_minus_one: f32,
+    forward: Vec3,
+    near: f32,
+    far: f32,
     height: f32,
     width: f32,
     viewport: Viewport,
@@ -218,6 +221,9 @@ impl CameraBasis {
             half_width: nl * 0.5,
             half_height: nh * 0.5,
             far_over_near_minus_one: (camera.far - camera.near) / camera.near,
+            forward: fwd,
+            near: camera.near,
+            far: camera.far,
             height,
             width,
             viewport,
@@ -231,15 +237,31 @@ impl CameraBasis {
     /// Returns the ray (origin on the near plane, unit direction) and `t_far`.
     #[must_use]
     pub fn ray(&self, x: f32, y: f32) -> (Ray, f32) {
-        // n c_a + r_ini + x u1 + y u2, summed as n c_a + (x - N_L/2) u1 + (y - N_H/2) u2:
-        // the same vector, without the cancellation of r_ini against x u1 (x - N_L/2
-        // is exact for pixel coordinates).
-        let d =
-            self.near_forward + self.u1 * (x - self.half_width) + self.u2 * (y - self.half_height);
+        let d = self.direction(x, y);
         let len = d.length();
         let dir = d / len;
         let origin = self.position + d;
         (Ray::new(origin, dir), len * self.far_over_near_minus_one)
+    }
+
+    /// The unnormalised direction of the primary ray through `(x, y)`: from the
+    /// camera to that point of the near plane.
+    #[inline]
+    pub(crate) fn direction(&self, x: f32, y: f32) -> Vec3 {
+        // n c_a + r_ini + x u1 + y u2, summed as n c_a + (x - N_L/2) u1 + (y - N_H/2) u2:
+        // the same vector, without the cancellation of r_ini against x u1 (x - N_L/2
+        // is exact for pixel coordinates).
+        self.near_forward + self.u1 * (x - self.half_width) + self.u2 * (y - self.half_height)
+    }
+
+    /// The camera position `r_cam`.
+    pub(crate) fn position(&self) -> Vec3 {
+        self.position
+    }
+
+    /// The unit forward direction `c_a` and the near and far distances.
+    pub(crate) fn depth_axis(&self) -> (Vec3, f32, f32) {
+        (self.forward, self.near, self.far)
     }
 
     /// `u1`: one pixel to the right on the near plane.

@@ -46,6 +46,7 @@
 pub mod builtin;
 pub mod camera;
 pub mod color;
+mod cull;
 pub mod display;
 pub mod error;
 pub mod geometry;
@@ -58,6 +59,7 @@ pub mod scene;
 pub mod shade;
 pub mod texture;
 pub mod tile;
+mod trace;
 pub mod vec;
 
 pub use camera::{Camera, CameraBasis, Viewport};

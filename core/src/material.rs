@@ -34,6 +34,9 @@ pub struct Material {
     diffuse: f32,
     specular: f32,
     shininess: f32,
+    /// `shininess` as an integer when it is one (0 otherwise): the highlight is then
+    /// raised to that power by squaring instead of calling `powf`.
+    power: u16,
     reflectivity: f32,
     transparency: f32,
     ior: f32,
@@ -53,6 +56,7 @@ impl Material {
             diffuse: 1.0,
             specular: 0.0,
             shininess: 1.0,
+            power: 1,
             reflectivity: 0.0,
             transparency: 0.0,
             ior: 1.0,
@@ -83,6 +87,12 @@ impl Material {
     pub fn with_specular(mut self, specular: f32, shininess: f32) -> Result<Self, Error> {
         self.specular = in_range(specular, 0.0, 1.0, Field::Specular, UNIT)?;
         self.shininess = in_range(shininess, 1.0, 10_000.0, Field::Shininess, "[1, 10000]")?;
+        // An integer in [1, 10000] converts exactly; anything else keeps powf.
+        self.power = if crate::math::floor(self.shininess) == self.shininess {
+            self.shininess as u16
+        } else {
+            0
+        };
         Ok(self)
     }
 
@@ -161,6 +171,21 @@ impl Material {
     pub fn ior(&self) -> f32 {
         self.ior
     }
+    /// The Blinn-Phong highlight `x^shininess` for `x = n.h` in `(0, 1]`: by
+    /// repeated squaring ([`crate::math::powi`]) when the shininess is an integer, a
+    /// few dozen instructions instead of a `powf` call (relative error about
+    /// `2 shininess 2^-24`: at most 0.3 of an 8-bit step on a full highlight even at
+    /// shininess 10000), else through [`crate::math::powf`].
+    #[inline]
+    #[must_use]
+    pub fn highlight(&self, x: f32) -> f32 {
+        if self.power == 0 {
+            crate::math::powf(x, self.shininess)
+        } else {
+            crate::math::powi(x, u32::from(self.power))
+        }
+    }
+
     /// True when a light can change this material's colour (diffuse or specular).
     #[must_use]
     pub fn is_lit(&self) -> bool {

@@ -104,7 +104,8 @@ impl Sampler {
 }
 
 /// Clamps a rounded-up `1.0` back into `[0, 1)`.
-fn below_one(v: f32) -> f32 {
+#[inline]
+pub(crate) fn below_one(v: f32) -> f32 {
     crate::math::min(v, 1.0 - f32::EPSILON / 2.0)
 }
 
@@ -123,17 +124,42 @@ pub fn mix(mut x: u32) -> u32 {
 /// The hash of a pixel's sample: every input changes every output bit.
 #[must_use]
 pub fn hash(px: u32, py: u32, index: u32, seed: u32) -> u32 {
-    let h = mix(seed ^ 0x9e37_79b9);
-    let h = mix(h ^ px);
-    let h = mix(h.wrapping_add(0x85eb_ca6b) ^ py);
-    mix(h.wrapping_add(0xc2b2_ae35) ^ index)
+    PixelHash::new(px, py, seed).sample(index)
 }
 
 /// Two uniform numbers in `[0, 1)` for a pixel's sample.
 #[must_use]
 pub fn random_pair(px: u32, py: u32, index: u32, seed: u32) -> (f32, f32) {
-    let h = hash(px, py, index, seed);
-    (unit(h), unit(mix(h ^ 0x68e3_1da4)))
+    PixelHash::new(px, py, seed).pair(index)
+}
+
+/// The part of [`hash`] that depends on the pixel and the seed only, computed once
+/// per pixel rather than once per sample.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PixelHash(u32);
+
+impl PixelHash {
+    /// The pixel `(px, py)` with `seed`.
+    #[inline]
+    pub(crate) fn new(px: u32, py: u32, seed: u32) -> Self {
+        let h = mix(seed ^ 0x9e37_79b9);
+        let h = mix(h ^ px);
+        let h = mix(h.wrapping_add(0x85eb_ca6b) ^ py);
+        Self(h.wrapping_add(0xc2b2_ae35))
+    }
+
+    /// [`hash`] of sample `index`.
+    #[inline]
+    pub(crate) fn sample(self, index: u32) -> u32 {
+        mix(self.0 ^ index)
+    }
+
+    /// [`random_pair`] of sample `index`.
+    #[inline]
+    pub(crate) fn pair(self, index: u32) -> (f32, f32) {
+        let h = self.sample(index);
+        (unit(h), unit(mix(h ^ 0x68e3_1da4)))
+    }
 }
 
 /// The top 24 bits of `h` as a float in `[0, 1)` (exactly representable).

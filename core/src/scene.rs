@@ -293,6 +293,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
                 .materials
                 .iter()
                 .any(|m| m.reflectivity() > 0.0 || m.transparency() > 0.0),
+            tile_lists: crate::cull::lend::<S, P, T, B>,
         }
     }
 
@@ -303,8 +304,10 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
 }
 
 /// A scene as the renderer sees it: slices, no capacities, so the renderer is
-/// compiled once whatever the scene's capacities.
-#[derive(Clone, Copy, Debug)]
+/// compiled once whatever the scene's capacities. The one thing that depends on the
+/// capacities, the storage of a tile's culling lists, is lent by a small function of
+/// the scene's type ([`crate::cull`]).
+#[derive(Clone, Copy)]
 pub struct SceneView<'a> {
     pub(crate) spheres: &'a [Primitive<Sphere>],
     pub(crate) planes: &'a [Primitive<Plane>],
@@ -315,6 +318,23 @@ pub struct SceneView<'a> {
     pub(crate) ambient: Color,
     pub(crate) background: Color,
     pub(crate) secondary: bool,
+    /// Lends a tile's candidate lists, sized by the scene's capacities.
+    pub(crate) tile_lists: crate::cull::Lender,
+}
+
+impl core::fmt::Debug for SceneView<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("SceneView")
+            .field("spheres", &self.spheres)
+            .field("planes", &self.planes)
+            .field("triangles", &self.triangles)
+            .field("boxes", &self.boxes)
+            .field("materials", &self.materials)
+            .field("lights", &self.lights)
+            .field("ambient", &self.ambient)
+            .field("background", &self.background)
+            .finish_non_exhaustive()
+    }
 }
 
 impl<'a> SceneView<'a> {

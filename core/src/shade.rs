@@ -19,11 +19,12 @@
 //! it.
 
 use crate::color::Color;
-use crate::geometry::{Candidate, Shape, Surface};
+use crate::geometry::{Shape, Surface};
 use crate::material::Material;
 use crate::math;
 use crate::ray::{Ray, offset_origin};
 use crate::scene::{Primitive, SceneView};
+use crate::trace::{CameraPick, Kind, Nearest, Skip};
 use crate::vec::Vec3;
 
 /// The deepest reflection/transmission recursion a frame may ask for.
@@ -56,57 +57,75 @@ impl RayCount {
     }
 }
 
+/// Where the rays cast are counted: a [`RayCount`] when the caller asks for the
+/// figures, `()` otherwise, which compiles to nothing.
+pub(crate) trait Rays {
+    /// A camera ray was traced.
+    fn primary(&mut self);
+    /// A reflected or refracted ray was traced.
+    fn secondary(&mut self);
+    /// A shadow ray was traced.
+    fn shadow(&mut self);
+}
+
+impl Rays for () {
+    #[inline(always)]
+    fn primary(&mut self) {}
+    #[inline(always)]
+    fn secondary(&mut self) {}
+    #[inline(always)]
+    fn shadow(&mut self) {}
+}
+
+impl Rays for RayCount {
+    #[inline(always)]
+    fn primary(&mut self) {
+        self.primary += 1;
+    }
+    #[inline(always)]
+    fn secondary(&mut self) {
+        self.secondary += 1;
+    }
+    #[inline(always)]
+    fn shadow(&mut self) {
+        self.shadow += 1;
+    }
+}
+
 /// A ray waiting to be traced, with the weight of its contribution.
 #[derive(Clone, Copy)]
 struct Pending {
     ray: Ray,
-    t_max: f32,
     weight: Color,
+    skip: Skip,
     depth: u8,
 }
 
-/// Which list the nearest hit is in.
-#[derive(Clone, Copy)]
-enum Kind {
-    Sphere,
-    Plane,
-    Triangle,
-    Box,
-}
-
-/// The nearest hit so far: list, index, and the shape's candidate.
-#[derive(Clone, Copy)]
-struct Nearest {
-    kind: Kind,
-    index: usize,
-    hit: Candidate,
-}
-
-/// Searches one list for a hit nearer than `*t_max`; shrinks `*t_max` to it.
-fn nearest_in<G: Shape>(
-    list: &[Primitive<G>],
-    ray: &Ray,
-    t_max: &mut f32,
-) -> Option<(usize, Candidate)> {
-    let mut best = None;
-    for (i, p) in list.iter().enumerate() {
-        if let Some(c) = p.geometry.intersect(ray, *t_max) {
-            *t_max = c.t;
-            best = Some((i, c));
-        }
-    }
-    best
-}
-
-fn occluded_in<G: Shape>(list: &[Primitive<G>], ray: &Ray, t_max: f32) -> bool {
-    list.iter().any(|p| p.geometry.occluded(ray, t_max))
-}
-
-/// A resolved hit: the surface, its material and (only if textured) its uv.
+/// A resolved hit: the surface, its material, the colour of the texture there (only
+/// evaluated if textured) and which primitive it is.
 struct Shaded<'a> {
     surface: Surface,
     material: &'a Material,
     base: Color,
+    kind: Kind,
+    index: usize,
+    /// Flat (plane, triangle): no ray leaving it can hit it again. Otherwise closed
+    /// and convex: no ray leaving it outwards can.
+    flat: bool,
+}
+
+impl Shaded<'_> {
+    /// What a ray leaving this hit in direction `w` must not test: this primitive,
+    /// when `w` leaves it for good (see [`crate::trace`]). For a closed shape that
+    /// is `w . n > 0` with the outward normal `n`, which is also the side
+    /// `offset_origin` moves the origin to.
+    fn skip_for(&self, w: Vec3) -> Skip {
+        if self.flat || w.dot(self.surface.normal) > 0.0 {
+            Skip::new(self.kind, self.index)
+        } else {
+            Skip::NONE
+        }
+    }
 }
 
 fn resolve<'a, G: Shape>(
@@ -115,6 +134,7 @@ fn resolve<'a, G: Shape>(
     n: &Nearest,
     ray: &Ray,
     footprint: Option<&Footprint<'_>>,
+    flat: bool,
 ) -> Option<Shaded<'a>> {
     let prim = list.get(n.index)?;
     let material = view.materials.get(usize::from(prim.material.0))?;
@@ -133,6 +153,9 @@ fn resolve<'a, G: Shape>(
         surface,
         material,
         base,
+        kind: n.kind,
+        index: n.index,
+        flat,
     })
 }
 
@@ -163,7 +186,9 @@ impl<'a> Footprint<'a> {
 /// The uv bounding box of a pixel's footprint on `shape`: where the rays through the
 /// pixel's four corners meet the same shape. `None` (point sampling instead) when a
 /// corner ray misses it, or when the box spans more than half the uv range of a
-/// wrapping parametrisation (a sphere's seam).
+/// wrapping parametrisation (a sphere's seam). Out of line: only the prefiltered
+/// sampler comes here, and its four rays would weigh on every caller's frame.
+#[inline(never)]
 fn uv_box<G: Shape>(
     shape: &G,
     footprint: &Footprint<'_>,
@@ -183,37 +208,21 @@ fn uv_box<G: Shape>(
     Some((lo, hi))
 }
 
+/// The candidates of one camera ray's tree: its own nearest-hit search (a tile's
+/// camera lists, or every primitive) and the shadow rays of its hit (a tile's shadow
+/// lists, entries `index | lights << 16`, or every primitive). Reflected and
+/// refracted rays, which may go anywhere, always search every primitive.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Picks<'l> {
+    pub(crate) camera: CameraPick<'l>,
+    pub(crate) shadow: Option<[&'l [u32]; 4]>,
+}
+
+/// Lights beyond this index are not in the tile shadow lists' masks (16 bits): their
+/// shadow rays test every primitive.
+pub(crate) const MASKED_LIGHTS: usize = 16;
+
 impl<'a> SceneView<'a> {
-    /// The nearest hit of `ray` with `0 < t < t_max` over every list.
-    fn nearest(&self, ray: &Ray, mut t_max: f32) -> Option<Nearest> {
-        let mut best = None;
-        let mut keep = |kind, found: Option<(usize, Candidate)>| {
-            if let Some((index, hit)) = found {
-                best = Some(Nearest { kind, index, hit });
-            }
-        };
-        // Each search shrinks t_max, so a later list only reports nearer hits.
-        keep(Kind::Sphere, nearest_in(self.spheres, ray, &mut t_max));
-        keep(Kind::Plane, nearest_in(self.planes, ray, &mut t_max));
-        keep(Kind::Triangle, nearest_in(self.triangles, ray, &mut t_max));
-        keep(Kind::Box, nearest_in(self.boxes, ray, &mut t_max));
-        best
-    }
-
-    /// The time of the nearest hit of `ray` with `0 < t < t_max`, if any.
-    #[must_use]
-    pub fn first_hit(&self, ray: &Ray, t_max: f32) -> Option<f32> {
-        self.nearest(ray, t_max).map(|n| n.hit.t)
-    }
-
-    /// True when anything blocks `ray` before `t_max`.
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        occluded_in(self.spheres, ray, t_max)
-            || occluded_in(self.planes, ray, t_max)
-            || occluded_in(self.triangles, ray, t_max)
-            || occluded_in(self.boxes, ray, t_max)
-    }
-
     fn shaded(
         &self,
         n: &Nearest,
@@ -221,10 +230,10 @@ impl<'a> SceneView<'a> {
         footprint: Option<&Footprint<'_>>,
     ) -> Option<Shaded<'a>> {
         match n.kind {
-            Kind::Sphere => resolve(self, self.spheres, n, ray, footprint),
-            Kind::Plane => resolve(self, self.planes, n, ray, footprint),
-            Kind::Triangle => resolve(self, self.triangles, n, ray, footprint),
-            Kind::Box => resolve(self, self.boxes, n, ray, footprint),
+            Kind::Sphere => resolve(self, self.spheres, n, ray, footprint, false),
+            Kind::Plane => resolve(self, self.planes, n, ray, footprint, true),
+            Kind::Triangle => resolve(self, self.triangles, n, ray, footprint, true),
+            Kind::Box => resolve(self, self.boxes, n, ray, footprint, false),
         }
     }
 
@@ -232,7 +241,7 @@ impl<'a> SceneView<'a> {
     /// transmissions down to `max_depth` bounces (clamped to [`MAX_DEPTH`]).
     #[must_use]
     pub fn trace(&self, ray: Ray, t_max: f32, max_depth: u8) -> Color {
-        self.trace_counted(ray, t_max, max_depth, &mut RayCount::default())
+        self.trace_with(ray, t_max, max_depth, Picks::default(), &mut (), None)
     }
 
     /// [`SceneView::trace`], adding the rays it casts to `count`.
@@ -243,69 +252,90 @@ impl<'a> SceneView<'a> {
         max_depth: u8,
         count: &mut RayCount,
     ) -> Color {
-        self.trace_footprint(ray, t_max, max_depth, count, None)
+        self.trace_with(ray, t_max, max_depth, Picks::default(), count, None)
     }
 
-    /// [`SceneView::trace_counted`] where the camera ray carries its pixel: a texture
-    /// it hits is averaged exactly over the pixel's footprint (box filter) instead of
-    /// evaluated at one point.
-    pub fn trace_footprint(
+    /// The colour a camera ray brings back: its nearest hit among `picks.camera`,
+    /// shaded with the shadow rays' candidates `picks.shadow`, then the reflected
+    /// and refracted rays depth-first on a fixed stack. Where the camera ray carries
+    /// its pixel (`footprint`), a texture it hits is averaged exactly over the
+    /// pixel's footprint (box filter) instead of evaluated at one point.
+    #[inline]
+    pub(crate) fn trace_with<C: Rays>(
         &self,
         ray: Ray,
         t_max: f32,
         max_depth: u8,
-        count: &mut RayCount,
+        picks: Picks<'_>,
+        count: &mut C,
         footprint: Option<&Footprint<'_>>,
     ) -> Color {
+        count.primary();
+        let Some(nearest) = self.nearest(&ray, t_max, picks.camera, Skip::NONE) else {
+            return self.background;
+        };
+        let Some(hit) = self.shaded(&nearest, &ray, footprint) else {
+            return Color::BLACK; // unreachable for a validated scene: no material
+        };
+        let mut total = self.local(&hit, &ray, picks.shadow, count);
         let max_depth = if self.secondary {
             max_depth.min(MAX_DEPTH)
         } else {
             0
         };
-        let mut stack: heapless::Vec<Pending, { MAX_DEPTH as usize + 1 }> = heapless::Vec::new();
-        let mut total = Color::BLACK;
-        // Cannot fail: the stack is empty.
-        let _ = stack.push(Pending {
-            ray,
-            t_max,
-            weight: Color::WHITE,
-            depth: 0,
-        });
-        while let Some(p) = stack.pop() {
-            if p.depth == 0 {
-                count.primary += 1;
-            } else {
-                count.secondary += 1;
-            }
-            let Some(nearest) = self.nearest(&p.ray, p.t_max) else {
-                total += p.weight * self.background;
-                continue;
-            };
-            let corners = if p.depth == 0 { footprint } else { None };
-            let Some(hit) = self.shaded(&nearest, &p.ray, corners) else {
-                continue; // unreachable for a validated scene: no material, no light
-            };
-            total += p.weight * self.local(&hit, &p.ray, count);
-            if p.depth < max_depth {
-                for (ray, w) in secondary(&hit, &p.ray).into_iter().flatten() {
-                    let weight = p.weight * w;
-                    if !weight.is_black() {
-                        // At most depth + 1 pending rays: the push cannot fail.
-                        let _ = stack.push(Pending {
-                            ray,
-                            t_max: f32::INFINITY,
-                            weight,
-                            depth: p.depth + 1,
-                        });
-                    }
-                }
-            }
+        if max_depth == 0 {
+            return total;
         }
+        self.bounce(&hit, &ray, Color::WHITE, 0, max_depth, &mut total, count);
         total
     }
 
-    /// Ambient + direct light at a hit (no secondary rays).
-    fn local(&self, hit: &Shaded<'_>, ray: &Ray, count: &mut RayCount) -> Color {
+    /// Adds what the reflected and refracted rays of `hit` (reached by `ray` at
+    /// `depth` with weight `weight`) bring back to `total`: depth-first, with a
+    /// fixed stack of pending rays (depth `D` needs at most `D + 1` slots). Out of
+    /// line: a scene without mirrors or glass never comes here.
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn bounce<C: Rays>(
+        &self,
+        hit: &Shaded<'_>,
+        ray: &Ray,
+        weight: Color,
+        depth: u8,
+        max_depth: u8,
+        total: &mut Color,
+        count: &mut C,
+    ) {
+        let mut stack: heapless::Vec<Pending, { MAX_DEPTH as usize + 1 }> = heapless::Vec::new();
+        push_children(&mut stack, hit, ray, weight, depth);
+        while let Some(p) = stack.pop() {
+            count.secondary();
+            let Some(nearest) = self.nearest(&p.ray, f32::INFINITY, None, p.skip) else {
+                *total += p.weight * self.background;
+                continue;
+            };
+            let Some(hit) = self.shaded(&nearest, &p.ray, None) else {
+                continue; // unreachable for a validated scene: no material
+            };
+            *total += p.weight * self.local(&hit, &p.ray, None, count);
+            if p.depth < max_depth {
+                push_children(&mut stack, &hit, &p.ray, p.weight, p.depth);
+            }
+        }
+    }
+
+    /// Ambient + direct light at a hit (no secondary rays); the shadow rays test the
+    /// candidates of `shadow` (see [`Picks`]). Out of line: called for camera rays
+    /// and for bounces, it keeps its locals off both callers' frames (the stack a
+    /// tile needs stays within 2 KiB on the Cortex-M4F).
+    #[inline(never)]
+    fn local<C: Rays>(
+        &self,
+        hit: &Shaded<'_>,
+        ray: &Ray,
+        shadow: Option<[&[u32]; 4]>,
+        count: &mut C,
+    ) -> Color {
         let m = hit.material;
         let mut c = hit.base * self.ambient * m.ambient();
         if !m.is_lit() {
@@ -313,7 +343,7 @@ impl<'a> SceneView<'a> {
         }
         let s = &hit.surface;
         let n = facing(s.normal, ray.dir);
-        for light in self.lights {
+        for (i, light) in self.lights.iter().enumerate() {
             let to_light = light.position() - s.point;
             let dist2 = to_light.length_squared();
             let dist = math::sqrt(dist2);
@@ -326,8 +356,12 @@ impl<'a> SceneView<'a> {
                 continue; // light behind the surface as seen from the ray
             }
             let origin = offset_origin(s.point, s.error, n, l);
-            count.shadow += 1;
-            if self.occluded(&Ray::new(origin, l), dist) {
+            count.shadow();
+            let pick = match shadow {
+                Some(lists) if i < MASKED_LIGHTS => Some((lists, 1 << (16 + i))),
+                _ => None,
+            };
+            if self.occluded(&Ray::new(origin, l), dist, pick, hit.skip_for(l)) {
                 continue;
             }
             let e = light.color() * (light.intensity() / dist2);
@@ -336,12 +370,34 @@ impl<'a> SceneView<'a> {
                 let h = (l - ray.dir).normalize_or(n);
                 let nh = n.dot(h);
                 if nh > 0.0 {
-                    lit += Color::splat(m.specular() * math::powf(nh, m.shininess()));
+                    lit += Color::splat(m.specular() * m.highlight(nh));
                 }
             }
             c += e * lit;
         }
         c
+    }
+}
+
+/// Pushes the reflected and refracted rays of `hit` that carry weight.
+fn push_children<const K: usize>(
+    stack: &mut heapless::Vec<Pending, K>,
+    hit: &Shaded<'_>,
+    ray: &Ray,
+    weight: Color,
+    depth: u8,
+) {
+    for (ray, w) in secondary(hit, ray).into_iter().flatten() {
+        let weight = weight * w;
+        if !weight.is_black() {
+            // At most depth + 1 pending rays: the push cannot fail.
+            let _ = stack.push(Pending {
+                skip: hit.skip_for(ray.dir),
+                ray,
+                weight,
+                depth: depth + 1,
+            });
+        }
     }
 }
 

@@ -18,10 +18,11 @@
 
 use crate::camera::{Camera, CameraBasis, Viewport};
 use crate::color::{Color, Rgb8};
+use crate::cull::TileLists;
 use crate::error::Error;
-use crate::sample::Sampler;
+use crate::sample::{PixelHash, Sampler, below_one};
 use crate::scene::SceneView;
-use crate::shade::{MAX_DEPTH, RayCount};
+use crate::shade::{Footprint, MAX_DEPTH, Picks, RayCount, Rays};
 
 /// How a frame is rendered.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -208,10 +209,12 @@ impl Frame {
         )
     }
 
-    /// The linear colour of pixel `(x, y)`: the mean of its samples.
+    /// The linear colour of pixel `(x, y)`: the mean of its samples. Every
+    /// primitive is a candidate (no tile, no culling): the same colour as
+    /// [`Frame::render_tile`] gives, which the tests check.
     #[must_use]
     pub fn pixel_color(&self, scene: &SceneView<'_>, x: u32, y: u32) -> Color {
-        self.pixel_color_counted(scene, x, y, &mut RayCount::default())
+        self.pixel(scene, Picks::default(), x, y, &mut ())
     }
 
     /// [`Frame::pixel_color`], adding the rays cast to `count`.
@@ -222,20 +225,80 @@ impl Frame {
         y: u32,
         count: &mut RayCount,
     ) -> Color {
+        self.pixel(scene, Picks::default(), x, y, count)
+    }
+
+    /// The colour of pixel `(x, y)` with the candidates `picks`. One ray for the
+    /// single-sample samplers (no sample loop, no averaging: `(0 + c) * 1 = c`); the
+    /// stratified and random samplers hash the pixel once and the sample index per
+    /// sample.
+    #[inline]
+    fn pixel<C: Rays>(
+        &self,
+        scene: &SceneView<'_>,
+        picks: Picks<'_>,
+        x: u32,
+        y: u32,
+        count: &mut C,
+    ) -> Color {
         let s = &self.settings;
-        let mut sum = Color::BLACK;
-        if s.sampler == Sampler::Prefiltered {
-            let (px, py) = (x as f32, y as f32);
-            let footprint = crate::shade::Footprint::new(&self.basis, px, py);
-            let (ray, t_far) = self.basis.ray(px + 0.5, py + 0.5);
-            return scene.trace_footprint(ray, t_far, s.max_depth, count, Some(&footprint));
+        let (px, py) = (x as f32, y as f32);
+        let one = |dx: f32, dy: f32, count: &mut C| {
+            let (ray, t_far) = self.basis.ray(px + dx, py + dy);
+            scene.trace_with(ray, t_far, s.max_depth, picks, count, None)
+        };
+        match s.sampler {
+            Sampler::Corner => one(0.0, 0.0, count),
+            Sampler::Centre => one(0.5, 0.5, count),
+            Sampler::Offset(o) => one(o.x(), o.y(), count),
+            Sampler::Prefiltered => {
+                let footprint = Footprint::new(&self.basis, px, py);
+                let (ray, t_far) = self.basis.ray(px + 0.5, py + 0.5);
+                scene.trace_with(ray, t_far, s.max_depth, picks, count, Some(&footprint))
+            }
+            Sampler::Stratified(k) => {
+                let hash = PixelHash::new(x, y, s.seed);
+                let k = u32::from(k.max(1));
+                let inv = 1.0 / k as f32;
+                let mut sum = Color::BLACK;
+                for cy in 0..k {
+                    for cx in 0..k {
+                        let (jx, jy) = hash.pair(cy * k + cx);
+                        let dx = below_one((cx as f32 + jx) * inv);
+                        let dy = below_one((cy as f32 + jy) * inv);
+                        sum += one(dx, dy, count);
+                    }
+                }
+                sum * self.inv_count
+            }
+            Sampler::Random(n) => {
+                let hash = PixelHash::new(x, y, s.seed);
+                let mut sum = Color::BLACK;
+                for i in 0..u32::from(n) {
+                    let (dx, dy) = hash.pair(i);
+                    sum += one(dx, dy, count);
+                }
+                sum * self.inv_count
+            }
         }
-        for i in 0..s.sampler.count() {
-            let (dx, dy) = s.sampler.offset(x, y, i, s.seed);
-            let (ray, t_far) = self.basis.ray(x as f32 + dx, y as f32 + dy);
-            sum += scene.trace_counted(ray, t_far, s.max_depth, count);
+    }
+
+    /// What a pixel comes to when every ray misses: the background, averaged over
+    /// the samples exactly as [`Frame::pixel`] averages them.
+    fn background_pixel(&self, scene: &SceneView<'_>) -> Rgb8 {
+        let n = self.settings.sampler.count();
+        if matches!(
+            self.settings.sampler,
+            Sampler::Stratified(_) | Sampler::Random(_)
+        ) {
+            let mut sum = Color::BLACK;
+            for _ in 0..n {
+                sum += scene.background;
+            }
+            (sum * self.inv_count).to_rgb8()
+        } else {
+            scene.background.to_rgb8()
         }
-        sum * self.inv_count
     }
 
     /// Pixel `(x, y)` as an 8-bit output pixel.
@@ -255,7 +318,7 @@ impl Frame {
         coord: TileCoord,
         tile: &mut Tile<N>,
     ) -> Result<(), Error> {
-        self.render_tile_counted(scene, coord, tile, &mut RayCount::default())
+        self.render_tile_with(scene, coord, tile, &mut ())
     }
 
     /// [`Frame::render_tile`], adding the rays cast to `count`.
@@ -265,6 +328,18 @@ impl Frame {
         coord: TileCoord,
         tile: &mut Tile<N>,
         count: &mut RayCount,
+    ) -> Result<(), Error> {
+        self.render_tile_with(scene, coord, tile, count)
+    }
+
+    /// The tile loop: the tile's candidate lists first ([`crate::cull`]), then
+    /// every pixel, or the background at once when no primitive reaches the tile.
+    fn render_tile_with<const N: usize, C: Rays>(
+        &self,
+        scene: &SceneView<'_>,
+        coord: TileCoord,
+        tile: &mut Tile<N>,
+        count: &mut C,
     ) -> Result<(), Error> {
         let vp = self.viewport();
         let (x0, y0) = (usize::from(coord.tx) * N, usize::from(coord.ty) * N);
@@ -277,16 +352,38 @@ impl Frame {
         // Both fit in u16: they are at most N <= 256.
         tile.width = u16::try_from(tw).unwrap_or(0);
         tile.height = u16::try_from(th).unwrap_or(0);
-        for (j, row) in tile.pixels.iter_mut().enumerate() {
-            for (i, px) in row.iter_mut().enumerate() {
-                *px = if i < tw && j < th {
-                    self.pixel_color_counted(scene, (x0 + i) as u32, (y0 + j) as u32, count)
-                        .to_rgb8()
-                } else {
-                    Rgb8::default()
+        // Every sample of the tile lies in [x0, x0 + tw] x [y0, y0 + th].
+        let rect = (x0 as f32, y0 as f32, (x0 + tw) as f32, (y0 + th) as f32);
+        let (x0, y0) = (x0 as u32, y0 as u32);
+        let mut body = |lists: Option<&mut TileLists<'_>>| {
+            let picks = match lists {
+                Some(l) => l.build(&self.basis, scene, rect),
+                None => Picks::default(),
+            };
+            let empty = picks.camera.is_some_and(|c| c.iter().all(|l| l.is_empty()));
+            let background = empty.then(|| self.background_pixel(scene));
+            for (j, row) in tile.pixels.iter_mut().enumerate() {
+                let live = if j < th { tw } else { 0 };
+                let Some((live, rest)) = row.split_at_mut_checked(live) else {
+                    continue;
                 };
+                for (i, px) in live.iter_mut().enumerate() {
+                    *px = match background {
+                        Some(b) => {
+                            for _ in 0..self.settings.sampler.count() {
+                                count.primary();
+                            }
+                            b
+                        }
+                        None => self
+                            .pixel(scene, picks, x0 + i as u32, y0 + j as u32, count)
+                            .to_rgb8(),
+                    };
+                }
+                rest.fill(Rgb8::default());
             }
-        }
+        };
+        (scene.tile_lists)(&mut body);
         Ok(())
     }
 }

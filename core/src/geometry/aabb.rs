@@ -62,6 +62,13 @@ impl Aabb {
     /// The slab test: the span `[t0, t1]` of the ray inside the box, clipped to
     /// `[0, t_max]`, or `None` when it is empty.
     fn span(&self, ray: &Ray, t_max: f32) -> Option<Span> {
+        self.span_inv(ray.origin, inverse(ray.dir), t_max)
+    }
+
+    /// [`Aabb::span`] with the ray's reciprocal direction `inv` computed once per
+    /// ray ([`inverse`]).
+    #[inline(always)]
+    fn span_inv(&self, origin: Vec3, inv: Vec3, t_max: f32) -> Option<Span> {
         let mut s = Span {
             t0: 0.0,
             entry: 0,
@@ -69,8 +76,8 @@ impl Aabb {
             exit: 0,
         };
         for axis in 0..3 {
-            let o = ray.origin.get(axis);
-            let inv = 1.0 / ray.dir.get(axis);
+            let o = origin.get(axis);
+            let inv = inv.get(axis);
             let lo_face = 2 * axis as u8;
             // Choose the near plane by the sign of 1/d (as pbrt-v4's `dirIsNeg`)
             // rather than by swapping after the fact: a NaN t_near would defeat the
@@ -112,6 +119,27 @@ impl Aabb {
     }
 }
 
+/// The reciprocal of each component of a direction (`+-inf` for `+-0`): the slab
+/// test's per-ray constant.
+#[inline]
+pub(crate) fn inverse(dir: Vec3) -> Vec3 {
+    Vec3::new(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z)
+}
+
+impl Aabb {
+    /// The nearest hit with `0 < t < t_max`, for a ray of origin `origin` and
+    /// reciprocal direction `inv` ([`inverse`]): what the renderer calls per box.
+    #[inline(always)]
+    pub(crate) fn hit_inv(&self, origin: Vec3, inv: Vec3, t_max: f32) -> Option<Candidate> {
+        let s = self.span_inv(origin, inv, t_max)?;
+        Self::nearest(&s, t_max).map(|(t, face)| Candidate {
+            t,
+            face,
+            ..Candidate::default()
+        })
+    }
+}
+
 /// Axis (0, 1, 2) and sign (`true` = max side) of a face index.
 fn face_axis(face: u8) -> (usize, bool) {
     (usize::from(face / 2).min(2), face % 2 == 1)
@@ -119,12 +147,7 @@ fn face_axis(face: u8) -> (usize, bool) {
 
 impl Shape for Aabb {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
-        let s = self.span(ray, t_max)?;
-        Self::nearest(&s, t_max).map(|(t, face)| Candidate {
-            t,
-            face,
-            ..Candidate::default()
-        })
+        self.hit_inv(ray.origin, inverse(ray.dir), t_max)
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -17,9 +17,10 @@
 mod aabb;
 mod plane;
 mod sphere;
-mod triangle;
+pub(crate) mod triangle;
 
 pub use aabb::Aabb;
+pub(crate) use aabb::inverse as aabb_inverse;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
@@ -38,6 +39,20 @@ pub struct Candidate {
     pub b2: f32,
     /// Box: the face hit, `0..6` = -x, +x, -y, +y, -z, +z. Unused by the other kinds.
     pub face: u8,
+}
+
+impl Candidate {
+    /// A hit at time `t` with no scratch (spheres and planes).
+    #[inline(always)]
+    #[must_use]
+    pub(crate) const fn at(t: f32) -> Self {
+        Self {
+            t,
+            b1: 0.0,
+            b2: 0.0,
+            face: 0,
+        }
+    }
 }
 
 /// The details of a hit, computed for the nearest hit only.

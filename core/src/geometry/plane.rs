@@ -11,6 +11,9 @@ use crate::vec::Vec3;
 pub struct Plane {
     point: Vec3,
     normal: Vec3,
+    /// The tangents of [`tangent_basis`]`(normal)`, the axes of the plane's uv,
+    /// computed once here rather than at every textured hit.
+    tangents: (Vec3, Vec3),
 }
 
 impl Plane {
@@ -26,9 +29,11 @@ impl Plane {
     /// );
     /// ```
     pub fn try_new(point: Vec3, normal: Vec3) -> Result<Self, Error> {
+        let normal = unit(normal, Field::PlaneNormal)?;
         Ok(Self {
             point: position(point, Field::PlanePoint)?,
-            normal: unit(normal, Field::PlaneNormal)?,
+            normal,
+            tangents: tangent_basis(normal),
         })
     }
 
@@ -44,21 +49,20 @@ impl Plane {
         self.normal
     }
 
-    /// The time at which the ray meets the plane, or `None` when it runs parallel.
-    fn solve(&self, ray: &Ray) -> Option<f32> {
+    /// The hit time of `ray` with `0 < t < t_max`, if any. A ray parallel to the
+    /// plane divides by zero and gets an infinite or NaN time, which the range test
+    /// rejects: never a hit, never a NaN.
+    #[inline(always)]
+    pub(crate) fn hit(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let denom = ray.dir.dot(self.normal);
-        if denom == 0.0 || denom.is_nan() {
-            return None; // parallel: never a hit, never a NaN
-        }
         let t = (self.point - ray.origin).dot(self.normal) / denom;
-        t.is_finite().then_some(t)
+        (t > 0.0 && t < t_max).then_some(t)
     }
 }
 
 impl Shape for Plane {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
-        let t = self.solve(ray)?;
-        (t > 0.0 && t < t_max).then_some(Candidate {
+        self.hit(ray, t_max).map(|t| Candidate {
             t,
             ..Candidate::default()
         })
@@ -88,7 +92,7 @@ impl Shape for Plane {
 
     /// World-unit coordinates of the point along two tangents of the plane.
     fn uv(&self, surface: &Surface, _hit: &Candidate) -> [f32; 2] {
-        let (t, b) = tangent_basis(self.normal);
+        let (t, b) = self.tangents;
         let d = surface.point - self.point;
         [d.dot(t), d.dot(b)]
     }

@@ -7,6 +7,9 @@ use crate::ray::Ray;
 use crate::vec::Vec3;
 use core::f32::consts::{FRAC_1_PI, PI};
 
+/// `(1 - gamma(3))^2`: the shrink factor of the cheap miss test, squared.
+const SHRINK2: f32 = (1.0 - gamma(3)) * (1.0 - gamma(3));
+
 /// A sphere of centre `center` and radius `radius > 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
@@ -51,9 +54,12 @@ impl Sphere {
         self.radius
     }
 
-    /// Both roots of `|o + t d - c|^2 = r^2`, smaller first: Ray Tracing Gems ch. 7
-    /// (the discriminant from the distance of the centre to the line, no
-    /// cancellation of `b^2 - 4ac`), made exact enough for far spheres.
+    /// The hit time of `ray` with `0 < t < t_max`, if any: the cheap miss test,
+    /// inlined where the renderer loops over spheres, then the roots out of line.
+    ///
+    /// Both roots of `|o + t d - c|^2 = r^2` come from Ray Tracing Gems ch. 7 (the
+    /// discriminant from the distance of the centre to the line, no cancellation of
+    /// `b^2 - 4ac`), made exact enough for far spheres.
     ///
     /// Why more than RTG: the centre-to-line vector `l = f + d (-f.d)` (`f = o - c`)
     /// is the difference of two vectors of length `|f|`, so in plain `f32` it is off
@@ -63,23 +69,44 @@ impl Sphere {
     /// the rays that miss by more than its rounding error bound (most rays); the
     /// others get `l` from error-free transformations ([`two_diff`], [`split`]),
     /// which leave only the rounding of `l` itself, a few ulps of `r`.
-    fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
-        let r = self.radius;
+    #[inline(always)]
+    pub(crate) fn hit(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let f = ray.origin - self.center;
-        let l = f + ray.dir * -f.dot(ray.dir);
+        let b = -f.dot(ray.dir);
+        let l = f + ray.dir * b;
         // |l - l_exact| <= ~14 u |f|_max, plus (for |d|^2 = 1 +- 4u) the line's own
         // distance differing from |l| by <= 7 u |f|_max near the silhouette: gamma(25)
         // covers both. A certain miss is |l| (1 - gamma(3)) > r + err, compared
         // squared (no square root on the common path; within the supported range of
-        // lengths the squares cannot overflow).
+        // lengths the squares cannot overflow). A NaN (from a NaN or infinite input)
+        // fails the comparison too: one compare for both.
         let err = gamma(25) * f.abs().max_element();
-        let reach = r + err;
-        let shrink = 1.0 - gamma(3);
-        // A NaN (from a NaN or infinite input) is rejected too.
+        let reach = self.radius + err;
         let l2 = l.length_squared();
-        if l2.is_nan() || l2 * (shrink * shrink) > reach * reach {
+        let within = l2 * SHRINK2 <= reach * reach;
+        if !within {
             return None;
         }
+        self.roots_near(ray, t_max, f, b, l2, err)
+    }
+
+    /// The rest of [`Sphere::hit`] for a ray that the cheap test could not reject:
+    /// out of line, so that the loops over spheres stay small.
+    #[inline(never)]
+    fn roots_near(&self, ray: &Ray, t_max: f32, f: Vec3, b: f32, l2: f32, err: f32) -> Option<f32> {
+        let (t0, t1) = self.roots(ray, f, b, l2, err)?;
+        if t0 > 0.0 && t0 < t_max {
+            Some(t0)
+        } else if t1 > 0.0 && t1 < t_max {
+            Some(t1)
+        } else {
+            None
+        }
+    }
+
+    /// Both roots, smaller first, for a ray that passed the cheap miss test.
+    fn roots(&self, ray: &Ray, f: Vec3, b: f32, l2: f32, err: f32) -> Option<(f32, f32)> {
+        let r = self.radius;
         // Well inside the silhouette (the line passes within 0.8 r of the centre,
         // with room for the error of l) and with the origin well off the surface
         // (|c| = ||f|^2 - r^2| >= r^2/4): the discriminant is at least 0.36 r^2,
@@ -90,7 +117,6 @@ impl Sphere {
         let half = 0.8 * r - err;
         let c = f.length_squared() - r * r;
         if half > 0.0 && l2 < half * half && math::abs(c) >= 0.25 * r * r {
-            let b = -f.dot(ray.dir);
             let disc = r * r - l2;
             let q = b + math::copysign(math::sqrt(disc), b);
             if q != 0.0 {
@@ -157,15 +183,7 @@ fn split(a: f32) -> (f32, f32) {
 
 impl Shape for Sphere {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
-        let (t0, t1) = self.roots(ray)?;
-        let t = if t0 > 0.0 && t0 < t_max {
-            t0
-        } else if t1 > 0.0 && t1 < t_max {
-            t1
-        } else {
-            return None;
-        };
-        Some(Candidate {
+        self.hit(ray, t_max).map(|t| Candidate {
             t,
             ..Candidate::default()
         })

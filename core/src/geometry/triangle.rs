@@ -14,6 +14,114 @@ use crate::math;
 use crate::ray::Ray;
 use crate::vec::Vec3;
 
+/// The axes of a ray frame: `Z` is the ray direction's dominant axis, `X` and `Y`
+/// the other two (swapped when the direction is negative along `Z`, which keeps the
+/// winding). A type per permutation, so that the triangle test reads the vertices'
+/// components directly instead of choosing them at run time.
+pub(crate) trait Axes {
+    /// The world axis that is the frame's x.
+    const X: usize;
+    /// The world axis that is the frame's y.
+    const Y: usize;
+    /// The world axis that is the frame's z (the ray's dominant axis).
+    const Z: usize;
+}
+
+macro_rules! axes {
+    ($($name:ident = ($x:expr, $y:expr, $z:expr)),*) => {$(
+        pub(crate) struct $name;
+        impl Axes for $name {
+            const X: usize = $x;
+            const Y: usize = $y;
+            const Z: usize = $z;
+        }
+    )*};
+}
+axes!(
+    Ax120 = (1, 2, 0),
+    Ax210 = (2, 1, 0),
+    Ax201 = (2, 0, 1),
+    Ax021 = (0, 2, 1),
+    Ax012 = (0, 1, 2),
+    Ax102 = (1, 0, 2)
+);
+
+/// Runs `$body` with the type `$a` bound to the axes numbered `$axes` (see
+/// [`Shear::axes`]), or evaluates `$none` for a ray without a frame.
+macro_rules! with_axes {
+    ($axes:expr, $a:ident => $body:expr, $none:expr) => {{
+        use $crate::geometry::triangle::{Ax012, Ax021, Ax102, Ax120, Ax201, Ax210};
+        match $axes {
+            0 => {
+                type $a = Ax120;
+                $body
+            }
+            1 => {
+                type $a = Ax210;
+                $body
+            }
+            2 => {
+                type $a = Ax201;
+                $body
+            }
+            3 => {
+                type $a = Ax021;
+                $body
+            }
+            4 => {
+                type $a = Ax012;
+                $body
+            }
+            5 => {
+                type $a = Ax102;
+                $body
+            }
+            _ => $none,
+        }
+    }};
+}
+pub(crate) use with_axes;
+
+/// Woop's per-ray constants (the ray frame): which axes, the shear `(sx, sy)`, the
+/// scale `sz`, and the ray origin in the frame's axes. Computed once per ray and
+/// shared by every triangle it is tested against.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Shear {
+    /// 0 to 5: the permutation, in the order of the arms of `with_axes!`; 6 when
+    /// the direction has no frame (zero or NaN).
+    pub(crate) axes: u8,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+    origin: Vec3,
+}
+
+impl Shear {
+    /// The ray frame of `ray`.
+    #[inline]
+    pub(crate) fn new(ray: &Ray) -> Self {
+        // The ray frame: z is the direction's dominant axis, so the shear is bounded.
+        let kz = ray.dir.max_dimension();
+        let kx = if kz == 2 { 0 } else { kz + 1 };
+        let ky = if kx == 2 { 0 } else { kx + 1 };
+        // Swapping x and y for a negative z keeps the winding, hence the sign of det.
+        let neg = ray.dir.get(kz) < 0.0;
+        let (kx, ky) = if neg { (ky, kx) } else { (kx, ky) };
+        let d = ray.dir.permute(kx, ky, kz);
+        // The arm of `with_axes!` for (kz, neg).
+        let axes = (2 * kz + usize::from(neg)) as u8;
+        let (sx, sy, sz) = (d.x / d.z, d.y / d.z, 1.0 / d.z);
+        Self {
+            // A zero (or NaN) direction has no frame.
+            axes: if d.z == 0.0 || d.z.is_nan() { 6 } else { axes },
+            sx,
+            sy,
+            sz,
+            origin: ray.origin.permute(kx, ky, kz),
+        }
+    }
+}
+
 /// A double-sided triangle. Its outward normal follows the winding:
 /// `(p1 - p0) x (p2 - p0)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,25 +191,17 @@ impl Triangle {
     /// The edge functions of the ray against this triangle, or `None` when the ray
     /// passes outside an edge or the projected triangle has no area.
     fn edges(&self, ray: &Ray) -> Option<Edges> {
-        // The ray frame: z is the direction's dominant axis, so the shear is bounded.
-        let kz = ray.dir.max_dimension();
-        let kx = if kz == 2 { 0 } else { kz + 1 };
-        let ky = if kx == 2 { 0 } else { kx + 1 };
-        // Swapping x and y for a negative z keeps the winding, hence the sign of det.
-        let neg = ray.dir.get(kz) < 0.0;
-        let (kx, ky) = if neg { (ky, kx) } else { (kx, ky) };
-        let d = ray.dir.permute(kx, ky, kz);
-        if d.z == 0.0 || d.z.is_nan() {
-            // A zero (or NaN) direction has no frame.
-            return None;
-        }
-        let sx = d.x / d.z;
-        let sy = d.y / d.z;
-        let sz = 1.0 / d.z;
+        let shear = Shear::new(ray);
+        with_axes!(shear.axes, A => self.edges_with::<A>(&shear), None)
+    }
 
-        let a = (self.p0 - ray.origin).permute(kx, ky, kz);
-        let b = (self.p1 - ray.origin).permute(kx, ky, kz);
-        let c = (self.p2 - ray.origin).permute(kx, ky, kz);
+    /// [`Triangle::edges`] in the ray frame of `shear`, whose axes are `A`.
+    #[inline(always)]
+    fn edges_with<A: Axes>(&self, shear: &Shear) -> Option<Edges> {
+        let o = shear.origin;
+        let (sx, sy, sz) = (shear.sx, shear.sy, shear.sz);
+        let frame = |p: Vec3| Vec3::new(p.get(A::X) - o.x, p.get(A::Y) - o.y, p.get(A::Z) - o.z);
+        let (a, b, c) = (frame(self.p0), frame(self.p1), frame(self.p2));
         let (ax, ay) = (a.x - sx * a.z, a.y - sy * a.z);
         let (bx, by) = (b.x - sx * b.z, b.y - sy * b.z);
         let (cx, cy) = (c.x - sx * c.z, c.y - sy * c.z);
@@ -134,11 +234,12 @@ impl Triangle {
             z: [sz * a.z, sz * b.z, sz * c.z],
         })
     }
-}
 
-impl Shape for Triangle {
-    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
-        let e = self.edges(ray)?;
+    /// The hit of a ray with `0 < t < t_max`, in the ray frame `shear` (axes `A`):
+    /// what the renderer calls for each triangle, with the per-ray work done once.
+    #[inline(always)]
+    pub(crate) fn hit_with<A: Axes>(&self, shear: &Shear, t_max: f32) -> Option<Candidate> {
+        let e = self.edges_with::<A>(shear)?;
         // t = (u z0 + v z1 + w z2) / det, evaluated as the barycentric mean of the
         // depths. Woop's delayed division forms `u z0 + ...`, a product of three
         // lengths, which leaves the f32 range for scenes scaled beyond about 2^+-40
@@ -155,6 +256,13 @@ impl Shape for Triangle {
         } else {
             None
         }
+    }
+}
+
+impl Shape for Triangle {
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
+        let shear = Shear::new(ray);
+        with_axes!(shear.axes, A => self.hit_with::<A>(&shear, t_max), None)
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

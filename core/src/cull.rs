@@ -1,0 +1,517 @@
+//! Per-tile culling: "per tile only the primitives that can reach that tile".
+//!
+//! Before its pixels, a tile builds two candidate lists per geometry kind:
+//!
+//! - **camera**: the primitives that meet the tile's view frustum, the pyramid from
+//!   the camera through the tile's four corners beyond the near plane. A camera ray
+//!   of the tile (any sample position, any sampler) tests only these.
+//! - **shadow**: for each light (the first [`MASKED_LIGHTS`]), the primitives that
+//!   may lie between the light and a point the tile's camera rays can hit. The
+//!   shadow rays of the camera rays' hits test only these. A bound `V` (a box) is put
+//!   around the visible points (each camera candidate clipped to the frustum); a
+//!   primitive can block a shadow ray from `V` to the light `L` only if it meets the
+//!   convex hull of `V` and `L`, which lies in the capsule of radius `rho` around the
+//!   segment from `L` to the centre `m` of `V` (`rho` = half the diagonal of `V`:
+//!   a point `(1 - s) L + s y` of the hull, `|y - m| <= rho`, is within `s rho` of
+//!   the segment's point `(1 - s) L + s m`). A plane blocks only if the light and
+//!   some visible point lie on opposite sides of it.
+//!
+//! Reflected and refracted rays can go anywhere: they test every primitive. (A
+//! per-frame bound for them would not pay on the built-in scenes, where every
+//! primitive is in view of some mirror.)
+//!
+//! ## Why culling never changes a pixel
+//!
+//! A culled primitive must be one that the intersection test would have reported
+//! no hit for, for every ray the tile traces, whatever the rounding. Each test used
+//! here reports a hit only when the exact line of the computed ray passes within a
+//! few ulps (relative to the lengths involved) of the primitive: the sphere test
+//! rejects with a bound on its own rounding and then needs `|l| <= r`, `l` computed
+//! to a few ulps; the watertight triangle test decides from edge functions of
+//! vertices each transformed with a few roundings; the slab test widens its exit by
+//! `2 gamma(3)`; the plane test needs the signs of two dot products. The computed
+//! rays themselves are within a few ulps of the exact rays: a camera ray's origin
+//! `r_cam + d` and direction `d / |d|` carry about 5 roundings of `d = n c_a +
+//! (x - N_L/2) u1 + (y - N_H/2) u2`; a shadow ray starts at the hit point moved by
+//! its error bound (`offset_origin`) and points at the light, the hit point within
+//! its own error bound (a few ulps) of the exact hit of the computed camera ray.
+//! The frustum planes, the bounds and the distances below are computed in `f32`
+//! too, with a few roundings each. All of these are errors of at most about
+//! `30 u` times the largest magnitude involved (`u = 2^-24`); every culling test
+//! here requires a clearance of [`MARGIN`]` = 2^-10` times the sum of those
+//! magnitudes (camera position, corner directions, the primitive's distance and
+//! size, the light's position, the visible box), more than `10^4` times the worst
+//! case. Anything that comes out NaN or infinite culls nothing. The tests compare
+//! culled and unculled renders byte for byte (built-in scenes, scene files, random
+//! scenes, and the extreme scales of `Scene::scaled_pow2`).
+//!
+//! ## Memory
+//!
+//! The lists live on the stack of [`crate::Frame::render_tile`], in fixed-capacity
+//! storage sized by the scene's capacities (`Scene<S, P, T, B, ..>` lends them, see
+//! [`lend`]): per kind a `u16` index list (camera) and a `u32` list (shadow: index
+//! and a 16-bit mask of the lights it may block), `6 (S + P + T + B)` bytes plus
+//! eight lengths; the chapter's scenes need 30 + 32 bytes.
+
+use crate::camera::CameraBasis;
+use crate::geometry::{Aabb, Plane, Sphere};
+use crate::scene::{Primitive, SceneView};
+use crate::shade::{MASKED_LIGHTS, Picks};
+use crate::vec::Vec3;
+use heapless::Vec;
+use heapless::vec::VecView;
+
+/// The relative clearance every culling test requires (see the module doc).
+const MARGIN: f32 = 1.0 / 1024.0;
+
+/// The largest list a `u16` index covers.
+const INDEXABLE: usize = 1 << 16;
+
+/// A tile's candidate lists, per kind (spheres, planes, triangles, boxes).
+pub(crate) struct TileLists<'s> {
+    camera: [&'s mut VecView<u16>; 4],
+    shadow: [&'s mut VecView<u32>; 4],
+}
+
+/// What renders a tile with the lists it is lent (`None`: no culling).
+pub(crate) type WithLists<'f> = dyn FnMut(Option<&mut TileLists<'_>>) + 'f;
+
+/// How a scene lends its lists: [`lend`] for its capacities.
+pub(crate) type Lender = fn(&mut WithLists<'_>);
+
+/// Lends `f` candidate lists for a scene of capacities `S`, `P`, `T`, `B`, on the
+/// stack, or `None` (no culling) if a capacity is beyond a `u16` index.
+pub(crate) fn lend<const S: usize, const P: usize, const T: usize, const B: usize>(
+    f: &mut WithLists<'_>,
+) {
+    if S > INDEXABLE || P > INDEXABLE || T > INDEXABLE || B > INDEXABLE {
+        return f(None);
+    }
+    let (mut cs, mut cp) = (Vec::<u16, S>::new(), Vec::<u16, P>::new());
+    let (mut ct, mut cb) = (Vec::<u16, T>::new(), Vec::<u16, B>::new());
+    let (mut ss, mut sp) = (Vec::<u32, S>::new(), Vec::<u32, P>::new());
+    let (mut st, mut sb) = (Vec::<u32, T>::new(), Vec::<u32, B>::new());
+    f(Some(&mut TileLists {
+        camera: [
+            cs.as_mut_view(),
+            cp.as_mut_view(),
+            ct.as_mut_view(),
+            cb.as_mut_view(),
+        ],
+        shadow: [
+            ss.as_mut_view(),
+            sp.as_mut_view(),
+            st.as_mut_view(),
+            sb.as_mut_view(),
+        ],
+    }));
+}
+
+impl TileLists<'_> {
+    /// Fills the lists for the tile covering `[x0, x1] x [y0, y1]` of the viewport
+    /// (pixel units) and returns the picks the tile's camera rays use. Picks of
+    /// `None` (every primitive) where a bound cannot be formed.
+    pub(crate) fn build(
+        &mut self,
+        basis: &CameraBasis,
+        view: &SceneView<'_>,
+        (x0, y0, x1, y1): (f32, f32, f32, f32),
+    ) -> Picks<'_> {
+        for l in &mut self.camera {
+            l.clear();
+        }
+        for l in &mut self.shadow {
+            l.clear();
+        }
+        let Some(f) = Frustum::new(basis, x0, y0, x1, y1) else {
+            return Picks::default();
+        };
+        let [cs, cp, ct, cb] = &mut self.camera;
+        fill(cs, view.spheres, |s| !f.misses_sphere(s));
+        fill(cp, view.planes, |p| !f.misses_plane(p));
+        fill(ct, view.triangles, |t| !f.misses_points(&t.vertices()));
+        fill(cb, view.boxes, |b| !f.misses_box(b));
+
+        let shadow = if view.lights.is_empty() {
+            None
+        } else {
+            self.build_shadow(&f, view)
+        };
+        let [cs, cp, ct, cb] = &self.camera;
+        let camera = Some([&**cs, &**cp, &**ct, &**cb].map(|l| &l[..]));
+        let shadow = shadow.map(|()| {
+            let [ss, sp, st, sb] = &self.shadow;
+            [&**ss, &**sp, &**st, &**sb].map(|l| &l[..])
+        });
+        Picks { camera, shadow }
+    }
+
+    /// The shadow lists, from the camera lists; `None` when the visible points have
+    /// no finite bound.
+    fn build_shadow(&mut self, f: &Frustum, view: &SceneView<'_>) -> Option<()> {
+        let [cs, cp, ct, cb] = &self.camera;
+        // The visible points of everything but the planes, and of each plane.
+        let mut solids = Bounds::EMPTY;
+        for &i in cs.iter() {
+            let s = &view.spheres.get(usize::from(i))?.geometry;
+            solids = solids.union(f.clip(Bounds::sphere(s)));
+        }
+        for &i in ct.iter() {
+            let t = &view.triangles.get(usize::from(i))?.geometry;
+            solids = solids.union(f.clip(Bounds::points(&t.vertices())));
+        }
+        for &i in cb.iter() {
+            let b = &view.boxes.get(usize::from(i))?.geometry;
+            solids = solids.union(f.clip(Bounds::new(b.min(), b.max())));
+        }
+        let plane_bounds = |except: Option<usize>| {
+            cp.iter()
+                .filter(|&&i| Some(usize::from(i)) != except)
+                .filter_map(|&i| view.planes.get(usize::from(i)))
+                .fold(Bounds::EMPTY, |v, p| v.union(f.on_plane(&p.geometry)))
+        };
+        let all = solids.union(plane_bounds(None));
+        if all.is_empty() {
+            return Some(()); // nothing visible: no shadow ray from this tile
+        }
+        if !all.is_finite() {
+            return None;
+        }
+        let lights = view.lights.get(..MASKED_LIGHTS).unwrap_or(view.lights);
+        let capsules = |c: Vec3, r: f32| {
+            let mut mask = 0u32;
+            for (l, light) in lights.iter().enumerate() {
+                if !all.capsule_misses(light.position(), c, r) {
+                    mask |= 1 << (16 + l);
+                }
+            }
+            mask
+        };
+        let [ss, sp, st, sb] = &mut self.shadow;
+        fill_masked(ss, view.spheres, |s| capsules(s.center(), s.radius()));
+        fill_masked(st, view.triangles, |t| {
+            let (c, r) = ball(&t.vertices());
+            capsules(c, r)
+        });
+        fill_masked(sb, view.boxes, |b| {
+            let (c, h) = ((b.min() + b.max()) * 0.5, (b.max() - b.min()) * 0.5);
+            capsules(c, h.length())
+        });
+        for (j, p) in view.planes.iter().enumerate() {
+            // Its own points cannot be shadowed by it (shadow rays skip the primitive
+            // they leave): only the other visible points count.
+            let visible = if cp.iter().any(|&i| usize::from(i) == j) {
+                solids.union(plane_bounds(Some(j)))
+            } else {
+                all
+            };
+            if visible.is_empty() {
+                continue; // only its own points are visible
+            }
+            let mut mask = 0u32;
+            for (l, light) in lights.iter().enumerate() {
+                if !visible.beyond_plane(&p.geometry, light.position()) {
+                    mask |= 1 << (16 + l);
+                }
+            }
+            if mask != 0 && sp.push(index(j) | mask).is_err() {
+                return None;
+            }
+        }
+        Some(())
+    }
+}
+
+/// `i` as a list entry (lists never exceed [`INDEXABLE`], see [`lend`]).
+fn index(i: usize) -> u32 {
+    (i & 0xffff) as u32
+}
+
+/// Pushes the index of every primitive of `list` that `keep` accepts.
+fn fill<G>(out: &mut VecView<u16>, list: &[Primitive<G>], keep: impl Fn(&G) -> bool) {
+    for (i, p) in list.iter().enumerate() {
+        if keep(&p.geometry) {
+            // Cannot fail: the list's capacity is the scene's.
+            let _ = out.push((i & 0xffff) as u16);
+        }
+    }
+}
+
+/// Pushes `index | mask` for every primitive of `list` whose light mask is not 0.
+fn fill_masked<G>(out: &mut VecView<u32>, list: &[Primitive<G>], mask: impl Fn(&G) -> u32) {
+    for (i, p) in list.iter().enumerate() {
+        let m = mask(&p.geometry);
+        if m != 0 {
+            // Cannot fail: the list's capacity is the scene's.
+            let _ = out.push(index(i) | m);
+        }
+    }
+}
+
+/// A ball around points: their centroid and the largest distance to it.
+fn ball(points: &[Vec3; 3]) -> (Vec3, f32) {
+    let [a, b, c] = *points;
+    let m = (a + b + c) * (1.0 / 3.0);
+    let r = points
+        .iter()
+        .map(|p| (*p - m).length())
+        .fold(0.0, crate::math::max);
+    (m, r)
+}
+
+/// The largest absolute component.
+fn mag(v: Vec3) -> f32 {
+    v.abs().max_element()
+}
+
+/// An axis-aligned box (possibly empty: `min > max`).
+#[derive(Clone, Copy, Debug)]
+struct Bounds {
+    min: Vec3,
+    max: Vec3,
+}
+
+impl Bounds {
+    const EMPTY: Self = Self {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
+
+    fn new(min: Vec3, max: Vec3) -> Self {
+        Self { min, max }
+    }
+
+    fn sphere(s: &Sphere) -> Self {
+        let r = Vec3::splat(s.radius());
+        Self::new(s.center() - r, s.center() + r)
+    }
+
+    fn points(points: &[Vec3]) -> Self {
+        points.iter().fold(Self::EMPTY, |b, &p| b.with(p))
+    }
+
+    fn with(self, p: Vec3) -> Self {
+        Self::new(self.min.min(p), self.max.max(p))
+    }
+
+    fn union(self, o: Self) -> Self {
+        Self::new(self.min.min(o.min), self.max.max(o.max))
+    }
+
+    fn intersect(self, o: Self) -> Self {
+        Self::new(self.min.max(o.min), self.max.min(o.max))
+    }
+
+    fn is_empty(&self) -> bool {
+        !(self.min.x <= self.max.x && self.min.y <= self.max.y && self.min.z <= self.max.z)
+    }
+
+    fn is_finite(&self) -> bool {
+        self.min.is_finite() && self.max.is_finite()
+    }
+
+    /// Grown by `m` on every side.
+    fn grown(self, m: f32) -> Self {
+        Self::new(self.min - Vec3::splat(m), self.max + Vec3::splat(m))
+    }
+
+    /// The largest absolute coordinate of the box.
+    fn magnitude(&self) -> f32 {
+        crate::math::max(mag(self.min), mag(self.max))
+    }
+
+    /// True when no segment from a point of the box to `light` can come within `r`
+    /// of `c` (see the module doc: the capsule around the hull).
+    fn capsule_misses(&self, light: Vec3, c: Vec3, r: f32) -> bool {
+        let m = (self.min + self.max) * 0.5;
+        let rho = ((self.max - self.min) * 0.5).length();
+        let axis = m - light;
+        let len2 = axis.length_squared();
+        let s = if len2 > 0.0 {
+            ((c - light).dot(axis) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let dist = (c - (light + axis * s)).length();
+        let clearance = MARGIN * (mag(c) + r + mag(light) + self.magnitude() + rho);
+        // False for NaN: nothing is culled then.
+        dist > rho + r + clearance
+    }
+
+    /// True when every point of the box lies strictly on the same side of `plane`
+    /// as `light`, so that no segment from the box to the light crosses it.
+    fn beyond_plane(&self, plane: &Plane, light: Vec3) -> bool {
+        let (p0, n) = (plane.point(), plane.normal());
+        let side = n.dot(light - p0);
+        let c = (self.min + self.max) * 0.5;
+        let h = (self.max - self.min) * 0.5;
+        let clearance = MARGIN * (mag(p0) + self.magnitude() + mag(light));
+        // The box's signed distances span n.(c - p0) +- |n|.h.
+        let near = crate::math::abs(n.dot(c - p0)) - n.abs().dot(h);
+        side.abs() > clearance && near > clearance && (n.dot(c - p0) > 0.0) == (side > 0.0)
+    }
+}
+
+/// A tile's view frustum: the camera position, the outward unit normals of the four
+/// side planes through it, the forward axis with the near and far distances, the
+/// directions through the tile's corners, and the scale of the margins.
+struct Frustum {
+    apex: Vec3,
+    sides: [Vec3; 4],
+    forward: Vec3,
+    near: f32,
+    corners: [Vec3; 4],
+    /// The truncated frustum's 8 corners: near (0..4) and far (4..8), each set in
+    /// the order of `corners`.
+    points: [Vec3; 8],
+    /// The box around `points`.
+    bounds: Bounds,
+    /// `|apex| + max |corner direction|` (largest components).
+    scale: f32,
+}
+
+impl Frustum {
+    fn new(basis: &CameraBasis, x0: f32, y0: f32, x1: f32, y1: f32) -> Option<Self> {
+        let apex = basis.position();
+        let (forward, near, far) = basis.depth_axis();
+        let corners = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| basis.direction(x, y));
+        let centre = basis.direction(0.5 * (x0 + x1), 0.5 * (y0 + y1));
+        let mut sides = [Vec3::ZERO; 4];
+        // Around the tile: top, right, bottom, left edges of the corner quad.
+        for (side, (a, b)) in sides.iter_mut().zip([(0, 1), (1, 3), (3, 2), (2, 0)]) {
+            let (a, b) = (corners.get(a)?, corners.get(b)?);
+            let n = a.cross(*b).try_normalize()?;
+            *side = if n.dot(centre) > 0.0 { -n } else { n };
+        }
+        let k = far / near;
+        let mut points = [apex; 8];
+        for (i, d) in corners.iter().enumerate() {
+            *points.get_mut(i)? = apex + *d;
+            *points.get_mut(i + 4)? = apex + *d * k;
+        }
+        let bounds = Bounds::points(&points);
+        let scale = mag(apex) + corners.iter().map(|d| mag(*d)).fold(0.0, crate::math::max);
+        if !(bounds.is_finite() && scale.is_finite()) {
+            return None;
+        }
+        Some(Self {
+            apex,
+            sides,
+            forward,
+            near,
+            corners,
+            points,
+            bounds,
+            scale,
+        })
+    }
+
+    /// The clearance for a primitive at `centre` of size `size`.
+    fn clearance(&self, centre: Vec3, size: f32) -> f32 {
+        MARGIN * (self.scale + mag(centre - self.apex) + size)
+    }
+
+    /// True when the ball `(c, r)` lies outside the frustum (beyond a side plane or
+    /// before the near plane).
+    fn misses_ball(&self, c: Vec3, r: f32) -> bool {
+        let m = self.clearance(c, r);
+        let v = c - self.apex;
+        self.sides.iter().any(|n| n.dot(v) - r > m) || self.forward.dot(v) + r < self.near - m
+    }
+
+    fn misses_sphere(&self, s: &Sphere) -> bool {
+        self.misses_ball(s.center(), s.radius())
+    }
+
+    /// True when all `points` lie beyond one side plane, or all before the near
+    /// plane (so does their convex hull).
+    fn misses_points(&self, points: &[Vec3]) -> bool {
+        let size = points
+            .iter()
+            .map(|p| mag(*p - self.apex))
+            .fold(0.0, crate::math::max);
+        let m = MARGIN * (self.scale + size);
+        self.sides
+            .iter()
+            .any(|n| points.iter().all(|p| n.dot(*p - self.apex) > m))
+            || points
+                .iter()
+                .all(|p| self.forward.dot(*p - self.apex) < self.near - m)
+    }
+
+    fn misses_box(&self, b: &Aabb) -> bool {
+        let c = (b.min() + b.max()) * 0.5;
+        let h = (b.max() - b.min()) * 0.5;
+        let m = self.clearance(c, mag(h));
+        let v = c - self.apex;
+        // The box's least signed distance to a plane of unit normal n: n.v - |n|.h.
+        self.sides.iter().any(|n| n.dot(v) - n.abs().dot(h) > m)
+            || self.forward.dot(v) + self.forward.abs().dot(h) < self.near - m
+    }
+
+    /// True when the camera lies strictly off `plane` and every corner direction
+    /// points away from it: no ray of the tile can reach it.
+    fn misses_plane(&self, p: &Plane) -> bool {
+        let (p0, n) = (p.point(), p.normal());
+        let side = n.dot(self.apex - p0);
+        let m = MARGIN * (self.scale + mag(p0));
+        crate::math::abs(side) > m
+            && self.corners.iter().all(|d| {
+                let away = n.dot(*d);
+                (away > 0.0) == (side > 0.0) && crate::math::abs(away) > MARGIN * mag(*d)
+            })
+    }
+
+    /// `b` grown by its clearance, clipped to the box of the truncated frustum grown
+    /// by the same (a computed hit point may lie a few ulps outside either).
+    fn clip(&self, b: Bounds) -> Bounds {
+        if b.is_empty() {
+            return b;
+        }
+        let m = MARGIN * (self.scale + b.magnitude());
+        b.grown(m).intersect(self.bounds.grown(m))
+    }
+
+    /// A box around the part of `plane` inside the truncated frustum: the points
+    /// where it crosses the 12 edges of the frustum (the vertices of that polygon),
+    /// grown by their clearance.
+    fn on_plane(&self, plane: &Plane) -> Bounds {
+        const EDGES: [(usize, usize); 12] = [
+            (0, 1),
+            (1, 3),
+            (3, 2),
+            (2, 0),
+            (4, 5),
+            (5, 7),
+            (7, 6),
+            (6, 4),
+            (0, 4),
+            (1, 5),
+            (2, 6),
+            (3, 7),
+        ];
+        let (p0, n) = (plane.point(), plane.normal());
+        let mut b = Bounds::EMPTY;
+        for (i, j) in EDGES {
+            let (Some(&a), Some(&c)) = (self.points.get(i), self.points.get(j)) else {
+                continue;
+            };
+            let (sa, sc) = (n.dot(a - p0), n.dot(c - p0));
+            if sa == 0.0 {
+                b = b.with(a);
+            }
+            if sc == 0.0 {
+                b = b.with(c);
+            }
+            if (sa < 0.0 && sc > 0.0) || (sa > 0.0 && sc < 0.0) {
+                b = b.with(a + (c - a) * (sa / (sa - sc)));
+            }
+        }
+        if b.is_empty() {
+            // The plane is a candidate, yet crosses no edge within rounding: fall
+            // back on the whole frustum.
+            b = self.bounds;
+        }
+        b.grown(MARGIN * (self.scale + b.magnitude() + mag(p0)))
+    }
+}
