@@ -272,10 +272,11 @@ pub struct Output {
 }
 
 /// A temporary folder, removed when dropped.
-struct TempDir(PathBuf);
+pub struct TempDir(PathBuf);
 
 impl TempDir {
-    fn new() -> Result<Self, String> {
+    /// Creates a fresh, empty folder under the system's temporary folder.
+    pub fn new() -> Result<Self, String> {
         static COUNT: AtomicUsize = AtomicUsize::new(0);
         let nanos = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
@@ -289,6 +290,12 @@ impl TempDir {
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
         Ok(Self(dir))
     }
+
+    /// The folder.
+    #[must_use]
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
 }
 
 impl Drop for TempDir {
@@ -301,6 +308,11 @@ impl Drop for TempDir {
 /// list). A qemu failure, a timeout, an `error:`/`panic:` report or a missing
 /// result is an `Err` carrying qemu's output.
 pub fn run(elf: &Path, runs: &[Run]) -> Result<Output, String> {
+    run_with(elf, runs, &[])
+}
+
+/// [`run`] with `extra` qemu arguments placed before `-kernel` (a `-plugin`, say).
+pub fn run_with(elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, String> {
     let dir = TempDir::new()?;
     let mut list = String::new();
     for r in runs {
@@ -320,8 +332,11 @@ pub fn run(elf: &Path, runs: &[Run]) -> Result<Output, String> {
     let file = |name: &str| {
         std::fs::File::create(dir.0.join(name)).map_err(|e| format!("cannot create {name}: {e}"))
     };
+    let (kernel, before) = QEMU_ARGS.split_last().unwrap_or((&"-kernel", &[]));
     let mut child = Command::new(QEMU)
-        .args(QEMU_ARGS)
+        .args(before)
+        .args(extra)
+        .arg(kernel)
         .arg(elf)
         .current_dir(&dir.0)
         .stdin(Stdio::null())

@@ -1,10 +1,23 @@
 //! Shared helpers of the integration tests: scenes built for tests, a place to
-//! write the images a test renders, and the firmware test image under qemu
-//! ([`firmware`]).
+//! write the images a test renders, the firmware test image under qemu
+//! ([`firmware`]), its instruction profile ([`profile`], attributed to source
+//! functions by [`dwarf`], weighted by the cycle model [`cycles`]), the guarded
+//! instruction counts ([`baseline`]) and the host's profile under callgrind
+//! ([`callgrind`]).
 
 pub mod firmware;
 
 pub mod extremes;
+
+pub mod cycles;
+
+pub mod profile;
+
+pub mod dwarf;
+
+pub mod baseline;
+
+pub mod callgrind;
 
 use std::path::PathBuf;
 use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};
@@ -74,4 +87,18 @@ pub fn tool_version(cmd: &str) -> String {
                 .map(str::to_string)
         })
         .unwrap_or_else(|| format!("{cmd}: unknown"))
+}
+
+/// `n` with a comma every three digits (`1234567` -> `1,234,567`).
+#[must_use]
+pub fn thousands(n: u64) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
 }
