@@ -60,8 +60,9 @@ impl Color {
 /// `[0, 1]` to `0..=255`, rounding to nearest; out-of-range values saturate.
 #[inline]
 fn quantize(v: f32) -> u8 {
-    // `as` saturates and maps NaN to 0.
-    (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+    // No clamp: `as` saturates (below 0 and NaN give 0, above 255 gives 255), and on
+    // [0, 1] this is the clamped expression, so the bytes are the same.
+    (v * 255.0 + 0.5) as u8
 }
 
 impl Add for Color {

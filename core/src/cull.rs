@@ -56,7 +56,7 @@
 use crate::camera::CameraBasis;
 use crate::geometry::{Aabb, Plane, Sphere};
 use crate::scene::{Primitive, SceneView};
-use crate::shade::{MASKED_LIGHTS, Picks};
+use crate::shade::{MASKED_LIGHTS, Picks, ShadowLists};
 use crate::vec::Vec3;
 use heapless::Vec;
 use heapless::vec::VecView;
@@ -141,7 +141,12 @@ impl TileLists<'_> {
         let camera = Some([&**cs, &**cp, &**ct, &**cb].map(|l| &l[..]));
         let shadow = shadow.map(|()| {
             let [ss, sp, st, sb] = &self.shadow;
-            [&**ss, &**sp, &**st, &**sb].map(|l| &l[..])
+            let lists = [&**ss, &**sp, &**st, &**sb].map(|l| &l[..]);
+            let lights = lists.iter().flat_map(|l| l.iter()).fold(0, |m, e| m | e);
+            ShadowLists {
+                lists,
+                lights: lights & !0xffff,
+            }
         });
         Picks { camera, shadow }
     }

@@ -186,6 +186,13 @@ impl Material {
         }
     }
 
+    /// True when a hit on this material sends a reflected or refracted ray.
+    #[inline]
+    #[must_use]
+    pub fn sends_rays(&self) -> bool {
+        self.reflectivity > 0.0 || self.transparency > 0.0
+    }
+
     /// True when a light can change this material's colour (diffuse or specular).
     #[must_use]
     pub fn is_lit(&self) -> bool {

@@ -1,7 +1,7 @@
 //! The chapter's ray equation `r(t) = r0 + v t`, with `|v| = 1`, and the robust
 //! spawning of secondary rays.
 
-use crate::math;
+
 use crate::vec::Vec3;
 
 /// A ray: origin `r0` and unit direction `v`; the point at time `t` is `r0 + v t`.
@@ -36,23 +36,14 @@ impl Ray {
 /// error projected on the normal, so it scales with the scene: there is no absolute
 /// epsilon, and a scene scaled by a power of two is traced with the same bits.
 #[must_use]
+#[inline]
 pub fn offset_origin(p: Vec3, err: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     let d = n.abs().dot(err);
-    let mut offset = n * d;
-    if w.dot(n) < 0.0 {
-        offset = -offset;
-    }
+    // The offset goes to the side of the new direction: -(n d) = n (-d) exactly.
+    let d = if w.dot(n) < 0.0 { -d } else { d };
+    let offset = n * d;
     let po = p + offset;
     // Round away from p so that the offset survives the addition's rounding.
-    let step = |po: f32, off: f32| {
-        if off > 0.0 {
-            math::next_up(po)
-        } else if off < 0.0 {
-            math::next_down(po)
-        } else {
-            po
-        }
-    };
     Vec3::new(
         step(po.x, offset.x),
         step(po.y, offset.y),
@@ -60,9 +51,44 @@ pub fn offset_origin(p: Vec3, err: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     )
 }
 
+/// `x` moved one ulp in the direction of the sign of `off` (unchanged for a zero
+/// or NaN `off`): [`crate::math::next_up`] or [`crate::math::next_down`], bit for bit, computed on
+/// the bits with selects rather than branches. A zero `x` of either sign steps to
+/// the smallest subnormal of `off`'s sign; an infinity steps towards zero but not
+/// away from it; a NaN stays.
+#[inline]
+fn step(x: f32, off: f32) -> f32 {
+    let (xb, ob) = (x.to_bits(), off.to_bits());
+    if ob << 1 == 0 {
+        return x; // no offset on this axis (an axis-aligned normal): unchanged
+    }
+    // `(b << 1) - 1` is below `0xfeff_ffff` exactly for a non-zero finite value
+    // (zero wraps around, the infinities and NaNs are at or above it).
+    let ordinary = |b: u32| (b << 1).wrapping_sub(1) < 0xfeff_ffff;
+    if ordinary(xb) && ordinary(ob) {
+        // One ulp away from zero when x has the offset's sign, else towards zero.
+        let towards = (xb ^ ob) >> 31;
+        return f32::from_bits(xb.wrapping_add(1).wrapping_sub(towards << 1));
+    }
+    step_rare(x, off)
+}
+
+/// [`step`] for a zero, infinite or NaN `x`, or a NaN or infinite `off`.
+#[cold]
+fn step_rare(x: f32, off: f32) -> f32 {
+    if off > 0.0 {
+        crate::math::next_up(x)
+    } else if off < 0.0 {
+        crate::math::next_down(x)
+    } else {
+        x
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math;
 
     #[test]
     fn at_follows_the_ray_equation() {
@@ -78,6 +104,41 @@ mod tests {
         let down = offset_origin(p, err, Vec3::Y, Vec3::new(0.3, -0.9, 0.0));
         assert!(up.y > 1.0 + 1e-6 && down.y < 1.0 - 1e-6);
         assert_eq!((up.x, up.z), (0.0, 0.0));
+    }
+
+    #[test]
+    fn step_is_next_up_and_next_down() {
+        let values = [
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            -f32::from_bits(1),
+            3.5e-40,
+            1.0e30,
+            -7.25,
+            f32::MAX,
+            -f32::MAX,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        for x in values {
+            for (off, want) in [
+                (1e-3f32, math::next_up(x)),
+                (-1e-3, math::next_down(x)),
+                (0.0, x),
+                (-0.0, x),
+            ] {
+                let got = step(x, off);
+                assert_eq!(got.to_bits(), want.to_bits(), "step({x:e}, {off})");
+            }
+            assert_eq!(step(x, f32::NAN).to_bits(), x.to_bits());
+        }
+        assert!(step(f32::NAN, 1.0).is_nan());
+        assert!(step(f32::from_bits(0x7f80_0001), -1.0).is_nan());
     }
 
     #[test]

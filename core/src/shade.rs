@@ -92,11 +92,13 @@ impl Rays for RayCount {
     }
 }
 
-/// A ray waiting to be traced, with the weight of its contribution.
+/// A ray waiting to be traced, with the weight of its contribution. The weights
+/// are grey (products of scalar reflectivities and transmittances), so one `f32`:
+/// `c * w` per component is the product with `Color::splat(w)`, bit for bit.
 #[derive(Clone, Copy)]
 struct Pending {
     ray: Ray,
-    weight: Color,
+    weight: f32,
     skip: Skip,
     depth: u8,
 }
@@ -215,7 +217,15 @@ fn uv_box<G: Shape>(
 #[derive(Clone, Copy, Default)]
 pub(crate) struct Picks<'l> {
     pub(crate) camera: CameraPick<'l>,
-    pub(crate) shadow: Option<[&'l [u32]; 4]>,
+    pub(crate) shadow: Option<ShadowLists<'l>>,
+}
+
+/// A tile's shadow lists: per kind, entries `index | lights << 16`, and the union of
+/// their light masks (bit `16 + i` set when some primitive may block light `i`).
+#[derive(Clone, Copy)]
+pub(crate) struct ShadowLists<'l> {
+    pub(crate) lists: [&'l [u32]; 4],
+    pub(crate) lights: u32,
 }
 
 /// Lights beyond this index are not in the tile shadow lists' masks (16 bits): their
@@ -223,6 +233,7 @@ pub(crate) struct Picks<'l> {
 pub(crate) const MASKED_LIGHTS: usize = 16;
 
 impl<'a> SceneView<'a> {
+    #[inline(always)]
     fn shaded(
         &self,
         n: &Nearest,
@@ -283,10 +294,10 @@ impl<'a> SceneView<'a> {
         } else {
             0
         };
-        if max_depth == 0 {
+        if max_depth == 0 || !hit.material.sends_rays() {
             return total;
         }
-        self.bounce(&hit, &ray, Color::WHITE, 0, max_depth, &mut total, count);
+        self.bounce(&hit, &ray, 1.0, 0, max_depth, &mut total, count);
         total
     }
 
@@ -300,7 +311,7 @@ impl<'a> SceneView<'a> {
         &self,
         hit: &Shaded<'_>,
         ray: &Ray,
-        weight: Color,
+        weight: f32,
         depth: u8,
         max_depth: u8,
         total: &mut Color,
@@ -311,14 +322,14 @@ impl<'a> SceneView<'a> {
         while let Some(p) = stack.pop() {
             count.secondary();
             let Some(nearest) = self.nearest(&p.ray, f32::INFINITY, None, p.skip) else {
-                *total += p.weight * self.background;
+                *total += self.background * p.weight;
                 continue;
             };
             let Some(hit) = self.shaded(&nearest, &p.ray, None) else {
                 continue; // unreachable for a validated scene: no material
             };
-            *total += p.weight * self.local(&hit, &p.ray, None, count);
-            if p.depth < max_depth {
+            *total += self.local(&hit, &p.ray, None, count) * p.weight;
+            if p.depth < max_depth && hit.material.sends_rays() {
                 push_children(&mut stack, &hit, &p.ray, p.weight, p.depth);
             }
         }
@@ -333,7 +344,7 @@ impl<'a> SceneView<'a> {
         &self,
         hit: &Shaded<'_>,
         ray: &Ray,
-        shadow: Option<[&[u32]; 4]>,
+        shadow: Option<ShadowLists<'_>>,
         count: &mut C,
     ) -> Color {
         let m = hit.material;
@@ -355,14 +366,21 @@ impl<'a> SceneView<'a> {
             if cos.is_nan() || cos <= 0.0 {
                 continue; // light behind the surface as seen from the ray
             }
-            let origin = offset_origin(s.point, s.error, n, l);
             count.shadow();
             let pick = match shadow {
-                Some(lists) if i < MASKED_LIGHTS => Some((lists, 1 << (16 + i))),
-                _ => None,
+                Some(t) if i < MASKED_LIGHTS => {
+                    let bit = 1 << (16 + i);
+                    // No primitive of the tile's lists may block this light: the
+                    // shadow ray would test nothing, so it needs no origin either.
+                    (t.lights & bit != 0).then_some(Some((t.lists, bit)))
+                }
+                _ => Some(None),
             };
-            if self.occluded(&Ray::new(origin, l), dist, pick, hit.skip_for(l)) {
-                continue;
+            if let Some(pick) = pick {
+                let origin = offset_origin(s.point, s.error, n, l);
+                if self.occluded(&Ray::new(origin, l), dist, pick, hit.skip_for(l)) {
+                    continue;
+                }
             }
             let e = light.color() * (light.intensity() / dist2);
             let mut lit = hit.base * (m.diffuse() * cos);
@@ -384,12 +402,12 @@ fn push_children<const K: usize>(
     stack: &mut heapless::Vec<Pending, K>,
     hit: &Shaded<'_>,
     ray: &Ray,
-    weight: Color,
+    weight: f32,
     depth: u8,
 ) {
     for (ray, w) in secondary(hit, ray).into_iter().flatten() {
         let weight = weight * w;
-        if !weight.is_black() {
+        if weight != 0.0 {
             // At most depth + 1 pending rays: the push cannot fail.
             let _ = stack.push(Pending {
                 skip: hit.skip_for(ray.dir),
@@ -412,7 +430,7 @@ fn facing(normal: Vec3, dir: Vec3) -> Vec3 {
 
 /// The reflected and refracted rays of a hit, with their weights (each `None` when
 /// its weight is zero).
-fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, Color)>; 2] {
+fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, f32)>; 2] {
     let m = hit.material;
     let (kr, kt) = (m.reflectivity(), m.transparency());
     if kr == 0.0 && kt == 0.0 {
@@ -431,7 +449,7 @@ fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, Color)>; 2] {
                 let w = kt * (1.0 - fresnel);
                 if w > 0.0 {
                     let origin = offset_origin(s.point, s.error, n, dir);
-                    refracted = Some((Ray::new(origin, dir), Color::splat(w)));
+                    refracted = Some((Ray::new(origin, dir), w));
                 }
             }
             None => reflect_w += kt, // total internal reflection
@@ -440,7 +458,7 @@ fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, Color)>; 2] {
     let reflected = if reflect_w > 0.0 {
         let dir = ray.dir.reflect(n).normalize_or(n);
         let origin = offset_origin(s.point, s.error, n, dir);
-        Some((Ray::new(origin, dir), Color::splat(reflect_w)))
+        Some((Ray::new(origin, dir), reflect_w))
     } else {
         None
     };

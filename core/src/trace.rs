@@ -27,33 +27,30 @@ pub(crate) enum Kind {
     Box = 3,
 }
 
-/// A primitive a ray must not test: the one it leaves (see the module doc).
+/// A primitive a ray must not test: the one it leaves (see the module doc). One
+/// word (the kind in the top two bits, the index below), so that a pending ray
+/// stays small.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Skip {
-    kind: Kind,
-    index: u32,
-}
+pub(crate) struct Skip(u32);
 
 impl Skip {
     /// Nothing to skip (camera rays).
-    pub(crate) const NONE: Self = Self {
-        kind: Kind::Sphere,
-        index: u32::MAX,
-    };
+    pub(crate) const NONE: Self = Self(u32::MAX);
 
-    /// Skip primitive `index` of list `kind` (an index beyond `u32` skips nothing).
+    /// Skip primitive `index` of list `kind` (an index beyond 2^30 - 2 skips
+    /// nothing: the test is then merely not saved).
     pub(crate) fn new(kind: Kind, index: usize) -> Self {
-        Self {
-            kind,
-            index: u32::try_from(index).unwrap_or(u32::MAX),
+        match u32::try_from(index) {
+            Ok(i) if i < (1 << 30) - 1 => Self((kind as u32) << 30 | i),
+            _ => Self::NONE,
         }
     }
 
     /// The index to skip in list `kind` (`usize::MAX`, never an index, if none).
     #[inline(always)]
     fn index(self, kind: Kind) -> usize {
-        if self.kind == kind && self.index != u32::MAX {
-            self.index as usize
+        if self != Self::NONE && self.0 >> 30 == kind as u32 {
+            (self.0 & ((1 << 30) - 1)) as usize
         } else {
             usize::MAX
         }
@@ -190,7 +187,9 @@ impl SceneView<'_> {
     }
 
     /// True when a candidate of `pick` other than `skip` blocks `ray` before `t_max`.
-    #[inline]
+    /// Out of line: the light loop that calls it then stays small, with nothing of
+    /// the search hoisted into its prologue.
+    #[inline(never)]
     pub(crate) fn occluded(&self, ray: &Ray, t_max: f32, pick: ShadowPick<'_>, skip: Skip) -> bool {
         let sk = skip.index(Kind::Sphere);
         if any(

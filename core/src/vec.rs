@@ -74,9 +74,8 @@ impl Vec3 {
     /// normalises.
     #[must_use]
     pub fn try_normalize(self) -> Option<Self> {
-        if !self.is_finite() {
-            return None;
-        }
+        // No separate finiteness check: a NaN or infinite component makes `m` NaN
+        // or infinite, then `len` NaN (inf / inf, or NaN), which is refused below.
         let m = self.abs().max_element();
         if m == 0.0 {
             return None;
