@@ -24,7 +24,7 @@ use crate::material::Material;
 use crate::math;
 use crate::ray::{Ray, offset_origin};
 use crate::scene::{Primitive, SceneView};
-use crate::trace::{CameraPick, Kind, Nearest, Skip};
+use crate::trace::{Kind, Nearest, Skip};
 use crate::vec::Vec3;
 
 /// The deepest reflection/transmission recursion a frame may ask for.
@@ -216,7 +216,7 @@ fn uv_box<G: Shape>(
 /// refracted rays, which may go anywhere, always search every primitive.
 #[derive(Clone, Copy, Default)]
 pub(crate) struct Picks<'l> {
-    pub(crate) camera: CameraPick<'l>,
+    pub(crate) camera: Option<[&'l [u16]; 4]>,
     pub(crate) shadow: Option<ShadowLists<'l>>,
 }
 
@@ -252,7 +252,7 @@ impl<'a> SceneView<'a> {
     /// transmissions down to `max_depth` bounces (clamped to [`MAX_DEPTH`]).
     #[must_use]
     pub fn trace(&self, ray: Ray, t_max: f32, max_depth: u8) -> Color {
-        self.trace_with(ray, t_max, max_depth, Picks::default(), &mut (), None)
+        self.trace_with(ray, t_max, max_depth, &Picks::default(), &mut (), None)
     }
 
     /// [`SceneView::trace`], adding the rays it casts to `count`.
@@ -263,7 +263,7 @@ impl<'a> SceneView<'a> {
         max_depth: u8,
         count: &mut RayCount,
     ) -> Color {
-        self.trace_with(ray, t_max, max_depth, Picks::default(), count, None)
+        self.trace_with(ray, t_max, max_depth, &Picks::default(), count, None)
     }
 
     /// The colour a camera ray brings back: its nearest hit among `picks.camera`,
@@ -277,18 +277,18 @@ impl<'a> SceneView<'a> {
         ray: Ray,
         t_max: f32,
         max_depth: u8,
-        picks: Picks<'_>,
+        picks: &Picks<'_>,
         count: &mut C,
         footprint: Option<&Footprint<'_>>,
     ) -> Color {
         count.primary();
-        let Some(nearest) = self.nearest(&ray, t_max, picks.camera, Skip::NONE) else {
+        let Some(nearest) = self.nearest(&ray, t_max, picks.camera.as_ref(), Skip::NONE) else {
             return self.background;
         };
         let Some(hit) = self.shaded(&nearest, &ray, footprint) else {
             return Color::BLACK; // unreachable for a validated scene: no material
         };
-        let mut total = self.local(&hit, &ray, picks.shadow, count);
+        let mut total = self.local(&hit, &ray, picks.shadow.as_ref(), count);
         let max_depth = if self.secondary {
             max_depth.min(MAX_DEPTH)
         } else {
@@ -344,7 +344,7 @@ impl<'a> SceneView<'a> {
         &self,
         hit: &Shaded<'_>,
         ray: &Ray,
-        shadow: Option<ShadowLists<'_>>,
+        shadow: Option<&ShadowLists<'_>>,
         count: &mut C,
     ) -> Color {
         let m = hit.material;
@@ -372,7 +372,7 @@ impl<'a> SceneView<'a> {
                     let bit = 1 << (16 + i);
                     // No primitive of the tile's lists may block this light: the
                     // shadow ray would test nothing, so it needs no origin either.
-                    (t.lights & bit != 0).then_some(Some((t.lists, bit)))
+                    (t.lights & bit != 0).then_some(Some((&t.lists, bit)))
                 }
                 _ => Some(None),
             };

@@ -214,7 +214,7 @@ impl Frame {
     /// [`Frame::render_tile`] gives, which the tests check.
     #[must_use]
     pub fn pixel_color(&self, scene: &SceneView<'_>, x: u32, y: u32) -> Color {
-        self.pixel(scene, Picks::default(), x, y, &mut ())
+        self.pixel(scene, &Picks::default(), x, y, &mut ())
     }
 
     /// [`Frame::pixel_color`], adding the rays cast to `count`.
@@ -225,7 +225,7 @@ impl Frame {
         y: u32,
         count: &mut RayCount,
     ) -> Color {
-        self.pixel(scene, Picks::default(), x, y, count)
+        self.pixel(scene, &Picks::default(), x, y, count)
     }
 
     /// The colour of pixel `(x, y)` with the candidates `picks`. One ray for the
@@ -236,7 +236,7 @@ impl Frame {
     fn pixel<C: Rays>(
         &self,
         scene: &SceneView<'_>,
-        picks: Picks<'_>,
+        picks: &Picks<'_>,
         x: u32,
         y: u32,
         count: &mut C,
@@ -376,7 +376,7 @@ impl Frame {
                             b
                         }
                         None => self
-                            .pixel(scene, picks, x0 + i as u32, y0 + j as u32, count)
+                            .pixel(scene, &picks, x0 + i as u32, y0 + j as u32, count)
                             .to_rgb8(),
                     };
                 }

@@ -67,12 +67,12 @@ pub(crate) struct Nearest {
 
 /// The candidates of a nearest-hit search: per kind, every primitive (`None`) or the
 /// indices a tile's culling kept.
-pub(crate) type CameraPick<'l> = Option<[&'l [u16]; 4]>;
+pub(crate) type CameraPick<'l> = Option<&'l [&'l [u16]; 4]>;
 
 /// The candidates of an any-hit search for one light: per kind, every primitive
 /// (`None`) or a tile's shadow list, whose entries are `index | mask << 16` with bit
 /// `16 + light` set when the primitive may block that light.
-pub(crate) type ShadowPick<'l> = Option<([&'l [u32]; 4], u32)>;
+pub(crate) type ShadowPick<'l> = Option<(&'l [&'l [u32]; 4], u32)>;
 
 /// Calls `f(index, geometry)` for each primitive of `list` that `pick` keeps, in
 /// list order.

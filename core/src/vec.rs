@@ -110,18 +110,28 @@ impl Vec3 {
         Self::new(self.x * o.x, self.y * o.y, self.z * o.z)
     }
 
-    /// Component-wise minimum.
+    /// Component-wise minimum, by comparison ([`math::min`]: where a component is
+    /// NaN, the result's is `o`'s).
     #[inline]
     #[must_use]
     pub fn min(self, o: Self) -> Self {
-        Self::new(self.x.min(o.x), self.y.min(o.y), self.z.min(o.z))
+        Self::new(
+            math::min(self.x, o.x),
+            math::min(self.y, o.y),
+            math::min(self.z, o.z),
+        )
     }
 
-    /// Component-wise maximum.
+    /// Component-wise maximum, by comparison ([`math::max`]: where a component is
+    /// NaN, the result's is `o`'s).
     #[inline]
     #[must_use]
     pub fn max(self, o: Self) -> Self {
-        Self::new(self.x.max(o.x), self.y.max(o.y), self.z.max(o.z))
+        Self::new(
+            math::max(self.x, o.x),
+            math::max(self.y, o.y),
+            math::max(self.z, o.z),
+        )
     }
 
     /// The largest component.
