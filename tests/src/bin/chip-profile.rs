@@ -27,8 +27,10 @@ use tessera_tests::{callgrind, thousands};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin chip-profile";
 const SIZE: u16 = 64;
-/// Functions listed per run before "other".
+/// Functions listed per run before "other" (self cost).
 const TOP: usize = 15;
+/// Functions listed per run, inclusive of inlined code.
+const TOP_INCLUSIVE: usize = 12;
 /// Host functions listed per scene.
 const HOST_TOP: usize = 10;
 /// Host renders (320x240, their own settings).
@@ -73,7 +75,10 @@ struct Measured {
     /// SysTick minus plugin, instructions.
     diff: i64,
     costs: Vec<Cost>,
+    /// Self cost per innermost function.
     functions: Vec<FunctionCost>,
+    /// Cost of each function with the code inlined into it.
+    inclusive: Vec<FunctionCost>,
 }
 
 impl Measured {
@@ -129,7 +134,9 @@ fn report() -> Result<PathBuf, String> {
         let (systick, profile) = res?;
         let diff = profile::check_total(run, &systick, &profile)?;
         let costs = cycles::costs(&profile.insns);
-        let functions = dwarf::by_function(&sym, &profile.insns, &costs);
+        let frames = dwarf::attribute(&sym, &profile.insns);
+        let functions = dwarf::by_function(&frames, &profile.insns, &costs);
+        let inclusive = dwarf::inclusive(&frames, &profile.insns, &costs);
         measured.push(Measured {
             run: *run,
             systick,
@@ -137,6 +144,7 @@ fn report() -> Result<PathBuf, String> {
             diff,
             costs,
             functions,
+            inclusive,
         });
     }
 
@@ -395,15 +403,48 @@ fn run_section(w: &mut String, m: &Measured) {
 
     let _ = writeln!(
         w,
-        "| # | function (innermost, inlined included) | source | in | instr/px | share | est. cycles/px | cycles/instr |"
+        "Self cost: each instruction counts in the innermost function it belongs to \
+         (inlined ones included); \"inlined into\" is the chain of functions it was \
+         inlined into, innermost first (the most frequent, with its share when there \
+         are several), empty for an out-of-line function's own code.\n"
+    );
+    function_table(w, m, &m.functions, TOP, true);
+    let _ = writeln!(
+        w,
+        "Inclusive of inlined code: each function with everything inlined into it (what \
+         it calls out of line is not included; a line counts in every function of its \
+         chain, so the shares add up to more than 100%). \"source\" is the range of \
+         lines of the function itself, call sites of inlined code included.\n"
+    );
+    function_table(w, m, &m.inclusive, TOP_INCLUSIVE, false);
+}
+
+/// A table of `functions` (the first `top`, then the rest as "other" when `other`).
+fn function_table(
+    w: &mut String,
+    m: &Measured,
+    functions: &[FunctionCost],
+    top: usize,
+    other: bool,
+) {
+    let px = |n: u64| m.per_px(n);
+    let total = m.profile.total.max(1) as f64;
+    let _ = writeln!(
+        w,
+        "| # | function | source | inlined into | instr/px | share | est. cycles/px | cycles/instr |"
     );
     let _ = writeln!(w, "|---|---|---|---|---|---|---|---|");
-    for (k, f) in m.functions.iter().take(TOP).enumerate() {
+    for (k, f) in functions.iter().take(top).enumerate() {
         let caller = f.main_caller().map_or_else(String::new, |(n, share)| {
-            if share > 0.95 {
-                format!("`{}`", short(n))
+            let chain = if n.is_empty() {
+                "(out of line)".to_string()
             } else {
-                format!("`{}` ({:.0}%)", short(n), 100.0 * share)
+                format!("`{}`", short(n))
+            };
+            if share > 0.95 {
+                chain
+            } else {
+                format!("{chain} ({:.0}%)", 100.0 * share)
             }
         });
         let _ = writeln!(
@@ -419,8 +460,8 @@ fn run_section(w: &mut String, m: &Measured) {
             f.cycles as f64 / f.count.max(1) as f64
         );
     }
-    let rest: Vec<&FunctionCost> = m.functions.iter().skip(TOP).collect();
-    if !rest.is_empty() {
+    let rest: Vec<&FunctionCost> = functions.iter().skip(top).collect();
+    if other && !rest.is_empty() {
         let n: u64 = rest.iter().map(|f| f.count).sum();
         let c: u64 = rest.iter().map(|f| f.cycles).sum();
         let _ = writeln!(
@@ -436,10 +477,12 @@ fn run_section(w: &mut String, m: &Measured) {
     let _ = writeln!(w);
 }
 
-/// A function name for the tables: without the crate path of tessera's own items
-/// and with `<impl ...>` blocks shortened.
+/// A name or a chain of names for the tables.
 fn short(name: &str) -> String {
-    name.replace("tessera::", "")
+    name.split(" < ")
+        .map(dwarf::short_name)
+        .collect::<Vec<_>>()
+        .join(" < ")
 }
 
 fn host_section(w: &mut String, host: Option<&(String, Vec<callgrind::HostProfile>)>) {
@@ -482,11 +525,10 @@ fn host_section(w: &mut String, host: Option<&(String, Vec<callgrind::HostProfil
         let _ = writeln!(w, "| function (self cost) | Ir/px | share |");
         let _ = writeln!(w, "|---|---|---|");
         for f in p.functions.iter().take(HOST_TOP) {
-            let name = f.name.strip_prefix("???:").unwrap_or(&f.name);
             let _ = writeln!(
                 w,
                 "| `{}` | {:.0} | {:.1}% |",
-                short(name),
+                short(&f.function),
                 f.ir as f64 / p.pixels.max(1) as f64,
                 f.percent
             );
