@@ -182,13 +182,13 @@ fn report() -> Result<PathBuf, String> {
     }
     host_section(w, host.as_ref());
     let _ = writeln!(w, "## Regenerate\n");
-    let _ = writeln!(w, "```sh\n{COMMAND}\n```\n");
     let _ = writeln!(
         w,
         "It needs `qemu-system-arm` 7.2 or later (with plugin support, as Debian's), the \
          `thumbv7em-none-eabihf` target, a C compiler (`gcc`, or `$CC`) for the plugin, and \
-         valgrind for the host section (left out, with a note, without it)."
+         valgrind for the host section (left out, with a note, without it):\n"
     );
+    let _ = writeln!(w, "```sh\n{COMMAND}\n```");
     let path = firmware::repo_root().join("docs").join("chip-profile.md");
     std::fs::write(&path, d).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     Ok(path)
@@ -259,11 +259,12 @@ fn method(w: &mut String, qemu: &str, rustc: &str, cc: &str, measured: &[Measure
         w,
         "- Check: each run's plugin total must agree with the firmware's SysTick count \
          of the same run within {} instructions per tile, or the report fails. SysTick \
-         ticks every 40 instructions (a tile's count is off by less than 40), and between \
-         its two clock reads it also counts the end of the first read and the start of the \
-         second (about 20 instructions), which the plugin does not; both count the marker \
-         calls (3 instructions each, and the calls). Largest difference here: {worst:.1} \
-         instructions per tile.",
+         ticks every 40 instructions (a tile's count is off by less than 40 either way), \
+         and between its two clock reads it also counts about 20 instructions the plugin \
+         does not: the end of the first clock read, the `bl` to the begin marker, the end \
+         marker's body (3 instructions) and the start of the second read; so SysTick - \
+         plugin lies between about -20 and +60 a tile. Largest difference here, averaged \
+         over a run's tiles: {worst:.1} instructions.",
         profile::TOLERANCE_PER_TILE
     );
     let _ = writeln!(
