@@ -504,8 +504,9 @@ fn host_section(w: &mut String, host: Option<&(String, Vec<callgrind::HostProfil
          each scene at 320x240 with its own settings on one thread under `valgrind \
          --tool=callgrind` ({version}). Instructions are the whole process's `Ir`: \
          parsing the arguments, building the scene, rendering and encoding the PNG (the \
-         `png`/`fdeflate`/`write_png` rows). Rays are what the command prints (primary, \
-         shadow and secondary rays).\n"
+         `png`/`fdeflate`/`write_png` rows); it varies by about 0.01% between runs \
+         (temporary file names, timing output). Rays are what the command prints \
+         (primary, shadow and secondary rays).\n"
     );
     let _ = writeln!(w, "| scene | size | total Ir | Ir/px | rays | Ir/ray |");
     let _ = writeln!(w, "|---|---|---|---|---|---|");
