@@ -19,6 +19,8 @@ pub mod baseline;
 
 pub mod callgrind;
 
+pub mod profile_doc;
+
 use std::path::PathBuf;
 use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};
 
