@@ -1,15 +1,16 @@
 //! The guarded instruction counts: `tests/chip-baseline.txt` holds, for a few runs
 //! of the firmware, the exact instruction count (SysTick) measured when it was
 //! last regenerated (`chip-report --bless-baseline`); the firmware test fails when
-//! a count rises by more than [`TOLERANCE`] over it.
+//! a count rises by more than [`TOLERANCE_PERCENT`] % over it.
 
 use crate::firmware::{self, Run};
 use std::path::PathBuf;
 use tessera::Sampler;
 use tessera::builtin::Builtin;
 
-/// A count may rise by this share over the baseline before the test fails.
-pub const TOLERANCE: f64 = 0.02;
+/// A count may rise by this many percent over the baseline before the test fails
+/// (and a fall by more gets a note).
+pub const TOLERANCE_PERCENT: u64 = 2;
 /// The file, relative to the repository root.
 pub const FILE: &str = "tests/chip-baseline.txt";
 
@@ -108,21 +109,30 @@ impl Comparison {
         Self { rows }
     }
 
-    /// Runs that rose by more than [`TOLERANCE`], or that the baseline lacks.
+    /// Runs that rose by more than [`TOLERANCE_PERCENT`] %, or that the baseline
+    /// lacks.
     #[must_use]
     pub fn failures(&self) -> Vec<&Row> {
         self.rows
             .iter()
-            .filter(|r| r.change().is_none_or(|c| c > TOLERANCE))
+            .filter(|r| {
+                r.baseline.is_none_or(|b| {
+                    100 * u128::from(r.now) > u128::from(b) * u128::from(100 + TOLERANCE_PERCENT)
+                })
+            })
             .collect()
     }
 
-    /// Runs that fell by more than [`TOLERANCE`].
+    /// Runs that fell by more than [`TOLERANCE_PERCENT`] %.
     #[must_use]
     pub fn improvements(&self) -> Vec<&Row> {
         self.rows
             .iter()
-            .filter(|r| r.change().is_some_and(|c| c < -TOLERANCE))
+            .filter(|r| {
+                r.baseline.is_some_and(|b| {
+                    100 * u128::from(r.now) < u128::from(b) * u128::from(100 - TOLERANCE_PERCENT)
+                })
+            })
             .collect()
     }
 
@@ -145,20 +155,18 @@ impl Comparison {
         }
         if !self.failures().is_empty() {
             s.push_str(&format!(
-                "FAIL: a count rose by more than {:.0}% (or is missing from {FILE}). Find the \
-                 cause (`cargo run -p tessera-tests --release --bin chip-profile` shows where \
-                 the instructions go); if the cost is accepted, regenerate the baseline with \
-                 `cargo run -p tessera-tests --release --bin chip-report -- --bless-baseline` \
-                 in a commit that says why.\n",
-                100.0 * TOLERANCE
+                "FAIL: a count rose by more than {TOLERANCE_PERCENT}% (or is missing from \
+                 {FILE}). Find the cause (`cargo run -p tessera-tests --release --bin \
+                 chip-profile` shows where the instructions go); if the cost is accepted, \
+                 regenerate the baseline with `cargo run -p tessera-tests --release --bin \
+                 chip-report -- --bless-baseline` in a commit that says why.\n"
             ));
         }
         if !self.improvements().is_empty() {
             s.push_str(&format!(
-                "note: a count fell by more than {:.0}%: regenerate the baseline (`cargo run -p \
-                 tessera-tests --release --bin chip-report -- --bless-baseline`) in a commit \
-                 that says why, so that the guard holds the new figure.\n",
-                100.0 * TOLERANCE
+                "note: a count fell by more than {TOLERANCE_PERCENT}%: regenerate the baseline \
+                 (`cargo run -p tessera-tests --release --bin chip-report -- --bless-baseline`) \
+                 in a commit that says why, so that the guard holds the new figure.\n"
             ));
         }
         s

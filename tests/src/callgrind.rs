@@ -13,8 +13,10 @@ pub struct Function {
     pub ir: u64,
     /// Its share of the program's total, percent.
     pub percent: f64,
-    /// `file:function` as printed (`???` when the binary has no line tables).
-    pub name: String,
+    /// The source file as printed (`???` when the binary has no line tables).
+    pub file: String,
+    /// The function.
+    pub function: String,
 }
 
 /// One render under callgrind.
@@ -157,11 +159,21 @@ pub fn parse_annotate(text: &str) -> Vec<Function> {
             if name == "PROGRAM TOTALS" || name.is_empty() {
                 return None;
             }
-            let name = name.rsplit_once(" [").map_or(name, |(n, _)| n).to_string();
+            let name = name.rsplit_once(" [").map_or(name, |(n, _)| n);
+            // `file:function`: the first colon that is not half of a `::`.
+            let b = name.as_bytes();
+            let colon = (0..b.len()).find(|&k| {
+                b[k] == b':' && b.get(k + 1) != Some(&b':') && (k == 0 || b[k - 1] != b':')
+            });
+            let (file, function) = match colon {
+                Some(k) => (&name[..k], &name[k + 1..]),
+                None => ("", name),
+            };
             Some(Function {
                 ir: ir.replace(',', "").parse().ok()?,
                 percent: pct.trim().parse().ok()?,
-                name,
+                file: file.to_string(),
+                function: function.to_string(),
             })
         })
         .collect()
@@ -187,10 +199,14 @@ mod tests {
         assert_eq!(f.len(), 2);
         assert_eq!(f[0].ir, 37_281_076);
         assert!((f[0].percent - 33.62).abs() < 1e-9);
+        assert_eq!(f[0].file, "???");
         assert_eq!(
-            f[0].name,
-            "???:<tessera::geometry::sphere::Sphere as tessera::geometry::Shape>::intersect"
+            f[0].function,
+            "<tessera::geometry::sphere::Sphere as tessera::geometry::Shape>::intersect"
         );
-        assert_eq!(f[1].name, "./string/memmove.S:__memcpy_avx");
+        assert_eq!(
+            (f[1].file.as_str(), f[1].function.as_str()),
+            ("./string/memmove.S", "__memcpy_avx")
+        );
     }
 }

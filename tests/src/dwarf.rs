@@ -134,21 +134,46 @@ impl Symbolizer {
 /// A function's share of a profile.
 #[derive(Clone, Debug, Default)]
 pub struct FunctionCost {
-    /// The innermost function.
+    /// The function.
     pub name: String,
-    /// Instructions executed in it (not in what it calls or inlines).
+    /// Instructions executed in it: in its own code for [`by_function`], in its
+    /// code and everything inlined into it for [`inclusive`].
     pub count: u64,
     /// Their estimated cycles.
     pub cycles: u64,
-    /// The source lines these instructions come from: file -> (first line, last
-    /// line, instructions).
+    /// The source lines these instructions come from (in the function itself: for
+    /// inlined code, the line of the call): file -> (first line, last line,
+    /// instructions).
     pub lines: BTreeMap<String, (u32, u32, u64)>,
-    /// The functions it was inlined into or called from (the next frame out, or
-    /// the ELF symbol when it is not inlined), with the instructions of each.
+    /// Where it was inlined (the chain of up to [`CHAIN`] functions it was inlined
+    /// into, innermost first, joined by ` < `; empty where it is the out-of-line
+    /// function itself), with the instructions of each.
     pub callers: HashMap<String, u64>,
 }
 
+/// Functions shown in a chain of inlining.
+pub const CHAIN: usize = 3;
+
 impl FunctionCost {
+    fn new(name: &str) -> Self {
+        Self {
+            name: name.to_string(),
+            ..Self::default()
+        }
+    }
+
+    fn add(&mut self, count: u64, cycles: u64, frame: &Frame) {
+        self.count += count;
+        self.cycles += cycles;
+        // Line 0: code the compiler made up, no source line.
+        if let (Some(f), Some(l)) = (&frame.file, frame.line.filter(|&l| l > 0)) {
+            let r = self.lines.entry(f.clone()).or_insert((l, l, 0));
+            r.0 = r.0.min(l);
+            r.1 = r.1.max(l);
+            r.2 += count;
+        }
+    }
+
     /// The file most of its instructions come from and the range of their lines,
     /// `file:first-last`.
     #[must_use]
@@ -165,7 +190,8 @@ impl FunctionCost {
             })
     }
 
-    /// The caller with the most instructions and its share of this function's.
+    /// The chain of inlining with the most instructions and its share of this
+    /// function's.
     #[must_use]
     pub fn main_caller(&self) -> Option<(&str, f64)> {
         self.callers
@@ -175,35 +201,178 @@ impl FunctionCost {
     }
 }
 
-/// Adds up `insns` (with their `costs`) per innermost function, most instructions
-/// first.
+/// The frames of every instruction of `insns` (innermost first), in order.
 #[must_use]
-pub fn by_function(sym: &Symbolizer, insns: &[Insn], costs: &[Cost]) -> Vec<FunctionCost> {
-    let mut map: HashMap<String, FunctionCost> = HashMap::new();
-    for (i, c) in insns.iter().zip(costs) {
-        let frames = sym.frames(i.pc);
-        let inner = &frames[0];
-        let caller = frames
-            .get(1)
-            .map_or_else(|| sym.symbol(i.pc).unwrap_or("?"), |f| f.function.as_str());
-        let e = map
-            .entry(inner.function.clone())
-            .or_insert_with(|| FunctionCost {
-                name: inner.function.clone(),
-                ..FunctionCost::default()
-            });
-        e.count += i.count;
-        e.cycles += c.cycles();
-        // Line 0: code the compiler made up, no source line.
-        if let (Some(f), Some(l)) = (&inner.file, inner.line.filter(|&l| l > 0)) {
-            let r = e.lines.entry(f.clone()).or_insert((l, l, 0));
-            r.0 = r.0.min(l);
-            r.1 = r.1.max(l);
-            r.2 += i.count;
-        }
-        *e.callers.entry(caller.to_string()).or_default() += i.count;
-    }
+pub fn attribute(sym: &Symbolizer, insns: &[Insn]) -> Vec<Vec<Frame>> {
+    insns.iter().map(|i| sym.frames(i.pc)).collect()
+}
+
+fn sorted(map: HashMap<String, FunctionCost>) -> Vec<FunctionCost> {
     let mut v: Vec<FunctionCost> = map.into_values().collect();
     v.sort_by(|a, b| b.count.cmp(&a.count).then_with(|| a.name.cmp(&b.name)));
     v
+}
+
+/// Self cost: `insns` (with their `frames` and `costs`) added up per innermost
+/// function, most instructions first.
+#[must_use]
+pub fn by_function(frames: &[Vec<Frame>], insns: &[Insn], costs: &[Cost]) -> Vec<FunctionCost> {
+    let mut map: HashMap<String, FunctionCost> = HashMap::new();
+    for ((i, c), fr) in insns.iter().zip(costs).zip(frames) {
+        let Some(inner) = fr.first() else { continue };
+        let chain: Vec<&str> = fr
+            .iter()
+            .skip(1)
+            .take(CHAIN)
+            .map(|f| f.function.as_str())
+            .collect();
+        let e = map
+            .entry(inner.function.clone())
+            .or_insert_with(|| FunctionCost::new(&inner.function));
+        e.add(i.count, c.cycles(), inner);
+        *e.callers.entry(chain.join(" < ")).or_default() += i.count;
+    }
+    sorted(map)
+}
+
+/// Inclusive cost: `insns` added up for every function on their chain of
+/// inlining (the function, and all the code inlined into it, down to the
+/// out-of-line function executing them; not what it calls out of line). A
+/// function that appears twice on a chain counts once. Most instructions first.
+#[must_use]
+pub fn inclusive(frames: &[Vec<Frame>], insns: &[Insn], costs: &[Cost]) -> Vec<FunctionCost> {
+    let mut map: HashMap<String, FunctionCost> = HashMap::new();
+    for ((i, c), fr) in insns.iter().zip(costs).zip(frames) {
+        let mut seen: Vec<&str> = Vec::new();
+        for (k, f) in fr.iter().enumerate() {
+            if seen.contains(&f.function.as_str()) {
+                continue;
+            }
+            seen.push(&f.function);
+            let chain: Vec<&str> = fr
+                .iter()
+                .skip(k + 1)
+                .take(CHAIN)
+                .map(|f| f.function.as_str())
+                .collect();
+            let e = map
+                .entry(f.function.clone())
+                .or_insert_with(|| FunctionCost::new(&f.function));
+            e.add(i.count, c.cycles(), f);
+            *e.callers.entry(chain.join(" < ")).or_default() += i.count;
+        }
+    }
+    sorted(map)
+}
+
+/// A function name for tables: module paths dropped in front of types
+/// (`geometry::sphere::Sphere::roots` -> `Sphere::roots`, `<core::slice::iter::Iter<T>
+/// as core::iter::traits::iterator::Iterator>::next` -> `<Iter<T> as Iterator>::next`),
+/// an inherent impl block named by its type (`shade::<impl scene::SceneView>::trace`
+/// -> `SceneView::trace`), and free functions kept with their module
+/// (`tessera::math::max` -> `math::max`).
+#[must_use]
+pub fn short_name(name: &str) -> String {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let chars: Vec<char> = name.chars().collect();
+    let mut out = String::new();
+    let mut i = 0;
+    while i < chars.len() {
+        if !ident(chars[i]) {
+            out.push(chars[i]);
+            i += 1;
+            continue;
+        }
+        // A path: ident(::ident)*.
+        let mut segs = Vec::new();
+        loop {
+            let start = i;
+            while i < chars.len() && ident(chars[i]) {
+                i += 1;
+            }
+            segs.push(chars[start..i].iter().collect::<String>());
+            let more = chars.get(i) == Some(&':')
+                && chars.get(i + 1) == Some(&':')
+                && chars.get(i + 2).is_some_and(|&c| ident(c));
+            if !more {
+                break;
+            }
+            i += 2;
+        }
+        let first_type = segs
+            .iter()
+            .position(|s| s.starts_with(|c: char| c.is_ascii_uppercase()));
+        let keep = match first_type {
+            Some(t) => &segs[t..],
+            None => &segs[segs.len().saturating_sub(2)..],
+        };
+        out.push_str(&keep.join("::"));
+    }
+    // `module::<impl Type>::f` -> `Type::f`.
+    while let Some(at) = out.find("<impl ") {
+        let mut depth = 0;
+        let mut end = None;
+        for (k, c) in out[at..].char_indices() {
+            match c {
+                '<' => depth += 1,
+                '>' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        end = Some(at + k);
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        let Some(end) = end else { break };
+        let ty = out[at + "<impl ".len()..end].to_string();
+        let before = out[..at].strip_suffix("::").unwrap_or(&out[..at]);
+        let module_start = before
+            .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':'))
+            .map_or(0, |k| k + 1);
+        out = format!("{}{ty}{}", &out[..module_start], &out[end + 1..]);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short_name;
+
+    #[test]
+    fn short_names() {
+        for (long, short) in [
+            ("geometry::sphere::Sphere::roots", "Sphere::roots"),
+            ("tessera::math::max", "math::max"),
+            ("shade::nearest_in", "shade::nearest_in"),
+            (
+                "<geometry::sphere::Sphere as geometry::Shape>::intersect",
+                "<Sphere as Shape>::intersect",
+            ),
+            (
+                "<core::slice::iter::Iter<T> as core::iter::traits::iterator::Iterator>::next",
+                "<Iter<T> as Iterator>::next",
+            ),
+            (
+                "tessera::shade::<impl tessera::scene::SceneView>::trace_footprint",
+                "SceneView::trace_footprint",
+            ),
+            (
+                "heapless::vec::VecInner<T,LenT,S>::pop",
+                "VecInner<T,LenT,S>::pop",
+            ),
+            (
+                "tessera_fw::render_tiles::{{closure}}",
+                "tessera_fw::render_tiles::{{closure}}",
+            ),
+            ("<f32>::clamp", "<f32>::clamp"),
+            (
+                "rayon::iter::plumbing::bridge_producer_consumer::helper'2",
+                "bridge_producer_consumer::helper'2",
+            ),
+        ] {
+            assert_eq!(short_name(long), short, "{long}");
+        }
+    }
 }

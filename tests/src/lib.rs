@@ -2,8 +2,8 @@
 //! write the images a test renders, the firmware test image under qemu
 //! ([`firmware`]), its instruction profile ([`profile`], attributed to source
 //! functions by [`dwarf`], weighted by the cycle model [`cycles`]), the guarded
-//! instruction counts ([`baseline`]) and the host's profile under callgrind
-//! ([`callgrind`]).
+//! instruction counts ([`baseline`]), the host's profile under callgrind
+//! ([`callgrind`]) and the sections of the profile document ([`profile_doc`]).
 
 pub mod firmware;
 
@@ -18,6 +18,8 @@ pub mod dwarf;
 pub mod baseline;
 
 pub mod callgrind;
+
+pub mod profile_doc;
 
 use std::path::PathBuf;
 use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};

@@ -22,10 +22,10 @@ pub const BEGIN: &str = "tessera_profile_begin";
 pub const END: &str = "tessera_profile_end";
 /// The largest difference allowed between the SysTick count and the plugin's
 /// count, per tile: SysTick counts in steps of 40 instructions (so its count of a
-/// tile is off by less than 40), and between its two reads it also counts the end
-/// of the first clock read and the start of the second (about 20 instructions
-/// with this firmware), which the plugin does not; the plugin counts the marker
-/// calls, which SysTick counts too.
+/// tile is off by less than 40 either way), and between its two reads it also
+/// counts about 20 instructions that the plugin does not (the end of the first
+/// clock read, the `bl` to the begin marker, the end marker's body, the start of
+/// the second read): SysTick - plugin lies between about -20 and +60 a tile.
 pub const TOLERANCE_PER_TILE: u64 = 80;
 
 /// Compiles the plugin into `target/profiler/insn_profile.so` (every time: it

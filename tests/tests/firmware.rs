@@ -11,6 +11,7 @@ use std::sync::OnceLock;
 use tessera::Viewport;
 use tessera::builtin::Builtin;
 use tessera::{Sampler, Sampler::*};
+use tessera_tests::baseline;
 use tessera_tests::firmware::{self, Output, Run};
 
 /// The exact-math firmware, built once for every test of this binary.
@@ -155,6 +156,35 @@ fn counts_are_sane_and_deeper_recursion_costs_more() {
     );
     // Four samples a pixel cost more than three times one.
     assert!(cost[3] > 3 * cost[1], "centre vs stratified:2: {cost:?}");
+}
+
+/// Regression guard: the exact instruction counts of the guarded runs (each scene
+/// at 64x64 with its own settings, and chapter-direct stratified 4x4) rise by at
+/// most 2% over `tests/chip-baseline.txt`. A fall of more than 2% passes with a
+/// note to regenerate the baseline. (The file was written by `chip-report` from
+/// its own run list, where each run starts at another SysTick phase: counts differ
+/// from this list's by at most a tick, 40 instructions, a tile.)
+#[test]
+fn instruction_counts_stay_within_the_baseline() {
+    let path = baseline::path();
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let base = baseline::parse(&text).unwrap_or_else(|e| panic!("{e}"));
+    let runs = baseline::runs();
+    let out = run(&runs);
+    let now: Vec<(String, u64)> = runs
+        .iter()
+        .zip(&out.runs)
+        .map(|(r, res)| (r.line().unwrap(), res.instructions))
+        .collect();
+    let cmp = baseline::Comparison::new(&base, &now);
+    let table = cmp.table();
+    println!("instruction counts against {}:\n{table}", baseline::FILE);
+    assert!(
+        cmp.failures().is_empty(),
+        "instruction counts rose over {}:\n{table}",
+        baseline::FILE
+    );
 }
 
 /// Extreme scales on the chip (issue 6, case 12): every built-in scene scaled by

@@ -20,6 +20,11 @@
 //!
 //! Any error prints `error: ...`, a panic `panic: ...` and a fault `hard fault: ...`,
 //! and qemu exits with a failure status.
+//!
+//! Profiling: each `render_tile` call is bracketed by calls of the empty marker
+//! functions `tessera_profile_begin` and `tessera_profile_end` (inside the SysTick
+//! reads); the instruction-profiling qemu plugin (`tests/profiler/`) counts between
+//! them.
 #![no_std]
 #![no_main]
 

@@ -19,20 +19,15 @@ use std::process::ExitCode;
 use std::time::Instant;
 use tessera::Sampler;
 use tessera::builtin::Builtin;
-use tessera_tests::cycles::{self, Class, Cost};
-use tessera_tests::dwarf::{self, FunctionCost, Symbolizer};
+use tessera_tests::cycles;
+use tessera_tests::dwarf::{self, Symbolizer};
 use tessera_tests::firmware::{self, Run, RunResult};
 use tessera_tests::profile::{self, Profile};
+use tessera_tests::profile_doc::{self, HOST_SCENES, Measured};
 use tessera_tests::{callgrind, thousands};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin chip-profile";
 const SIZE: u16 = 64;
-/// Functions listed per run before "other".
-const TOP: usize = 15;
-/// Host functions listed per scene.
-const HOST_TOP: usize = 10;
-/// Host renders (320x240, their own settings).
-const HOST_SCENES: [&str; 2] = ["chapter-reflect", "showcase"];
 
 fn main() -> ExitCode {
     let start = Instant::now();
@@ -65,41 +60,6 @@ fn runs() -> Vec<Run> {
     runs
 }
 
-/// One profiled run and what was made of it.
-struct Measured {
-    run: Run,
-    systick: RunResult,
-    profile: Profile,
-    /// SysTick minus plugin, instructions.
-    diff: i64,
-    costs: Vec<Cost>,
-    functions: Vec<FunctionCost>,
-}
-
-impl Measured {
-    fn pixels(&self) -> f64 {
-        f64::from(self.run.width) * f64::from(self.run.height)
-    }
-    fn per_px(&self, n: u64) -> f64 {
-        n as f64 / self.pixels()
-    }
-    fn cycles_at(&self, p: u64) -> u64 {
-        self.costs.iter().map(|c| c.cycles_at(p)).sum()
-    }
-    fn title(&self) -> String {
-        let r = &self.run;
-        format!(
-            "{} ({}, depth {}, {}x{}, tiles {})",
-            r.scene.name(),
-            r.sampler_text().unwrap_or_default(),
-            r.depth,
-            r.width,
-            r.height,
-            r.tile
-        )
-    }
-}
-
 fn report() -> Result<PathBuf, String> {
     let qemu = firmware::qemu_version()?;
     let rustc = tessera_tests::tool_version("rustc");
@@ -129,7 +89,9 @@ fn report() -> Result<PathBuf, String> {
         let (systick, profile) = res?;
         let diff = profile::check_total(run, &systick, &profile)?;
         let costs = cycles::costs(&profile.insns);
-        let functions = dwarf::by_function(&sym, &profile.insns, &costs);
+        let frames = dwarf::attribute(&sym, &profile.insns);
+        let functions = dwarf::by_function(&frames, &profile.insns, &costs);
+        let inclusive = dwarf::inclusive(&frames, &profile.insns, &costs);
         measured.push(Measured {
             run: *run,
             systick,
@@ -137,6 +99,7 @@ fn report() -> Result<PathBuf, String> {
             diff,
             costs,
             functions,
+            inclusive,
         });
     }
 
@@ -168,19 +131,19 @@ fn report() -> Result<PathBuf, String> {
     );
     summary(w, &measured);
     method(w, &qemu, &rustc, &cc, &measured);
-    cycle_model(w);
+    profile_doc::cycle_model(w);
     for m in &measured {
-        run_section(w, m);
+        profile_doc::run_section(w, m);
     }
-    host_section(w, host.as_ref());
+    profile_doc::host_section(w, host.as_ref());
     let _ = writeln!(w, "## Regenerate\n");
-    let _ = writeln!(w, "```sh\n{COMMAND}\n```\n");
     let _ = writeln!(
         w,
         "It needs `qemu-system-arm` 7.2 or later (with plugin support, as Debian's), the \
          `thumbv7em-none-eabihf` target, a C compiler (`gcc`, or `$CC`) for the plugin, and \
-         valgrind for the host section (left out, with a note, without it)."
+         valgrind for the host section (left out, with a note, without it):\n"
     );
+    let _ = writeln!(w, "```sh\n{COMMAND}\n```");
     let path = firmware::repo_root().join("docs").join("chip-profile.md");
     std::fs::write(&path, d).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     Ok(path)
@@ -251,11 +214,12 @@ fn method(w: &mut String, qemu: &str, rustc: &str, cc: &str, measured: &[Measure
         w,
         "- Check: each run's plugin total must agree with the firmware's SysTick count \
          of the same run within {} instructions per tile, or the report fails. SysTick \
-         ticks every 40 instructions (a tile's count is off by less than 40), and between \
-         its two clock reads it also counts the end of the first read and the start of the \
-         second (about 20 instructions), which the plugin does not; both count the marker \
-         calls (3 instructions each, and the calls). Largest difference here: {worst:.1} \
-         instructions per tile.",
+         ticks every 40 instructions (a tile's count is off by less than 40 either way), \
+         and between its two clock reads it also counts about 20 instructions the plugin \
+         does not: the end of the first clock read, the `bl` to the begin marker, the end \
+         marker's body (3 instructions) and the start of the second read; so SysTick - \
+         plugin lies between about -20 and +60 a tile. Largest difference here, averaged \
+         over a run's tiles: {worst:.1} instructions.",
         profile::TOLERANCE_PER_TILE
     );
     let _ = writeln!(
@@ -267,230 +231,4 @@ fn method(w: &mut String, qemu: &str, rustc: &str, cc: &str, measured: &[Measure
          (the largest share, when there are several). Instructions count where they \
          execute, not in their callers: a table of self cost.\n"
     );
-}
-
-fn cycle_model(w: &mut String) {
-    let _ = writeln!(w, "## The cycle estimate\n");
-    let _ = writeln!(
-        w,
-        "**An estimate, not a measurement**: qemu counts instructions, not cycles. Each \
-         executed instruction is classified by its mnemonic (`tests/src/cycles.rs`, unit \
-         tested) and weighted with the Cortex-M4 Technical Reference Manual (ARM DDI 0439, \
-         \"Cortex-M4 instruction set summary\" and the FPU instruction table):\n"
-    );
-    let _ = writeln!(
-        w,
-        "- 1 cycle: integer data processing, `MUL`, `SMULL`/`UMULL`, `IT` (assumed never \
-         folded), FPU add, subtract, multiply, negate, absolute, compare, convert, \
-         `VMOV` (2 with two core registers), `VMRS`;"
-    );
-    let _ = writeln!(
-        w,
-        "- 2: `MLA`, `MLS`; 3: `VMLA`, `VMLS`, `VNMLA`, `VNMLS`, `VFMA`..; 14: \
-         `VDIV.F32`, `VSQRT.F32`; `SDIV`/`UDIV`: {} (the manual: 2 to 12 by early \
-         termination; the worst case assumed);",
-        cycles::DIVIDE
-    );
-    let _ = writeln!(
-        w,
-        "- loads and stores single (`LDR*`, `STR*`, `VLDR`, `VSTR`): 2, or 1 when the \
-         instruction executed just before was also a load or store single (\"neighbouring \
-         load and store single instructions can pipeline their address and data \
-         phases\"); how often that happens is exact from the profile (the fall-through \
-         executions of the instruction before it); address dependencies and the manual's \
-         finer exceptions are ignored; `LDRD`/`STRD`: 3; `LDM`/`STM`/`PUSH`/`POP`/`VLDM`/\
-         `VSTM`/`VPUSH`/`VPOP`: 1 + N (N registers, in 32-bit words);"
-    );
-    let _ = writeln!(
-        w,
-        "- branches (`B`, `BL`, `BX`, `BLX`, `CBZ`/`CBNZ`; `TBB`/`TBH` 2; `POP {{.., pc}}` \
-         1 + N; anything writing the PC): + P = {} for each taken execution, counted \
-         by the plugin (the manual: P = 1 to 3, by the target's alignment and width and \
-         whether the address was speculated).\n",
-        cycles::REFILL
-    );
-    let _ = writeln!(
-        w,
-        "It ignores: flash wait states and the prefetch buffer (at 25 MHz from zero-wait \
-         memory none; a real MCU at 100+ MHz from flash adds them, partly hidden by its \
-         cache or accelerator), stalls between dependent FPU operations (a result used by \
-         the next instruction, `VMRS` right after `VCMP`), conditional instructions whose \
-         condition fails (charged as executed; a failed branch is charged as not taken), \
-         bus contention of literal loads, interrupts. Read the figures as a cycle count \
-         for zero-wait memory, correct to perhaps 10-20%, and the ratio cycles/instruction \
-         as the part that the instruction counts hide.\n"
-    );
-}
-
-fn run_section(w: &mut String, m: &Measured) {
-    let px = |n: u64| m.per_px(n);
-    let total = m.profile.total.max(1) as f64;
-    let total_cycles = m.cycles_at(cycles::REFILL).max(1) as f64;
-    let _ = writeln!(w, "## {}\n", m.title());
-    let _ = writeln!(
-        w,
-        "{:.1} instructions/px (SysTick {:.1}), estimated {:.0} cycles/px; {} distinct \
-         instructions executed.\n",
-        px(m.profile.total),
-        m.systick.instructions_per_pixel(),
-        px(total_cycles as u64),
-        m.profile.insns.len()
-    );
-    // Instruction classes; branches split into taken and not taken.
-    let mut rows: Vec<(String, u64, u64)> = Vec::new();
-    for class in Class::ALL {
-        let of = |f: &dyn Fn(&cycles::Insn, &Cost) -> (u64, u64)| {
-            m.profile
-                .insns
-                .iter()
-                .zip(&m.costs)
-                .filter(|(_, c)| c.timing.class == class)
-                .map(|(i, c)| f(i, c))
-                .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
-        };
-        if class == Class::Branch {
-            let taken = of(&|_, c| (c.refills, c.refills * (c.timing.cycles + cycles::REFILL)));
-            let not = of(&|i, c| {
-                let n = i.count - c.refills;
-                (n, n * c.timing.cycles)
-            });
-            rows.push((
-                format!("branches taken (1+P, P = {}; pop/ldm +N)", cycles::REFILL),
-                taken.0,
-                taken.1,
-            ));
-            rows.push(("branches not taken (1)".into(), not.0, not.1));
-        } else {
-            let (n, c) = of(&|i, c| (i.count, c.cycles()));
-            rows.push((class.label().to_string(), n, c));
-        }
-    }
-    let _ = writeln!(
-        w,
-        "| instruction class (cycles each) | instr/px | share | est. cycles/px | share of cycles |"
-    );
-    let _ = writeln!(w, "|---|---|---|---|---|");
-    for (label, n, c) in &rows {
-        let _ = writeln!(
-            w,
-            "| {label} | {:.1} | {:.1}% | {:.1} | {:.1}% |",
-            px(*n),
-            100.0 * *n as f64 / total,
-            px(*c),
-            100.0 * *c as f64 / total_cycles
-        );
-    }
-    let pipelined: u64 = m.costs.iter().map(|c| c.pipelined).sum();
-    let _ = writeln!(
-        w,
-        "| **total** | **{:.1}** | 100% | **{:.1}** | 100% |\n",
-        px(m.profile.total),
-        px(total_cycles as u64)
-    );
-    let _ = writeln!(
-        w,
-        "Loads and stores pipelined with the one before (1 cycle instead of 2): {:.1}/px.\n",
-        px(pipelined)
-    );
-
-    let _ = writeln!(
-        w,
-        "| # | function (innermost, inlined included) | source | in | instr/px | share | est. cycles/px | cycles/instr |"
-    );
-    let _ = writeln!(w, "|---|---|---|---|---|---|---|---|");
-    for (k, f) in m.functions.iter().take(TOP).enumerate() {
-        let caller = f.main_caller().map_or_else(String::new, |(n, share)| {
-            if share > 0.95 {
-                format!("`{}`", short(n))
-            } else {
-                format!("`{}` ({:.0}%)", short(n), 100.0 * share)
-            }
-        });
-        let _ = writeln!(
-            w,
-            "| {} | `{}` | {} | {} | {:.1} | {:.1}% | {:.1} | {:.2} |",
-            k + 1,
-            short(&f.name),
-            f.source(),
-            caller,
-            px(f.count),
-            100.0 * f.count as f64 / total,
-            px(f.cycles),
-            f.cycles as f64 / f.count.max(1) as f64
-        );
-    }
-    let rest: Vec<&FunctionCost> = m.functions.iter().skip(TOP).collect();
-    if !rest.is_empty() {
-        let n: u64 = rest.iter().map(|f| f.count).sum();
-        let c: u64 = rest.iter().map(|f| f.cycles).sum();
-        let _ = writeln!(
-            w,
-            "| | other ({} functions) | | | {:.1} | {:.1}% | {:.1} | {:.2} |",
-            rest.len(),
-            px(n),
-            100.0 * n as f64 / total,
-            px(c),
-            c as f64 / n.max(1) as f64
-        );
-    }
-    let _ = writeln!(w);
-}
-
-/// A function name for the tables: without the crate path of tessera's own items
-/// and with `<impl ...>` blocks shortened.
-fn short(name: &str) -> String {
-    name.replace("tessera::", "")
-}
-
-fn host_section(w: &mut String, host: Option<&(String, Vec<callgrind::HostProfile>)>) {
-    let _ = writeln!(w, "## Host (x86-64, callgrind)\n");
-    let Some((version, profiles)) = host else {
-        let _ = writeln!(
-            w,
-            "valgrind is not installed on the machine that generated this file, so there is \
-             no host profile (install it, e.g. `apt-get install valgrind`, and run the \
-             command again).\n"
-        );
-        return;
-    };
-    let _ = writeln!(
-        w,
-        "The release `tessera` binary (`cargo build --release -p tessera-host`: fat LTO, no \
-         debug info, so functions are symbols with everything inlined into them) renders \
-         each scene at 320x240 with its own settings on one thread under `valgrind \
-         --tool=callgrind` ({version}). Instructions are the whole process's `Ir`: \
-         parsing the arguments, building the scene, rendering and encoding the PNG (the \
-         `png`/`fdeflate`/`write_png` rows). Rays are what the command prints (primary, \
-         shadow and secondary rays).\n"
-    );
-    let _ = writeln!(w, "| scene | size | total Ir | Ir/px | rays | Ir/ray |");
-    let _ = writeln!(w, "|---|---|---|---|---|---|");
-    for (scene, p) in HOST_SCENES.iter().zip(profiles) {
-        let _ = writeln!(
-            w,
-            "| {scene} | {} px | {} | {:.0} | {} | {:.0} |",
-            thousands(p.pixels),
-            thousands(p.total),
-            p.total as f64 / p.pixels.max(1) as f64,
-            thousands(p.rays),
-            p.total as f64 / p.rays.max(1) as f64
-        );
-    }
-    let _ = writeln!(w);
-    for (scene, p) in HOST_SCENES.iter().zip(profiles) {
-        let _ = writeln!(w, "Top functions, {scene} (`{}`):\n", p.command);
-        let _ = writeln!(w, "| function (self cost) | Ir/px | share |");
-        let _ = writeln!(w, "|---|---|---|");
-        for f in p.functions.iter().take(HOST_TOP) {
-            let name = f.name.strip_prefix("???:").unwrap_or(&f.name);
-            let _ = writeln!(
-                w,
-                "| `{}` | {:.0} | {:.1}% |",
-                short(name),
-                f.ir as f64 / p.pixels.max(1) as f64,
-                f.percent
-            );
-        }
-        let _ = writeln!(w);
-    }
 }

@@ -5,19 +5,29 @@
 //! under qemu, twice per backend, and writes the instructions per pixel, the ELF
 //! section sizes, the peak stack and the flash/RAM budget. Fails if the two passes
 //! disagree on any count or if the exact backend's pixels differ from the host's.
+//! A third pass of the exact backend runs under the instruction-profiling qemu
+//! plugin (`tests/profiler/`): its counts must agree with SysTick's, and its
+//! instruction mix gives the estimated cycles per pixel ([`tessera_tests::cycles`]).
+//!
+//! The instruction counts of the guarded runs are compared with
+//! `tests/chip-baseline.txt` (printed); `--bless-baseline` rewrites that file from
+//! this run's counts (commit it with a message that says why).
 //!
 //! ```sh
 //! cargo run -p tessera-tests --release --bin chip-report
+//! cargo run -p tessera-tests --release --bin chip-report -- --bless-baseline
 //! ```
 
 use image::RgbImage;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::{Duration, Instant};
 use tessera::Viewport;
 use tessera::builtin::Builtin;
 use tessera::{Sampler, Sampler::*};
 use tessera_tests::firmware::{self, Output, Run, Sizes};
+use tessera_tests::{baseline, cycles, profile, thousands};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin chip-report";
 const SAMPLERS: [Sampler; 5] = [Corner, Centre, Stratified(2), Stratified(4), Random(4)];
@@ -25,7 +35,21 @@ const SIZE: u16 = 64;
 const TILE: usize = 16;
 
 fn main() -> ExitCode {
-    match report() {
+    let mut bless = false;
+    for arg in std::env::args().skip(1) {
+        match arg.as_str() {
+            "--bless-baseline" => bless = true,
+            _ => {
+                eprintln!(
+                    "chip-report: unknown argument {arg:?} (the only option is \
+                     --bless-baseline: rewrite {})",
+                    baseline::FILE
+                );
+                return ExitCode::FAILURE;
+            }
+        }
+    }
+    match report(bless) {
         Ok(path) => {
             println!("wrote {}", path.display());
             ExitCode::SUCCESS
@@ -94,6 +118,41 @@ fn measure(elf: PathBuf, runs: &[Run]) -> Result<Backend, String> {
     })
 }
 
+/// `f()` and how long it took.
+fn timed<T>(f: impl FnOnce() -> Result<T, String>) -> Result<(T, Duration), String> {
+    let t = Instant::now();
+    f().map(|v| (v, t.elapsed()))
+}
+
+/// What the profiled pass found for one run.
+struct Profiled {
+    /// Instructions the plugin counted.
+    total: u64,
+    /// Estimated cycles.
+    cycles: u64,
+}
+
+/// Runs `runs` once more on `elf`, one qemu per run, under the instruction
+/// profiling plugin; each plugin count must agree with the SysTick count of its
+/// own qemu run. Returns the counts and the estimated cycles.
+fn profiled(elf: &std::path::Path, runs: &[Run]) -> Result<Vec<Profiled>, String> {
+    let plugin = profile::build_plugin()?;
+    let markers = profile::markers(elf)?;
+    let mut est = Vec::with_capacity(runs.len());
+    for r in runs {
+        let (alone, prof) = profile::run(elf, &plugin, markers, r)?;
+        profile::check_total(r, &alone, &prof)?;
+        est.push(Profiled {
+            total: prof.total,
+            cycles: cycles::costs(&prof.insns)
+                .iter()
+                .map(cycles::Cost::cycles)
+                .sum(),
+        });
+    }
+    Ok(est)
+}
+
 fn host(run: &Run) -> Result<RgbImage, String> {
     let vp = Viewport::new(run.width, run.height);
     run.scene
@@ -120,19 +179,7 @@ fn kib(bytes: u64) -> String {
     format!("{:.1} KiB", bytes as f64 / 1024.0)
 }
 
-fn thousands(n: u64) -> String {
-    let s = n.to_string();
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
-}
-
-fn report() -> Result<PathBuf, String> {
+fn report(bless: bool) -> Result<PathBuf, String> {
     let qemu = firmware::qemu_version()?;
     let rustc = tessera_tests::tool_version("rustc");
     let (flash, ram) = firmware::memory_budget()?;
@@ -140,17 +187,43 @@ fn report() -> Result<PathBuf, String> {
     let exact_elf = firmware::build(false)?;
     let fast_elf = firmware::build(true)?;
     let runs = runs();
-    println!("running {} renders x 2 passes x 2 backends...", runs.len());
-    let (exact, fast) = std::thread::scope(|s| {
-        let e = s.spawn(|| measure(exact_elf, &runs));
-        let f = s.spawn(|| measure(fast_elf, &runs));
-        let join = |h: std::thread::ScopedJoinHandle<'_, Result<Backend, String>>| {
+    println!(
+        "running {} renders x 2 passes x 2 backends, and the exact backend once more \
+         under the profiling plugin...",
+        runs.len()
+    );
+    let started = Instant::now();
+    let (exact, fast, prof) = std::thread::scope(|s| {
+        let e = s.spawn(|| timed(|| measure(exact_elf.clone(), &runs)));
+        let f = s.spawn(|| timed(|| measure(fast_elf, &runs)));
+        let p = s.spawn(|| timed(|| profiled(&exact_elf, &runs)));
+        fn join<T>(h: std::thread::ScopedJoinHandle<'_, Result<T, String>>) -> Result<T, String> {
             h.join()
                 .unwrap_or_else(|_| Err("a measuring thread panicked".into()))
-        };
-        (join(e), join(f))
+        }
+        (join(e), join(f), join(p))
     });
-    let (exact, fast) = (exact?, fast?);
+    let ((exact, te), (fast, tf), (prof, tp)) = (exact?, fast?, prof?);
+    println!(
+        "measured in {:.0} s (three threads: exact 2 passes {:.0} s, fast-math 2 passes \
+         {:.0} s, exact under the plugin {:.0} s)",
+        started.elapsed().as_secs_f64(),
+        te.as_secs_f64(),
+        tf.as_secs_f64(),
+        tp.as_secs_f64()
+    );
+    // The plugin's exact counts against the SysTick counts of the list (another
+    // SysTick phase than the run alone: up to a tick a tile apart).
+    for ((r, res), p) in runs.iter().zip(&exact.out.runs).zip(&prof) {
+        let alone = profile::Profile {
+            total: p.total,
+            arms: profile::tiles(r),
+            ..profile::Profile::default()
+        };
+        profile::check_total(r, res, &alone)?;
+    }
+    let est: Vec<u64> = prof.iter().map(|p| p.cycles).collect();
+    guard(&runs, &exact.out, bless)?;
 
     // The exact backend is bit-identical to the host build.
     for (r, res) in runs.iter().zip(&exact.out.runs) {
@@ -219,7 +292,13 @@ fn report() -> Result<PathBuf, String> {
         w,
         "These are instructions, not cycles: on silicon, loads, taken branches, \
          `vdiv.f32`/`vsqrt.f32` (14 cycles) and flash wait states make the cycle count \
-         higher.\n"
+         higher. The `est. cycles/px` column estimates it from the instruction mix of a \
+         third pass of the exact backend under the instruction-profiling qemu plugin \
+         (`tests/profiler/`; its exact counts agree with SysTick's within {} \
+         instructions a tile on every run, or this report fails); \
+         [chip-profile.md](chip-profile.md) explains the model and shows where the \
+         instructions go.\n",
+        profile::TOLERANCE_PER_TILE
     );
     let _ = writeln!(
         w,
@@ -236,25 +315,35 @@ fn report() -> Result<PathBuf, String> {
         w,
         "`exact` is the default backend (libm, `vsqrt.f32`), `fast-math` the micromath \
          approximations (`--features fast-math`); the last two columns compare the \
-         fast-math image with the exact one (largest channel difference in LSB, PSNR).\n"
+         fast-math image with the exact one (largest channel difference in LSB, PSNR). \
+         `est. cycles/px` is an **estimate** of Cortex-M4 cycles for the exact backend \
+         from its instruction mix (Cortex-M4 TRM timings, taken branches 1 + P with \
+         P = {}, zero-wait memory: see [chip-profile.md](chip-profile.md)).\n",
+        cycles::REFILL
     );
     let _ = writeln!(
         w,
-        "| scene | depth | sampler | rays/px | exact instr/px | exact instr/ray | fast-math instr/px | fast/exact | max diff | PSNR |"
+        "| scene | depth | sampler | rays/px | exact instr/px | est. cycles/px | exact instr/ray | fast-math instr/px | fast/exact | max diff | PSNR |"
     );
-    let _ = writeln!(w, "|---|---|---|---|---|---|---|---|---|---|");
-    for ((r, e), f) in runs.iter().zip(&exact.out.runs).zip(&fast.out.runs) {
+    let _ = writeln!(w, "|---|---|---|---|---|---|---|---|---|---|---|");
+    for (((r, e), f), c) in runs
+        .iter()
+        .zip(&exact.out.runs)
+        .zip(&fast.out.runs)
+        .zip(&est)
+    {
         let spp = r.sampler.count();
         let (max, psnr) = difference(&e.pixels, &f.pixels);
         let psnr = psnr.map_or_else(|| "identical".to_string(), |p| format!("{p:.1} dB"));
         let _ = writeln!(
             w,
-            "| {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.2} | {} | {} |",
+            "| {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.0} | {:.2} | {} | {} |",
             r.scene.name(),
             r.depth,
             r.sampler_text()?,
             spp,
             e.instructions_per_pixel(),
+            *c as f64 / e.pixels_count.max(1) as f64,
             e.instructions_per_pixel() / f64::from(spp),
             f.instructions_per_pixel(),
             f.instructions as f64 / e.instructions.max(1) as f64,
@@ -377,4 +466,39 @@ fn rel(p: &std::path::Path) -> String {
     let root = root.canonicalize().unwrap_or(root);
     let p = p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
     p.strip_prefix(&root).unwrap_or(&p).display().to_string()
+}
+
+/// Compares the guarded runs' counts with the baseline file and prints the table;
+/// with `bless`, rewrites the file from these counts instead.
+fn guard(runs: &[Run], out: &Output, bless: bool) -> Result<(), String> {
+    let mut now = Vec::new();
+    for g in baseline::runs() {
+        let i = runs
+            .iter()
+            .position(|r| *r == g)
+            .ok_or_else(|| format!("the guarded run {g} is not in the run list"))?;
+        now.push((g.line()?, out.runs[i].instructions));
+    }
+    let path = baseline::path();
+    if bless {
+        std::fs::write(&path, baseline::render(&now))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        println!(
+            "wrote {} (commit it with a message that says why)",
+            path.display()
+        );
+        return Ok(());
+    }
+    match std::fs::read_to_string(&path) {
+        Ok(text) => {
+            let base = baseline::parse(&text)?;
+            println!(
+                "instruction counts against {}:\n{}",
+                baseline::FILE,
+                baseline::Comparison::new(&base, &now).table()
+            );
+        }
+        Err(e) => println!("no baseline to compare with ({}: {e})", path.display()),
+    }
+    Ok(())
 }
