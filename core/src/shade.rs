@@ -130,6 +130,7 @@ impl Shaded<'_> {
     }
 }
 
+#[inline(always)]
 fn resolve<'a, G: Shape>(
     view: &SceneView<'a>,
     list: &'a [Primitive<G>],
@@ -233,6 +234,8 @@ pub(crate) struct ShadowLists<'l> {
 pub(crate) const MASKED_LIGHTS: usize = 16;
 
 impl<'a> SceneView<'a> {
+    /// The resolved hit of `n` (inlined where it is called: [`SceneView::primary`]
+    /// and [`SceneView::bounce`] each have their copy).
     #[inline(always)]
     fn shaded(
         &self,
@@ -271,7 +274,12 @@ impl<'a> SceneView<'a> {
     /// and refracted rays depth-first on a fixed stack. Where the camera ray carries
     /// its pixel (`footprint`), a texture it hits is averaged exactly over the
     /// pixel's footprint (box filter) instead of evaluated at one point.
-    #[inline]
+    ///
+    /// Two calls that never nest: [`SceneView::primary`] (the camera ray's own hit,
+    /// with its searches inlined: the common path, one call per sample) and, only
+    /// when that hit sends rays, [`SceneView::bounce`]. The deepest stack is the
+    /// bounce's, not the sum of both (a tile stays within 2 KiB on the chip).
+    #[inline(always)]
     pub(crate) fn trace_with<C: Rays>(
         &self,
         ray: Ray,
@@ -281,44 +289,61 @@ impl<'a> SceneView<'a> {
         count: &mut C,
         footprint: Option<&Footprint<'_>>,
     ) -> Color {
-        count.primary();
-        let Some(nearest) = self.nearest(&ray, t_max, picks.camera.as_ref(), Skip::NONE) else {
-            return self.background;
-        };
-        let Some(hit) = self.shaded(&nearest, &ray, footprint) else {
-            return Color::BLACK; // unreachable for a validated scene: no material
-        };
-        let mut total = self.local(&hit, &ray, picks.shadow.as_ref(), count);
         let max_depth = if self.secondary {
             max_depth.min(MAX_DEPTH)
         } else {
             0
         };
-        if max_depth == 0 || !hit.material.sends_rays() {
-            return total;
+        let (mut total, first) = self.primary(&ray, t_max, max_depth, picks, count, footprint);
+        if first.iter().any(Option::is_some) {
+            self.bounce(first, max_depth, &mut total, count);
         }
-        self.bounce(&hit, &ray, 1.0, 0, max_depth, &mut total, count);
         total
     }
 
-    /// Adds what the reflected and refracted rays of `hit` (reached by `ray` at
-    /// `depth` with weight `weight`) bring back to `total`: depth-first, with a
-    /// fixed stack of pending rays (depth `D` needs at most `D + 1` slots). Out of
+    /// The camera ray's own colour, and the reflected and refracted rays its hit
+    /// sends when `max_depth > 0`.
+    #[inline(never)]
+    fn primary<C: Rays>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        max_depth: u8,
+        picks: &Picks<'_>,
+        count: &mut C,
+        footprint: Option<&Footprint<'_>>,
+    ) -> (Color, [Option<Pending>; 2]) {
+        count.primary();
+        let Some(nearest) = self.nearest_in(ray, t_max, picks.camera.as_ref(), Skip::NONE) else {
+            return (self.background, [None, None]);
+        };
+        let Some(hit) = self.shaded(&nearest, ray, footprint) else {
+            return (Color::BLACK, [None, None]); // unreachable: no material
+        };
+        let total = self.local_in(&hit, ray, picks.shadow.as_ref(), count);
+        if max_depth == 0 || !hit.material.sends_rays() {
+            return (total, [None, None]);
+        }
+        (total, children(&hit, ray, 1.0, 0))
+    }
+
+    /// Adds what `first` (the reflected and refracted rays of a camera ray's hit)
+    /// bring back to `total`: depth-first, with a fixed stack of pending rays
+    /// (depth `D` needs at most `D + 1` slots), every primitive a candidate. Out of
     /// line: a scene without mirrors or glass never comes here.
     #[inline(never)]
-    #[allow(clippy::too_many_arguments)]
     fn bounce<C: Rays>(
         &self,
-        hit: &Shaded<'_>,
-        ray: &Ray,
-        weight: f32,
-        depth: u8,
+        first: [Option<Pending>; 2],
         max_depth: u8,
         total: &mut Color,
         count: &mut C,
     ) {
         let mut stack: heapless::Vec<Pending, { MAX_DEPTH as usize + 1 }> = heapless::Vec::new();
-        push_children(&mut stack, hit, ray, weight, depth);
+        // At most depth + 1 pending rays: a push cannot fail.
+        for p in first.into_iter().flatten() {
+            let _ = stack.push(p);
+        }
         while let Some(p) = stack.pop() {
             count.secondary();
             let Some(nearest) = self.nearest(&p.ray, f32::INFINITY, None, p.skip) else {
@@ -330,17 +355,29 @@ impl<'a> SceneView<'a> {
             };
             *total += self.local(&hit, &p.ray, None, count) * p.weight;
             if p.depth < max_depth && hit.material.sends_rays() {
-                push_children(&mut stack, &hit, &p.ray, p.weight, p.depth);
+                for c in children(&hit, &p.ray, p.weight, p.depth).into_iter().flatten() {
+                    let _ = stack.push(c);
+                }
             }
         }
     }
 
-    /// Ambient + direct light at a hit (no secondary rays); the shadow rays test the
-    /// candidates of `shadow` (see [`Picks`]). Out of line: called for camera rays
-    /// and for bounces, it keeps its locals off both callers' frames (the stack a
-    /// tile needs stays within 2 KiB on the Cortex-M4F).
+    /// [`SceneView::local_in`] out of line, for the bounces.
     #[inline(never)]
     fn local<C: Rays>(
+        &self,
+        hit: &Shaded<'_>,
+        ray: &Ray,
+        shadow: Option<&ShadowLists<'_>>,
+        count: &mut C,
+    ) -> Color {
+        self.local_in(hit, ray, shadow, count)
+    }
+
+    /// Ambient + direct light at a hit (no secondary rays); the shadow rays test the
+    /// candidates of `shadow` (see [`Picks`]).
+    #[inline(always)]
+    fn local_in<C: Rays>(
         &self,
         hit: &Shaded<'_>,
         ray: &Ray,
@@ -397,26 +434,21 @@ impl<'a> SceneView<'a> {
     }
 }
 
-/// Pushes the reflected and refracted rays of `hit` that carry weight.
-fn push_children<const K: usize>(
-    stack: &mut heapless::Vec<Pending, K>,
-    hit: &Shaded<'_>,
-    ray: &Ray,
-    weight: f32,
-    depth: u8,
-) {
-    for (ray, w) in secondary(hit, ray).into_iter().flatten() {
+/// The reflected and refracted rays of `hit` (reached at `depth` by a ray of
+/// weight `weight`) that carry weight, reflected first: pushed in this order, the
+/// refracted ray is traced first, as a depth-first traversal of the ray tree.
+#[inline(never)]
+fn children(hit: &Shaded<'_>, ray: &Ray, weight: f32, depth: u8) -> [Option<Pending>; 2] {
+    secondary(hit, ray).map(|child| {
+        let (ray, w) = child?;
         let weight = weight * w;
-        if weight != 0.0 {
-            // At most depth + 1 pending rays: the push cannot fail.
-            let _ = stack.push(Pending {
-                skip: hit.skip_for(ray.dir),
-                ray,
-                weight,
-                depth: depth + 1,
-            });
-        }
-    }
+        (weight != 0.0).then(|| Pending {
+            skip: hit.skip_for(ray.dir),
+            ray,
+            weight,
+            depth: depth + 1,
+        })
+    })
 }
 
 /// The normal turned to face the incoming ray.

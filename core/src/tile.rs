@@ -232,7 +232,7 @@ impl Frame {
     /// single-sample samplers (no sample loop, no averaging: `(0 + c) * 1 = c`); the
     /// stratified and random samplers hash the pixel once and the sample index per
     /// sample.
-    #[inline]
+    #[inline(always)]
     fn pixel<C: Rays>(
         &self,
         scene: &SceneView<'_>,

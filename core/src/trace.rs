@@ -134,9 +134,21 @@ impl SceneView<'_> {
     /// The nearest hit of `ray` with `0 < t < t_max` among the candidates `pick`,
     /// except `skip`. Each list is searched with the nearest time found so far, so
     /// a later list only reports nearer hits; ties keep the earlier primitive. Out of
-    /// line: one copy for camera rays and bounces, off their callers' frames.
+    /// line, for the bounces; camera rays inline [`SceneView::nearest_in`].
     #[inline(never)]
     pub(crate) fn nearest(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        pick: CameraPick<'_>,
+        skip: Skip,
+    ) -> Option<Nearest> {
+        self.nearest_in(ray, t_max, pick, skip)
+    }
+
+    /// [`SceneView::nearest`], inlined where it is called.
+    #[inline(always)]
+    pub(crate) fn nearest_in(
         &self,
         ray: &Ray,
         t_max: f32,
