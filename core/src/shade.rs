@@ -294,16 +294,18 @@ impl<'a> SceneView<'a> {
         } else {
             0
         };
-        let (mut total, first) = self.primary(&ray, t_max, max_depth, picks, count, footprint);
+        let mut first = [None, None];
+        let mut total = self.primary(&ray, t_max, max_depth, picks, count, footprint, &mut first);
         if first.iter().any(Option::is_some) {
             self.bounce(first, max_depth, &mut total, count);
         }
         total
     }
 
-    /// The camera ray's own colour, and the reflected and refracted rays its hit
-    /// sends when `max_depth > 0`.
+    /// The camera ray's own colour; the reflected and refracted rays its hit sends
+    /// when `max_depth > 0` go to `first` (left as it is otherwise).
     #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
     fn primary<C: Rays>(
         &self,
         ray: &Ray,
@@ -312,19 +314,20 @@ impl<'a> SceneView<'a> {
         picks: &Picks<'_>,
         count: &mut C,
         footprint: Option<&Footprint<'_>>,
-    ) -> (Color, [Option<Pending>; 2]) {
+        first: &mut [Option<Pending>; 2],
+    ) -> Color {
         count.primary();
         let Some(nearest) = self.nearest_in(ray, t_max, picks.camera.as_ref(), Skip::NONE) else {
-            return (self.background, [None, None]);
+            return self.background;
         };
         let Some(hit) = self.shaded(&nearest, ray, footprint) else {
-            return (Color::BLACK, [None, None]); // unreachable: no material
+            return Color::BLACK; // unreachable for a validated scene: no material
         };
         let total = self.local_in(&hit, ray, picks.shadow.as_ref(), count);
-        if max_depth == 0 || !hit.material.sends_rays() {
-            return (total, [None, None]);
+        if max_depth > 0 && hit.material.sends_rays() {
+            *first = children(&hit, ray, 1.0, 0);
         }
-        (total, children(&hit, ray, 1.0, 0))
+        total
     }
 
     /// Adds what `first` (the reflected and refracted rays of a camera ray's hit)

@@ -162,7 +162,11 @@ impl<const N: usize> Tile<N> {
 pub struct Frame {
     basis: CameraBasis,
     settings: RenderSettings,
+    /// Rays per pixel, and the reciprocal by which their sum is averaged.
+    samples: u32,
     inv_count: f32,
+    /// `1 / k` for the stratified sampler (`k x k` cells), else 1.
+    stratum: f32,
 }
 
 impl Frame {
@@ -176,7 +180,12 @@ impl Frame {
         Ok(Self {
             basis: CameraBasis::try_new(camera, viewport)?,
             settings,
+            samples: settings.sampler.count(),
             inv_count: 1.0 / settings.sampler.count() as f32,
+            stratum: match settings.sampler {
+                Sampler::Stratified(k) => 1.0 / f32::from(k.max(1)),
+                _ => 1.0,
+            },
         })
     }
 
@@ -228,10 +237,10 @@ impl Frame {
         self.pixel(scene, &Picks::default(), x, y, count)
     }
 
-    /// The colour of pixel `(x, y)` with the candidates `picks`. One ray for the
-    /// single-sample samplers (no sample loop, no averaging: `(0 + c) * 1 = c`); the
-    /// stratified and random samplers hash the pixel once and the sample index per
-    /// sample.
+    /// The colour of pixel `(x, y)` with the candidates `picks`: the mean of its
+    /// samples. One loop for every sampler, so that the tracer is inlined once: a
+    /// single-sample sampler runs it once (and `(0 + c) * 1 = c`), the stratified
+    /// and random samplers hash the pixel once and the sample index per sample.
     #[inline(always)]
     fn pixel<C: Rays>(
         &self,
@@ -243,44 +252,45 @@ impl Frame {
     ) -> Color {
         let s = &self.settings;
         let (px, py) = (x as f32, y as f32);
-        let one = |dx: f32, dy: f32, count: &mut C| {
+        let one = |dx: f32, dy: f32, footprint: Option<&Footprint<'_>>, count: &mut C| {
             let (ray, t_far) = self.basis.ray(px + dx, py + dy);
-            scene.trace_with(ray, t_far, s.max_depth, picks, count, None)
+            scene.trace_with(ray, t_far, s.max_depth, picks, count, footprint)
         };
-        match s.sampler {
-            Sampler::Corner => one(0.0, 0.0, count),
-            Sampler::Centre => one(0.5, 0.5, count),
-            Sampler::Offset(o) => one(o.x(), o.y(), count),
-            Sampler::Prefiltered => {
-                let footprint = Footprint::new(&self.basis, px, py);
-                let (ray, t_far) = self.basis.ray(px + 0.5, py + 0.5);
-                scene.trace_with(ray, t_far, s.max_depth, picks, count, Some(&footprint))
-            }
-            Sampler::Stratified(k) => {
-                let hash = PixelHash::new(x, y, s.seed);
-                let k = u32::from(k.max(1));
-                let inv = 1.0 / k as f32;
-                let mut sum = Color::BLACK;
-                for cy in 0..k {
-                    for cx in 0..k {
-                        let (jx, jy) = hash.pair(cy * k + cx);
-                        let dx = below_one((cx as f32 + jx) * inv);
-                        let dy = below_one((cy as f32 + jy) * inv);
-                        sum += one(dx, dy, count);
-                    }
-                }
-                sum * self.inv_count
-            }
-            Sampler::Random(n) => {
-                let hash = PixelHash::new(x, y, s.seed);
-                let mut sum = Color::BLACK;
-                for i in 0..u32::from(n) {
-                    let (dx, dy) = hash.pair(i);
-                    sum += one(dx, dy, count);
-                }
-                sum * self.inv_count
-            }
+        // One ray: no loop, no average (`(0 + c) * 1 = c`).
+        let single = match s.sampler {
+            Sampler::Corner => Some((0.0, 0.0)),
+            Sampler::Centre | Sampler::Prefiltered => Some((0.5, 0.5)),
+            Sampler::Offset(o) => Some((o.x(), o.y())),
+            Sampler::Stratified(_) | Sampler::Random(_) => None,
+        };
+        if let Some((dx, dy)) = single {
+            let footprint = matches!(s.sampler, Sampler::Prefiltered)
+                .then(|| Footprint::new(&self.basis, px, py));
+            return one(dx, dy, footprint.as_ref(), count);
         }
+        let hash = PixelHash::new(x, y, s.seed);
+        let mut sum = Color::BLACK;
+        // The stratified sampler's cell (cx, cy) of sample i = cy k + cx.
+        let (mut cx, mut cy) = (0u32, 0u32);
+        for i in 0..self.samples {
+            let (dx, dy) = match s.sampler {
+                Sampler::Stratified(k) => {
+                    let (jx, jy) = hash.pair(i);
+                    let d = (
+                        below_one((cx as f32 + jx) * self.stratum),
+                        below_one((cy as f32 + jy) * self.stratum),
+                    );
+                    cx += 1;
+                    if cx == u32::from(k) {
+                        (cx, cy) = (0, cy + 1);
+                    }
+                    d
+                }
+                _ => hash.pair(i),
+            };
+            sum += one(dx, dy, None, count);
+        }
+        sum * self.inv_count
     }
 
     /// What a pixel comes to when every ray misses: the background, averaged over
