@@ -62,7 +62,50 @@ use heapless::Vec;
 use heapless::vec::VecView;
 
 /// The relative clearance every culling test requires (see the module doc).
-const MARGIN: f32 = 1.0 / 1024.0;
+pub(crate) const MARGIN: f32 = 1.0 / 1024.0;
+
+/// A box around every primitive of a list (a one-node bounding volume hierarchy):
+/// a ray that misses it cannot hit any of them, so the list is skipped. Used for
+/// the rays that the tile lists do not cover (reflected, refracted, and their
+/// shadow rays), and only for rays whose origin lies within `reach` (largest
+/// component), so that the clearance below covers their rounding.
+///
+/// Conservative by the argument of the module doc: the box is the exact bounds of
+/// the list grown by [`MARGIN`] times `2 m + e` (`m` the bounds' largest coordinate,
+/// `e` their largest extent); a ray with `|origin| <= reach = 2 m + e` that an
+/// intersection test reports as hitting a primitive passes, at that time, within
+/// about `30 u (|origin| + |point|) <= 30 u (3 m + e)` of it, far inside the
+/// clearance, and the slab test itself never misses a ray that passes through its
+/// box (pbrt-v4's widened exit).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Hull {
+    bounds: crate::geometry::Aabb,
+    reach: f32,
+}
+
+impl Hull {
+    /// The hull of the primitives within `[min, max]`, or `None` for an empty or
+    /// non-finite list.
+    pub(crate) fn new(min: Vec3, max: Vec3) -> Option<Self> {
+        let b = Bounds::new(min, max);
+        if b.is_empty() || !b.is_finite() {
+            return None;
+        }
+        let reach = 2.0 * b.magnitude() + mag(max - min);
+        let b = b.grown(MARGIN * reach);
+        reach.is_finite().then_some(Self {
+            bounds: crate::geometry::Aabb::enclosing(b.min, b.max),
+            reach,
+        })
+    }
+
+    /// False only when the ray from `origin` (reciprocal direction `inv`) surely
+    /// misses every primitive inside before `t_max`.
+    #[inline(always)]
+    pub(crate) fn may_hit(&self, origin: Vec3, origin_mag: f32, inv: Vec3, t_max: f32) -> bool {
+        !(origin_mag <= self.reach) || self.bounds.spans(origin, inv, t_max)
+    }
+}
 
 /// The largest list a `u16` index covers.
 const INDEXABLE: usize = 1 << 16;

@@ -14,6 +14,7 @@ use crate::geometry::{Aabb, Plane, Sphere, Triangle};
 use crate::light::PointLight;
 use crate::material::{Material, MaterialId};
 use crate::tile::{Frame, RenderSettings};
+use crate::vec::Vec3;
 use heapless::Vec;
 
 /// An object of the scene: a geometry and the material it is made of.
@@ -58,6 +59,19 @@ pub struct Scene<
     boxes: Vec<Primitive<Aabb>, B>,
     materials: Vec<Material, M>,
     lights: Vec<PointLight, L>,
+    /// The bounds of the spheres, triangles and boxes, kept as they are added.
+    bounds: [(Vec3, Vec3); 3],
+}
+
+/// Empty bounds: any point widens them.
+const NO_BOUNDS: (Vec3, Vec3) = (
+    Vec3::splat(f32::INFINITY),
+    Vec3::splat(f32::NEG_INFINITY),
+);
+
+/// `b` widened to `[min, max]`.
+fn widen(b: &mut (Vec3, Vec3), min: Vec3, max: Vec3) {
+    *b = (b.0.min(min), b.1.max(max));
 }
 
 fn push<X, const N: usize>(list: &mut Vec<X, N>, x: X, which: List) -> Result<(), Error> {
@@ -96,6 +110,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             boxes: Vec::new(),
             materials: Vec::new(),
             lights: Vec::new(),
+            bounds: [NO_BOUNDS; 3],
         }
     }
 
@@ -145,7 +160,11 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             &mut self.spheres,
             Primitive { geometry, material },
             List::Spheres,
-        )
+        )?;
+        let r = Vec3::splat(geometry.radius());
+        let [spheres, _, _] = &mut self.bounds;
+        widen(spheres, geometry.center() - r, geometry.center() + r);
+        Ok(())
     }
 
     /// Adds a plane made of `material`.
@@ -165,7 +184,12 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             &mut self.triangles,
             Primitive { geometry, material },
             List::Triangles,
-        )
+        )?;
+        let [_, triangles, _] = &mut self.bounds;
+        for v in geometry.vertices() {
+            widen(triangles, v, v);
+        }
+        Ok(())
     }
 
     /// Adds an axis-aligned box made of `material`.
@@ -175,7 +199,10 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             &mut self.boxes,
             Primitive { geometry, material },
             List::Boxes,
-        )
+        )?;
+        let [_, _, boxes] = &mut self.bounds;
+        widen(boxes, geometry.min(), geometry.max());
+        Ok(())
     }
 
     /// Adds a point light.
@@ -294,6 +321,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
                 .iter()
                 .any(|m| m.reflectivity() > 0.0 || m.transparency() > 0.0),
             tile_lists: crate::cull::lend::<S, P, T, B>,
+            hulls: self.bounds.map(|(min, max)| crate::cull::Hull::new(min, max)),
         }
     }
 
@@ -320,6 +348,8 @@ pub struct SceneView<'a> {
     pub(crate) secondary: bool,
     /// Lends a tile's candidate lists, sized by the scene's capacities.
     pub(crate) tile_lists: crate::cull::Lender,
+    /// The hulls of the spheres, triangles and boxes (`None` for an empty list).
+    pub(crate) hulls: [Option<crate::cull::Hull>; 3],
 }
 
 impl core::fmt::Debug for SceneView<'_> {

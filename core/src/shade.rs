@@ -24,7 +24,7 @@ use crate::material::Material;
 use crate::math;
 use crate::ray::{Ray, offset_origin};
 use crate::scene::{Primitive, SceneView};
-use crate::trace::{Kind, Nearest, Skip};
+use crate::trace::{Kind, Listed, Masked, Nearest, Skip};
 use crate::vec::Vec3;
 
 /// The deepest reflection/transmission recursion a frame may ask for.
@@ -317,7 +317,11 @@ impl<'a> SceneView<'a> {
         first: &mut [Option<Pending>; 2],
     ) -> Color {
         count.primary();
-        let Some(nearest) = self.nearest_in(ray, t_max, picks.camera.as_ref(), Skip::NONE) else {
+        let nearest = match &picks.camera {
+            Some(lists) => self.nearest_in(ray, t_max, Listed(lists), Skip::NONE),
+            None => self.nearest(ray, t_max, Skip::NONE),
+        };
+        let Some(nearest) = nearest else {
             return self.background;
         };
         let Some(hit) = self.shaded(&nearest, ray, footprint) else {
@@ -349,7 +353,7 @@ impl<'a> SceneView<'a> {
         }
         while let Some(p) = stack.pop() {
             count.secondary();
-            let Some(nearest) = self.nearest(&p.ray, f32::INFINITY, None, p.skip) else {
+            let Some(nearest) = self.nearest(&p.ray, f32::INFINITY, p.skip) else {
                 *total += self.background * p.weight;
                 continue;
             };
@@ -407,18 +411,24 @@ impl<'a> SceneView<'a> {
                 continue; // light behind the surface as seen from the ray
             }
             count.shadow();
-            let pick = match shadow {
+            // Lists for this light: `None` when no primitive of them may block it
+            // (the shadow ray would test nothing, so it needs no origin either).
+            let lists = match shadow {
                 Some(t) if i < MASKED_LIGHTS => {
                     let bit = 1 << (16 + i);
-                    // No primitive of the tile's lists may block this light: the
-                    // shadow ray would test nothing, so it needs no origin either.
-                    (t.lights & bit != 0).then_some(Some((&t.lists, bit)))
+                    (t.lights & bit != 0).then_some(Some(Masked(&t.lists, bit)))
                 }
                 _ => Some(None),
             };
-            if let Some(pick) = pick {
+            if let Some(lists) = lists {
                 let origin = offset_origin(s.point, s.error, n, l);
-                if self.occluded(&Ray::new(origin, l), dist, pick, hit.skip_for(l)) {
+                let ray = Ray::new(origin, l);
+                let skip = hit.skip_for(l);
+                let blocked = match lists {
+                    Some(m) => self.occluded_masked(&ray, dist, m, skip),
+                    None => self.occluded(&ray, dist, skip),
+                };
+                if blocked {
                     continue;
                 }
             }

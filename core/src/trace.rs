@@ -15,8 +15,10 @@
 
 use crate::geometry::triangle::{Axes, Shear, with_axes};
 use crate::geometry::{Candidate, aabb_inverse};
+use crate::cull::Hull;
 use crate::ray::Ray;
 use crate::scene::{Primitive, SceneView};
+use crate::vec::Vec3;
 
 /// The four geometry kinds, in the order the searches visit their lists.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -65,94 +67,144 @@ pub(crate) struct Nearest {
     pub(crate) hit: Candidate,
 }
 
-/// The candidates of a nearest-hit search: per kind, every primitive (`None`) or the
-/// indices a tile's culling kept.
-pub(crate) type CameraPick<'l> = Option<&'l [&'l [u16]; 4]>;
+/// Which primitives of each list a search looks at.
+pub(crate) trait Candidates: Copy {
+    /// Whether the lists' hulls are worth testing first (only when every
+    /// primitive is a candidate: a tile's lists are culled already).
+    const HULLS: bool;
 
-/// The candidates of an any-hit search for one light: per kind, every primitive
-/// (`None`) or a tile's shadow list, whose entries are `index | mask << 16` with bit
-/// `16 + light` set when the primitive may block that light.
-pub(crate) type ShadowPick<'l> = Option<(&'l [&'l [u32]; 4], u32)>;
+    /// Calls `f(index, geometry)` for each candidate of list `kind`, in list order;
+    /// stops at the first `true` and returns it.
+    fn any<G>(self, list: &[Primitive<G>], kind: Kind, f: impl FnMut(usize, &G) -> bool)
+    -> bool;
 
-/// Calls `f(index, geometry)` for each primitive of `list` that `pick` keeps, in
-/// list order.
-#[inline(always)]
-fn each<G>(list: &[Primitive<G>], pick: Option<&[u16]>, mut f: impl FnMut(usize, &G)) {
-    match pick {
-        None => {
-            for (i, p) in list.iter().enumerate() {
-                f(i, &p.geometry);
-            }
-        }
-        Some(ix) => {
-            for &i in ix {
-                let i = usize::from(i);
-                if let Some(p) = list.get(i) {
-                    f(i, &p.geometry);
-                }
-            }
-        }
+    /// True when list `kind` has no candidate.
+    fn none<G>(self, list: &[Primitive<G>], kind: Kind) -> bool;
+}
+
+/// Every primitive (reflected, refracted and their shadow rays; rays without a
+/// tile).
+#[derive(Clone, Copy)]
+pub(crate) struct Every;
+
+/// A tile's camera lists: per kind, the indices its culling kept.
+#[derive(Clone, Copy)]
+pub(crate) struct Listed<'l>(pub(crate) &'l [&'l [u16]; 4]);
+
+/// A tile's shadow lists for one light: per kind, entries `index | lights << 16`,
+/// of which those with the light's bit.
+#[derive(Clone, Copy)]
+pub(crate) struct Masked<'l>(pub(crate) &'l [&'l [u32]; 4], pub(crate) u32);
+
+impl Candidates for Every {
+    const HULLS: bool = true;
+
+    #[inline(always)]
+    fn any<G>(self, list: &[Primitive<G>], _: Kind, mut f: impl FnMut(usize, &G) -> bool) -> bool {
+        list.iter().enumerate().any(|(i, p)| f(i, &p.geometry))
+    }
+
+    #[inline(always)]
+    fn none<G>(self, list: &[Primitive<G>], _: Kind) -> bool {
+        list.is_empty()
     }
 }
 
-/// True when `f(index, geometry)` is true for some primitive of `list` that `pick`
-/// keeps (for the light of `bit`).
-#[inline(always)]
-fn any<G>(
-    list: &[Primitive<G>],
-    pick: Option<(&[u32], u32)>,
-    mut f: impl FnMut(usize, &G) -> bool,
-) -> bool {
-    match pick {
-        None => list.iter().enumerate().any(|(i, p)| f(i, &p.geometry)),
-        Some((entries, bit)) => entries.iter().any(|&e| {
+impl Candidates for Listed<'_> {
+    const HULLS: bool = false;
+
+    #[inline(always)]
+    fn any<G>(self, list: &[Primitive<G>], kind: Kind, mut f: impl FnMut(usize, &G) -> bool) -> bool {
+        let ix = self.0.get(kind as usize).copied().unwrap_or(&[]);
+        ix.iter().any(|&i| {
+            let i = usize::from(i);
+            list.get(i).is_some_and(|p| f(i, &p.geometry))
+        })
+    }
+
+    #[inline(always)]
+    fn none<G>(self, _: &[Primitive<G>], kind: Kind) -> bool {
+        self.0.get(kind as usize).is_none_or(|l| l.is_empty())
+    }
+}
+
+impl Candidates for Masked<'_> {
+    const HULLS: bool = false;
+
+    #[inline(always)]
+    fn any<G>(self, list: &[Primitive<G>], kind: Kind, mut f: impl FnMut(usize, &G) -> bool) -> bool {
+        let entries = self.0.get(kind as usize).copied().unwrap_or(&[]);
+        let bit = self.1;
+        entries.iter().any(|&e| {
             let i = (e & 0xffff) as usize;
             e & bit != 0 && list.get(i).is_some_and(|p| f(i, &p.geometry))
-        }),
+        })
+    }
+
+    #[inline(always)]
+    fn none<G>(self, _: &[Primitive<G>], kind: Kind) -> bool {
+        self.0.get(kind as usize).is_none_or(|l| l.is_empty())
     }
 }
 
-/// The per-kind pick of a camera pick.
-#[inline(always)]
-fn kind_pick<'l>(pick: CameraPick<'l>, kind: Kind) -> Option<&'l [u16]> {
-    pick.and_then(|p| p.get(kind as usize).copied())
+/// What the list hulls need of a ray, computed on first use: its reciprocal
+/// direction and the largest component of its origin.
+struct Reach<'r> {
+    ray: &'r Ray,
+    cached: Option<(Vec3, f32)>,
 }
 
-/// The per-kind pick of a shadow pick.
-#[inline(always)]
-fn shadow_kind_pick<'l>(pick: ShadowPick<'l>, kind: Kind) -> Option<(&'l [u32], u32)> {
-    pick.and_then(|(p, bit)| p.get(kind as usize).map(|l| (*l, bit)))
-}
+impl<'r> Reach<'r> {
+    fn new(ray: &'r Ray) -> Self {
+        Self { ray, cached: None }
+    }
 
-/// Is the candidate list of `kind` empty (nothing to test, no per-ray work)?
-#[inline(always)]
-fn nothing<G>(list: &[Primitive<G>], pick: Option<&[u16]>) -> bool {
-    pick.map_or(list.is_empty(), <[u16]>::is_empty)
+    /// The ray's reciprocal direction.
+    #[inline(always)]
+    fn inv(&mut self) -> Vec3 {
+        self.get().0
+    }
+
+    #[inline(always)]
+    fn get(&mut self) -> (Vec3, f32) {
+        let ray = self.ray;
+        *self
+            .cached
+            .get_or_insert_with(|| (aabb_inverse(ray.dir), ray.origin.abs().max_element()))
+    }
+
+    /// False only when the ray surely misses everything inside `hull` before
+    /// `t_max` (a list without a hull is always worth searching).
+    #[inline(always)]
+    fn may_hit(&mut self, hull: Option<Hull>, t_max: f32) -> bool {
+        match hull {
+            None => true,
+            Some(h) => {
+                let (inv, mag) = self.get();
+                h.may_hit(self.ray.origin, mag, inv, t_max)
+            }
+        }
+    }
 }
 
 impl SceneView<'_> {
-    /// The nearest hit of `ray` with `0 < t < t_max` among the candidates `pick`,
-    /// except `skip`. Each list is searched with the nearest time found so far, so
-    /// a later list only reports nearer hits; ties keep the earlier primitive. Out of
-    /// line, for the bounces; camera rays inline [`SceneView::nearest_in`].
+    /// The nearest hit of `ray` with `0 < t < t_max` among every primitive but
+    /// `skip`: for the bounces (out of line; camera rays of a tile inline
+    /// [`SceneView::nearest_in`] with their lists).
     #[inline(never)]
-    pub(crate) fn nearest(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        pick: CameraPick<'_>,
-        skip: Skip,
-    ) -> Option<Nearest> {
-        self.nearest_in(ray, t_max, pick, skip)
+    pub(crate) fn nearest(&self, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
+        self.nearest_in(ray, t_max, Every, skip)
     }
 
-    /// [`SceneView::nearest`], inlined where it is called.
+    /// The nearest hit of `ray` with `0 < t < t_max` among the candidates `src`,
+    /// except `skip`. Each list is searched with the nearest time found so far, so
+    /// a later list only reports nearer hits; ties keep the earlier primitive.
     #[inline(always)]
-    pub(crate) fn nearest_in(
+    pub(crate) fn nearest_in<S: Candidates>(
         &self,
         ray: &Ray,
         t_max: f32,
-        pick: CameraPick<'_>,
+        src: S,
         skip: Skip,
     ) -> Option<Nearest> {
         let mut t = t_max;
@@ -161,76 +213,102 @@ impl SceneView<'_> {
             *t = hit.t;
             best = Some(Nearest { kind, index, hit });
         };
+        let mut reach = Reach::new(ray);
+        let [sphere_hull, triangle_hull, box_hull] = self.hulls;
+        let hull = |h: Option<Hull>| if S::HULLS { h } else { None };
         let sk = skip.index(Kind::Sphere);
-        each(self.spheres, kind_pick(pick, Kind::Sphere), |i, s| {
-            if i != sk {
-                if let Some(h) = s.hit(ray, t) {
-                    keep(Kind::Sphere, i, Candidate::at(h), &mut t);
+        if !src.none(self.spheres, Kind::Sphere) && reach.may_hit(hull(sphere_hull), t) {
+            src.any(self.spheres, Kind::Sphere, |i, s| {
+                if i != sk {
+                    if let Some(h) = s.hit(ray, t) {
+                        keep(Kind::Sphere, i, Candidate::at(h), &mut t);
+                    }
                 }
-            }
-        });
+                false
+            });
+        }
         let sk = skip.index(Kind::Plane);
-        each(self.planes, kind_pick(pick, Kind::Plane), |i, p| {
+        src.any(self.planes, Kind::Plane, |i, p| {
             if i != sk {
                 if let Some(h) = p.hit(ray, t) {
                     keep(Kind::Plane, i, Candidate::at(h), &mut t);
                 }
             }
+            false
         });
-        let tri = kind_pick(pick, Kind::Triangle);
-        if !nothing(self.triangles, tri) {
+        if !src.none(self.triangles, Kind::Triangle) && reach.may_hit(hull(triangle_hull), t) {
             let shear = Shear::new(ray);
             let sk = skip.index(Kind::Triangle);
-            with_axes!(shear.axes, A => nearest_triangle::<A>(self.triangles, tri, &shear, sk, &mut t, &mut |i, h, t| keep(Kind::Triangle, i, h, t)), ());
+            with_axes!(shear.axes, A => nearest_triangle::<A, S>(self.triangles, src, &shear, sk, &mut t, &mut |i, h, t| keep(Kind::Triangle, i, h, t)), ());
         }
-        let boxes = kind_pick(pick, Kind::Box);
-        if !nothing(self.boxes, boxes) {
-            let inv = aabb_inverse(ray.dir);
+        if !src.none(self.boxes, Kind::Box) && reach.may_hit(hull(box_hull), t) {
+            let inv = reach.inv();
             let sk = skip.index(Kind::Box);
-            each(self.boxes, boxes, |i, b| {
+            src.any(self.boxes, Kind::Box, |i, b| {
                 if i != sk {
                     if let Some(h) = b.hit_inv(ray.origin, inv, t) {
                         keep(Kind::Box, i, h, &mut t);
                     }
                 }
+                false
             });
         }
         best
     }
 
-    /// True when a candidate of `pick` other than `skip` blocks `ray` before `t_max`.
-    /// Out of line: the light loop that calls it then stays small, with nothing of
-    /// the search hoisted into its prologue.
+    /// True when a primitive other than `skip` blocks `ray` before `t_max`, every
+    /// primitive a candidate. Out of line: the light loop that calls it then stays
+    /// small.
     #[inline(never)]
-    pub(crate) fn occluded(&self, ray: &Ray, t_max: f32, pick: ShadowPick<'_>, skip: Skip) -> bool {
+    pub(crate) fn occluded(&self, ray: &Ray, t_max: f32, skip: Skip) -> bool {
+        self.occluded_in(ray, t_max, Every, skip)
+    }
+
+    /// [`SceneView::occluded`] among a tile's shadow lists for one light.
+    #[inline(never)]
+    pub(crate) fn occluded_masked(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        src: Masked<'_>,
+        skip: Skip,
+    ) -> bool {
+        self.occluded_in(ray, t_max, src, skip)
+    }
+
+    /// True when a candidate of `src` other than `skip` blocks `ray` before `t_max`.
+    #[inline(always)]
+    fn occluded_in<S: Candidates>(&self, ray: &Ray, t_max: f32, src: S, skip: Skip) -> bool {
+        let mut reach = Reach::new(ray);
+        let [sphere_hull, triangle_hull, box_hull] = self.hulls;
+        let hull = |h: Option<Hull>| if S::HULLS { h } else { None };
         let sk = skip.index(Kind::Sphere);
-        if any(
-            self.spheres,
-            shadow_kind_pick(pick, Kind::Sphere),
-            |i, s| i != sk && s.hit(ray, t_max).is_some(),
-        ) {
+        if !src.none(self.spheres, Kind::Sphere)
+            && reach.may_hit(hull(sphere_hull), t_max)
+            && src.any(self.spheres, Kind::Sphere, |i, s| {
+                i != sk && s.hit(ray, t_max).is_some()
+            })
+        {
             return true;
         }
         let sk = skip.index(Kind::Plane);
-        if any(self.planes, shadow_kind_pick(pick, Kind::Plane), |i, p| {
+        if src.any(self.planes, Kind::Plane, |i, p| {
             i != sk && p.hit(ray, t_max).is_some()
         }) {
             return true;
         }
-        let tri = shadow_kind_pick(pick, Kind::Triangle);
-        if !tri.map_or(self.triangles.is_empty(), |(l, _)| l.is_empty()) {
+        if !src.none(self.triangles, Kind::Triangle) && reach.may_hit(hull(triangle_hull), t_max) {
             let shear = Shear::new(ray);
             let sk = skip.index(Kind::Triangle);
-            let hit = with_axes!(shear.axes, A => any(self.triangles, tri, |i, g| i != sk && g.hit_with::<A>(&shear, t_max).is_some()), false);
+            let hit = with_axes!(shear.axes, A => src.any(self.triangles, Kind::Triangle, |i, g| i != sk && g.hit_with::<A>(&shear, t_max).is_some()), false);
             if hit {
                 return true;
             }
         }
-        let boxes = shadow_kind_pick(pick, Kind::Box);
-        if !boxes.map_or(self.boxes.is_empty(), |(l, _)| l.is_empty()) {
-            let inv = aabb_inverse(ray.dir);
+        if !src.none(self.boxes, Kind::Box) && reach.may_hit(hull(box_hull), t_max) {
+            let inv = reach.inv();
             let sk = skip.index(Kind::Box);
-            return any(self.boxes, boxes, |i, b| {
+            return src.any(self.boxes, Kind::Box, |i, b| {
                 i != sk && b.hit_inv(ray.origin, inv, t_max).is_some()
             });
         }
@@ -241,25 +319,26 @@ impl SceneView<'_> {
     /// primitive is a candidate).
     #[must_use]
     pub fn first_hit(&self, ray: &Ray, t_max: f32) -> Option<f32> {
-        self.nearest(ray, t_max, None, Skip::NONE).map(|n| n.hit.t)
+        self.nearest(ray, t_max, Skip::NONE).map(|n| n.hit.t)
     }
 }
 
-/// The triangle loop of [`SceneView::nearest`] for the ray frame with axes `A`.
+/// The triangle loop of [`SceneView::nearest_in`] for the ray frame with axes `A`.
 #[inline(always)]
-fn nearest_triangle<A: Axes>(
+fn nearest_triangle<A: Axes, S: Candidates>(
     list: &[Primitive<crate::geometry::Triangle>],
-    pick: Option<&[u16]>,
+    src: S,
     shear: &Shear,
     skip: usize,
     t: &mut f32,
     keep: &mut impl FnMut(usize, Candidate, &mut f32),
 ) {
-    each(list, pick, |i, g| {
+    src.any(list, Kind::Triangle, |i, g| {
         if i != skip {
             if let Some(h) = g.hit_with::<A>(shear, *t) {
                 keep(i, h, t);
             }
         }
+        false
     });
 }

@@ -59,6 +59,19 @@ impl Aabb {
         self.max
     }
 
+    /// A box from corners known to be ordered and finite (no range check: a
+    /// culling bound, never a primitive).
+    pub(crate) fn enclosing(min: Vec3, max: Vec3) -> Self {
+        Self { min, max }
+    }
+
+    /// True when the ray from `origin` (reciprocal direction `inv`) passes through
+    /// the box between times 0 and `t_max`.
+    #[inline(always)]
+    pub(crate) fn spans(&self, origin: Vec3, inv: Vec3, t_max: f32) -> bool {
+        self.span_inv(origin, inv, t_max).is_some()
+    }
+
     /// The slab test: the span `[t0, t1]` of the ray inside the box, clipped to
     /// `[0, t_max]`, or `None` when it is empty.
     fn span(&self, ray: &Ray, t_max: f32) -> Option<Span> {
