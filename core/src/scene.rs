@@ -59,8 +59,8 @@ pub struct Scene<
     boxes: Vec<Primitive<Aabb>, B>,
     materials: Vec<Material, M>,
     lights: Vec<PointLight, L>,
-    /// The bounds of the spheres, triangles and boxes, kept as they are added.
-    bounds: [(Vec3, Vec3); 3],
+    /// The bounds of the triangles and boxes, kept as they are added.
+    bounds: [(Vec3, Vec3); 2],
 }
 
 /// Empty bounds: any point widens them.
@@ -110,7 +110,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             boxes: Vec::new(),
             materials: Vec::new(),
             lights: Vec::new(),
-            bounds: [NO_BOUNDS; 3],
+            bounds: [NO_BOUNDS; 2],
         }
     }
 
@@ -160,11 +160,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             &mut self.spheres,
             Primitive { geometry, material },
             List::Spheres,
-        )?;
-        let r = Vec3::splat(geometry.radius());
-        let [spheres, _, _] = &mut self.bounds;
-        widen(spheres, geometry.center() - r, geometry.center() + r);
-        Ok(())
+        )
     }
 
     /// Adds a plane made of `material`.
@@ -185,7 +181,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             Primitive { geometry, material },
             List::Triangles,
         )?;
-        let [_, triangles, _] = &mut self.bounds;
+        let [triangles, _] = &mut self.bounds;
         for v in geometry.vertices() {
             widen(triangles, v, v);
         }
@@ -200,7 +196,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             Primitive { geometry, material },
             List::Boxes,
         )?;
-        let [_, _, boxes] = &mut self.bounds;
+        let [_, boxes] = &mut self.bounds;
         widen(boxes, geometry.min(), geometry.max());
         Ok(())
     }
@@ -348,8 +344,8 @@ pub struct SceneView<'a> {
     pub(crate) secondary: bool,
     /// Lends a tile's candidate lists, sized by the scene's capacities.
     pub(crate) tile_lists: crate::cull::Lender,
-    /// The hulls of the spheres, triangles and boxes (`None` for an empty list).
-    pub(crate) hulls: [Option<crate::cull::Hull>; 3],
+    /// The hulls of the triangles and boxes (`None` for an empty list).
+    pub(crate) hulls: [Option<crate::cull::Hull>; 2],
 }
 
 impl core::fmt::Debug for SceneView<'_> {

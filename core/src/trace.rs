@@ -214,10 +214,11 @@ impl SceneView<'_> {
             best = Some(Nearest { kind, index, hit });
         };
         let mut reach = Reach::new(ray);
-        let [sphere_hull, triangle_hull, box_hull] = self.hulls;
+        // No hull for the spheres: their cheap miss test costs what a box test does.
+        let [triangle_hull, box_hull] = self.hulls;
         let hull = |h: Option<Hull>| if S::HULLS { h } else { None };
         let sk = skip.index(Kind::Sphere);
-        if !src.none(self.spheres, Kind::Sphere) && reach.may_hit(hull(sphere_hull), t) {
+        if !src.none(self.spheres, Kind::Sphere) {
             src.any(self.spheres, Kind::Sphere, |i, s| {
                 if i != sk {
                     if let Some(h) = s.hit(ray, t) {
@@ -280,11 +281,11 @@ impl SceneView<'_> {
     #[inline(always)]
     fn occluded_in<S: Candidates>(&self, ray: &Ray, t_max: f32, src: S, skip: Skip) -> bool {
         let mut reach = Reach::new(ray);
-        let [sphere_hull, triangle_hull, box_hull] = self.hulls;
+        // No hull for the spheres: their cheap miss test costs what a box test does.
+        let [triangle_hull, box_hull] = self.hulls;
         let hull = |h: Option<Hull>| if S::HULLS { h } else { None };
         let sk = skip.index(Kind::Sphere);
         if !src.none(self.spheres, Kind::Sphere)
-            && reach.may_hit(hull(sphere_hull), t_max)
             && src.any(self.spheres, Kind::Sphere, |i, s| {
                 i != sk && s.hit(ray, t_max).is_some()
             })
