@@ -69,8 +69,10 @@ pub(crate) struct Nearest {
 
 /// Which primitives of each list a search looks at.
 pub(crate) trait Candidates: Copy {
-    /// Whether the lists' hulls are worth testing first (only when every
-    /// primitive is a candidate: a tile's lists are culled already).
+    /// Whether the lists' hulls are worth testing first: for every primitive, and
+    /// for a tile's shadow lists (whose bound, the hull of a whole tile's visible
+    /// points and a light, is much wider than a single ray); not for a tile's
+    /// camera lists, culled by the tile's own frustum.
     const HULLS: bool;
 
     /// Calls `f(index, geometry)` for each candidate of list `kind`, in list order;
@@ -129,7 +131,7 @@ impl Candidates for Listed<'_> {
 }
 
 impl Candidates for Masked<'_> {
-    const HULLS: bool = false;
+    const HULLS: bool = true;
 
     #[inline(always)]
     fn any<G>(self, list: &[Primitive<G>], kind: Kind, mut f: impl FnMut(usize, &G) -> bool) -> bool {
