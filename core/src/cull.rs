@@ -226,24 +226,48 @@ impl TileLists<'_> {
             return None;
         }
         let lights = view.lights.get(..MASKED_LIGHTS).unwrap_or(view.lights);
-        let capsules = |c: Vec3, r: f32| {
+        // The visible parts of the first few visible planes, each on its own: a
+        // blocker's shadow on a plane is bounded much more tightly (its projection
+        // from the light) than by a capsule around a tile's whole floor. Beyond
+        // `FLOORS` visible planes the capsule around everything is used instead.
+        const FLOORS: usize = 4;
+        let mut floors: [Option<(&Plane, Bounds)>; FLOORS] = [None; FLOORS];
+        let separate = cp.len() <= FLOORS;
+        if separate {
+            for (slot, &i) in floors.iter_mut().zip(cp.iter()) {
+                let p = &view.planes.get(usize::from(i))?.geometry;
+                *slot = Some((p, f.on_plane(p)));
+            }
+        }
+        let around = if separate { solids } else { all };
+        // May a blocker (its ball and its box) block a shadow ray from the tile's
+        // visible points to each light?
+        let blocks = |c: Vec3, r: f32, b: Bounds| {
             let mut mask = 0u32;
             for (l, light) in lights.iter().enumerate() {
-                if !all.capsule_misses(light.position(), c, r) {
+                let at = light.position();
+                let may = (!around.is_empty() && !around.capsule_misses(at, c, r))
+                    || floors
+                        .iter()
+                        .flatten()
+                        .any(|(p, region)| shadow_meets(p, at, b, *region));
+                if may {
                     mask |= 1 << (16 + l);
                 }
             }
             mask
         };
         let [ss, sp, st, sb] = &mut self.shadow;
-        fill_masked(ss, view.spheres, |s| capsules(s.center(), s.radius()));
+        fill_masked(ss, view.spheres, |s| {
+            blocks(s.center(), s.radius(), Bounds::sphere(s))
+        });
         fill_masked(st, view.triangles, |t| {
             let (c, r) = ball(&t.vertices());
-            capsules(c, r)
+            blocks(c, r, Bounds::points(&t.vertices()))
         });
         fill_masked(sb, view.boxes, |b| {
             let (c, h) = ((b.min() + b.max()) * 0.5, (b.max() - b.min()) * 0.5);
-            capsules(c, h.length())
+            blocks(c, h.length(), Bounds::new(b.min(), b.max()))
         });
         for (j, p) in view.planes.iter().enumerate() {
             // Its own points cannot be shadowed by it (shadow rays skip the primitive
@@ -305,6 +329,57 @@ fn ball(points: &[Vec3; 3]) -> (Vec3, f32) {
         .map(|p| (*p - m).length())
         .fold(0.0, crate::math::max);
     (m, r)
+}
+
+/// May a blocker inside `b` block a shadow ray from a point of `region` (on
+/// `plane`) to the light at `light`? A ray from a point `p` of the plane to the
+/// light meets a point `x` of the blocker only if `x` lies between the plane and the
+/// light's level (`0 < s(x) < s(L)`, `s` the signed distance on the light's side)
+/// and `p` is the projection of `x` from the light onto the plane,
+/// `L + (x - L) s(L) / (s(L) - s(x))`: the blocker's shadow. A projection from a
+/// point maps the box's part between the plane and the light into the convex hull
+/// of its corners' projections (and, where the box dips below the plane, of its
+/// crossing with the plane, inside the box itself). Corners within 1/64 of the
+/// light's level make the shadow unbounded (or the projection ill-conditioned: it
+/// magnifies by at most 64 otherwise, and the clearance [`MARGIN`] covers 64 times
+/// the rounding of the rays): then the blocker is kept.
+fn shadow_meets(plane: &Plane, light: Vec3, b: Bounds, region: Bounds) -> bool {
+    let (p0, n) = (plane.point(), plane.normal());
+    let s_light = n.dot(light - p0);
+    let (n, s_light) = if s_light < 0.0 {
+        (-n, -s_light)
+    } else {
+        (n, s_light)
+    };
+    let clearance = MARGIN * (mag(light) + b.magnitude() + region.magnitude() + mag(p0));
+    // A light on the plane (or a NaN): anything may be in the way.
+    if !(s_light > clearance) {
+        return true;
+    }
+    let limit = s_light * (1.0 - 1.0 / 64.0);
+    let mut shadow = Bounds::EMPTY;
+    let mut below = false;
+    for i in 0..8 {
+        let pick = |bit: usize, lo: f32, hi: f32| if i & bit == 0 { lo } else { hi };
+        let x = Vec3::new(
+            pick(1, b.min.x, b.max.x),
+            pick(2, b.min.y, b.max.y),
+            pick(4, b.min.z, b.max.z),
+        );
+        let s = n.dot(x - p0);
+        if !(s < limit) {
+            return true; // up to the light's level (or NaN)
+        }
+        if s <= 0.0 {
+            below = true;
+        } else {
+            shadow = shadow.with(light + (x - light) * (s_light / (s_light - s)));
+        }
+    }
+    if below {
+        shadow = shadow.union(b);
+    }
+    !shadow.grown(clearance).intersect(region).is_empty()
 }
 
 /// The largest absolute component.
