@@ -19,7 +19,7 @@
 //! it.
 
 use crate::color::Color;
-use crate::geometry::{Shape, Surface};
+use crate::geometry::{Candidate, Geom, Locate, Shape, Surface};
 use crate::material::Material;
 use crate::math;
 use crate::ray::{Ray, offset_origin};
@@ -103,27 +103,50 @@ struct Pending {
     depth: u8,
 }
 
-/// A resolved hit: the surface, its material, the colour of the texture there (only
-/// evaluated if textured) and which primitive it is.
+/// A resolved hit: the point and its normal, its material, the colour of the
+/// texture there (only evaluated if textured) and which primitive it is. The error
+/// bound of the point, which only a ray leaving it needs, is computed on demand
+/// ([`Shaded::error`]).
 struct Shaded<'a> {
-    surface: Surface,
+    point: Vec3,
+    /// The outward unit normal.
+    normal: Vec3,
+    /// What the error bound needs besides the point (see `Locate`).
+    aux: Vec3,
+    hit: Candidate,
+    geom: Geom<'a>,
+    index: usize,
     material: &'a Material,
     base: Color,
-    kind: Kind,
-    index: usize,
-    /// Flat (plane, triangle): no ray leaving it can hit it again. Otherwise closed
-    /// and convex: no ray leaving it outwards can.
-    flat: bool,
+    /// The error bound, once computed (shadow rays, then the bounces, share it).
+    error: core::cell::Cell<Option<Vec3>>,
 }
 
 impl Shaded<'_> {
+    /// The bound on the rounding error of each component of the point (`ray` is
+    /// the ray that hit it).
+    fn error(&self, ray: &Ray) -> Vec3 {
+        if let Some(e) = self.error.get() {
+            return e;
+        }
+        let e = self.geom.error(ray, &self.hit, self.point, self.aux);
+        self.error.set(Some(e));
+        e
+    }
+
     /// What a ray leaving this hit in direction `w` must not test: this primitive,
-    /// when `w` leaves it for good (see [`crate::trace`]). For a closed shape that
-    /// is `w . n > 0` with the outward normal `n`, which is also the side
-    /// `offset_origin` moves the origin to.
+    /// when `w` leaves it for good (see [`crate::trace`]): always for a flat one
+    /// (plane, triangle), for a closed convex one when `w . n > 0` with the outward
+    /// normal `n`, which is also the side `offset_origin` moves the origin to.
     fn skip_for(&self, w: Vec3) -> Skip {
-        if self.flat || w.dot(self.surface.normal) > 0.0 {
-            Skip::new(self.kind, self.index)
+        let (kind, flat) = match self.geom {
+            Geom::Sphere(_) => (Kind::Sphere, false),
+            Geom::Plane(_) => (Kind::Plane, true),
+            Geom::Triangle(_) => (Kind::Triangle, true),
+            Geom::Box(_) => (Kind::Box, false),
+        };
+        if flat || w.dot(self.normal) > 0.0 {
+            Skip::new(kind, self.index)
         } else {
             Skip::NONE
         }
@@ -131,19 +154,24 @@ impl Shaded<'_> {
 }
 
 #[inline(always)]
-fn resolve<'a, G: Shape>(
+fn resolve<'a, G: Locate>(
     view: &SceneView<'a>,
     list: &'a [Primitive<G>],
     n: &Nearest,
     ray: &Ray,
     footprint: Option<&Footprint<'_>>,
-    flat: bool,
 ) -> Option<Shaded<'a>> {
     let prim = list.get(n.index)?;
     let material = view.materials.get(usize::from(prim.material.0))?;
-    let surface = prim.geometry.surface(ray, &n.hit);
+    let (point, normal, aux) = prim.geometry.locate(ray, &n.hit);
     let texture = material.texture();
     let base = if texture.needs_uv() {
+        // The uv need no error bound.
+        let surface = Surface {
+            point,
+            normal,
+            error: Vec3::ZERO,
+        };
         let uv = prim.geometry.uv(&surface, &n.hit);
         match footprint.and_then(|f| uv_box(&prim.geometry, f, uv)) {
             Some((lo, hi)) => texture.eval_box(lo, hi),
@@ -153,12 +181,15 @@ fn resolve<'a, G: Shape>(
         texture.eval([0.0, 0.0])
     };
     Some(Shaded {
-        surface,
+        point,
+        normal,
+        aux,
+        hit: n.hit,
+        geom: prim.geometry.geom(),
+        index: n.index,
         material,
         base,
-        kind: n.kind,
-        index: n.index,
-        flat,
+        error: core::cell::Cell::new(None),
     })
 }
 
@@ -244,10 +275,10 @@ impl<'a> SceneView<'a> {
         footprint: Option<&Footprint<'_>>,
     ) -> Option<Shaded<'a>> {
         match n.kind {
-            Kind::Sphere => resolve(self, self.spheres, n, ray, footprint, false),
-            Kind::Plane => resolve(self, self.planes, n, ray, footprint, true),
-            Kind::Triangle => resolve(self, self.triangles, n, ray, footprint, true),
-            Kind::Box => resolve(self, self.boxes, n, ray, footprint, false),
+            Kind::Sphere => resolve(self, self.spheres, n, ray, footprint),
+            Kind::Plane => resolve(self, self.planes, n, ray, footprint),
+            Kind::Triangle => resolve(self, self.triangles, n, ray, footprint),
+            Kind::Box => resolve(self, self.boxes, n, ray, footprint),
         }
     }
 
@@ -396,10 +427,9 @@ impl<'a> SceneView<'a> {
         if !m.is_lit() {
             return c;
         }
-        let s = &hit.surface;
-        let n = facing(s.normal, ray.dir);
+        let n = facing(hit.normal, ray.dir);
         for (i, light) in self.lights.iter().enumerate() {
-            let to_light = light.position() - s.point;
+            let to_light = light.position() - hit.point;
             let dist2 = to_light.length_squared();
             let dist = math::sqrt(dist2);
             if dist.is_nan() || dist <= 0.0 {
@@ -421,7 +451,7 @@ impl<'a> SceneView<'a> {
                 _ => Some(None),
             };
             if let Some(lists) = lists {
-                let origin = offset_origin(s.point, s.error, n, l);
+                let origin = offset_origin(hit.point, hit.error(ray), n, l);
                 let ray = Ray::new(origin, l);
                 let skip = hit.skip_for(l);
                 let blocked = match lists {
@@ -481,9 +511,9 @@ fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, f32)>; 2] {
     if kr == 0.0 && kt == 0.0 {
         return [None, None];
     }
-    let s = &hit.surface;
-    let entering = s.normal.dot(ray.dir) < 0.0;
-    let n = if entering { s.normal } else { -s.normal };
+    let error = hit.error(ray);
+    let entering = hit.normal.dot(ray.dir) < 0.0;
+    let n = if entering { hit.normal } else { -hit.normal };
     let cos_i = (-ray.dir.dot(n)).clamp(0.0, 1.0);
     let mut reflect_w = kr;
     let mut refracted = None;
@@ -493,7 +523,7 @@ fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, f32)>; 2] {
                 reflect_w += kt * fresnel;
                 let w = kt * (1.0 - fresnel);
                 if w > 0.0 {
-                    let origin = offset_origin(s.point, s.error, n, dir);
+                    let origin = offset_origin(hit.point, error, n, dir);
                     refracted = Some((Ray::new(origin, dir), w));
                 }
             }
@@ -502,7 +532,7 @@ fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, f32)>; 2] {
     }
     let reflected = if reflect_w > 0.0 {
         let dir = ray.dir.reflect(n).normalize_or(n);
-        let origin = offset_origin(s.point, s.error, n, dir);
+        let origin = offset_origin(hit.point, error, n, dir);
         Some((Ray::new(origin, dir), reflect_w))
     } else {
         None

@@ -5,7 +5,7 @@
 //! the updates below are written so that a NaN never replaces a bound, which makes
 //! such a ray count as inside that slab, the same way on all six faces.
 
-use super::{Candidate, Shape, Surface};
+use super::{Candidate, Geom, Locate, Shape, Surface};
 use crate::error::{Error, Field, position};
 use crate::math;
 use crate::ray::Ray;
@@ -158,6 +158,33 @@ fn face_axis(face: u8) -> (usize, bool) {
     (usize::from(face / 2).min(2), face % 2 == 1)
 }
 
+impl Locate for Aabb {
+    #[inline(always)]
+    fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3) {
+        let (axis, positive) = face_axis(hit.face);
+        let plane = if positive {
+            self.max.get(axis)
+        } else {
+            self.min.get(axis)
+        };
+        // Snapping to the face makes the error along the normal exactly zero.
+        let point = ray.at(hit.t).with(axis, plane);
+        let normal = Vec3::ZERO.with(axis, if positive { 1.0 } else { -1.0 });
+        (point, normal, Vec3::ZERO)
+    }
+
+    #[inline(always)]
+    fn error(&self, ray: &Ray, hit: &Candidate, _: Vec3, _: Vec3) -> Vec3 {
+        let (axis, _) = face_axis(hit.face);
+        let error = (ray.origin.abs() + (ray.dir * hit.t).abs()) * math::gamma(3);
+        error.with(axis, 0.0)
+    }
+
+    fn geom(&self) -> Geom<'_> {
+        Geom::Box(self)
+    }
+}
+
 impl Shape for Aabb {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
         self.hit_inv(ray.origin, inverse(ray.dir), t_max)
@@ -171,19 +198,11 @@ impl Shape for Aabb {
     }
 
     fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
-        let (axis, positive) = face_axis(hit.face);
-        let plane = if positive {
-            self.max.get(axis)
-        } else {
-            self.min.get(axis)
-        };
-        // Snapping to the face makes the error along the normal exactly zero.
-        let point = ray.at(hit.t).with(axis, plane);
-        let error = (ray.origin.abs() + (ray.dir * hit.t).abs()) * math::gamma(3);
+        let (point, normal, aux) = self.locate(ray, hit);
         Surface {
             point,
-            normal: Vec3::ZERO.with(axis, if positive { 1.0 } else { -1.0 }),
-            error: error.with(axis, 0.0),
+            normal,
+            error: self.error(ray, hit, point, aux),
         }
     }
 

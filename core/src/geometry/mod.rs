@@ -94,6 +94,43 @@ pub trait Shape {
     }
 }
 
+/// A hit's point and normal first, its error bound only when a ray leaves it (a
+/// shadow, reflected or refracted ray): [`Shape::surface`] in two steps, with the
+/// same arithmetic, so that hits that spawn nothing skip the bound.
+pub(crate) trait Locate: Shape {
+    /// The hit point, its outward unit normal, and what [`Locate::error`] needs
+    /// besides them (`aux`).
+    fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3);
+
+    /// The error bound of the point that [`Locate::locate`] gave.
+    fn error(&self, ray: &Ray, hit: &Candidate, point: Vec3, aux: Vec3) -> Vec3;
+
+    /// This primitive, by kind.
+    fn geom(&self) -> Geom<'_>;
+}
+
+/// A primitive of any kind, by reference.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Geom<'a> {
+    Sphere(&'a Sphere),
+    Plane(&'a Plane),
+    Triangle(&'a Triangle),
+    Box(&'a Aabb),
+}
+
+impl Geom<'_> {
+    /// [`Locate::error`] of whichever kind it is.
+    #[inline(always)]
+    pub(crate) fn error(self, ray: &Ray, hit: &Candidate, point: Vec3, aux: Vec3) -> Vec3 {
+        match self {
+            Self::Sphere(g) => g.error(ray, hit, point, aux),
+            Self::Plane(g) => g.error(ray, hit, point, aux),
+            Self::Triangle(g) => g.error(ray, hit, point, aux),
+            Self::Box(g) => g.error(ray, hit, point, aux),
+        }
+    }
+}
+
 /// An orthonormal basis `(t, b)` completing the unit vector `n` (Duff et al. 2017,
 /// "Building an orthonormal basis, revisited"): branch-free apart from the sign, no
 /// singularity, exact for the axes.

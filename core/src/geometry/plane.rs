@@ -1,6 +1,6 @@
 //! Infinite plane: a point and a normal.
 
-use super::{Candidate, Shape, Surface, tangent_basis};
+use super::{Candidate, Geom, Locate, Shape, Surface, tangent_basis};
 use crate::error::{Error, Field, position, unit};
 use crate::math::gamma;
 use crate::ray::Ray;
@@ -60,6 +60,30 @@ impl Plane {
     }
 }
 
+impl Locate for Plane {
+    #[inline(always)]
+    fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3) {
+        (ray.origin + ray.dir * hit.t, self.normal, Vec3::ZERO)
+    }
+
+    #[inline(always)]
+    fn error(&self, ray: &Ray, hit: &Candidate, _: Vec3, _: Vec3) -> Vec3 {
+        let t = hit.t;
+        let dt = ray.dir * t;
+        // Error of the time: the numerator (p0 - o).n carries gamma(5) of its
+        // operands, the division and the denominator gamma(4) of t. The point moves
+        // along the ray by that much; the final add rounds by gamma(2).
+        let denom = crate::math::abs(ray.dir.dot(self.normal));
+        let num_err = gamma(5) * (self.point.abs() + ray.origin.abs()).dot(self.normal.abs());
+        let t_err = num_err / denom + gamma(4) * t;
+        (ray.origin.abs() + dt.abs()) * gamma(2) + ray.dir.abs() * t_err
+    }
+
+    fn geom(&self) -> Geom<'_> {
+        Geom::Plane(self)
+    }
+}
+
 impl Shape for Plane {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
         self.hit(ray, t_max).map(|t| Candidate {
@@ -73,20 +97,11 @@ impl Shape for Plane {
     }
 
     fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
-        let t = hit.t;
-        let dt = ray.dir * t;
-        let point = ray.origin + dt;
-        // Error of the time: the numerator (p0 - o).n carries gamma(5) of its
-        // operands, the division and the denominator gamma(4) of t. The point moves
-        // along the ray by that much; the final add rounds by gamma(2).
-        let denom = crate::math::abs(ray.dir.dot(self.normal));
-        let num_err = gamma(5) * (self.point.abs() + ray.origin.abs()).dot(self.normal.abs());
-        let t_err = num_err / denom + gamma(4) * t;
-        let error = (ray.origin.abs() + dt.abs()) * gamma(2) + ray.dir.abs() * t_err;
+        let (point, normal, aux) = self.locate(ray, hit);
         Surface {
             point,
-            normal: self.normal,
-            error,
+            normal,
+            error: self.error(ray, hit, point, aux),
         }
     }
 

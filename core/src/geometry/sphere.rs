@@ -1,6 +1,6 @@
 //! Sphere: centre and radius.
 
-use super::{Candidate, Shape, Surface};
+use super::{Candidate, Geom, Locate, Shape, Surface};
 use crate::error::{Error, Field, finite, length, position};
 use crate::math::{self, gamma};
 use crate::ray::Ray;
@@ -181,6 +181,32 @@ fn split(a: f32) -> (f32, f32) {
     (hi, a - hi)
 }
 
+impl Locate for Sphere {
+    #[inline(always)]
+    fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3) {
+        let p = ray.at(hit.t);
+        // Re-project the point onto the sphere (pbrt-v4): its error is then bounded
+        // by gamma(5) |p - c| instead of growing with t.
+        let local = p - self.center;
+        let len = local.length();
+        let local = if len > 0.0 {
+            local * (self.radius / len)
+        } else {
+            Vec3::new(0.0, self.radius, 0.0)
+        };
+        (self.center + local, local / self.radius, local)
+    }
+
+    #[inline(always)]
+    fn error(&self, _: &Ray, _: &Candidate, point: Vec3, local: Vec3) -> Vec3 {
+        local.abs() * gamma(5) + point.abs() * gamma(1)
+    }
+
+    fn geom(&self) -> Geom<'_> {
+        Geom::Sphere(self)
+    }
+}
+
 impl Shape for Sphere {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
         self.hit(ray, t_max).map(|t| Candidate {
@@ -194,22 +220,11 @@ impl Shape for Sphere {
     }
 
     fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
-        let p = ray.at(hit.t);
-        // Re-project the point onto the sphere (pbrt-v4): its error is then bounded
-        // by gamma(5) |p - c| instead of growing with t.
-        let local = p - self.center;
-        let len = local.length();
-        let local = if len > 0.0 {
-            local * (self.radius / len)
-        } else {
-            Vec3::new(0.0, self.radius, 0.0)
-        };
-        let point = self.center + local;
-        let error = local.abs() * gamma(5) + point.abs() * gamma(1);
+        let (point, normal, local) = self.locate(ray, hit);
         Surface {
             point,
-            normal: local / self.radius,
-            error,
+            normal,
+            error: self.error(ray, hit, point, local),
         }
     }
 

@@ -8,7 +8,7 @@
 //! resolved in `f64`. Neighbouring triangles therefore agree on which side of their
 //! shared edge the ray passes: no ray leaks between them.
 
-use super::{Candidate, Shape, Surface};
+use super::{Candidate, Geom, Locate, Shape, Surface};
 use crate::error::{Error, Field, position};
 use crate::math;
 use crate::ray::Ray;
@@ -259,6 +259,37 @@ impl Triangle {
     }
 }
 
+impl Locate for Triangle {
+    /// `aux.x` is `b0`, the weight of `p0`.
+    #[inline(always)]
+    fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3) {
+        let (b1, b2) = (hit.b1, hit.b2);
+        // b0 is recomputed as u / det rather than 1 - b1 - b2: the subtraction has an
+        // absolute error of about one ulp of 1, which is not covered by the relative
+        // bound below when b0 is small and p0 is far from the origin.
+        let b0 = match self.edges(ray) {
+            Some(e) => e.u * (1.0 / e.det),
+            None => 1.0 - b1 - b2,
+        };
+        let b0 = if b0.is_finite() { b0 } else { 1.0 - b1 - b2 };
+        let (q0, q1, q2) = (self.p0 * b0, self.p1 * b1, self.p2 * b2);
+        // The constructor checked that the normal normalises; Z only keeps it total.
+        let normal = self.cross().normalize_or(Vec3::Z);
+        (q0 + q1 + q2, normal, Vec3::new(b0, 0.0, 0.0))
+    }
+
+    #[inline(always)]
+    fn error(&self, _: &Ray, hit: &Candidate, _: Vec3, aux: Vec3) -> Vec3 {
+        let (q0, q1, q2) = (self.p0 * aux.x, self.p1 * hit.b1, self.p2 * hit.b2);
+        // pbrt-v4's bound for barycentric interpolation (pbrt 3rd ed. 3.9.6).
+        (q0.abs() + q1.abs() + q2.abs()) * math::gamma(7)
+    }
+
+    fn geom(&self) -> Geom<'_> {
+        Geom::Triangle(self)
+    }
+}
+
 impl Shape for Triangle {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
         let shear = Shear::new(ray);
@@ -271,22 +302,11 @@ impl Shape for Triangle {
     }
 
     fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
-        let (b1, b2) = (hit.b1, hit.b2);
-        // b0 is recomputed as u / det rather than 1 - b1 - b2: the subtraction has an
-        // absolute error of about one ulp of 1, which is not covered by the relative
-        // bound below when b0 is small and p0 is far from the origin.
-        let b0 = match self.edges(ray) {
-            Some(e) => e.u * (1.0 / e.det),
-            None => 1.0 - b1 - b2,
-        };
-        let b0 = if b0.is_finite() { b0 } else { 1.0 - b1 - b2 };
-        let (q0, q1, q2) = (self.p0 * b0, self.p1 * b1, self.p2 * b2);
+        let (point, normal, aux) = self.locate(ray, hit);
         Surface {
-            point: q0 + q1 + q2,
-            // pbrt-v4's bound for barycentric interpolation (pbrt 3rd ed. 3.9.6).
-            error: (q0.abs() + q1.abs() + q2.abs()) * math::gamma(7),
-            // The constructor checked that this normalises; Z only keeps it total.
-            normal: self.cross().normalize_or(Vec3::Z),
+            point,
+            normal,
+            error: self.error(ray, hit, point, aux),
         }
     }
 
