@@ -1,7 +1,6 @@
 //! The chapter's ray equation `r(t) = r0 + v t`, with `|v| = 1`, and the robust
 //! spawning of secondary rays.
 
-
 use crate::vec::Vec3;
 
 /// A ray: origin `r0` and unit direction `v`; the point at time `t` is `r0 + v t`.

@@ -59,15 +59,12 @@ pub struct Scene<
     boxes: Vec<Primitive<Aabb>, B>,
     materials: Vec<Material, M>,
     lights: Vec<PointLight, L>,
-    /// The bounds of the triangles and boxes, kept as they are added.
-    bounds: [(Vec3, Vec3); 2],
+    /// The bounds of the triangles, kept as they are added.
+    triangle_bounds: (Vec3, Vec3),
 }
 
 /// Empty bounds: any point widens them.
-const NO_BOUNDS: (Vec3, Vec3) = (
-    Vec3::splat(f32::INFINITY),
-    Vec3::splat(f32::NEG_INFINITY),
-);
+const NO_BOUNDS: (Vec3, Vec3) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
 
 /// `b` widened to `[min, max]`.
 fn widen(b: &mut (Vec3, Vec3), min: Vec3, max: Vec3) {
@@ -110,7 +107,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             boxes: Vec::new(),
             materials: Vec::new(),
             lights: Vec::new(),
-            bounds: [NO_BOUNDS; 2],
+            triangle_bounds: NO_BOUNDS,
         }
     }
 
@@ -181,9 +178,8 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             Primitive { geometry, material },
             List::Triangles,
         )?;
-        let [triangles, _] = &mut self.bounds;
         for v in geometry.vertices() {
-            widen(triangles, v, v);
+            widen(&mut self.triangle_bounds, v, v);
         }
         Ok(())
     }
@@ -195,10 +191,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             &mut self.boxes,
             Primitive { geometry, material },
             List::Boxes,
-        )?;
-        let [_, boxes] = &mut self.bounds;
-        widen(boxes, geometry.min(), geometry.max());
-        Ok(())
+        )
     }
 
     /// Adds a point light.
@@ -317,7 +310,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
                 .iter()
                 .any(|m| m.reflectivity() > 0.0 || m.transparency() > 0.0),
             tile_lists: crate::cull::lend::<S, P, T, B>,
-            hulls: self.bounds.map(|(min, max)| crate::cull::Hull::new(min, max)),
+            triangle_hull: crate::cull::Hull::new(self.triangle_bounds.0, self.triangle_bounds.1),
         }
     }
 
@@ -344,8 +337,8 @@ pub struct SceneView<'a> {
     pub(crate) secondary: bool,
     /// Lends a tile's candidate lists, sized by the scene's capacities.
     pub(crate) tile_lists: crate::cull::Lender,
-    /// The hulls of the triangles and boxes (`None` for an empty list).
-    pub(crate) hulls: [Option<crate::cull::Hull>; 2],
+    /// The hull of the triangles (`None` for an empty list).
+    pub(crate) triangle_hull: Option<crate::cull::Hull>,
 }
 
 impl core::fmt::Debug for SceneView<'_> {

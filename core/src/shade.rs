@@ -393,7 +393,10 @@ impl<'a> SceneView<'a> {
             };
             *total += self.local(&hit, &p.ray, None, count) * p.weight;
             if p.depth < max_depth && hit.material.sends_rays() {
-                for c in children(&hit, &p.ray, p.weight, p.depth).into_iter().flatten() {
+                for c in children(&hit, &p.ray, p.weight, p.depth)
+                    .into_iter()
+                    .flatten()
+                {
                     let _ = stack.push(c);
                 }
             }

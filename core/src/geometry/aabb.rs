@@ -88,31 +88,9 @@ impl Aabb {
             t1: t_max,
             exit: 0,
         };
-        for axis in 0..3 {
-            let o = origin.get(axis);
-            let inv = inv.get(axis);
-            let lo_face = 2 * axis as u8;
-            // Choose the near plane by the sign of 1/d (as pbrt-v4's `dirIsNeg`)
-            // rather than by swapping after the fact: a NaN t_near would defeat the
-            // swap, and then -0.0 and +0.0 would treat a face plane differently.
-            let (near, far, near_face, far_face) = if inv < 0.0 {
-                (self.max.get(axis), self.min.get(axis), lo_face + 1, lo_face)
-            } else {
-                (self.min.get(axis), self.max.get(axis), lo_face, lo_face + 1)
-            };
-            let t_near = (near - o) * inv;
-            // Widened so that rounding cannot make a grazing ray miss (pbrt-v4).
-            let t_far = (far - o) * inv * (1.0 + 2.0 * math::gamma(3));
-            // Comparisons with NaN are false: a NaN slab leaves the span alone.
-            if t_near > s.t0 {
-                s.t0 = t_near;
-                s.entry = near_face;
-            }
-            if t_far < s.t1 {
-                s.t1 = t_far;
-                s.exit = far_face;
-            }
-        }
+        slab(&mut s, origin.x, inv.x, self.min.x, self.max.x, 0);
+        slab(&mut s, origin.y, inv.y, self.min.y, self.max.y, 2);
+        slab(&mut s, origin.z, inv.z, self.min.z, self.max.z, 4);
         if s.t0 > s.t1 { None } else { Some(s) }
     }
 
@@ -129,6 +107,33 @@ impl Aabb {
         } else {
             None
         }
+    }
+}
+
+/// One axis of the slab test: narrows `s` to the slab `[lo, hi]` of the axis whose
+/// faces are `face` (the `lo` side) and `face + 1`, for a ray of origin `o` and
+/// reciprocal direction `inv` on that axis.
+#[inline(always)]
+fn slab(s: &mut Span, o: f32, inv: f32, lo: f32, hi: f32, face: u8) {
+    // Choose the near plane by the sign of 1/d (as pbrt-v4's `dirIsNeg`) rather
+    // than by swapping after the fact: a NaN t_near would defeat the swap, and then
+    // -0.0 and +0.0 would treat a face plane differently.
+    let (near, far, near_face, far_face) = if inv < 0.0 {
+        (hi, lo, face + 1, face)
+    } else {
+        (lo, hi, face, face + 1)
+    };
+    let t_near = (near - o) * inv;
+    // Widened so that rounding cannot make a grazing ray miss (pbrt-v4).
+    let t_far = (far - o) * inv * (1.0 + 2.0 * math::gamma(3));
+    // Comparisons with NaN are false: a NaN slab leaves the span alone.
+    if t_near > s.t0 {
+        s.t0 = t_near;
+        s.entry = near_face;
+    }
+    if t_far < s.t1 {
+        s.t1 = t_far;
+        s.exit = far_face;
     }
 }
 
