@@ -103,7 +103,8 @@ impl Hull {
     /// misses every primitive inside before `t_max`.
     #[inline(always)]
     pub(crate) fn may_hit(&self, origin: Vec3, origin_mag: f32, inv: Vec3, t_max: f32) -> bool {
-        !(origin_mag <= self.reach) || self.bounds.spans(origin, inv, t_max)
+        let near = origin_mag <= self.reach; // false for NaN
+        !near || self.bounds.spans(origin, inv, t_max)
     }
 }
 
@@ -353,7 +354,8 @@ fn shadow_meets(plane: &Plane, light: Vec3, b: Bounds, region: Bounds) -> bool {
     };
     let clearance = MARGIN * (mag(light) + b.magnitude() + region.magnitude() + mag(p0));
     // A light on the plane (or a NaN): anything may be in the way.
-    if !(s_light > clearance) {
+    let off_plane = s_light > clearance; // false for NaN
+    if !off_plane {
         return true;
     }
     let limit = s_light * (1.0 - 1.0 / 64.0);
@@ -367,7 +369,8 @@ fn shadow_meets(plane: &Plane, light: Vec3, b: Bounds, region: Bounds) -> bool {
             pick(4, b.min.z, b.max.z),
         );
         let s = n.dot(x - p0);
-        if !(s < limit) {
+        let below_light = s < limit; // false for NaN
+        if !below_light {
             return true; // up to the light's level (or NaN)
         }
         if s <= 0.0 {
