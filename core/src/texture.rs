@@ -67,6 +67,7 @@ impl Texture {
 
     /// The colour at `uv`.
     #[must_use]
+    #[inline(always)]
     pub fn eval(&self, uv: [f32; 2]) -> Color {
         match *self {
             Self::Solid(c) => c,

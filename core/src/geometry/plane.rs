@@ -106,6 +106,7 @@ impl Shape for Plane {
     }
 
     /// World-unit coordinates of the point along two tangents of the plane.
+    #[inline(always)]
     fn uv(&self, surface: &Surface, _hit: &Candidate) -> [f32; 2] {
         let (t, b) = self.tangents;
         let d = surface.point - self.point;
