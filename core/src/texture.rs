@@ -73,9 +73,8 @@ impl Texture {
             Self::Solid(c) => c,
             Self::Checker { a, b, scale } => {
                 let [u, v] = uv;
-                // `as i64` saturates (and maps NaN to 0): no panic for any input.
-                let cell = math::floor(u * scale) as i64 + math::floor(v * scale) as i64;
-                if cell & 1 == 0 { a } else { b }
+                let cell = parity(math::floor(u * scale)) ^ parity(math::floor(v * scale));
+                if cell == 0 { a } else { b }
             }
             Self::Fringes { color, spacing } => color * fringe_intensity(uv[0] / spacing),
         }
@@ -138,6 +137,22 @@ impl Texture {
     }
 }
 
+/// The parity (0 even, 1 odd) of the cell index `n = floor(x)` as the checker
+/// defines it: `n as i64`, which saturates (NaN gives 0), summed with wrapping,
+/// whose parity is the exclusive or of the parities. Without 64-bit integers
+/// (`as i64` is a library call on the Cortex-M4F) and without overflow: below
+/// `2^24` an `f32` integer converts exactly to `i32`; from there to `2^63` every
+/// `f32` is even; at and beyond `2^63` the saturated `i64::MAX` is odd and
+/// `i64::MIN` even.
+#[inline]
+fn parity(n: f32) -> u32 {
+    if math::abs(n) < 16_777_216.0 {
+        (n as i32 as u32) & 1
+    } else {
+        u32::from(n >= 9_223_372_036_854_775_808.0)
+    }
+}
+
 /// The mean over `[x0, x1]` of the square wave that is +1 on even cells
 /// `[2k, 2k+1)` and -1 on odd ones; `None` for an empty or non-finite interval.
 fn square_mean(x0: f32, x1: f32) -> Option<f32> {
@@ -149,7 +164,7 @@ fn square_mean(x0: f32, x1: f32) -> Option<f32> {
     let tri = |x: f32| {
         let n = math::floor(x);
         let f = x - n;
-        if (n as i64) & 1 == 0 { f } else { 1.0 - f }
+        if parity(n) == 0 { f } else { 1.0 - f }
     };
     Some(((tri(x1) - tri(x0)) / w).clamp(-1.0, 1.0))
 }
@@ -164,6 +179,25 @@ pub fn fringe_intensity(x: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    extern crate std;
+
+    #[test]
+    fn parity_is_that_of_the_saturating_i64() {
+        let mut x = 1.0e-3f32;
+        let mut values = std::vec![0.0f32, -0.0, f32::NAN, f32::INFINITY, f32::NEG_INFINITY];
+        while x < 1e30 {
+            for v in [x, -x, x * 1.37, -x * 2.71] {
+                values.push(math::floor(v));
+            }
+            x *= 1.9;
+        }
+        for n in [16_777_215.0f32, 16_777_216.0, 16_777_218.0, 9.223_372e18, 9.3e18] {
+            values.extend([n, -n]);
+        }
+        for n in values {
+            assert_eq!(parity(n), ((n as i64) & 1) as u32, "{n:e}");
+        }
+    }
 
     #[test]
     fn checker_alternates_per_cell() {
