@@ -61,6 +61,13 @@ use crate::vec::Vec3;
 use heapless::Vec;
 use heapless::vec::VecView;
 
+/// The first bit of a shadow list entry's light mask for hits on planes (bit
+/// `PLANE_RECEIVERS + l` for light `l`, one of the first [`MASKED_LIGHTS`]).
+pub(crate) const PLANE_RECEIVERS: usize = 16;
+
+/// The first bit of a shadow list entry's light mask for hits on the other shapes.
+pub(crate) const SOLID_RECEIVERS: usize = PLANE_RECEIVERS + MASKED_LIGHTS;
+
 /// The relative clearance every culling test requires (see the module doc).
 pub(crate) const MARGIN: f32 = 1.0 / 1024.0;
 
@@ -230,7 +237,7 @@ impl TileLists<'_> {
         // The visible parts of the first few visible planes, each on its own: a
         // blocker's shadow on a plane is bounded much more tightly (its projection
         // from the light) than by a capsule around a tile's whole floor. Beyond
-        // `FLOORS` visible planes the capsule around everything is used instead.
+        // `FLOORS` visible planes a capsule around all of them is used instead.
         const FLOORS: usize = 4;
         let mut floors: [Option<(&Plane, Bounds)>; FLOORS] = [None; FLOORS];
         let separate = cp.len() <= FLOORS;
@@ -240,21 +247,26 @@ impl TileLists<'_> {
                 *slot = Some((p, f.on_plane(p)));
             }
         }
-        let around = if separate { solids } else { all };
+        let flats = plane_bounds(None);
         // May a blocker (its ball and its box) block a shadow ray from the tile's
-        // visible points to each light?
+        // visible points to each light? Two answers per light: for the points on
+        // the planes (mask bit `PLANE_RECEIVERS + l`) and on the other shapes
+        // (`SOLID_RECEIVERS + l`).
         let blocks = |c: Vec3, r: f32, b: Bounds| {
             let mut mask = 0u32;
             for (l, light) in lights.iter().enumerate() {
                 let at = light.position();
-                let may = (!around.is_empty() && !around.capsule_misses(at, c, r))
-                    || floors
+                let on_flats = if separate {
+                    floors
                         .iter()
                         .flatten()
-                        .any(|(p, region)| shadow_meets(p, at, b, *region));
-                if may {
-                    mask |= 1 << (16 + l);
-                }
+                        .any(|(p, region)| shadow_meets(p, at, b, *region))
+                } else {
+                    !flats.is_empty() && !flats.capsule_misses(at, c, r)
+                };
+                let on_solids = !solids.is_empty() && !solids.capsule_misses(at, c, r);
+                mask |= u32::from(on_flats) << (PLANE_RECEIVERS + l);
+                mask |= u32::from(on_solids) << (SOLID_RECEIVERS + l);
             }
             mask
         };
@@ -271,21 +283,20 @@ impl TileLists<'_> {
             blocks(c, h.length(), Bounds::new(b.min(), b.max()))
         });
         for (j, p) in view.planes.iter().enumerate() {
-            // Its own points cannot be shadowed by it (shadow rays skip the primitive
-            // they leave): only the other visible points count.
-            let visible = if cp.iter().any(|&i| usize::from(i) == j) {
-                solids.union(plane_bounds(Some(j)))
+            // A plane blocks a shadow ray only from a point on its far side from the
+            // light; its own points cannot be shadowed by it (shadow rays skip the
+            // primitive they leave), so only the other planes' points count.
+            let other_flats = if cp.iter().any(|&i| usize::from(i) == j) {
+                plane_bounds(Some(j))
             } else {
-                all
+                flats
             };
-            if visible.is_empty() {
-                continue; // only its own points are visible
-            }
             let mut mask = 0u32;
             for (l, light) in lights.iter().enumerate() {
-                if !visible.beyond_plane(&p.geometry, light.position()) {
-                    mask |= 1 << (16 + l);
-                }
+                let at = light.position();
+                let across = |v: &Bounds| !v.is_empty() && !v.beyond_plane(&p.geometry, at);
+                mask |= u32::from(across(&other_flats)) << (PLANE_RECEIVERS + l);
+                mask |= u32::from(across(&solids)) << (SOLID_RECEIVERS + l);
             }
             if mask != 0 && sp.push(index(j) | mask).is_err() {
                 return None;

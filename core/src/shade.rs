@@ -19,6 +19,7 @@
 //! it.
 
 use crate::color::Color;
+use crate::cull::{PLANE_RECEIVERS, SOLID_RECEIVERS};
 use crate::geometry::{Candidate, Geom, Locate, Shape, Surface};
 use crate::material::Material;
 use crate::math;
@@ -260,9 +261,10 @@ pub(crate) struct ShadowLists<'l> {
     pub(crate) lights: u32,
 }
 
-/// Lights beyond this index are not in the tile shadow lists' masks (16 bits): their
-/// shadow rays test every primitive.
-pub(crate) const MASKED_LIGHTS: usize = 16;
+/// Lights beyond this index are not in the tile shadow lists' masks (16 bits: 8
+/// lights, for hits on planes and on the other shapes): their shadow rays test every
+/// primitive.
+pub(crate) const MASKED_LIGHTS: usize = 8;
 
 impl<'a> SceneView<'a> {
     /// The resolved hit of `n` (inlined where it is called: [`SceneView::primary`]
@@ -448,7 +450,11 @@ impl<'a> SceneView<'a> {
             // (the shadow ray would test nothing, so it needs no origin either).
             let lists = match shadow {
                 Some(t) if i < MASKED_LIGHTS => {
-                    let bit = 1 << (16 + i);
+                    let receivers = match hit.geom {
+                        Geom::Plane(_) => PLANE_RECEIVERS,
+                        _ => SOLID_RECEIVERS,
+                    };
+                    let bit = 1 << (receivers + i);
                     (t.lights & bit != 0).then_some(Some(Masked(&t.lists, bit)))
                 }
                 _ => Some(None),
