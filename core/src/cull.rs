@@ -158,6 +158,11 @@ pub(crate) fn lend<const S: usize, const P: usize, const T: usize, const B: usiz
     }));
 }
 
+/// Lends no lists: every primitive is a candidate (culling off).
+pub(crate) fn lend_none(f: &mut WithLists<'_>) {
+    f(None);
+}
+
 impl TileLists<'_> {
     /// Fills the lists for the tile covering `[x0, x1] x [y0, y1]` of the viewport
     /// (pixel units) and returns the picks the tile's camera rays use. Picks of

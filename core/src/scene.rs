@@ -357,6 +357,19 @@ impl core::fmt::Debug for SceneView<'_> {
 }
 
 impl<'a> SceneView<'a> {
+    /// The same view with every culling bound off: no tile lists, no list hull.
+    /// Renders to the same bytes (the point of the culling's conservative bounds,
+    /// which the tests check this way); slower.
+    #[doc(hidden)]
+    #[must_use]
+    pub fn without_culling(&self) -> Self {
+        Self {
+            tile_lists: crate::cull::lend_none,
+            triangle_hull: None,
+            ..*self
+        }
+    }
+
     /// The spheres.
     #[must_use]
     pub fn spheres(&self) -> &'a [Primitive<Sphere>] {

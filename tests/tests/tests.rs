@@ -3,6 +3,7 @@
 mod analytic;
 mod builtin_images;
 mod convergence;
+mod culling;
 mod extremes;
 mod firmware;
 mod frustum;
