@@ -117,13 +117,16 @@ struct Recipe {
     camera: ([f32; 3], [f32; 3], f32, f32),
     spheres: Vec<([f32; 3], f32, usize)>,
     planes: Vec<([f32; 3], [f32; 3], usize)>,
-    triangles: Vec<([f32; 3], [f32; 3], [f32; 3], usize)>,
+    triangles: Vec<TriangleRecipe>,
     boxes: Vec<([f32; 3], [f32; 3], usize)>,
     materials: Vec<MaterialRecipe>,
     lights: Vec<([f32; 3], f32)>,
     sampler: u8,
     depth: u8,
 }
+
+/// Three vertices and a material index.
+type TriangleRecipe = ([f32; 3], [f32; 3], [f32; 3], usize);
 
 #[derive(Debug, Clone)]
 struct MaterialRecipe {
