@@ -80,20 +80,34 @@ impl Sphere {
         // squared (no square root on the common path; within the supported range of
         // lengths the squares cannot overflow). A NaN (from a NaN or infinite input)
         // fails the comparison too: one compare for both.
-        let err = gamma(25) * f.abs().max_element();
-        let reach = self.radius + err;
+        //
+        // Here with the sum of the components instead of the largest (fewer
+        // instructions than two compare-selects, and never smaller, rounding being
+        // monotone): this rejects a subset of what the bound with the largest
+        // rejects, and `roots_near` applies that one to the rest, so the decisions
+        // are exactly those of the bound with the largest.
+        let fa = f.abs();
+        let loose = self.radius + gamma(25) * (fa.x + fa.y + fa.z);
         let l2 = l.length_squared();
-        let within = l2 * SHRINK2 <= reach * reach;
+        let within = l2 * SHRINK2 <= loose * loose;
         if !within {
             return None;
         }
-        self.roots_near(ray, t_max, f, b, l2, err)
+        self.roots_near(ray, t_max, b, l2)
     }
 
     /// The rest of [`Sphere::hit`] for a ray that the cheap test could not reject:
     /// out of line, so that the loops over spheres stay small.
     #[inline(never)]
-    fn roots_near(&self, ray: &Ray, t_max: f32, f: Vec3, b: f32, l2: f32, err: f32) -> Option<f32> {
+    fn roots_near(&self, ray: &Ray, t_max: f32, b: f32, l2: f32) -> Option<f32> {
+        // `f` again rather than passed: the loop over spheres then stores nothing.
+        let f = ray.origin - self.center;
+        let err = gamma(25) * f.abs().max_element();
+        let reach = self.radius + err;
+        let within = l2 * SHRINK2 <= reach * reach;
+        if !within {
+            return None;
+        }
         let (t0, t1) = self.roots(ray, f, b, l2, err)?;
         if t0 > 0.0 && t0 < t_max {
             Some(t0)
