@@ -284,11 +284,21 @@ impl<'a> SceneView<'a> {
         }
     }
 
+    /// The depth that rays reach in this scene when `max_depth` is asked for: at
+    /// most [`MAX_DEPTH`], and 0 without a mirror or a transparent material.
+    pub(crate) fn depth(&self, max_depth: u8) -> u8 {
+        if self.secondary {
+            max_depth.min(MAX_DEPTH)
+        } else {
+            0
+        }
+    }
+
     /// The colour seen along `ray` up to `t_max`, with reflections and
     /// transmissions down to `max_depth` bounces (clamped to [`MAX_DEPTH`]).
     #[must_use]
     pub fn trace(&self, ray: Ray, t_max: f32, max_depth: u8) -> Color {
-        self.trace_with(ray, t_max, max_depth, &Picks::default(), &mut (), None)
+        self.trace_with::<_, true>(ray, t_max, max_depth, &Picks::default(), &mut (), None)
     }
 
     /// [`SceneView::trace`], adding the rays it casts to `count`.
@@ -299,7 +309,7 @@ impl<'a> SceneView<'a> {
         max_depth: u8,
         count: &mut RayCount,
     ) -> Color {
-        self.trace_with(ray, t_max, max_depth, &Picks::default(), count, None)
+        self.trace_with::<_, true>(ray, t_max, max_depth, &Picks::default(), count, None)
     }
 
     /// The colour a camera ray brings back: its nearest hit among `picks.camera`,
@@ -313,7 +323,7 @@ impl<'a> SceneView<'a> {
     /// when that hit sends rays, [`SceneView::bounce`]. The deepest stack is the
     /// bounce's, not the sum of both (a tile stays within 2 KiB on the chip).
     #[inline(always)]
-    pub(crate) fn trace_with<C: Rays>(
+    pub(crate) fn trace_with<C: Rays, const BOUNCES: bool>(
         &self,
         ray: Ray,
         t_max: f32,
@@ -322,11 +332,11 @@ impl<'a> SceneView<'a> {
         count: &mut C,
         footprint: Option<&Footprint<'_>>,
     ) -> Color {
-        let max_depth = if self.secondary {
-            max_depth.min(MAX_DEPTH)
-        } else {
-            0
-        };
+        if !BOUNCES {
+            // The caller knows that no ray is reflected or refracted.
+            return self.primary(&ray, t_max, 0, picks, count, footprint, &mut [None, None]);
+        }
+        let max_depth = self.depth(max_depth);
         let mut first = [None, None];
         let mut total = self.primary(&ray, t_max, max_depth, picks, count, footprint, &mut first);
         if first.iter().any(Option::is_some) {

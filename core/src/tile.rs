@@ -223,7 +223,7 @@ impl Frame {
     /// [`Frame::render_tile`] gives, which the tests check.
     #[must_use]
     pub fn pixel_color(&self, scene: &SceneView<'_>, x: u32, y: u32) -> Color {
-        self.pixel(scene, &Picks::default(), x, y, &mut ())
+        self.pixel::<_, true>(scene, &Picks::default(), x, y, &mut ())
     }
 
     /// [`Frame::pixel_color`], adding the rays cast to `count`.
@@ -234,7 +234,7 @@ impl Frame {
         y: u32,
         count: &mut RayCount,
     ) -> Color {
-        self.pixel(scene, &Picks::default(), x, y, count)
+        self.pixel::<_, true>(scene, &Picks::default(), x, y, count)
     }
 
     /// The colour of pixel `(x, y)` with the candidates `picks`: the mean of its
@@ -242,7 +242,7 @@ impl Frame {
     /// single-sample sampler runs it once (and `(0 + c) * 1 = c`), the stratified
     /// and random samplers hash the pixel once and the sample index per sample.
     #[inline(always)]
-    fn pixel<C: Rays>(
+    fn pixel<C: Rays, const BOUNCES: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
@@ -254,7 +254,7 @@ impl Frame {
         let (px, py) = (x as f32, y as f32);
         let one = |dx: f32, dy: f32, footprint: Option<&Footprint<'_>>, count: &mut C| {
             let (ray, t_far) = self.basis.ray(px + dx, py + dy);
-            scene.trace_with(ray, t_far, s.max_depth, picks, count, footprint)
+            scene.trace_with::<C, BOUNCES>(ray, t_far, s.max_depth, picks, count, footprint)
         };
         // One ray: no loop, no average (`(0 + c) * 1 = c`).
         let single = match s.sampler {
@@ -291,6 +291,41 @@ impl Frame {
             sum += one(dx, dy, None, count);
         }
         sum * self.inv_count
+    }
+
+    /// Fills `tile`'s pixels `(x0, y0)` to `(x0 + tw, y0 + th)`: `background`
+    /// where no primitive reaches the tile, else each pixel's colour; the rest of
+    /// the buffer black.
+    #[inline(always)]
+    fn fill<const N: usize, C: Rays, const BOUNCES: bool>(
+        &self,
+        scene: &SceneView<'_>,
+        picks: &Picks<'_>,
+        tile: &mut Tile<N>,
+        (x0, y0, tw, th): (u32, u32, usize, usize),
+        background: Option<Rgb8>,
+        count: &mut C,
+    ) {
+        for (j, row) in tile.pixels.iter_mut().enumerate() {
+            let live = if j < th { tw } else { 0 };
+            let Some((live, rest)) = row.split_at_mut_checked(live) else {
+                continue;
+            };
+            for (i, px) in live.iter_mut().enumerate() {
+                *px = match background {
+                    Some(b) => {
+                        for _ in 0..self.settings.sampler.count() {
+                            count.primary();
+                        }
+                        b
+                    }
+                    None => self
+                        .pixel::<C, BOUNCES>(scene, picks, x0 + i as u32, y0 + j as u32, count)
+                        .to_rgb8(),
+                };
+            }
+            rest.fill(Rgb8::default());
+        }
     }
 
     /// What a pixel comes to when every ray misses: the background, averaged over
@@ -372,25 +407,12 @@ impl Frame {
             };
             let empty = picks.camera.is_some_and(|c| c.iter().all(|l| l.is_empty()));
             let background = empty.then(|| self.background_pixel(scene));
-            for (j, row) in tile.pixels.iter_mut().enumerate() {
-                let live = if j < th { tw } else { 0 };
-                let Some((live, rest)) = row.split_at_mut_checked(live) else {
-                    continue;
-                };
-                for (i, px) in live.iter_mut().enumerate() {
-                    *px = match background {
-                        Some(b) => {
-                            for _ in 0..self.settings.sampler.count() {
-                                count.primary();
-                            }
-                            b
-                        }
-                        None => self
-                            .pixel(scene, &picks, x0 + i as u32, y0 + j as u32, count)
-                            .to_rgb8(),
-                    };
-                }
-                rest.fill(Rgb8::default());
+            // The pixel loop twice: with bounces, and without (no ray-tree
+            // bookkeeping per sample where no ray is reflected or refracted).
+            if scene.depth(self.settings.max_depth) > 0 {
+                self.fill::<N, C, true>(scene, &picks, tile, (x0, y0, tw, th), background, count);
+            } else {
+                self.fill::<N, C, false>(scene, &picks, tile, (x0, y0, tw, th), background, count);
             }
         };
         (scene.tile_lists)(&mut body);
