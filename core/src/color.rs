@@ -60,12 +60,12 @@ impl Color {
 /// `[0, 1]` to `0..=255`, rounding to nearest; out-of-range values saturate.
 #[inline]
 fn quantize(v: f32) -> u8 {
-    // No clamp on the float: `as u32` saturates (below 0 and NaN give 0), and the
-    // integer minimum does the rest; on [0, 1] this is the clamped expression, so
-    // the bytes are the same. (`as u8` directly costs two float compares more on
-    // the Cortex-M4F.)
-    let i = (v * 255.0 + 0.5) as u32;
-    if i > 255 { 255 } else { i as u8 }
+    // No clamp on the float: `as i32` saturates (NaN gives 0) and the integer clamp
+    // does the rest (`usat` on the Cortex-M4F); on [0, 1] this is the clamped
+    // expression, so the bytes are the same. (`as u8` directly costs two float
+    // compares more on the chip, `as u32` a 64-bit conversion on x86-64.)
+    let i = (v * 255.0 + 0.5) as i32;
+    i.clamp(0, 255) as u8
 }
 
 impl Add for Color {
