@@ -323,7 +323,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
 /// A scene as the renderer sees it: slices, no capacities, so the renderer is
 /// compiled once whatever the scene's capacities. The one thing that depends on the
 /// capacities, the storage of a tile's culling lists, is lent by a small function of
-/// the scene's type ([`crate::cull`]).
+/// the scene's type (see the module `cull` of the sources).
 #[derive(Clone, Copy)]
 pub struct SceneView<'a> {
     pub(crate) spheres: &'a [Primitive<Sphere>],

@@ -11,12 +11,19 @@
 //! rays are clipped by the far plane; colours are linear, written without a gamma
 //! curve.
 //!
-//! Bounded stack: there is no recursion. Pending rays wait on a fixed-size stack
-//! with their weight; each ray adds `weight x local colour` and pushes at most two
-//! children. Depth-first, a depth limit `D` needs at most `D + 1` slots, so the
-//! stack holds [`MAX_DEPTH`]` + 1`. A ray whose weight is zero is never traced, and
+//! Bounded stack: there is no recursion. A camera ray's own hit is shaded by one
+//! out-of-line call; only if that hit sends reflected or refracted rays does a
+//! second call trace them, so the two never nest. Pending rays wait on a fixed-size
+//! stack with their (grey) weight; each ray adds `weight x local colour` and pushes
+//! at most two children. Depth-first, a depth limit `D` needs at most `D + 1` slots,
+//! so the stack holds [`MAX_DEPTH`]` + 1`.
+//!
+//! Model only what the scene requires: a ray whose weight is zero is never traced;
 //! no shadow ray, uv or secondary ray is computed where the material does not need
-//! it.
+//! it; a hit's error bound (for the origin of the rays leaving it) is computed only
+//! when a ray leaves it; a shadow ray whose tile lists hold no blocker of its light
+//! is answered without being built. The Blinn-Phong power is computed by repeated
+//! squaring when the shininess is an integer ([`Material::highlight`]).
 
 use crate::color::Color;
 use crate::cull::{PLANE_RECEIVERS, SOLID_RECEIVERS};
