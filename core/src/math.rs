@@ -8,8 +8,10 @@
 //!   `vsqrt.f32`. Both are correctly rounded (IEEE 754), so the host and the chip give
 //!   the same bits.
 //! - feature `fast-math`: `micromath` approximations of the per-pixel `powf`
-//!   (specular highlights), `atan2` and `acos` (sphere texture coordinates): a trade
-//!   to be measured, fewer instructions for a larger error. `sqrt` stays exact:
+//!   (specular highlights of a non-integer shininess: an integer one is raised by
+//!   repeated squaring, [`powi`], with either backend), `atan2` and `acos` (sphere
+//!   texture coordinates): a trade to be measured, fewer instructions for a larger
+//!   error. `sqrt` stays exact:
 //!   micromath's is a single bit trick with 5% error, which breaks ray directions and
 //!   intersections rather than trading accuracy for speed; `tan` stays exact because
 //!   it runs once a frame.
