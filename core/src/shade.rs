@@ -252,7 +252,7 @@ fn uv_box<G: Shape>(
 
 /// The candidates of one camera ray's tree: its own nearest-hit search (a tile's
 /// camera lists, or every primitive) and the shadow rays of its hit (a tile's shadow
-/// lists, entries `index | lights << 16`, or every primitive). Reflected and
+/// lists, entries `index | mask << 16`, or every primitive). Reflected and
 /// refracted rays, which may go anywhere, always search every primitive.
 #[derive(Clone, Copy, Default)]
 pub(crate) struct Picks<'l> {
@@ -260,8 +260,9 @@ pub(crate) struct Picks<'l> {
     pub(crate) shadow: Option<ShadowLists<'l>>,
 }
 
-/// A tile's shadow lists: per kind, entries `index | lights << 16`, and the union of
-/// their light masks (bit `16 + i` set when some primitive may block light `i`).
+/// A tile's shadow lists: per kind, entries `index | mask << 16` (see
+/// `cull::PLANE_RECEIVERS` and `cull::SOLID_RECEIVERS` for the mask's bits), and the
+/// union of their masks.
 #[derive(Clone, Copy)]
 pub(crate) struct ShadowLists<'l> {
     pub(crate) lists: [&'l [u32]; 4],

@@ -92,7 +92,7 @@ pub(crate) struct Every;
 #[derive(Clone, Copy)]
 pub(crate) struct Listed<'l>(pub(crate) &'l [&'l [u16]; 4]);
 
-/// A tile's shadow lists for one light: per kind, entries `index | lights << 16`,
+/// A tile's shadow lists for one light: per kind, entries `index | mask << 16`,
 /// of which those with the light's bit.
 #[derive(Clone, Copy)]
 pub(crate) struct Masked<'l>(pub(crate) &'l [&'l [u32]; 4], pub(crate) u32);
@@ -357,4 +357,27 @@ fn nearest_triangle<A: Axes, S: Candidates>(
         }
         false
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn skip_names_one_primitive_of_one_kind() {
+        let s = Skip::new(Kind::Triangle, 7);
+        assert_eq!(s.index(Kind::Triangle), 7);
+        for other in [Kind::Sphere, Kind::Plane, Kind::Box] {
+            assert_eq!(s.index(other), usize::MAX);
+        }
+        // Every kind and the largest index that fits.
+        let last = (1 << 30) - 2;
+        for kind in [Kind::Sphere, Kind::Plane, Kind::Triangle, Kind::Box] {
+            assert_eq!(Skip::new(kind, 0).index(kind), 0);
+            assert_eq!(Skip::new(kind, last).index(kind), last);
+            // Beyond: nothing is skipped (the test is merely not saved).
+            assert_eq!(Skip::new(kind, last + 1), Skip::NONE);
+            assert_eq!(Skip::NONE.index(kind), usize::MAX);
+        }
+    }
 }
