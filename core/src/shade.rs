@@ -126,21 +126,19 @@ struct Shaded<'a> {
     index: usize,
     material: &'a Material,
     base: Color,
-    /// The error bound, once computed (shadow rays, then the bounces, share it). A
-    /// plain field, not a `Cell`: interior mutability would keep the whole hit in
-    /// memory instead of registers.
-    error: Option<Vec3>,
+    /// The error bound, once computed (shadow rays, then the bounces, share it).
+    error: core::cell::Cell<Option<Vec3>>,
 }
 
 impl Shaded<'_> {
     /// The bound on the rounding error of each component of the point (`ray` is
     /// the ray that hit it).
-    fn error(&mut self, ray: &Ray) -> Vec3 {
-        if let Some(e) = self.error {
+    fn error(&self, ray: &Ray) -> Vec3 {
+        if let Some(e) = self.error.get() {
             return e;
         }
         let e = self.geom.error(ray, &self.hit, self.point, self.aux);
-        self.error = Some(e);
+        self.error.set(Some(e));
         e
     }
 
@@ -199,7 +197,7 @@ fn resolve<'a, G: Locate>(
         index: n.index,
         material,
         base,
-        error: None,
+        error: core::cell::Cell::new(None),
     })
 }
 
@@ -377,12 +375,12 @@ impl<'a> SceneView<'a> {
         let Some(nearest) = nearest else {
             return self.background;
         };
-        let Some(mut hit) = self.shaded(&nearest, ray, footprint) else {
+        let Some(hit) = self.shaded(&nearest, ray, footprint) else {
             return Color::BLACK; // unreachable for a validated scene: no material
         };
-        let total = self.local_in(&mut hit, ray, picks.shadow.as_ref(), count);
+        let total = self.local_in(&hit, ray, picks.shadow.as_ref(), count);
         if max_depth > 0 && hit.material.sends_rays() {
-            *first = children(&mut hit, ray, 1.0, 0);
+            *first = children(&hit, ray, 1.0, 0);
         }
         total
     }
@@ -410,12 +408,12 @@ impl<'a> SceneView<'a> {
                 *total += self.background * p.weight;
                 continue;
             };
-            let Some(mut hit) = self.shaded(&nearest, &p.ray, None) else {
+            let Some(hit) = self.shaded(&nearest, &p.ray, None) else {
                 continue; // unreachable for a validated scene: no material
             };
-            *total += self.local(&mut hit, &p.ray, None, count) * p.weight;
+            *total += self.local(&hit, &p.ray, None, count) * p.weight;
             if p.depth < max_depth && hit.material.sends_rays() {
-                for c in children(&mut hit, &p.ray, p.weight, p.depth)
+                for c in children(&hit, &p.ray, p.weight, p.depth)
                     .into_iter()
                     .flatten()
                 {
@@ -429,7 +427,7 @@ impl<'a> SceneView<'a> {
     #[inline(never)]
     fn local<C: Rays>(
         &self,
-        hit: &mut Shaded<'_>,
+        hit: &Shaded<'_>,
         ray: &Ray,
         shadow: Option<&ShadowLists<'_>>,
         count: &mut C,
@@ -442,7 +440,7 @@ impl<'a> SceneView<'a> {
     #[inline(always)]
     fn local_in<C: Rays>(
         &self,
-        hit: &mut Shaded<'_>,
+        hit: &Shaded<'_>,
         ray: &Ray,
         shadow: Option<&ShadowLists<'_>>,
         count: &mut C,
@@ -510,7 +508,7 @@ impl<'a> SceneView<'a> {
 /// weight `weight`) that carry weight, reflected first: pushed in this order, the
 /// refracted ray is traced first, as a depth-first traversal of the ray tree.
 #[inline(never)]
-fn children(hit: &mut Shaded<'_>, ray: &Ray, weight: f32, depth: u8) -> [Option<Pending>; 2] {
+fn children(hit: &Shaded<'_>, ray: &Ray, weight: f32, depth: u8) -> [Option<Pending>; 2] {
     secondary(hit, ray).map(|child| {
         let (ray, w) = child?;
         let weight = weight * w;
@@ -534,7 +532,7 @@ fn facing(normal: Vec3, dir: Vec3) -> Vec3 {
 
 /// The reflected and refracted rays of a hit, with their weights (each `None` when
 /// its weight is zero).
-fn secondary(hit: &mut Shaded<'_>, ray: &Ray) -> [Option<(Ray, f32)>; 2] {
+fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, f32)>; 2] {
     let m = hit.material;
     let (kr, kt) = (m.reflectivity(), m.transparency());
     if kr == 0.0 && kt == 0.0 {
