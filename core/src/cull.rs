@@ -240,13 +240,38 @@ impl TileLists<'_> {
             let b = &view.boxes.get(usize::from(i))?.geometry;
             solids = solids.union(f.clip(Bounds::new(b.min(), b.max())));
         }
-        let plane_bounds = |except: Option<usize>| {
-            cp.iter()
-                .filter(|&&i| Some(usize::from(i)) != except)
-                .filter_map(|&i| view.planes.get(usize::from(i)))
-                .fold(Bounds::EMPTY, |v, p| v.union(f.on_plane(&p.geometry)))
+        // The visible parts of the first few visible planes, each on its own: a
+        // blocker's shadow on a plane is bounded much more tightly (its projection
+        // from the light) than by a capsule around a tile's whole floor. Beyond
+        // `FLOORS` visible planes a capsule around all of them is used instead.
+        const FLOORS: usize = 4;
+        let mut floors: [Option<(usize, &Plane, Bounds)>; FLOORS] = [None; FLOORS];
+        let separate = cp.len() <= FLOORS;
+        if separate {
+            for (slot, &i) in floors.iter_mut().zip(cp.iter()) {
+                let p = &view.planes.get(usize::from(i))?.geometry;
+                *slot = Some((usize::from(i), p, f.on_plane(p)));
+            }
+        }
+        // The visible parts of the planes but `except`, together.
+        let flats_but = |except: Option<usize>| {
+            let other = |j: usize| Some(j) != except;
+            if separate {
+                floors
+                    .iter()
+                    .flatten()
+                    .filter(|(j, _, _)| other(*j))
+                    .fold(Bounds::EMPTY, |v, (_, _, region)| v.union(*region))
+            } else {
+                cp.iter()
+                    .map(|&i| usize::from(i))
+                    .filter(|&j| other(j))
+                    .filter_map(|j| view.planes.get(j))
+                    .fold(Bounds::EMPTY, |v, p| v.union(f.on_plane(&p.geometry)))
+            }
         };
-        let all = solids.union(plane_bounds(None));
+        let flats = flats_but(None);
+        let all = solids.union(flats);
         if all.is_empty() {
             return Some(()); // nothing visible: no shadow ray from this tile
         }
@@ -254,20 +279,6 @@ impl TileLists<'_> {
             return None;
         }
         let lights = view.lights.get(..MASKED_LIGHTS).unwrap_or(view.lights);
-        // The visible parts of the first few visible planes, each on its own: a
-        // blocker's shadow on a plane is bounded much more tightly (its projection
-        // from the light) than by a capsule around a tile's whole floor. Beyond
-        // `FLOORS` visible planes a capsule around all of them is used instead.
-        const FLOORS: usize = 4;
-        let mut floors: [Option<(&Plane, Bounds)>; FLOORS] = [None; FLOORS];
-        let separate = cp.len() <= FLOORS;
-        if separate {
-            for (slot, &i) in floors.iter_mut().zip(cp.iter()) {
-                let p = &view.planes.get(usize::from(i))?.geometry;
-                *slot = Some((p, f.on_plane(p)));
-            }
-        }
-        let flats = plane_bounds(None);
         // May a blocker (its ball and its box) block a shadow ray from the tile's
         // visible points to each light? Two answers per light: for the points on
         // the planes (mask bit `PLANE_RECEIVERS + l`) and on the other shapes
@@ -280,7 +291,7 @@ impl TileLists<'_> {
                     floors
                         .iter()
                         .flatten()
-                        .any(|(p, region)| shadow_meets(p, at, b, *region))
+                        .any(|(_, p, region)| shadow_meets(p, at, b, *region))
                 } else {
                     !flats.is_empty() && !flats.capsule_misses(at, c, r)
                 };
@@ -307,7 +318,7 @@ impl TileLists<'_> {
             // light; its own points cannot be shadowed by it (shadow rays skip the
             // primitive they leave), so only the other planes' points count.
             let other_flats = if cp.iter().any(|&i| usize::from(i) == j) {
-                plane_bounds(Some(j))
+                flats_but(Some(j))
             } else {
                 flats
             };

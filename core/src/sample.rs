@@ -90,22 +90,41 @@ impl Sampler {
             Self::Offset(s) => (s.x, s.y),
             Self::Stratified(k) => {
                 let k = u32::from(k.max(1));
-                let (cx, cy) = (index % k, index / k);
-                let (jx, jy) = random_pair(px, py, index, seed);
-                let inv = 1.0 / k as f32;
-                (
-                    below_one((cx as f32 + jx) * inv),
-                    below_one((cy as f32 + jy) * inv),
-                )
+                let cell = (index % k, index / k);
+                stratified(PixelHash::new(px, py, seed), index, cell, stratum(k))
             }
             Self::Random(_) => random_pair(px, py, index, seed),
         }
     }
 }
 
+/// The cell size `1 / k` of the stratified sampler with `k x k` cells.
+#[inline]
+pub(crate) fn stratum(k: u32) -> f32 {
+    1.0 / k as f32
+}
+
+/// The offset of stratified sample `index` of the pixel hashed as `hash`, in cell
+/// `(cx, cy)` (`index = cy k + cx`) of size `inv = 1 / k`: a random position in the
+/// cell. The one definition, used by [`Sampler::offset`] and by the tile loop (which
+/// hashes the pixel once and steps through the cells without dividing).
+#[inline]
+pub(crate) fn stratified(
+    hash: PixelHash,
+    index: u32,
+    (cx, cy): (u32, u32),
+    inv: f32,
+) -> (f32, f32) {
+    let (jx, jy) = hash.pair(index);
+    (
+        below_one((cx as f32 + jx) * inv),
+        below_one((cy as f32 + jy) * inv),
+    )
+}
+
 /// Clamps a rounded-up `1.0` back into `[0, 1)`.
 #[inline]
-pub(crate) fn below_one(v: f32) -> f32 {
+fn below_one(v: f32) -> f32 {
     crate::math::min(v, 1.0 - f32::EPSILON / 2.0)
 }
 

@@ -306,7 +306,8 @@ impl<'a> SceneView<'a> {
     /// transmissions down to `max_depth` bounces (clamped to [`MAX_DEPTH`]).
     #[must_use]
     pub fn trace(&self, ray: Ray, t_max: f32, max_depth: u8) -> Color {
-        self.trace_with::<_, true>(ray, t_max, max_depth, &Picks::default(), &mut (), None)
+        let depth = self.depth(max_depth);
+        self.trace_with::<_, true>(ray, t_max, depth, &Picks::default(), &mut (), None)
     }
 
     /// [`SceneView::trace`], adding the rays it casts to `count`.
@@ -317,7 +318,8 @@ impl<'a> SceneView<'a> {
         max_depth: u8,
         count: &mut RayCount,
     ) -> Color {
-        self.trace_with::<_, true>(ray, t_max, max_depth, &Picks::default(), count, None)
+        let depth = self.depth(max_depth);
+        self.trace_with::<_, true>(ray, t_max, depth, &Picks::default(), count, None)
     }
 
     /// The colour a camera ray brings back: its nearest hit among `picks.camera`,
@@ -330,6 +332,9 @@ impl<'a> SceneView<'a> {
     /// with its searches inlined: the common path, one call per sample) and, only
     /// when that hit sends rays, [`SceneView::bounce`]. The deepest stack is the
     /// bounce's, not the sum of both (a tile stays within 2 KiB on the chip).
+    ///
+    /// `max_depth` is the scene's depth, clamped once by the caller
+    /// ([`SceneView::depth`]); `BOUNCES` is false when the caller knows it is 0.
     #[inline(always)]
     pub(crate) fn trace_with<C: Rays, const BOUNCES: bool>(
         &self,
@@ -341,10 +346,8 @@ impl<'a> SceneView<'a> {
         footprint: Option<&Footprint<'_>>,
     ) -> Color {
         if !BOUNCES {
-            // The caller knows that no ray is reflected or refracted.
             return self.primary(&ray, t_max, 0, picks, count, footprint, &mut [None, None]);
         }
-        let max_depth = self.depth(max_depth);
         let mut first = [None, None];
         let mut total = self.primary(&ray, t_max, max_depth, picks, count, footprint, &mut first);
         if first.iter().any(Option::is_some) {

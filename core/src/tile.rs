@@ -21,7 +21,7 @@ use crate::camera::{Camera, CameraBasis, Viewport};
 use crate::color::{Color, Rgb8};
 use crate::cull::TileLists;
 use crate::error::Error;
-use crate::sample::{PixelHash, Sampler, below_one};
+use crate::sample::{PixelHash, Sampler, stratified, stratum};
 use crate::scene::SceneView;
 use crate::shade::{Footprint, MAX_DEPTH, Picks, RayCount, Rays};
 
@@ -184,7 +184,7 @@ impl Frame {
             samples: settings.sampler.count(),
             inv_count: 1.0 / settings.sampler.count() as f32,
             stratum: match settings.sampler {
-                Sampler::Stratified(k) => 1.0 / f32::from(k.max(1)),
+                Sampler::Stratified(k) => stratum(u32::from(k.max(1))),
                 _ => 1.0,
             },
         })
@@ -224,7 +224,8 @@ impl Frame {
     /// [`Frame::render_tile`] gives, which the tests check.
     #[must_use]
     pub fn pixel_color(&self, scene: &SceneView<'_>, x: u32, y: u32) -> Color {
-        self.pixel::<_, true>(scene, &Picks::default(), x, y, &mut ())
+        let depth = scene.depth(self.settings.max_depth);
+        self.pixel::<_, true>(scene, &Picks::default(), depth, x, y, &mut ())
     }
 
     /// [`Frame::pixel_color`], adding the rays cast to `count`.
@@ -235,18 +236,22 @@ impl Frame {
         y: u32,
         count: &mut RayCount,
     ) -> Color {
-        self.pixel::<_, true>(scene, &Picks::default(), x, y, count)
+        let depth = scene.depth(self.settings.max_depth);
+        self.pixel::<_, true>(scene, &Picks::default(), depth, x, y, count)
     }
 
-    /// The colour of pixel `(x, y)` with the candidates `picks`: the mean of its
-    /// samples. One loop for every sampler, so that the tracer is inlined once: a
-    /// single-sample sampler runs it once (and `(0 + c) * 1 = c`), the stratified
-    /// and random samplers hash the pixel once and the sample index per sample.
+    /// The colour of pixel `(x, y)` with the candidates `picks`, rays bouncing down
+    /// to `depth` (the scene's, [`SceneView::depth`]): the mean of its samples. Two
+    /// call sites of the tracer, not one per sampler (each inlined copy would weigh
+    /// on the stack): the single-sample samplers trace one ray and return its
+    /// colour (`(0 + c) * 1 = c`), the stratified and random samplers hash the pixel
+    /// once and the sample index per sample.
     #[inline(always)]
     fn pixel<C: Rays, const BOUNCES: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
+        depth: u8,
         x: u32,
         y: u32,
         count: &mut C,
@@ -255,7 +260,7 @@ impl Frame {
         let (px, py) = (x as f32, y as f32);
         let one = |dx: f32, dy: f32, footprint: Option<&Footprint<'_>>, count: &mut C| {
             let (ray, t_far) = self.basis.ray(px + dx, py + dy);
-            scene.trace_with::<C, BOUNCES>(ray, t_far, s.max_depth, picks, count, footprint)
+            scene.trace_with::<C, BOUNCES>(ray, t_far, depth, picks, count, footprint)
         };
         // One ray: no loop, no average (`(0 + c) * 1 = c`).
         let single = match s.sampler {
@@ -276,11 +281,7 @@ impl Frame {
         for i in 0..self.samples {
             let (dx, dy) = match s.sampler {
                 Sampler::Stratified(k) => {
-                    let (jx, jy) = hash.pair(i);
-                    let d = (
-                        below_one((cx as f32 + jx) * self.stratum),
-                        below_one((cy as f32 + jy) * self.stratum),
-                    );
+                    let d = stratified(hash, i, (cx, cy), self.stratum);
                     cx += 1;
                     if cx == u32::from(k) {
                         (cx, cy) = (0, cy + 1);
@@ -298,10 +299,12 @@ impl Frame {
     /// where no primitive reaches the tile, else each pixel's colour; the rest of
     /// the buffer black.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn fill<const N: usize, C: Rays, const BOUNCES: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
+        depth: u8,
         tile: &mut Tile<N>,
         (x0, y0, tw, th): (u32, u32, usize, usize),
         background: Option<Rgb8>,
@@ -315,13 +318,20 @@ impl Frame {
             for (i, px) in live.iter_mut().enumerate() {
                 *px = match background {
                     Some(b) => {
-                        for _ in 0..self.settings.sampler.count() {
+                        for _ in 0..self.samples {
                             count.primary();
                         }
                         b
                     }
                     None => self
-                        .pixel::<C, BOUNCES>(scene, picks, x0 + i as u32, y0 + j as u32, count)
+                        .pixel::<C, BOUNCES>(
+                            scene,
+                            picks,
+                            depth,
+                            x0 + i as u32,
+                            y0 + j as u32,
+                            count,
+                        )
                         .to_rgb8(),
                 };
             }
@@ -330,21 +340,14 @@ impl Frame {
     }
 
     /// What a pixel comes to when every ray misses: the background, averaged over
-    /// the samples exactly as [`Frame::pixel`] averages them.
+    /// the samples as [`Frame::pixel`] averages them (for one sample,
+    /// `(0 + b) * 1 = b`).
     fn background_pixel(&self, scene: &SceneView<'_>) -> Rgb8 {
-        let n = self.settings.sampler.count();
-        if matches!(
-            self.settings.sampler,
-            Sampler::Stratified(_) | Sampler::Random(_)
-        ) {
-            let mut sum = Color::BLACK;
-            for _ in 0..n {
-                sum += scene.background;
-            }
-            (sum * self.inv_count).to_rgb8()
-        } else {
-            scene.background.to_rgb8()
+        let mut sum = Color::BLACK;
+        for _ in 0..self.samples {
+            sum += scene.background;
         }
+        (sum * self.inv_count).to_rgb8()
     }
 
     /// Pixel `(x, y)` as an 8-bit output pixel.
@@ -410,10 +413,12 @@ impl Frame {
             let background = empty.then(|| self.background_pixel(scene));
             // The pixel loop twice: with bounces, and without (no ray-tree
             // bookkeeping per sample where no ray is reflected or refracted).
-            if scene.depth(self.settings.max_depth) > 0 {
-                self.fill::<N, C, true>(scene, &picks, tile, (x0, y0, tw, th), background, count);
+            let depth = scene.depth(self.settings.max_depth);
+            let area = (x0, y0, tw, th);
+            if depth > 0 {
+                self.fill::<N, C, true>(scene, &picks, depth, tile, area, background, count);
             } else {
-                self.fill::<N, C, false>(scene, &picks, tile, (x0, y0, tw, th), background, count);
+                self.fill::<N, C, false>(scene, &picks, 0, tile, area, background, count);
             }
         };
         (scene.tile_lists)(&mut body);

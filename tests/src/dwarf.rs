@@ -219,18 +219,9 @@ fn sorted(map: HashMap<String, FunctionCost>) -> Vec<FunctionCost> {
 pub fn by_function(frames: &[Vec<Frame>], insns: &[Insn], costs: &[Cost]) -> Vec<FunctionCost> {
     let mut map: HashMap<String, FunctionCost> = HashMap::new();
     for ((i, c), fr) in insns.iter().zip(costs).zip(frames) {
-        let Some(inner) = fr.first() else { continue };
-        let chain: Vec<&str> = fr
-            .iter()
-            .skip(1)
-            .take(CHAIN)
-            .map(|f| f.function.as_str())
-            .collect();
-        let e = map
-            .entry(inner.function.clone())
-            .or_insert_with(|| FunctionCost::new(&inner.function));
-        e.add(i.count, c.cycles(), inner);
-        *e.callers.entry(chain.join(" < ")).or_default() += i.count;
+        if !fr.is_empty() {
+            charge(&mut map, fr, 0, i, c);
+        }
     }
     sorted(map)
 }
@@ -249,20 +240,27 @@ pub fn inclusive(frames: &[Vec<Frame>], insns: &[Insn], costs: &[Cost]) -> Vec<F
                 continue;
             }
             seen.push(&f.function);
-            let chain: Vec<&str> = fr
-                .iter()
-                .skip(k + 1)
-                .take(CHAIN)
-                .map(|f| f.function.as_str())
-                .collect();
-            let e = map
-                .entry(f.function.clone())
-                .or_insert_with(|| FunctionCost::new(&f.function));
-            e.add(i.count, c.cycles(), f);
-            *e.callers.entry(chain.join(" < ")).or_default() += i.count;
+            charge(&mut map, fr, k, i, c);
         }
     }
     sorted(map)
+}
+
+/// Charges instruction `i` (cost `c`) to frame `k` of its inlining chain `fr`, and
+/// to that frame's callers (the next frames of the chain, up to [`CHAIN`]).
+fn charge(map: &mut HashMap<String, FunctionCost>, fr: &[Frame], k: usize, i: &Insn, c: &Cost) {
+    let Some(f) = fr.get(k) else { return };
+    let chain: Vec<&str> = fr
+        .iter()
+        .skip(k + 1)
+        .take(CHAIN)
+        .map(|f| f.function.as_str())
+        .collect();
+    let e = map
+        .entry(f.function.clone())
+        .or_insert_with(|| FunctionCost::new(&f.function));
+    e.add(i.count, c.cycles(), f);
+    *e.callers.entry(chain.join(" < ")).or_default() += i.count;
 }
 
 /// A function name for tables: module paths dropped in front of types

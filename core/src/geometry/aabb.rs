@@ -203,12 +203,7 @@ impl Shape for Aabb {
     }
 
     fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
-        let (point, normal, aux) = self.locate(ray, hit);
-        Surface {
-            point,
-            normal,
-            error: self.error(ray, hit, point, aux),
-        }
+        super::surface(self, ray, hit)
     }
 
     fn uv(&self, surface: &Surface, hit: &Candidate) -> [f32; 2] {

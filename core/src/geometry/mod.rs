@@ -109,6 +109,16 @@ pub(crate) trait Locate: Shape {
     fn geom(&self) -> Geom<'_>;
 }
 
+/// [`Shape::surface`] of every kind: [`Locate::locate`], then [`Locate::error`].
+fn surface<G: Locate>(g: &G, ray: &Ray, hit: &Candidate) -> Surface {
+    let (point, normal, aux) = g.locate(ray, hit);
+    Surface {
+        point,
+        normal,
+        error: g.error(ray, hit, point, aux),
+    }
+}
+
 /// A primitive of any kind, by reference.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Geom<'a> {

@@ -97,12 +97,7 @@ impl Shape for Plane {
     }
 
     fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
-        let (point, normal, aux) = self.locate(ray, hit);
-        Surface {
-            point,
-            normal,
-            error: self.error(ray, hit, point, aux),
-        }
+        super::surface(self, ray, hit)
     }
 
     /// World-unit coordinates of the point along two tangents of the plane.

@@ -234,12 +234,7 @@ impl Shape for Sphere {
     }
 
     fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
-        let (point, normal, local) = self.locate(ray, hit);
-        Surface {
-            point,
-            normal,
-            error: self.error(ray, hit, point, local),
-        }
+        super::surface(self, ray, hit)
     }
 
     fn uv_wraps(&self) -> bool {

@@ -302,12 +302,7 @@ impl Shape for Triangle {
     }
 
     fn surface(&self, ray: &Ray, hit: &Candidate) -> Surface {
-        let (point, normal, aux) = self.locate(ray, hit);
-        Surface {
-            point,
-            normal,
-            error: self.error(ray, hit, point, aux),
-        }
+        super::surface(self, ray, hit)
     }
 
     fn uv(&self, _surface: &Surface, hit: &Candidate) -> [f32; 2] {

@@ -274,16 +274,14 @@ fn cpu_model() -> String {
         .unwrap_or_else(|| "unknown (no /proc/cpuinfo)".into())
 }
 
+/// `n` rounded, with thousands separators ([`tessera_tests::thousands`]; a negative
+/// or non-finite figure, which the report never has, is printed as it is).
 fn thousands(n: f64) -> String {
-    let s = format!("{:.0}", n.round());
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
+    if n.is_finite() && n >= 0.0 {
+        tessera_tests::thousands(n.round() as u64)
+    } else {
+        format!("{n:.0}")
     }
-    out
 }
 
 fn ns(n: f64) -> String {
