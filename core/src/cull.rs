@@ -687,7 +687,72 @@ impl Frustum {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::builtin::{Builtin, chapter_direct};
+    use crate::camera::Viewport;
     use core::mem::size_of;
+    extern crate std;
+    use std::vec::Vec as StdVec;
+
+    /// Per tile of the chapter's scene at 64x64 (tiles of 16, row by row): the
+    /// spheres of its camera list, and the spheres whose plane-receiver bit is set
+    /// for the light (they may shadow the floor the tile sees).
+    fn chapter_tiles() -> StdVec<(StdVec<u16>, StdVec<u16>)> {
+        let scene = chapter_direct().unwrap();
+        let view = scene.view();
+        let frame = scene
+            .frame(Viewport::new(64, 64), Builtin::ChapterDirect.settings())
+            .unwrap();
+        let mut out = StdVec::new();
+        for ty in 0..4u8 {
+            for tx in 0..4u8 {
+                let (x0, y0) = (f32::from(tx) * 16.0, f32::from(ty) * 16.0);
+                lend::<4, 1, 0, 0>(&mut |lists| {
+                    let picks =
+                        lists
+                            .unwrap()
+                            .build(frame.basis(), &view, (x0, y0, x0 + 16.0, y0 + 16.0));
+                    let camera = picks.camera.unwrap()[0].to_vec();
+                    let floor_bit = 1 << PLANE_RECEIVERS;
+                    let shadow = picks.shadow.map_or_else(StdVec::new, |s| {
+                        s.lists[0]
+                            .iter()
+                            .filter(|&&e| e & floor_bit != 0)
+                            .map(|&e| (e & 0xffff) as u16)
+                            .collect()
+                    });
+                    out.push((camera, shadow));
+                });
+            }
+        }
+        out
+    }
+
+    /// The lists cull: a tile keeps the spheres it sees, and not the ones on the
+    /// other side of the picture (the chapter's red sphere, index 1, is on the left,
+    /// the green one, index 2, on the right); the tiles that see the floor on the
+    /// left keep the spheres that may shadow it, but not the small yellow sphere
+    /// (index 3), whose shadow falls right of the centre, below it.
+    #[test]
+    fn tile_lists_keep_what_the_tile_may_see_and_no_more() {
+        let tiles = chapter_tiles();
+        let (left, right): (StdVec<_>, StdVec<_>) = (
+            tiles.iter().step_by(4).collect(),
+            tiles.iter().skip(3).step_by(4).collect(),
+        );
+        assert!(left.iter().any(|(c, _)| c.contains(&1)), "{tiles:?}");
+        assert!(left.iter().all(|(c, _)| !c.contains(&2)), "{tiles:?}");
+        assert!(right.iter().any(|(c, _)| c.contains(&2)), "{tiles:?}");
+        assert!(right.iter().all(|(c, _)| !c.contains(&1)), "{tiles:?}");
+        // Every visible sphere appears in some tile, and no tile keeps all four.
+        for i in 0..4 {
+            assert!(tiles.iter().any(|(c, _)| c.contains(&i)), "{i}: {tiles:?}");
+        }
+        assert!(tiles.iter().all(|(c, _)| c.len() < 4), "{tiles:?}");
+        // Shadows on the floor: the left column never lists the yellow sphere,
+        // some tile lists a sphere.
+        assert!(left.iter().all(|(_, s)| !s.contains(&3)), "{tiles:?}");
+        assert!(tiles.iter().any(|(_, s)| !s.is_empty()), "{tiles:?}");
+    }
 
     /// The RAM of a tile's lists, as the docs state it: `6 (S + P + T + B)` bytes
     /// plus eight lengths (and alignment), plus the eight views `TileLists` holds.

@@ -305,10 +305,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             background: self.background,
             // Model only what the scene requires: without a mirror or a transparent
             // material no secondary ray can exist, so the tracer skips that work.
-            secondary: self
-                .materials
-                .iter()
-                .any(|m| m.reflectivity() > 0.0 || m.transparency() > 0.0),
+            secondary: self.materials.iter().any(Material::sends_rays),
             tile_lists: crate::cull::lend::<S, P, T, B>,
             triangle_hull: crate::cull::Hull::new(self.triangle_bounds.0, self.triangle_bounds.1),
         }

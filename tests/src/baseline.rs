@@ -13,6 +13,9 @@ use tessera::builtin::Builtin;
 pub const TOLERANCE_PERCENT: u64 = 2;
 /// The file, relative to the repository root.
 pub const FILE: &str = "tests/chip-baseline.txt";
+/// The command that rewrites the file from a new measurement.
+pub const BLESS: &str =
+    "cargo run -p tessera-tests --release --bin chip-report -- --bless-baseline";
 
 /// The baseline file's path.
 #[must_use]
@@ -35,12 +38,12 @@ pub fn runs() -> Vec<Run> {
 /// The file's text for `(run line, instructions)` pairs.
 #[must_use]
 pub fn render(entries: &[(String, u64)]) -> String {
-    let mut s = String::from(
+    let mut s = format!(
         "# Exact instruction counts of the firmware (SysTick, inside render_tile), one run a\n\
          # line: the run-list line (<scene> <sampler> <depth> <tile> <width> <height> <seed>)\n\
          # and its instruction count. The firmware test `instruction_counts_stay_within_the_baseline`\n\
-         # fails when a count rises by more than 2% over this file.\n\
-         # Written by `cargo run -p tessera-tests --release --bin chip-report -- --bless-baseline`.\n\
+         # fails when a count rises by more than {TOLERANCE_PERCENT}% over this file.\n\
+         # Written by `{BLESS}`.\n\
          # It changes only in a commit that says why (a speed-up, or a cost accepted).\n",
     );
     for (line, n) in entries {
@@ -158,15 +161,14 @@ impl Comparison {
                 "FAIL: a count rose by more than {TOLERANCE_PERCENT}% (or is missing from \
                  {FILE}). Find the cause (`cargo run -p tessera-tests --release --bin \
                  chip-profile` shows where the instructions go); if the cost is accepted, \
-                 regenerate the baseline with `cargo run -p tessera-tests --release --bin \
-                 chip-report -- --bless-baseline` in a commit that says why.\n"
+                 regenerate the baseline with `{BLESS}` in a commit that says why.\n"
             ));
         }
         if !self.improvements().is_empty() {
             s.push_str(&format!(
                 "note: a count fell by more than {TOLERANCE_PERCENT}%: regenerate the baseline \
-                 (`cargo run -p tessera-tests --release --bin chip-report -- --bless-baseline`) \
-                 in a commit that says why, so that the guard holds the new figure.\n"
+                 (`{BLESS}`) in a commit that says why, so that the guard holds the new \
+                 figure.\n"
             ));
         }
         s
@@ -185,6 +187,9 @@ mod tests {
         ];
         let text = render(&entries);
         assert_eq!(parse(&text).unwrap(), entries);
+        // The committed file is what `render` writes for its own entries.
+        let file = std::fs::read_to_string(path()).unwrap();
+        assert_eq!(render(&parse(&file).unwrap()), file);
         let now = vec![
             ("chapter-direct centre 0 16 64 64 0".to_string(), 1021),
             ("showcase centre 5 16 64 64 0".to_string(), 4800),

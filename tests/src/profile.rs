@@ -7,7 +7,8 @@
 //! [`build_plugin`] compiles the plugin with the system's C compiler, [`markers`]
 //! finds the markers in the ELF's symbol table, [`run`] runs one render under qemu
 //! with the plugin and returns the firmware's own result (with the SysTick count)
-//! and the profile, and [`check_total`] checks the two counts against each other.
+//! and the profile, and [`check_total`] checks the two counts against each other
+//! ([`agree`]).
 
 use crate::cycles::Insn;
 use crate::firmware::{self, Run, RunResult, TempDir};
@@ -199,9 +200,9 @@ pub fn tiles(run: &Run) -> u64 {
     u64::from(run.width).div_ceil(t) * u64::from(run.height).div_ceil(t)
 }
 
-/// Checks the plugin's count against the SysTick count of the same run: the
-/// plugin must have been armed once per tile and the two counts must agree within
-/// [`TOLERANCE_PER_TILE`] per tile. Returns SysTick minus plugin.
+/// Checks the plugin's profile against the SysTick count of the same run: the
+/// plugin must have been armed once per tile, and the counts must [`agree`].
+/// Returns SysTick minus plugin.
 pub fn check_total(run: &Run, systick: &RunResult, profile: &Profile) -> Result<i64, String> {
     let tiles = tiles(run);
     if profile.arms != tiles {
@@ -210,13 +211,19 @@ pub fn check_total(run: &Run, systick: &RunResult, profile: &Profile) -> Result<
             profile.arms
         ));
     }
-    let diff = systick.instructions as i64 - profile.total as i64;
+    agree(run, systick.instructions, profile.total)
+}
+
+/// Checks that the SysTick count `systick` and the plugin's count `plugin` of
+/// `run` agree within [`TOLERANCE_PER_TILE`] per tile. Returns SysTick minus
+/// plugin.
+pub fn agree(run: &Run, systick: u64, plugin: u64) -> Result<i64, String> {
+    let tiles = tiles(run);
+    let diff = systick as i64 - plugin as i64;
     if diff.unsigned_abs() > TOLERANCE_PER_TILE * tiles {
         return Err(format!(
-            "{run}: SysTick counted {} instructions, the plugin {}: {diff} apart, more \
-             than the {} allowed ({TOLERANCE_PER_TILE} a tile)",
-            systick.instructions,
-            profile.total,
+            "{run}: SysTick counted {systick} instructions, the plugin {plugin}: {diff} \
+             apart, more than the {} allowed ({TOLERANCE_PER_TILE} a tile)",
             TOLERANCE_PER_TILE * tiles
         ));
     }
@@ -244,5 +251,37 @@ mod tests {
         assert!(Profile::parse(&text.replace("total=26", "total=27")).is_err());
         assert!(Profile::parse(&text.replace("rearms=0", "rearms=1")).is_err());
         assert!(Profile::parse("0x10 1 0 2 nop\n").is_err());
+    }
+
+    #[test]
+    fn counts_agree_within_the_tolerance_per_tile() {
+        // 64x64 in tiles of 16: 16 tiles, 1,280 instructions allowed either way.
+        let run = Run::of(tessera::builtin::Builtin::ChapterDirect, 64, 64);
+        assert_eq!(tiles(&run), 16);
+        assert_eq!(agree(&run, 101_280, 100_000), Ok(1280));
+        assert_eq!(agree(&run, 100_000, 101_280), Ok(-1280));
+        assert!(agree(&run, 101_281, 100_000).is_err());
+        assert!(agree(&run, 100_000, 101_281).is_err());
+        let profile = Profile {
+            arms: 15,
+            total: 100_000,
+            ..Profile::default()
+        };
+        let systick = RunResult {
+            pixels: image::RgbImage::new(64, 64),
+            ticks: 2_500,
+            instructions: 100_000,
+            pixels_count: 64 * 64,
+            stack: 0,
+            stack_base: 0,
+            stack_render: 0,
+        };
+        // Armed once short of a tile: refused though the totals agree.
+        assert!(check_total(&run, &systick, &profile).is_err());
+        let profile = Profile {
+            arms: 16,
+            ..profile
+        };
+        assert_eq!(check_total(&run, &systick, &profile), Ok(0));
     }
 }

@@ -72,6 +72,18 @@ impl Aabb {
         self.span_inv(origin, inv, t_max).is_some()
     }
 
+    /// The nearest hit with `0 < t < t_max`, for a ray of origin `origin` and
+    /// reciprocal direction `inv` ([`inverse`]): what the renderer calls per box.
+    #[inline(always)]
+    pub(crate) fn hit_inv(&self, origin: Vec3, inv: Vec3, t_max: f32) -> Option<Candidate> {
+        let s = self.span_inv(origin, inv, t_max)?;
+        Self::nearest(&s, t_max).map(|(t, face)| Candidate {
+            t,
+            face,
+            ..Candidate::default()
+        })
+    }
+
     /// The slab test: the span `[t0, t1]` of the ray inside the box, clipped to
     /// `[0, t_max]`, or `None` when it is empty.
     fn span(&self, ray: &Ray, t_max: f32) -> Option<Span> {
@@ -142,20 +154,6 @@ fn slab(s: &mut Span, o: f32, inv: f32, lo: f32, hi: f32, face: u8) {
 #[inline]
 pub(crate) fn inverse(dir: Vec3) -> Vec3 {
     Vec3::new(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z)
-}
-
-impl Aabb {
-    /// The nearest hit with `0 < t < t_max`, for a ray of origin `origin` and
-    /// reciprocal direction `inv` ([`inverse`]): what the renderer calls per box.
-    #[inline(always)]
-    pub(crate) fn hit_inv(&self, origin: Vec3, inv: Vec3, t_max: f32) -> Option<Candidate> {
-        let s = self.span_inv(origin, inv, t_max)?;
-        Self::nearest(&s, t_max).map(|(t, face)| Candidate {
-            t,
-            face,
-            ..Candidate::default()
-        })
-    }
 }
 
 /// Axis (0, 1, 2) and sign (`true` = max side) of a face index.

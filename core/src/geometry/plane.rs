@@ -86,10 +86,7 @@ impl Locate for Plane {
 
 impl Shape for Plane {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
-        self.hit(ray, t_max).map(|t| Candidate {
-            t,
-            ..Candidate::default()
-        })
+        self.hit(ray, t_max).map(Candidate::at)
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -17,17 +17,14 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
-use tessera::Sampler;
-use tessera::builtin::Builtin;
 use tessera_tests::cycles;
 use tessera_tests::dwarf::{self, Symbolizer};
-use tessera_tests::firmware::{self, Run, RunResult};
+use tessera_tests::firmware::{self, RunResult};
 use tessera_tests::profile::{self, Profile};
 use tessera_tests::profile_doc::{self, HOST_SCENES, Measured};
-use tessera_tests::{callgrind, thousands};
+use tessera_tests::{baseline, callgrind, thousands};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin chip-profile";
-const SIZE: u16 = 64;
 
 fn main() -> ExitCode {
     let start = Instant::now();
@@ -47,19 +44,6 @@ fn main() -> ExitCode {
     }
 }
 
-/// Every built-in scene with its own settings, then chapter-direct stratified 4x4.
-fn runs() -> Vec<Run> {
-    let mut runs: Vec<Run> = Builtin::ALL
-        .iter()
-        .map(|&b| Run::of(b, SIZE, SIZE))
-        .collect();
-    runs.push(Run {
-        sampler: Sampler::Stratified(4),
-        ..Run::of(Builtin::ChapterDirect, SIZE, SIZE)
-    });
-    runs
-}
-
 fn report() -> Result<PathBuf, String> {
     let qemu = firmware::qemu_version()?;
     let rustc = tessera_tests::tool_version("rustc");
@@ -68,7 +52,8 @@ fn report() -> Result<PathBuf, String> {
     let elf = firmware::build(false)?;
     let plugin = profile::build_plugin()?;
     let markers = profile::markers(&elf)?;
-    let runs = runs();
+    // The guarded runs (`tests/chip-baseline.txt`).
+    let runs = baseline::runs();
     println!("profiling {} renders under qemu...", runs.len());
     let results: Vec<Result<(RunResult, Profile), String>> = std::thread::scope(|s| {
         let handles: Vec<_> = runs

@@ -1003,6 +1003,7 @@ fn what_to_pick(
     let ex_s4 = find(entries, r, EXACT, "stratified:4", d, 16)?;
     let fa_s4 = find(entries, r, FAST, "stratified:4", d, 16)?;
     let i = Builtin::Interference.name();
+    let same = |a: f64, b: f64| (a - b).abs() < 1e-5;
     let fringe_same = of_scene(entries, i)
         .iter()
         .filter(|e| e.row.backend == FAST)
@@ -1016,9 +1017,8 @@ fn what_to_pick(
                 s.depth,
                 s.tile,
             )
-            .is_ok_and(|x| (x.row.flip - e.row.flip).abs() < 1e-5)
+            .is_ok_and(|x| same(x.row.flip, e.row.flip))
         });
-    let same = |a: f64, b: f64| (a - b).abs() < 1e-5;
     if same(fast_centre.row.flip, centre.row.flip) && same(fa_s4.row.flip, ex_s4.row.flip) {
         let _ = write!(
             p,
