@@ -164,11 +164,19 @@ pub const fn gamma(n: u32) -> f32 {
 /// by the interference texture, so it must not go through `f64`.
 #[must_use]
 pub fn cos_turns(x: f32) -> f32 {
-    if !x.is_finite() {
-        return f32::NAN;
-    }
-    // Exact: x - round(x) has no rounding error for any f32 x.
-    let r = abs(x - libm::roundf(x)); // in [0, 0.5]
+    // Exact: x - n has no rounding error for any f32 x and integer n nearest to x.
+    // Below 2^22 in magnitude, adding and subtracting 1.5 * 2^23 rounds x to the
+    // nearest integer (ties to even: the sum lies in [2^23, 2^24), whose spacing is
+    // 1) in two instructions; beyond, x is a multiple of 1/2 and `roundf` does it
+    // (the two may differ on a tie, where |x - n| = 1/2 either way). A NaN or an
+    // infinity takes the second path and gives NaN (`inf - inf`).
+    const ROUND: f32 = 12_582_912.0; // 1.5 * 2^23
+    let n = if abs(x) < 4_194_304.0 {
+        (x + ROUND) - ROUND
+    } else {
+        libm::roundf(x)
+    };
+    let r = abs(x - n); // in [0, 0.5]
     let (z, sign) = if r > 0.25 { (0.5 - r, -1.0) } else { (r, 1.0) };
     let t = z * core::f32::consts::TAU; // [0, pi/2]
     let t2 = t * t;

@@ -168,6 +168,9 @@ pub struct Frame {
     inv_count: f32,
     /// `1 / k` for the stratified sampler (`k x k` cells), else 1.
     stratum: f32,
+    /// The sub-pixel offset of a single-sample sampler (`None` for the stratified
+    /// and random ones): decided once, not per pixel.
+    single: Option<(f32, f32)>,
 }
 
 impl Frame {
@@ -186,6 +189,12 @@ impl Frame {
             stratum: match settings.sampler {
                 Sampler::Stratified(k) => stratum(u32::from(k.max(1))),
                 _ => 1.0,
+            },
+            single: match settings.sampler {
+                Sampler::Corner => Some((0.0, 0.0)),
+                Sampler::Centre | Sampler::Prefiltered => Some((0.5, 0.5)),
+                Sampler::Offset(o) => Some((o.x(), o.y())),
+                Sampler::Stratified(_) | Sampler::Random(_) => None,
             },
         })
     }
@@ -263,13 +272,7 @@ impl Frame {
             scene.trace_with::<C, BOUNCES>(ray, t_far, depth, picks, count, footprint)
         };
         // One ray: no loop, no average (`(0 + c) * 1 = c`).
-        let single = match s.sampler {
-            Sampler::Corner => Some((0.0, 0.0)),
-            Sampler::Centre | Sampler::Prefiltered => Some((0.5, 0.5)),
-            Sampler::Offset(o) => Some((o.x(), o.y())),
-            Sampler::Stratified(_) | Sampler::Random(_) => None,
-        };
-        if let Some((dx, dy)) = single {
+        if let Some((dx, dy)) = self.single {
             let footprint = matches!(s.sampler, Sampler::Prefiltered)
                 .then(|| Footprint::new(&self.basis, px, py));
             return one(dx, dy, footprint.as_ref(), count);

@@ -271,12 +271,18 @@ impl SceneView<'_> {
             let sk = skip.index(Kind::Box);
             src.any(self.boxes, Kind::Box, |i, b| {
                 if i != sk {
-                    if let Some(h) = b.hit_inv(ray.origin, inv, t) {
-                        keep(Kind::Box, i, h, &mut t);
+                    if let Some(h) = b.time_inv(ray.origin, inv, t) {
+                        keep(Kind::Box, i, Candidate::at(h), &mut t);
                     }
                 }
                 false
             });
+            // The face, for the nearest hit only.
+            if let Some(n) = best.as_mut().filter(|n| n.kind == Kind::Box) {
+                if let Some(b) = self.boxes.get(n.index) {
+                    n.hit.face = b.geometry.face_inv(ray.origin, inv);
+                }
+            }
         }
         best
     }
@@ -333,7 +339,7 @@ impl SceneView<'_> {
             let inv = reach.inv();
             let sk = skip.index(Kind::Box);
             return src.any(self.boxes, Kind::Box, |i, b| {
-                i != sk && b.hit_inv(ray.origin, inv, t_max).is_some()
+                i != sk && b.time_inv(ray.origin, inv, t_max).is_some()
             });
         }
         false
