@@ -289,6 +289,32 @@ mod tests {
     }
 
     #[test]
+    fn cos_turns_reduces_exactly_on_both_sides_of_2_pow_22() {
+        // The fast rounding (below 2^22) and `roundf` (beyond) both leave the exact
+        // fraction: cos of x equals cos of x - round(x), computed in f64.
+        let check = |x: f32| {
+            for x in [x, -x] {
+                let frac = (x as f64 - libm::round(x as f64)).abs();
+                let exact = libm::cos(core::f64::consts::TAU * frac);
+                assert!((cos_turns(x) as f64 - exact).abs() < 4e-7, "x = {x}");
+            }
+        };
+        for x in [f32::MIN_POSITIVE, 0.25, 0.5, 0.75, 1.5, 2.5] {
+            check(x);
+        }
+        for e in 18..=26 {
+            let p = (1u32 << e) as f32;
+            for d in [-1.0f32, -0.5, -0.25, 0.0, 0.25, 0.5, 1.0, 1.5] {
+                check(p + d);
+                check(next_down(p) + d);
+            }
+        }
+        assert!(cos_turns(f32::INFINITY).is_nan());
+        assert!(cos_turns(f32::NEG_INFINITY).is_nan());
+        assert_eq!(cos_turns(f32::MAX), 1.0);
+    }
+
+    #[test]
     fn sin_turns_matches_f64_sin() {
         for i in -2_000..=2_000 {
             let x = i as f32 * 0.001_37;
