@@ -34,8 +34,12 @@ impl Ray {
 /// `err` bounds the absolute error of each component of `p`. The offset is the
 /// error projected on the normal, so it scales with the scene: there is no absolute
 /// epsilon, and a scene scaled by a power of two is traced with the same bits.
+///
+/// Always inlined: out of line, the call (arguments through memory, six saved FPU
+/// registers) cost about as much as the body; inlined, showcase takes 196 fewer
+/// instructions per pixel on the chip.
 #[must_use]
-#[inline]
+#[inline(always)]
 pub fn offset_origin(p: Vec3, err: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     let d = n.abs().dot(err);
     // The offset goes to the side of the new direction: -(n d) = n (-d) exactly.
