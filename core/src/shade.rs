@@ -427,7 +427,7 @@ impl<'a> SceneView<'a> {
             let Some(hit) = self.shaded(&nearest, &p.ray, None) else {
                 continue; // unreachable for a validated scene: no material
             };
-            *total += self.local(&hit, &p.ray, None, count) * p.weight;
+            *total += self.local_in(&hit, &p.ray, None, count) * p.weight;
             if p.depth < max_depth && hit.material.sends_rays() {
                 for c in children(&hit, &p.ray, p.weight, p.depth)
                     .into_iter()
@@ -437,18 +437,6 @@ impl<'a> SceneView<'a> {
                 }
             }
         }
-    }
-
-    /// [`SceneView::local_in`] out of line, for the bounces.
-    #[inline(never)]
-    fn local<C: Rays>(
-        &self,
-        hit: &Shaded<'_>,
-        ray: &Ray,
-        shadow: Option<&ShadowLists<'_>>,
-        count: &mut C,
-    ) -> Color {
-        self.local_in(hit, ray, shadow, count)
     }
 
     /// Ambient + direct light at a hit (no secondary rays); the shadow rays test the
