@@ -100,7 +100,15 @@ impl Aabb {
     fn times(&self, origin: Vec3, inv: Vec3, t_max: f32) -> Option<(f32, f32)> {
         let (mut t0, mut t1) = (0.0, t_max);
         slab_time(&mut t0, &mut t1, origin.x, inv.x, self.min.x, self.max.x);
+        if t0 > t1 {
+            return None;
+        }
         slab_time(&mut t0, &mut t1, origin.y, inv.y, self.min.y, self.max.y);
+        // A slab only raises t0 and lowers t1 (a NaN one leaves them): an empty
+        // span stays empty, and most boxes are missed by then.
+        if t0 > t1 {
+            return None;
+        }
         slab_time(&mut t0, &mut t1, origin.z, inv.z, self.min.z, self.max.z);
         if t0 > t1 { None } else { Some((t0, t1)) }
     }
