@@ -513,13 +513,7 @@ impl<'a> SceneView<'a> {
 /// the ray tree. Written in place rather than returned: the 80-byte pair then is
 /// not copied by `memcpy` on its way (82 instructions a copy on the chip).
 #[inline(never)]
-fn children(
-    hit: &Shaded<'_>,
-    ray: &Ray,
-    weight: f32,
-    depth: u8,
-    out: &mut [Option<Pending>; 2],
-) {
+fn children(hit: &Shaded<'_>, ray: &Ray, weight: f32, depth: u8, out: &mut [Option<Pending>; 2]) {
     *out = secondary(hit, ray).map(|child| {
         let (ray, w) = child?;
         let weight = weight * w;
