@@ -387,7 +387,7 @@ impl<'a> SceneView<'a> {
         // path then never goes to memory (on the chip, interference 405.5 -> 373.5
         // instr/px, and chapter-direct 471.5 -> 467.5).
         let m = hit.material;
-        if !m.is_lit() && !(max_depth > 0 && m.sends_rays()) {
+        if !(m.is_lit() || max_depth > 0 && m.sends_rays()) {
             return hit.base * self.ambient * m.ambient();
         }
         let hit = Shaded {
