@@ -328,10 +328,12 @@ impl<'a> SceneView<'a> {
     /// its pixel (`footprint`), a texture it hits is averaged exactly over the
     /// pixel's footprint (box filter) instead of evaluated at one point.
     ///
-    /// Two calls that never nest: [`SceneView::primary`] (the camera ray's own hit,
-    /// with its searches inlined: the common path, one call per sample) and, only
-    /// when that hit sends rays, [`SceneView::bounce`]. The deepest stack is the
-    /// bounce's, not the sum of both (a tile stays within 2 KiB on the chip).
+    /// With bounces, two calls that never nest: [`SceneView::primary`] (the camera
+    /// ray's own hit, with its searches inlined) and, only when that hit sends
+    /// rays, [`SceneView::bounce`]. The deepest stack is the bounce's, not the sum
+    /// of both (a tile stays within 2 KiB on the chip). Without bounces nothing
+    /// else is called, and the camera ray's hit is inlined here
+    /// ([`SceneView::primary_in`]).
     ///
     /// `max_depth` is the scene's depth, clamped once by the caller
     /// ([`SceneView::depth`]); `BOUNCES` is false when the caller knows it is 0.
@@ -346,7 +348,7 @@ impl<'a> SceneView<'a> {
         footprint: Option<&Footprint<'_>>,
     ) -> Color {
         if !BOUNCES {
-            return self.primary(&ray, t_max, 0, picks, count, footprint, &mut [None, None]);
+            return self.primary_in(&ray, t_max, 0, picks, count, footprint, &mut [None, None]);
         }
         let mut first = [None, None];
         let mut total = self.primary(&ray, t_max, max_depth, picks, count, footprint, &mut first);
@@ -361,6 +363,23 @@ impl<'a> SceneView<'a> {
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
     fn primary<C: Rays>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        max_depth: u8,
+        picks: &Picks<'_>,
+        count: &mut C,
+        footprint: Option<&Footprint<'_>>,
+        first: &mut [Option<Pending>; 2],
+    ) -> Color {
+        self.primary_in(ray, t_max, max_depth, picks, count, footprint, first)
+    }
+
+    /// [`SceneView::primary`], inlined (for the camera rays of a scene without
+    /// bounces).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn primary_in<C: Rays>(
         &self,
         ray: &Ray,
         t_max: f32,
