@@ -133,10 +133,20 @@ struct Shaded<'a> {
 impl Shaded<'_> {
     /// The bound on the rounding error of each component of the point (`ray` is
     /// the ray that hit it).
+    ///
+    /// Computed once per hit, out of line ([`Shaded::compute_error`]); the check
+    /// of the cached value is inlined.
+    #[inline(always)]
     fn error(&self, ray: &Ray) -> Vec3 {
-        if let Some(e) = self.error.get() {
-            return e;
+        match self.error.get() {
+            Some(e) => e,
+            None => self.compute_error(ray),
         }
+    }
+
+    /// [`Shaded::error`] when not yet known.
+    #[inline(never)]
+    fn compute_error(&self, ray: &Ray) -> Vec3 {
         let e = self.geom.error(ray, &self.hit, self.point, self.aux);
         self.error.set(Some(e));
         e
