@@ -50,18 +50,13 @@ pub fn valgrind_version() -> Option<String> {
 pub fn build_host() -> Result<PathBuf, String> {
     let root = firmware::repo_root();
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let out = Command::new(cargo)
-        .current_dir(&root)
-        .args(["build", "--release", "-p", "tessera-host"])
-        .output()
-        .map_err(|e| format!("cannot run cargo to build tessera-host: {e}"))?;
-    if !out.status.success() {
-        return Err(format!(
-            "building tessera-host failed ({}):\n{}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr)
-        ));
-    }
+    firmware::checked(
+        Command::new(cargo)
+            .current_dir(&root)
+            .args(["build", "--release", "-p", "tessera-host"]),
+        "cargo to build tessera-host",
+        "building tessera-host failed",
+    )?;
     let dir =
         std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
     let bin = dir.join("release").join("tessera");
@@ -79,21 +74,16 @@ pub fn profile(bin: &std::path::Path, scene: &str) -> Result<HostProfile, String
     let cg = dir.path().join("callgrind.out");
     let png = dir.path().join("render.png");
     let args = ["render", scene, "--threads", "1", "-o"];
-    let out = Command::new("valgrind")
-        .arg("--tool=callgrind")
-        .arg(format!("--callgrind-out-file={}", cg.display()))
-        .arg(bin)
-        .args(args)
-        .arg(&png)
-        .output()
-        .map_err(|e| format!("cannot run valgrind: {e}"))?;
-    if !out.status.success() {
-        return Err(format!(
-            "valgrind failed on {scene} ({}):\n{}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr)
-        ));
-    }
+    let out = firmware::checked(
+        Command::new("valgrind")
+            .arg("--tool=callgrind")
+            .arg(format!("--callgrind-out-file={}", cg.display()))
+            .arg(bin)
+            .args(args)
+            .arg(&png),
+        "valgrind",
+        &format!("valgrind failed on {scene}"),
+    )?;
     let stdout = String::from_utf8_lossy(&out.stdout);
     let summary = stdout
         .lines()

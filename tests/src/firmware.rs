@@ -85,6 +85,27 @@ pub fn qemu_version() -> Result<String, String> {
     }
 }
 
+/// Runs `cmd` to its end and returns its output; an error names `program` (what
+/// could not be started) or says `failed` with the exit status and the command's
+/// standard error.
+pub fn checked(
+    cmd: &mut Command,
+    program: &str,
+    failed: &str,
+) -> Result<std::process::Output, String> {
+    let out = cmd
+        .output()
+        .map_err(|e| format!("cannot run {program}: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "{failed} ({}):\n{}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    Ok(out)
+}
+
 /// Builds the firmware (release profile of `tests/firmware`) and returns the ELF's
 /// path. The exact and fast-math images have their own target folders under
 /// `tests/firmware/target/`, so both exist side by side. Cargo runs from the
@@ -114,17 +135,14 @@ pub fn build(fast_math: bool) -> Result<PathBuf, String> {
     ] {
         cmd.env_remove(var);
     }
-    let out = cmd
-        .output()
-        .map_err(|e| format!("cannot run cargo to build the firmware: {e}"))?;
-    if !out.status.success() {
-        return Err(format!(
-            "building the firmware ({backend}) failed ({}); is the {TARGET} target \
-             installed? ({INSTALL_HINT})\n{}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr)
-        ));
-    }
+    checked(
+        &mut cmd,
+        "cargo to build the firmware",
+        &format!(
+            "building the firmware ({backend}) failed; is the {TARGET} target installed? \
+             ({INSTALL_HINT})"
+        ),
+    )?;
     let elf = target_dir.join(TARGET).join("release").join("tessera-fw");
     if elf.is_file() {
         Ok(elf)

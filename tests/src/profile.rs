@@ -39,21 +39,16 @@ pub fn build_plugin() -> Result<PathBuf, String> {
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let out = dir.join("insn_profile.so");
     let cc = std::env::var("CC").unwrap_or_else(|_| "gcc".into());
-    let res = Command::new(&cc)
-        .args([
-            "-shared", "-fPIC", "-O2", "-Wall", "-Wextra", "-Werror", "-o",
-        ])
-        .arg(&out)
-        .arg(&src)
-        .output()
-        .map_err(|e| format!("cannot run {cc} to build the qemu plugin: {e}"))?;
-    if !res.status.success() {
-        return Err(format!(
-            "{cc} failed to build {PLUGIN_SOURCE} ({}):\n{}",
-            res.status,
-            String::from_utf8_lossy(&res.stderr)
-        ));
-    }
+    firmware::checked(
+        Command::new(&cc)
+            .args([
+                "-shared", "-fPIC", "-O2", "-Wall", "-Wextra", "-Werror", "-o",
+            ])
+            .arg(&out)
+            .arg(&src),
+        &format!("{cc} to build the qemu plugin"),
+        &format!("{cc} failed to build {PLUGIN_SOURCE}"),
+    )?;
     Ok(out)
 }
 

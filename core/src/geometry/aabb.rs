@@ -162,22 +162,32 @@ impl Aabb {
     }
 }
 
+/// The times at which a ray of origin `o` and reciprocal direction `inv` on one
+/// axis crosses the near and the far plane of the slab `[lo, hi]`, and whether the
+/// near plane is `hi`: the one computation behind [`slab`] and [`slab_time`].
+#[inline(always)]
+fn crossings(o: f32, inv: f32, lo: f32, hi: f32) -> (f32, f32, bool) {
+    // Choose the near plane by the sign of 1/d (as pbrt-v4's `dirIsNeg`) rather
+    // than by swapping after the fact: a NaN t_near would defeat the swap, and then
+    // -0.0 and +0.0 would treat a face plane differently.
+    let flipped = inv < 0.0;
+    let (near, far) = if flipped { (hi, lo) } else { (lo, hi) };
+    // The exit widened so that rounding cannot make a grazing ray miss (pbrt-v4).
+    let t_far = (far - o) * inv * (1.0 + 2.0 * math::gamma(3));
+    ((near - o) * inv, t_far, flipped)
+}
+
 /// One axis of the slab test: narrows `s` to the slab `[lo, hi]` of the axis whose
 /// faces are `face` (the `lo` side) and `face + 1`, for a ray of origin `o` and
 /// reciprocal direction `inv` on that axis.
 #[inline(always)]
 fn slab(s: &mut Span, o: f32, inv: f32, lo: f32, hi: f32, face: u8) {
-    // Choose the near plane by the sign of 1/d (as pbrt-v4's `dirIsNeg`) rather
-    // than by swapping after the fact: a NaN t_near would defeat the swap, and then
-    // -0.0 and +0.0 would treat a face plane differently.
-    let (near, far, near_face, far_face) = if inv < 0.0 {
-        (hi, lo, face + 1, face)
+    let (t_near, t_far, flipped) = crossings(o, inv, lo, hi);
+    let (near_face, far_face) = if flipped {
+        (face + 1, face)
     } else {
-        (lo, hi, face, face + 1)
+        (face, face + 1)
     };
-    let t_near = (near - o) * inv;
-    // Widened so that rounding cannot make a grazing ray miss (pbrt-v4).
-    let t_far = (far - o) * inv * (1.0 + 2.0 * math::gamma(3));
     // Comparisons with NaN are false: a NaN slab leaves the span alone.
     if t_near > s.t0 {
         s.t0 = t_near;
@@ -189,13 +199,10 @@ fn slab(s: &mut Span, o: f32, inv: f32, lo: f32, hi: f32, face: u8) {
     }
 }
 
-/// [`slab`] without the faces: the same times, bit for bit (same operations, same
-/// comparisons).
+/// [`slab`] without the faces: the same times, bit for bit.
 #[inline(always)]
 fn slab_time(t0: &mut f32, t1: &mut f32, o: f32, inv: f32, lo: f32, hi: f32) {
-    let (near, far) = if inv < 0.0 { (hi, lo) } else { (lo, hi) };
-    let t_near = (near - o) * inv;
-    let t_far = (far - o) * inv * (1.0 + 2.0 * math::gamma(3));
+    let (t_near, t_far, _) = crossings(o, inv, lo, hi);
     if t_near > *t0 {
         *t0 = t_near;
     }
