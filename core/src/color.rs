@@ -50,6 +50,12 @@ impl Color {
         self.r.min(self.g).min(self.b)
     }
 
+    /// The largest component.
+    #[must_use]
+    pub fn max_component(self) -> f32 {
+        self.r.max(self.g).max(self.b)
+    }
+
     /// Clamps to `[0, 1]` and rounds to the nearest 8-bit value (NaN gives 0).
     #[must_use]
     pub fn to_rgb8(self) -> Rgb8 {

@@ -151,6 +151,9 @@ pub enum Error {
     BadSampleCount,
     /// A tile coordinate outside the frame.
     TileOutOfFrame,
+    /// A material's reflectivity and transparency add up to more than 1: it would
+    /// send on more light than it receives.
+    ReflectionAndTransmissionAboveOne,
 }
 
 impl fmt::Display for Error {
@@ -186,6 +189,10 @@ impl fmt::Display for Error {
                 f.write_str("sampler needs 1 to 4096 samples per pixel (stratified k: 1 to 64)")
             }
             Self::TileOutOfFrame => f.write_str("tile coordinate is outside the frame"),
+            Self::ReflectionAndTransmissionAboveOne => f.write_str(
+                "material reflectivity + transparency must be <= 1 \
+                 (it would send on more light than it receives)",
+            ),
         }
     }
 }
@@ -207,6 +214,35 @@ pub const MAX_EXTENT: f32 = f32::from_bits((127 + 60) << 23);
 /// scene's unit) and flushing denormals to zero changes nothing. Below, near-grazing
 /// rays start to meet denormals (measured in `docs/extremes.md`).
 pub const MIN_LENGTH: f32 = f32::from_bits((127 - 52) << 23);
+
+/// The largest colour component a scene may use: `2^16` (65536), for material and
+/// texture colours, light colours, the ambient light and the background (1 is full
+/// scale). With the shader's cap on a light's `intensity / r^2` (`2^64`, see
+/// [`crate::shade`]) no sum the renderer forms can overflow `f32`: a light's term is
+/// at most `2^16 * 2^64 * 2^16 = 2^96`, summed over at most `2^16` lights, over the
+/// `MAX_DEPTH + 1 <= 2^4` levels of a ray tree (whose weights sum to at most 1 per
+/// level, reflectivity plus transparency being at most 1) and over at most `2^12`
+/// samples of a pixel: below `2^128`. So an accepted scene never gives a NaN or
+/// infinite colour (`inf * 0` needs an infinity first).
+pub const MAX_COLOR: f32 = 65_536.0;
+
+/// The range message for colours.
+const COLOR_RANGE: &str = "[0, 65536] per component";
+
+/// Checks that every component of `c` is finite and within `[0, MAX_COLOR]`.
+pub(crate) fn color(c: crate::Color, field: Field) -> Result<crate::Color, Error> {
+    if !c.is_finite() {
+        return Err(Error::NotFinite(field));
+    }
+    if c.min_component() >= 0.0 && c.max_component() <= MAX_COLOR {
+        Ok(c)
+    } else {
+        Err(Error::OutOfRange {
+            field,
+            range: COLOR_RANGE,
+        })
+    }
+}
 
 /// The range message for coordinates.
 const EXTENT_RANGE: &str = "[-2^60, 2^60] (about 1.15e18) per component";

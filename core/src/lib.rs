@@ -65,7 +65,7 @@ pub mod vec;
 pub use camera::{Camera, CameraBasis, Viewport};
 pub use color::{Color, Rgb8};
 pub use display::{DrawError, draw_tile};
-pub use error::{Error, Field, MAX_EXTENT, MIN_LENGTH};
+pub use error::{Error, Field, MAX_COLOR, MAX_EXTENT, MIN_LENGTH};
 pub use geometry::{Aabb, Plane, Sphere, Triangle};
 pub use light::PointLight;
 pub use material::{Material, MaterialId};

@@ -14,19 +14,12 @@ pub struct PointLight {
 }
 
 impl PointLight {
-    /// A point light; the colour components and the intensity must be finite and
-    /// `>= 0`, the position's components within [`crate::MAX_EXTENT`].
+    /// A point light; the colour components within `[0, `[`crate::MAX_COLOR`]`]`,
+    /// the intensity finite and `>= 0`, the position's components within
+    /// [`crate::MAX_EXTENT`].
     pub fn try_new(position: Vec3, color: Color, intensity: f32) -> Result<Self, Error> {
         let position = crate::error::position(position, Field::LightPosition)?;
-        if !(color.is_finite()) {
-            return Err(Error::NotFinite(Field::LightColor));
-        }
-        if color.min_component() < 0.0 {
-            return Err(Error::OutOfRange {
-                field: Field::LightColor,
-                range: "[0, inf) per component",
-            });
-        }
+        let color = crate::error::color(color, Field::LightColor)?;
         if finite(intensity, Field::LightIntensity)? < 0.0 {
             return Err(Error::OutOfRange {
                 field: Field::LightIntensity,

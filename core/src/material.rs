@@ -96,17 +96,31 @@ impl Material {
         Ok(self)
     }
 
-    /// Mirror reflectivity in `[0, 1]`: the weight of the reflected ray.
+    /// Mirror reflectivity in `[0, 1]`: the weight of the reflected ray. With the
+    /// transparency, at most 1 ([`Error::ReflectionAndTransmissionAboveOne`]).
     pub fn with_reflectivity(mut self, reflectivity: f32) -> Result<Self, Error> {
         self.reflectivity = in_range(reflectivity, 0.0, 1.0, Field::Reflectivity, UNIT)?;
+        self.check_energy()?;
         Ok(self)
     }
 
+    /// Refuses reflectivity + transparency above 1.
+    fn check_energy(&self) -> Result<(), Error> {
+        // One ulp of slack: 0.2 + 0.8 written in decimal must not be refused for
+        // the rounding of its two terms.
+        if self.reflectivity + self.transparency > 1.0 + f32::EPSILON {
+            return Err(Error::ReflectionAndTransmissionAboveOne);
+        }
+        Ok(())
+    }
+
     /// Transparency in `[0, 1]` (the weight of the transmitted light before Fresnel)
-    /// and index of refraction in `[1, 4]` relative to the surrounding medium.
+    /// and index of refraction in `[1, 4]` relative to the surrounding medium. With
+    /// the reflectivity, at most 1 ([`Error::ReflectionAndTransmissionAboveOne`]).
     pub fn with_transparency(mut self, transparency: f32, ior: f32) -> Result<Self, Error> {
         self.transparency = in_range(transparency, 0.0, 1.0, Field::Transparency, UNIT)?;
         self.ior = in_range(ior, 1.0, 4.0, Field::RefractiveIndex, "[1, 4]")?;
+        self.check_energy()?;
         Ok(self)
     }
 
@@ -128,7 +142,7 @@ impl Material {
         in_range(self.transparency, 0.0, 1.0, Field::Transparency, UNIT)?;
         in_range(self.ior, 1.0, 4.0, Field::RefractiveIndex, "[1, 4]")?;
         finite(self.ior, Field::RefractiveIndex)?;
-        Ok(())
+        self.check_energy()
     }
 
     /// The texture (or solid colour).
@@ -203,6 +217,48 @@ impl Material {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Reflectivity 1 with transparency 1 returned more light than it received
+    /// (issue 10): refused, in either order and in `validate`; a sum of exactly 1
+    /// written in decimal is accepted.
+    #[test]
+    fn reflectivity_plus_transparency_above_one_is_refused() {
+        let m = Material::matte(Color::WHITE);
+        let both = m
+            .with_reflectivity(1.0)
+            .unwrap()
+            .with_transparency(1.0, 1.5);
+        assert_eq!(both, Err(Error::ReflectionAndTransmissionAboveOne));
+        let both = m
+            .with_transparency(0.6, 1.5)
+            .unwrap()
+            .with_reflectivity(0.5);
+        assert_eq!(both, Err(Error::ReflectionAndTransmissionAboveOne));
+        let raw = Material {
+            reflectivity: 0.7,
+            transparency: 0.4,
+            ..m
+        };
+        assert_eq!(
+            raw.validate(),
+            Err(Error::ReflectionAndTransmissionAboveOne)
+        );
+        for (r, t) in [
+            (0.2f32, 0.8f32),
+            (0.1, 0.9),
+            (0.3, 0.7),
+            (0.15, 0.85),
+            (1.0, 0.0),
+        ] {
+            let ok = m.with_reflectivity(r).unwrap().with_transparency(t, 1.5);
+            assert!(ok.is_ok(), "{r} + {t}");
+            assert_eq!(ok.unwrap().validate(), Ok(()));
+        }
+        extern crate std;
+        use std::string::ToString;
+        let text = Error::ReflectionAndTransmissionAboveOne.to_string();
+        assert!(text.contains("<= 1"), "{text}");
+    }
 
     #[test]
     fn every_weight_is_checked() {

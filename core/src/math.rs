@@ -168,11 +168,15 @@ pub fn cos_turns(x: f32) -> f32 {
     // Below 2^22 in magnitude, adding and subtracting 1.5 * 2^23 rounds x to the
     // nearest integer (ties to even: the sum lies in [2^23, 2^24), whose spacing is
     // 1) in two instructions; beyond, x is a multiple of 1/2 and `roundf` does it
-    // (the two may differ on a tie, where |x - n| = 1/2 either way). A NaN or an
-    // infinity takes the second path and gives NaN (`inf - inf`).
+    // (the two may differ on a tie, where |x - n| = 1/2 either way). From 2^23 on
+    // every f32 is an integer, whose cosine is 1: an infinity too (the limit along
+    // the f32 integers), so that a fringe texture far away stays finite. A NaN
+    // takes the second path and gives NaN.
     const ROUND: f32 = 12_582_912.0; // 1.5 * 2^23
     let n = if abs(x) < 4_194_304.0 {
         (x + ROUND) - ROUND
+    } else if abs(x) >= 8_388_608.0 {
+        return 1.0;
     } else {
         libm::roundf(x)
     };
@@ -190,11 +194,15 @@ pub fn cos_turns(x: f32) -> f32 {
     sign * p
 }
 
-/// `sin(2 pi x)`, from [`cos_turns`] of the quarter-turn complement.
+/// `sin(2 pi x)`, from [`cos_turns`] of the quarter-turn complement; 0 for an
+/// infinity (the limit along the f32 integers, as for [`cos_turns`]), NaN for NaN.
 #[must_use]
 pub fn sin_turns(x: f32) -> f32 {
-    if !x.is_finite() {
-        return f32::NAN;
+    if x.is_infinite() {
+        return 0.0;
+    }
+    if x.is_nan() {
+        return x;
     }
     let r = x - libm::roundf(x); // exact, in [-0.5, 0.5]
     cos_turns(0.25 - r)
@@ -309,9 +317,17 @@ mod tests {
                 check(next_down(p) + d);
             }
         }
-        assert!(cos_turns(f32::INFINITY).is_nan());
-        assert!(cos_turns(f32::NEG_INFINITY).is_nan());
-        assert_eq!(cos_turns(f32::MAX), 1.0);
+        // Every f32 from 2^23 on is an integer: cosine 1, and 1 at the infinities
+        // too (a fringe texture far away must not give NaN); NaN stays NaN.
+        for x in [8_388_608.0f32, 8_388_609.0, 1e30, f32::MAX, f32::INFINITY] {
+            assert_eq!(cos_turns(x), 1.0, "x = {x}");
+            assert_eq!(cos_turns(-x), 1.0, "x = {x}");
+        }
+        assert!(cos_turns(f32::NAN).is_nan());
+        assert_eq!(sin_turns(f32::INFINITY), 0.0);
+        assert_eq!(sin_turns(f32::NEG_INFINITY), 0.0);
+        assert_eq!(sin_turns(f32::MAX), 0.0);
+        assert!(sin_turns(f32::NAN).is_nan());
     }
 
     #[test]

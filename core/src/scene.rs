@@ -78,19 +78,6 @@ fn push<X, const N: usize>(list: &mut Vec<X, N>, x: X, which: List) -> Result<()
     })
 }
 
-fn color_ok(c: Color, field: crate::error::Field) -> Result<Color, Error> {
-    if !c.is_finite() {
-        return Err(Error::NotFinite(field));
-    }
-    if c.min_component() < 0.0 {
-        return Err(Error::OutOfRange {
-            field,
-            range: "[0, inf) per component",
-        });
-    }
-    Ok(c)
-}
-
 impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: usize, const L: usize>
     Scene<S, P, T, B, M, L>
 {
@@ -111,15 +98,16 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
         }
     }
 
-    /// Sets the ambient light (finite, `>= 0` per component).
+    /// Sets the ambient light (each component in `[0, `[`crate::MAX_COLOR`]`]`).
     pub fn set_ambient(&mut self, ambient: Color) -> Result<(), Error> {
-        self.ambient = color_ok(ambient, crate::error::Field::AmbientLight)?;
+        self.ambient = crate::error::color(ambient, crate::error::Field::AmbientLight)?;
         Ok(())
     }
 
-    /// Sets the background colour seen by rays that hit nothing.
+    /// Sets the background colour seen by rays that hit nothing (each component in
+    /// `[0, `[`crate::MAX_COLOR`]`]`).
     pub fn set_background(&mut self, background: Color) -> Result<(), Error> {
-        self.background = color_ok(background, crate::error::Field::Background)?;
+        self.background = crate::error::color(background, crate::error::Field::Background)?;
         Ok(())
     }
 

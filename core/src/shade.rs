@@ -521,7 +521,7 @@ impl<'a> SceneView<'a> {
                     continue;
                 }
             }
-            let e = light.color() * (light.intensity() / dist2);
+            let e = light.color() * irradiance(light.intensity(), dist2);
             let mut lit = hit.base * (m.diffuse() * cos);
             if m.specular() > 0.0 {
                 let h = (l - ray.dir).normalize_or(n);
@@ -553,6 +553,24 @@ fn children(hit: &Shaded<'_>, ray: &Ray, weight: f32, depth: u8, out: &mut [Opti
             depth: depth + 1,
         })
     })
+}
+
+/// The largest `intensity / r^2` a light gives (`2^64`): reached only by a point
+/// within `2^-32` of the light's scale (a light on a surface), where the quotient
+/// would otherwise overflow to infinity and an infinity times a zero component
+/// would give NaN. With [`crate::MAX_COLOR`] it bounds every colour sum (see
+/// there).
+const MAX_IRRADIANCE: f32 = 18_446_744_073_709_551_616.0;
+
+/// `intensity / dist2`, at most [`MAX_IRRADIANCE`].
+#[inline(always)]
+fn irradiance(intensity: f32, dist2: f32) -> f32 {
+    let q = intensity / dist2;
+    if q > MAX_IRRADIANCE {
+        MAX_IRRADIANCE
+    } else {
+        q
+    }
 }
 
 /// The normal turned to face the incoming ray.
@@ -626,6 +644,41 @@ pub fn refract(d: Vec3, n: Vec3, cos_i: f32, ior: f32, entering: bool) -> Option
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::camera::Camera;
+    use crate::geometry::Plane;
+    use crate::light::PointLight;
+    use crate::scene::Scene;
+
+    /// A light almost on a black floor (issue 10): `intensity / r^2` overflowed to
+    /// infinity, and infinity times the black material's zero gave a NaN pixel.
+    /// Capped at `MAX_IRRADIANCE`, the colour is finite (and black); on a white
+    /// floor it is finite and saturates.
+    #[test]
+    fn a_light_on_a_surface_gives_a_finite_colour() {
+        for (grey, expect_black) in [(0.0f32, true), (1.0, false)] {
+            let cam =
+                Camera::look_at(Vec3::new(0.0, 1.0, 0.0), Vec3::ZERO, Vec3::Z, 0.1, 10.0).unwrap();
+            let mut s = Scene::<0, 1, 0, 0, 1, 1>::new(cam);
+            let m = s.add_material(Material::matte(Color::splat(grey))).unwrap();
+            s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap(), m)
+                .unwrap();
+            s.add_light(
+                PointLight::try_new(
+                    Vec3::new(0.0, 1e-15, 0.0),
+                    Color::splat(crate::MAX_COLOR),
+                    1e30,
+                )
+                .unwrap(),
+            )
+            .unwrap();
+            let ray = Ray::new(Vec3::new(0.0, 1.0, 0.0), -Vec3::Y);
+            let c = s.view().trace(ray, 10.0, 0);
+            assert!(c.is_finite(), "{c:?}");
+            assert_eq!(c.is_black(), expect_black, "{c:?}");
+            assert_eq!(irradiance(1e30, 1e-30), MAX_IRRADIANCE);
+            assert_eq!(irradiance(3.0, 4.0), 0.75);
+        }
+    }
 
     #[test]
     fn refraction_follows_snell() {

@@ -46,14 +46,9 @@ impl Texture {
             if finite(v, Field::TextureScale)? <= 0.0 {
                 return Err(Error::NotPositive(Field::TextureScale));
             }
+            crate::error::length(v, Field::TextureScale)?;
         }
         let spacing = lambda * screen / d;
-        if !spacing.is_normal() {
-            return Err(Error::OutOfRange {
-                field: Field::TextureScale,
-                range: "a fringe spacing that is a normal f32",
-            });
-        }
         let t = Self::Fringes { color, spacing };
         t.validate()?;
         Ok(t)
@@ -116,22 +111,24 @@ impl Texture {
         }
     }
 
-    /// Checks colours (finite, `>= 0`) and scales (finite, `> 0`).
+    /// Checks colours (each component in `[0, `[`crate::MAX_COLOR`]`]`), the
+    /// checker's scale (finite, `> 0`) and the fringe spacing (a length: within
+    /// `[`[`crate::MIN_LENGTH`]`, `[`crate::MAX_EXTENT`]`]`, so that `u / spacing`
+    /// stays finite for every point of a scene).
     pub fn validate(&self) -> Result<(), Error> {
-        let color_ok = |c: Color| c.is_finite() && c.min_component() >= 0.0;
-        let (colors_ok, scale) = match *self {
-            Self::Solid(c) => (color_ok(c), 1.0),
-            Self::Checker { a, b, scale } => (color_ok(a) && color_ok(b), scale),
-            Self::Fringes { color, spacing } => (color_ok(color), spacing),
+        let (colors, scale, length) = match *self {
+            Self::Solid(c) => ([c, c], 1.0, false),
+            Self::Checker { a, b, scale } => ([a, b], scale, false),
+            Self::Fringes { color, spacing } => ([color, color], spacing, true),
         };
-        if !colors_ok {
-            return Err(Error::OutOfRange {
-                field: Field::TextureColor,
-                range: "finite components >= 0",
-            });
+        for c in colors {
+            crate::error::color(c, Field::TextureColor)?;
         }
         if finite(scale, Field::TextureScale)? <= 0.0 {
             return Err(Error::NotPositive(Field::TextureScale));
+        }
+        if length {
+            crate::error::length(scale, Field::TextureScale)?;
         }
         Ok(())
     }
@@ -179,6 +176,7 @@ pub fn fringe_intensity(x: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::next_up;
     extern crate std;
 
     #[test]
@@ -293,18 +291,92 @@ mod tests {
             b: Color::BLACK,
             scale: 1.0,
         };
-        assert!(matches!(
-            bad.validate(),
-            Err(Error::OutOfRange {
-                field: Field::TextureColor,
-                ..
-            })
-        ));
+        assert_eq!(bad.validate(), Err(Error::NotFinite(Field::TextureColor)));
         let bad = Texture::Checker {
             a: Color::WHITE,
             b: Color::BLACK,
             scale: -1.0,
         };
         assert_eq!(bad.validate(), Err(Error::NotPositive(Field::TextureScale)));
+    }
+
+    /// The scene files that rendered NaN pixels (issue 10): colours beyond
+    /// `MAX_COLOR`, a fringe spacing below `MIN_LENGTH` (1e-39, and the smallest
+    /// normal f32), a Young's slit distance beyond `MAX_EXTENT`.
+    #[test]
+    fn values_that_could_overflow_the_shading_are_refused() {
+        let out_of_range = |field| Err(Error::OutOfRange { field, range: "" });
+        let same = |a: Result<(), Error>, b: Result<(), Error>| {
+            core::mem::discriminant(&a) == core::mem::discriminant(&b)
+                && match (a, b) {
+                    (
+                        Err(Error::OutOfRange { field: f, .. }),
+                        Err(Error::OutOfRange { field: g, .. }),
+                    ) => f == g,
+                    (a, b) => a == b,
+                }
+        };
+        let huge = Texture::Solid(Color::splat(3e38));
+        assert!(same(huge.validate(), out_of_range(Field::TextureColor)));
+        let just = Texture::Solid(Color::new(0.0, crate::MAX_COLOR, 1.0));
+        assert_eq!(just.validate(), Ok(()));
+        let above = Texture::Solid(Color::new(0.0, next_up(crate::MAX_COLOR), 1.0));
+        assert!(same(above.validate(), out_of_range(Field::TextureColor)));
+        for spacing in [1e-39f32, f32::MIN_POSITIVE, 1e-20, 3e38] {
+            let t = Texture::Fringes {
+                color: Color::WHITE,
+                spacing,
+            };
+            assert!(
+                same(t.validate(), out_of_range(Field::TextureScale)),
+                "{spacing}"
+            );
+        }
+        let ok = Texture::Fringes {
+            color: Color::WHITE,
+            spacing: crate::MIN_LENGTH,
+        };
+        assert_eq!(ok.validate(), Ok(()));
+        assert!(matches!(
+            Texture::young(Color::WHITE, 3.4e38, 500e-9, 3.0),
+            Err(Error::OutOfRange {
+                field: Field::TextureScale,
+                ..
+            })
+        ));
+        assert!(Texture::young(Color::WHITE, 2e-3, 500e-9, 3.0).is_ok());
+    }
+
+    /// A checker at a scale where both cell indices saturate (`scale` 1e20 and
+    /// 3.4e38, issue 10): the parity is computed without an integer sum, so a debug
+    /// build does not panic with "attempt to add with overflow".
+    #[test]
+    fn checker_parity_at_saturating_scales_does_not_overflow() {
+        for scale in [1e20f32, 3.4e38] {
+            let t = Texture::Checker {
+                a: Color::WHITE,
+                b: Color::BLACK,
+                scale,
+            };
+            for uv in [[1e20, 1e20], [3e38, 3e38], [-3e38, 3e38], [0.5, 1e30]] {
+                let c = t.eval(uv);
+                assert!(c == Color::WHITE || c == Color::BLACK);
+            }
+        }
+    }
+
+    /// A fringe texture at points so far that `u / spacing` overflows stays finite
+    /// (point sampling and the prefiltered box mean).
+    #[test]
+    fn fringes_far_away_stay_finite() {
+        let t = Texture::Fringes {
+            color: Color::WHITE,
+            spacing: crate::MIN_LENGTH,
+        };
+        for u in [1e30f32, -3e38, f32::MAX] {
+            assert!(t.eval([u, 0.0]).is_finite(), "{u}");
+            assert!(t.eval_box([u, 0.0], [f32::MAX, 0.0]).is_finite(), "{u}");
+            assert!(t.eval_box([-f32::MAX, 0.0], [u, 0.0]).is_finite(), "{u}");
+        }
     }
 }

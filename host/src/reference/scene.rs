@@ -36,10 +36,7 @@ impl Tex {
     #[must_use]
     pub fn checker_parity(&self, [u, v]: [f64; 2]) -> Option<u64> {
         match *self {
-            Self::Checker { scale, .. } => {
-                let cell = ((u * scale).floor() as i64).wrapping_add((v * scale).floor() as i64);
-                Some(cell.rem_euclid(2) as u64)
-            }
+            Self::Checker { scale, .. } => Some(cell_parity(u * scale) ^ cell_parity(v * scale)),
             _ => None,
         }
     }
@@ -57,7 +54,7 @@ impl Tex {
                 let square_mean = |x0: f64, x1: f64| {
                     let tri = |x: f64| {
                         let n = x.floor();
-                        if (n as i64).rem_euclid(2) == 0 {
+                        if cell_parity(n) == 0 {
                             x - n
                         } else {
                             1.0 - (x - n)
@@ -93,15 +90,26 @@ impl Tex {
         match *self {
             Self::Solid(c) => c,
             Self::Checker { a, b, scale } => {
-                // `as i64` saturates and maps NaN to 0, as in the core.
-                let cell = ((u * scale).floor() as i64).wrapping_add((v * scale).floor() as i64);
-                if cell.rem_euclid(2) == 0 { a } else { b }
+                if cell_parity(u * scale) ^ cell_parity(v * scale) == 0 {
+                    a
+                } else {
+                    b
+                }
             }
             Self::Fringes { color, spacing } => {
                 color * (0.5 + 0.5 * (2.0 * PI * u / spacing).cos())
             }
         }
     }
+}
+
+/// The parity (0 even, 1 odd) of the checker cell `floor(x) as i64` (which
+/// saturates, NaN giving 0), as the core defines it; a cell of the plane is even
+/// when the parities of its two indices agree. An exclusive or of parities, not the
+/// parity of a sum: nothing can overflow (the sum of two saturated indices did).
+#[must_use]
+pub fn cell_parity(x: f64) -> u64 {
+    (x.floor() as i64 & 1) as u64
 }
 
 /// A material in `f64`.
@@ -286,6 +294,44 @@ impl RefScene {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The checker's cell parity where the cell indices saturate (issue 10: the
+    /// core's `i64` sum overflowed): the reference and the core pick the same
+    /// colour, computed the same way (an exclusive or of the two parities).
+    #[test]
+    fn checker_parity_agrees_with_the_core_where_indices_saturate() {
+        let (a, b) = (V3::new(1.0, 1.0, 1.0), V3::ZERO);
+        for scale in [1e20f32, 3.4e38] {
+            let core = tessera::Texture::Checker {
+                a: tessera::Color::WHITE,
+                b: tessera::Color::BLACK,
+                scale,
+            };
+            let reference = Tex::Checker {
+                a,
+                b,
+                scale: f64::from(scale),
+            };
+            for uv in [
+                [3e38f32, 3e38],
+                [-3e38, 3e38],
+                [-3e38, -3e38],
+                [1e30, 0.25],
+                [-1e30, 0.25],
+            ] {
+                let want_a = core.eval(uv) == tessera::Color::WHITE;
+                let got = reference.eval(uv.map(f64::from));
+                assert_eq!(got == a, want_a, "scale {scale} uv {uv:?}");
+                let parity = reference.checker_parity(uv.map(f64::from));
+                assert_eq!(parity, Some(u64::from(!want_a)), "scale {scale} uv {uv:?}");
+            }
+        }
+        assert_eq!(cell_parity(f64::MAX), 1);
+        assert_eq!(cell_parity(f64::NEG_INFINITY), 0);
+        assert_eq!(cell_parity(f64::NAN), 0);
+        assert_eq!(cell_parity(-3.5), 0);
+        assert_eq!(cell_parity(-2.5), 1);
+    }
 
     #[test]
     fn textures() {
