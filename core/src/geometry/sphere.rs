@@ -335,22 +335,92 @@ mod tests {
         }
     }
 
+    /// The texture coordinates of a unit normal.
+    fn uv_of(s: &Sphere, n: Vec3) -> [f32; 2] {
+        let sf = Surface {
+            point: s.center() + n * s.radius(),
+            normal: n,
+            error: Vec3::ZERO,
+        };
+        s.uv(&sf, &Candidate::default())
+    }
+
+    /// How far `v` may be from 0 at the top pole. Exact backend: `acos(1) = 0`.
+    /// fast-math: micromath's `acos(1)` is the arc tangent of its bit-trick square
+    /// root of 0, 7.6e-20 rad, so `v` = 2.4e-20 (measured): harmless (no texture
+    /// tells it from 0), but not 0.
+    const POLE_V: f32 = if cfg!(feature = "fast-math") {
+        1e-19
+    } else {
+        0.0
+    };
+
     #[test]
     fn uv_covers_the_poles_and_equator() {
         let s = Sphere::try_new(Vec3::ZERO, 1.0).unwrap();
-        let top = Surface {
-            point: Vec3::Y,
-            normal: Vec3::Y,
-            error: Vec3::ZERO,
+        let v_top = uv_of(&s, Vec3::Y)[1];
+        assert!(
+            (0.0..=POLE_V).contains(&v_top),
+            "v at the top pole {v_top:e}"
+        );
+        // The bottom pole: v = fl(pi) * fl(1/pi), 1 within an ulp (0.99999994 with
+        // libm's acos).
+        let v_bottom = uv_of(&s, -Vec3::Y)[1];
+        assert!(
+            (1.0 - v_bottom).abs() <= f32::EPSILON,
+            "v at the bottom {v_bottom}"
+        );
+        // On the equator at -x: v = 1/2, u at the seam (1 or 0).
+        let [u, v] = uv_of(&s, -Vec3::X);
+        assert!((v - 0.5).abs() < 1e-6, "v {v}");
+        assert!((u - 1.0).abs() < 1e-6 || u.abs() < 1e-6, "u {u}");
+        // At +x, +z and -z: a half, three quarters and a quarter turn.
+        for (n, want) in [(Vec3::X, 0.5), (Vec3::Z, 0.75), (-Vec3::Z, 0.25)] {
+            let [u, v] = uv_of(&s, n);
+            assert!(
+                (u - want).abs() < 1e-6 && (v - 0.5).abs() < 1e-6,
+                "{n:?}: {u} {v}"
+            );
+        }
+    }
+
+    /// `u` and `v` over the whole sphere against `f64` (of the same `f32` normal).
+    /// Exact backend (libm's `atan2f` and `acosf`, within an ulp): measured 1.1e-7
+    /// in `u` and 1.0e-7 in `v` (the last bits of the products by `1/pi`). fast-math (micromath): its `atan2` is off by up to 2.8e-3 rad
+    /// and its `acos`, which takes micromath's 5 % square root, by up to 2.9e-2 rad
+    /// (at 0.707): measured 4.5e-4 in `u` and 9.2e-3 in `v` (a checker of 8 bands
+    /// from pole to pole shifts its edges by up to 7 % of a band). The bounds are
+    /// those, rounded up; anything beyond is a fault of the backend.
+    #[test]
+    fn uv_matches_f64_within_the_backends_bound() {
+        let (u_bound, v_bound) = if cfg!(feature = "fast-math") {
+            (4.7e-4, 9.5e-3)
+        } else {
+            (1.2e-7, 1.2e-7)
         };
-        assert_eq!(s.uv(&top, &Candidate::default())[1], 0.0);
-        let eq = Surface {
-            point: -Vec3::X,
-            normal: -Vec3::X,
-            error: Vec3::ZERO,
-        };
-        let [u, v] = s.uv(&eq, &Candidate::default());
-        assert!((v - 0.5).abs() < 1e-6 && (u - 1.0).abs() < 1e-6 || u.abs() < 1e-6);
+        let s = Sphere::try_new(Vec3::new(3.0, -1.0, 2.0), 2.5).unwrap();
+        let (mut du, mut dv) = (0.0f64, 0.0f64);
+        for i in 0..=300 {
+            let theta = core::f64::consts::PI * f64::from(i) / 300.0;
+            for j in 0..600 {
+                let phi = core::f64::consts::TAU * (f64::from(j) + 0.37) / 600.0;
+                let n = Vec3::new(
+                    (theta.sin() * phi.cos()) as f32,
+                    theta.cos() as f32,
+                    (theta.sin() * phi.sin()) as f32,
+                );
+                let [u, v] = uv_of(&s, n);
+                let (x, y, z) = (f64::from(n.x), f64::from(n.y), f64::from(n.z));
+                let eu = (z.atan2(x) + core::f64::consts::PI) / core::f64::consts::TAU;
+                let ev = y.clamp(-1.0, 1.0).acos() / core::f64::consts::PI;
+                // u wraps: 0 and 1 are the same seam.
+                let d = (f64::from(u) - eu).abs();
+                du = du.max(d.min(1.0 - d));
+                dv = dv.max((f64::from(v) - ev).abs());
+            }
+        }
+        assert!(du <= u_bound, "u off by {du:e} > {u_bound:e}");
+        assert!(dv <= v_bound, "v off by {dv:e} > {v_bound:e}");
     }
 
     #[test]
