@@ -59,6 +59,36 @@ impl Accuracy {
             && self.core_non_finite == 0
             && self.reference_non_finite == 0
     }
+
+    /// What misses the bar (see [`Accuracy::meets_bar`]), for the error message
+    /// when it is not met.
+    #[must_use]
+    pub fn shortfall(&self) -> String {
+        let mut missed = Vec::new();
+        if self.share_within(1) < 0.995 {
+            missed.push(format!(
+                "{:.3}% of the pixels outside the band within 1 LSB (needs 99.5%)",
+                100.0 * self.share_within(1)
+            ));
+        }
+        if self.share_within(2) < 1.0 {
+            missed.push(format!(
+                "{} pixel(s) outside the band more than 2 LSB off (needs none)",
+                self.outside[3]
+            ));
+        }
+        if self.core_non_finite + self.reference_non_finite > 0 {
+            missed.push(format!(
+                "NaN/Inf pixels: core {}, reference {} (needs none)",
+                self.core_non_finite, self.reference_non_finite
+            ));
+        }
+        if missed.is_empty() {
+            "the accuracy bar is met".into()
+        } else {
+            format!("the accuracy bar is NOT met: {}", missed.join("; "))
+        }
+    }
 }
 
 fn share(h: &[usize; 4], lsb: usize) -> f64 {

@@ -8,6 +8,9 @@
 //! tessera scenes                            # list the built-in scenes
 //! ```
 //! SCENE is a built-in scene name or a `.toml` scene file.
+//!
+//! Outputs are written through a temporary file next to them and renamed, all at
+//! once when there are several; see `OUTPUT_HELP` for what is refused.
 
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -18,12 +21,34 @@ use std::time::Instant;
 use tessera::builtin::Builtin;
 use tessera::{Frame, RenderSettings, Viewport};
 use tessera_host::desc::{SceneDesc, parse_sampler, sampler_name};
+use tessera_host::output::{self, Pending, Target};
+use tessera_host::{HostError, limits};
+
+/// How outputs are written (shown by `--help`).
+const OUTPUT_HELP: &str = "\
+Output files: each is written to a temporary file next to it (.tessera-PID-N.tmp) \
+and renamed onto it when complete, so an existing file is replaced whole or left \
+untouched; Ctrl-C, SIGTERM, SIGHUP and a file size limit leave no temporary file. \
+Several outputs (orbit frames) are all or nothing. Refused before any work: an \
+output that exists and is not a regular file (a folder, a device such as /dev/null, \
+a FIFO), and the input scene file itself. A symbolic link is followed: the file it \
+names is written (created, for a dangling link) and the link stays; a link to a \
+folder is refused.
+
+Limits, checked before any work: --threads at most 256; compare and trade at most \
+about 28.5 million pixels (FLIP's work limit); simulate at most 4 GiB for its \
+panel, and 3600 orbit frames. render has no size limit: it streams the PNG a row \
+of tiles at a time.
+
+Exit status: 0 on success, 1 on an error or when compare's accuracy bar is not met, \
+2 on a bad command line.";
 
 #[derive(Parser)]
 #[command(
     name = "tessera",
     version,
-    about = "A ray tracer for microcontrollers: host tools"
+    about = "A ray tracer for microcontrollers: host tools",
+    after_long_help = OUTPUT_HELP
 )]
 struct Cli {
     #[command(subcommand)]
@@ -55,7 +80,7 @@ struct TradeArgs {
     /// Image size
     #[arg(long, value_parser = parse_size, default_value = "128x96")]
     size: (u16, u16),
-    /// Timed runs per setting (the median and the spread are reported)
+    /// Timed runs per setting (the median and the spread are reported; at most 1000)
     #[arg(long, default_value_t = 5)]
     runs: usize,
     /// Also measure the f64 reference with each setting (the ceiling)
@@ -79,6 +104,7 @@ struct SimulateArgs {
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// Render an orbit of the camera around what it looks at, in this many frames
+    /// (1 to 3600)
     #[arg(long)]
     orbit: Option<u32>,
     /// Delay between orbit frames in the GIF, milliseconds
@@ -109,8 +135,8 @@ struct Common {
     /// Tile size: 8, 16 or 32
     #[arg(long, value_parser = parse_tile)]
     tile: Option<usize>,
-    /// Render threads (0 = one per core)
-    #[arg(long, default_value_t = 0)]
+    /// Render threads (0 = one per core; at most 256)
+    #[arg(long, default_value_t = 0, value_parser = parse_threads)]
     threads: usize,
 }
 
@@ -118,7 +144,7 @@ struct Common {
 struct RenderArgs {
     #[command(flatten)]
     common: Common,
-    /// Output PNG
+    /// Output PNG (a symbolic link is followed; see `tessera --help`)
     #[arg(short, long, default_value = "tessera.png")]
     output: PathBuf,
 }
@@ -141,6 +167,13 @@ fn parse_size(s: &str) -> Result<(u16, u16), String> {
         return Err(bad());
     }
     Ok((w, h))
+}
+
+fn parse_threads(s: &str) -> Result<usize, String> {
+    let n: usize = s
+        .parse()
+        .map_err(|_| format!("expected a number of threads (0 = one per core), got {s:?}"))?;
+    limits::threads(n)
 }
 
 fn parse_tile(s: &str) -> Result<usize, String> {
@@ -174,6 +207,20 @@ impl Source {
         }
         let desc = tessera_host::file::load(path).map_err(|e| e.to_string())?;
         Ok(Self::File(name.to_string(), Box::new(desc)))
+    }
+
+    /// The scene file, which no output may replace.
+    fn input(&self) -> Option<&Path> {
+        match self {
+            Self::Builtin(_) => None,
+            Self::File(n, _) => Some(Path::new(n)),
+        }
+    }
+
+    /// Checks an output path against the input (see [`Target::check`]).
+    fn target(&self, path: &Path) -> Result<Target, String> {
+        let inputs: Vec<&Path> = self.input().into_iter().collect();
+        Target::check(path, &inputs).map_err(|e| e.to_string())
     }
 
     fn name(&self) -> &str {
@@ -268,20 +315,31 @@ fn describe(source: &Source, vp: Viewport, settings: &RenderSettings) -> String 
 fn render(args: &RenderArgs) -> Result<(), String> {
     let source = Source::open(args.common.scene.as_deref())?;
     let (settings, vp, tile) = source.settings(&args.common)?;
+    let target = source.target(&args.output)?;
     let start = Instant::now();
-    let (img, rays) = source.with_core(|view, camera| {
+    let (file, rays) = source.with_core(|view, camera| {
         let frame = Frame::try_new(camera, vp, settings).map_err(|e| e.to_string())?;
+        // Created before the work, so an unwritable folder is known at once.
+        let mut file = Pending::create(target).map_err(|e| e.to_string())?;
         let (across, down) = frame.tile_grid(tile);
         let work = u64::from(vp.width) * u64::from(vp.height) * u64::from(settings.sampler.count());
         let bar = progress(u64::from(across) * u64::from(down), work);
-        let out =
-            tessera_host::render_with(view, &frame, tile, args.common.threads, &|| bar.inc(1))
-                .map_err(|e| e.to_string());
+        let out = tessera_host::render_png(
+            view,
+            &frame,
+            tile,
+            args.common.threads,
+            &|| bar.inc(1),
+            &mut file,
+        );
         bar.finish_and_clear();
-        out
+        match out {
+            Ok((rays, _)) => Ok((file, rays)),
+            Err(e) => Err(file.error(e).to_string()),
+        }
     })??;
     let secs = start.elapsed().as_secs_f64();
-    tessera_host::write_png(&img, &args.output).map_err(|e| e.to_string())?;
+    output::commit(vec![file]).map_err(|e| e.to_string())?;
     let threads = if args.common.threads == 0 {
         rayon::current_num_threads()
     } else {
@@ -300,6 +358,8 @@ fn render(args: &RenderArgs) -> Result<(), String> {
 fn compare(args: &CompareArgs) -> Result<(), String> {
     let source = Source::open(args.common.scene.as_deref())?;
     let (settings, vp, tile) = source.settings(&args.common)?;
+    limits::measured("compare", vp).map_err(|e| e.to_string())?;
+    let mut heatmap = Pending::create(source.target(&args.heatmap)?).map_err(|e| e.to_string())?;
     let (core_img, core_non_finite) = source.with_core(|view, camera| {
         let frame = Frame::try_new(camera, vp, settings).map_err(|e| e.to_string())?;
         let (img, _) = tessera_host::render_with(view, &frame, tile, args.common.threads, &|| {})
@@ -336,12 +396,62 @@ fn compare(args: &CompareArgs) -> Result<(), String> {
     );
     println!("{acc}");
     let map = tessera_host::compare::heatmap(&core_img, &ref_img, &reference.signature);
-    tessera_host::write_png(&map, &args.heatmap).map_err(|e| e.to_string())?;
+    if let Err(e) = tessera_host::encode_png(&map, &mut heatmap) {
+        return Err(heatmap.error(HostError::Write(e)).to_string());
+    }
+    output::commit(vec![heatmap]).map_err(|e| e.to_string())?;
     println!(
         "wrote {} (black: equal, blue: 1 LSB, green: 2, yellow: 3-4, red: 5+; grey: band)",
         args.heatmap.display()
     );
-    Ok(())
+    if acc.meets_bar() {
+        Ok(())
+    } else {
+        Err(format!("{}: {}", source.name(), acc.shortfall()))
+    }
+}
+
+/// Where `simulate` writes: one PNG, an animated GIF, or numbered PNG frames.
+enum SimOutput {
+    Png(PathBuf),
+    Gif(PathBuf),
+    Frames(Vec<PathBuf>),
+}
+
+impl SimOutput {
+    fn new(args: &SimulateArgs) -> Self {
+        match (args.orbit, &args.output) {
+            (None, out) => Self::Png(
+                out.clone()
+                    .unwrap_or_else(|| PathBuf::from("simulator.png")),
+            ),
+            (Some(n), out) => {
+                let out = out
+                    .clone()
+                    .unwrap_or_else(|| PathBuf::from("simulator-orbit.gif"));
+                if out
+                    .extension()
+                    .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
+                {
+                    Self::Gif(out)
+                } else {
+                    let stem = out.with_extension("");
+                    Self::Frames(
+                        (0..n)
+                            .map(|i| PathBuf::from(format!("{}-{i:03}.png", stem.display())))
+                            .collect(),
+                    )
+                }
+            }
+        }
+    }
+
+    fn paths(&self) -> Vec<PathBuf> {
+        match self {
+            Self::Png(p) | Self::Gif(p) => vec![p.clone()],
+            Self::Frames(v) => v.clone(),
+        }
+    }
 }
 
 fn simulate(args: &SimulateArgs) -> Result<(), String> {
@@ -354,8 +464,15 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
     if args.orbit == Some(0) {
         return Err("--orbit needs at least 1 frame".into());
     }
+    let count = args.orbit.unwrap_or(1);
+    limits::simulated(vp, count, args.window).map_err(|e| e.to_string())?;
+    let outputs = SimOutput::new(args);
+    let inputs: Vec<&Path> = source.input().into_iter().collect();
+    let mut targets = Target::check_all(&outputs.paths(), &inputs)
+        .map_err(|e| e.to_string())?
+        .into_iter();
     let start = Instant::now();
-    let frames = source.with_core(|view, camera| {
+    let (files, shown) = source.with_core(|view, camera| {
         let cameras = match args.orbit {
             None => vec![*camera],
             Some(n) => {
@@ -366,61 +483,66 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
             cameras.len() as u64,
             u64::from(vp.width) * u64::from(vp.height) * cameras.len() as u64,
         );
-        let mut frames = Vec::new();
+        let mut files: Vec<Pending> = Vec::new();
+        let mut gif = None;
+        if let SimOutput::Gif(_) = outputs {
+            let target = targets.next().ok_or("no output")?;
+            let file = Pending::create(target).map_err(|e| e.to_string())?;
+            gif = Some(
+                sim::GifStream::new(file, vp.width, vp.height, args.delay_ms)
+                    .map_err(|e| e.to_string())?,
+            );
+        }
+        let mut shown = Vec::new();
         for cam in &cameras {
             let frame = Frame::try_new(cam, vp, settings).map_err(|e| e.to_string())?;
-            frames.push(
-                sim::simulate_tiled(view, &frame, args.color, tile).map_err(|e| e.to_string())?,
-            );
+            let img =
+                sim::simulate_tiled(view, &frame, args.color, tile).map_err(|e| e.to_string())?;
+            if let Some(g) = gif.as_mut() {
+                if let Err(e) = g.add(&img) {
+                    return Err(g.writer().error(e).to_string());
+                }
+            } else {
+                let target = targets.next().ok_or("no output")?;
+                let mut file = Pending::create(target).map_err(|e| e.to_string())?;
+                if let Err(e) = tessera_host::encode_png(&img, &mut file) {
+                    return Err(file.error(HostError::Write(e)).to_string());
+                }
+                // Closed now: an orbit may have more frames than open files.
+                file.finish().map_err(|e| e.to_string())?;
+                files.push(file);
+            }
+            if args.window {
+                shown.push(img);
+            }
             bar.inc(1);
         }
         bar.finish_and_clear();
-        Ok::<_, String>(frames)
+        if let Some(g) = gif {
+            files.push(g.finish().map_err(|e| e.to_string())?);
+        }
+        Ok::<_, String>((files, shown))
     })??;
     let secs = start.elapsed().as_secs_f64();
-    let written = match (args.orbit, &args.output) {
-        (None, out) => {
-            let out = out
-                .clone()
-                .unwrap_or_else(|| PathBuf::from("simulator.png"));
-            let img = frames.first().ok_or("no frame rendered")?;
-            tessera_host::write_png(img, &out).map_err(|e| e.to_string())?;
-            out.display().to_string()
-        }
-        (Some(_), out) => {
-            let out = out
-                .clone()
-                .unwrap_or_else(|| PathBuf::from("simulator-orbit.gif"));
-            let is_gif = out
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("gif"));
-            if is_gif {
-                let bytes = sim::gif(&frames, args.delay_ms).map_err(|e| e.to_string())?;
-                tessera_host::write_atomic(&bytes, &out).map_err(|e| e.to_string())?;
-                out.display().to_string()
-            } else {
-                let stem = out.with_extension("");
-                let mut first = String::new();
-                for (i, f) in frames.iter().enumerate() {
-                    let p = PathBuf::from(format!("{}-{i:03}.png", stem.display()));
-                    tessera_host::write_png(f, &p).map_err(|e| e.to_string())?;
-                    if i == 0 {
-                        first = p.display().to_string();
-                    }
-                }
-                format!("{} frames, {first} ...", frames.len())
-            }
-        }
+    output::commit(files).map_err(|e| e.to_string())?;
+    let written = match &outputs {
+        SimOutput::Png(p) | SimOutput::Gif(p) => p.display().to_string(),
+        SimOutput::Frames(v) => format!(
+            "{} frames, {} ...",
+            v.len(),
+            v.first()
+                .map(|p| p.display().to_string())
+                .unwrap_or_default()
+        ),
     };
     println!(
-        "{}, {} frame(s) on an {} panel: {secs:.3} s",
+        "{}, {count} frame(s) on an {} panel: {secs:.3} s",
         describe(&source, vp, &settings),
-        frames.len(),
         args.color,
     );
     println!("wrote {written}");
     if args.window {
-        show_window(&frames, args.delay_ms)?;
+        show_window(&shown, args.delay_ms)?;
     }
     Ok(())
 }
@@ -472,6 +594,8 @@ fn trade(args: &TradeArgs) -> Result<(), String> {
             .collect::<Result<_, _>>()?
     };
     let vp = Viewport::new(args.size.0, args.size.1);
+    limits::measured("trade", vp).map_err(|e| e.to_string())?;
+    limits::runs(args.runs).map_err(|e| e.to_string())?;
     println!("{}", trade::Row::TSV_HEADER);
     for b in scenes {
         let cached = args
@@ -504,6 +628,9 @@ fn trade(args: &TradeArgs) -> Result<(), String> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = output::clean_up_on_signals() {
+        eprintln!("tessera: warning: {e}");
+    }
     let result = match cli.command {
         None => render(&RenderArgs::default_for_main()),
         Some(Command::Render(a)) => render(&a),

@@ -8,6 +8,7 @@ use embedded_graphics_core::prelude::Size;
 use embedded_graphics_simulator::{OutputSettings, SimulatorDisplay};
 use image::RgbImage;
 use std::fmt;
+use std::io::Write;
 use std::str::FromStr;
 use tessera::{Camera, Frame, SceneView, Tile, Vec3};
 
@@ -147,27 +148,80 @@ pub fn pivot(scene: &SceneView<'_>, camera: &Camera) -> Vec3 {
     ray.at(t)
 }
 
+/// An endlessly looping animated GIF written a frame at a time (`delay_ms` per
+/// frame): the frames need not all be in memory. The bytes are those of `image`'s
+/// `GifEncoder` at speed 10 (the same `gif` encoder, palette and disposal).
+pub struct GifStream<W: Write> {
+    enc: gif::Encoder<W>,
+    size: (u16, u16),
+    delay: u16,
+}
+
+fn gif_error(e: gif::EncodingError) -> HostError {
+    match e {
+        gif::EncodingError::Io(e) => HostError::Write(e),
+        e => HostError::Encode(e.to_string()),
+    }
+}
+
+impl<W: Write> GifStream<W> {
+    /// Writes the header of a GIF of `width x height` frames.
+    pub fn new(out: W, width: u16, height: u16, delay_ms: u32) -> Result<Self, HostError> {
+        let mut enc = gif::Encoder::new(out, width, height, &[]).map_err(gif_error)?;
+        enc.set_repeat(gif::Repeat::Infinite).map_err(gif_error)?;
+        Ok(Self {
+            enc,
+            size: (width, height),
+            delay: u16::try_from(delay_ms / 10).unwrap_or(u16::MAX),
+        })
+    }
+
+    /// Quantises and writes the next frame (of the size given to [`GifStream::new`]).
+    pub fn add(&mut self, img: &RgbImage) -> Result<(), HostError> {
+        let (w, h) = self.size;
+        if img.dimensions() != (u32::from(w), u32::from(h)) {
+            return Err(HostError::Encode(format!(
+                "a {}x{} frame in a {w}x{h} GIF",
+                img.width(),
+                img.height()
+            )));
+        }
+        let mut rgba = image::DynamicImage::ImageRgb8(img.clone()).to_rgba8();
+        let mut frame = gif::Frame::from_rgba_speed(w, h, &mut rgba, 10);
+        frame.delay = self.delay;
+        frame.dispose = gif::DisposalMethod::Background;
+        self.enc.write_frame(&frame).map_err(gif_error)
+    }
+
+    /// The output.
+    pub fn writer(&mut self) -> &mut W {
+        self.enc.get_mut()
+    }
+
+    /// Writes the trailer and returns the output.
+    pub fn finish(self) -> Result<W, HostError> {
+        self.enc.into_inner().map_err(gif_error)
+    }
+}
+
 /// Encodes frames as an endlessly looping animated GIF (`delay_ms` per frame).
 pub fn gif(frames: &[RgbImage], delay_ms: u32) -> Result<Vec<u8>, HostError> {
-    use image::codecs::gif::{GifEncoder, Repeat};
-    let mut bytes = Vec::new();
-    {
-        let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
-        enc.set_repeat(Repeat::Infinite)
-            .map_err(|e| HostError::Encode(e.to_string()))?;
-        for f in frames {
-            let rgba = image::DynamicImage::ImageRgb8(f.clone()).to_rgba8();
-            let frame = image::Frame::from_parts(
-                rgba,
-                0,
-                0,
-                image::Delay::from_numer_denom_ms(delay_ms, 1),
-            );
-            enc.encode_frame(frame)
-                .map_err(|e| HostError::Encode(e.to_string()))?;
-        }
+    let Some(first) = frames.first() else {
+        return Err(HostError::Encode("a GIF without frames".into()));
+    };
+    let size = |n: u32| {
+        u16::try_from(n).map_err(|_| HostError::Encode(format!("a GIF {n} pixels across")))
+    };
+    let mut g = GifStream::new(
+        Vec::new(),
+        size(first.width())?,
+        size(first.height())?,
+        delay_ms,
+    )?;
+    for f in frames {
+        g.add(f)?;
     }
-    Ok(bytes)
+    g.finish()
 }
 
 #[cfg(test)]
