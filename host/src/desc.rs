@@ -6,14 +6,45 @@
 
 use serde::Deserialize;
 use std::fmt;
-use tessera::error::Field;
+use tessera::error::{Field, List};
 use tessera::{
     Aabb, Camera, Color, Material, MaterialId, Plane, PointLight, Sampler, Scene, Sphere, SubPixel,
     Texture, Triangle, Vec3,
 };
 
+/// How many spheres the host scene holds.
+pub const MAX_SPHERES: usize = 1024;
+/// How many planes the host scene holds.
+pub const MAX_PLANES: usize = 64;
+/// How many triangles the host scene holds.
+pub const MAX_TRIANGLES: usize = 8192;
+/// How many boxes the host scene holds.
+pub const MAX_BOXES: usize = 1024;
+/// How many materials the host scene holds.
+pub const MAX_MATERIALS: usize = 256;
+/// How many lights the host scene holds.
+pub const MAX_LIGHTS: usize = 64;
+
 /// The host's scene capacities: spheres, planes, triangles, boxes, materials, lights.
-pub type HostScene = Scene<1024, 64, 8192, 1024, 256, 64>;
+pub type HostScene =
+    Scene<MAX_SPHERES, MAX_PLANES, MAX_TRIANGLES, MAX_BOXES, MAX_MATERIALS, MAX_LIGHTS>;
+
+/// The lists of a scene file, by the name of their `[[...]]` sections, with their
+/// capacity and the core's name for them.
+pub const LISTS: [(&str, usize, List); 6] = [
+    ("material", MAX_MATERIALS, List::Materials),
+    ("light", MAX_LIGHTS, List::Lights),
+    ("sphere", MAX_SPHERES, List::Spheres),
+    ("plane", MAX_PLANES, List::Planes),
+    ("triangle", MAX_TRIANGLES, List::Triangles),
+    ("box", MAX_BOXES, List::Boxes),
+];
+
+/// The message for item number `count + 1` of a list that holds `capacity`:
+/// `too many spheres: the scene holds at most 1024` (the core's words).
+pub fn too_many(list: List, capacity: usize) -> String {
+    tessera::Error::CapacityExceeded { list, capacity }.to_string()
+}
 
 /// A whole scene file.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -256,35 +287,117 @@ pub struct DescError {
 
 impl fmt::Display for DescError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {}", self.item, self.message)
+        write!(
+            f,
+            "{}: {}",
+            escape_controls(&self.item),
+            escape_controls(&self.message)
+        )
     }
 }
 
 impl std::error::Error for DescError {}
 
-fn v3(a: [f64; 3]) -> Vec3 {
-    Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32)
-}
-fn c3(a: [f64; 3]) -> Color {
-    Color::new(a[0] as f32, a[1] as f32, a[2] as f32)
+/// `s` with every control character (C0, DEL, C1) and every bidirectional-text
+/// control written as `\u{1b}` (Rust's notation), so that a string from a scene
+/// file echoed in a message cannot move the cursor, clear the terminal or
+/// reorder the text around it. Other text, backslashes included, is unchanged.
+pub fn escape_controls(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        let bidi = matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}');
+        if c.is_control() || bidi {
+            out.push_str(&format!("\\u{{{:x}}}", u32::from(c)));
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
-/// Formats a value for a message: numbers as written, vectors as `[x, y, z]`.
+/// Formats a number of a scene file for a message: the shortest digits that read
+/// back to the same `f64` (`-1`, `0.002`, `NaN`, `inf`), with an exponent when the
+/// magnitude is `1e6` or more, or below `1e-6` (`1e39`, `-1e-45`, `1.5e-7`).
+pub fn num(x: f64) -> String {
+    let a = x.abs();
+    if x.is_finite() && a != 0.0 && !(1e-6..1e6).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// Formats a value for a message: numbers as [`num`], vectors as `[x, y, z]`.
 fn show(a: &[f64]) -> String {
     if let [x] = a {
-        return format!("{x}");
+        return num(*x);
     }
-    let parts: Vec<String> = a.iter().map(|x| format!("{x}")).collect();
+    let parts: Vec<String> = a.iter().map(|&x| num(x)).collect();
     format!("[{}]", parts.join(", "))
+}
+
+/// The message for a number of a scene file beyond the `f32` range.
+fn too_large(what: &str, value: &str) -> String {
+    format!("{what} is too large for f32 (largest 3.4e38), got {value}")
+}
+
+/// `x` in `f32`, or `None` when `x` is finite but beyond the `f32` range (the
+/// cast would round it to infinity). NaN and infinities pass unchanged, for the
+/// core to refuse with its own message.
+fn to_f32(x: f64) -> Option<f32> {
+    let y = x as f32;
+    (y.is_finite() || !x.is_finite()).then_some(y)
+}
+
+/// The number `x` of `what` (`sphere radius`) in `f32`, or why it does not fit.
+fn f1(x: f64, what: &str) -> Result<f32, String> {
+    to_f32(x).ok_or_else(|| too_large(what, &num(x)))
+}
+
+/// The three numbers `a` of `what` in `f32`, or why they do not fit (showing all
+/// three).
+fn f3(a: [f64; 3], what: &str) -> Result<[f32; 3], String> {
+    match a.map(to_f32) {
+        [Some(x), Some(y), Some(z)] => Ok([x, y, z]),
+        _ => Err(too_large(what, &show(&a))),
+    }
+}
+
+/// A vector of the file in `f32` (see [`f3`]).
+fn v3(a: [f64; 3], what: &str) -> Result<Vec3, String> {
+    f3(a, what).map(|[x, y, z]| Vec3::new(x, y, z))
+}
+
+/// A colour of the file in `f32` (see [`f3`]).
+fn c3(a: [f64; 3], what: &str) -> Result<Color, String> {
+    f3(a, what).map(|[r, g, b]| Color::new(r, g, b))
+}
+
+/// The message of a core error, with the offending value appended when known.
+fn describe(e: tessera::Error, value: Option<String>) -> String {
+    match value {
+        Some(v) => format!("{e}, got {v}"),
+        None => e.to_string(),
+    }
 }
 
 /// A core error about `item`, with the offending value appended when known.
 fn err(item: String, e: tessera::Error, value: Option<String>) -> DescError {
-    let message = match value {
-        Some(v) => format!("{e}, got {v}"),
-        None => e.to_string(),
-    };
-    DescError { item, message }
+    DescError {
+        item,
+        message: describe(e, value),
+    }
+}
+
+/// The field a core error is about, if it names one.
+fn field_of(e: tessera::Error) -> Option<Field> {
+    match e {
+        tessera::Error::NotFinite(f)
+        | tessera::Error::ZeroLength(f)
+        | tessera::Error::NotPositive(f)
+        | tessera::Error::OutOfRange { field: f, .. } => Some(f),
+        _ => None,
+    }
 }
 
 impl SceneDesc {
@@ -327,20 +440,18 @@ impl SceneDesc {
     pub fn core_camera(&self) -> Result<Camera, DescError> {
         let c = &self.camera;
         let item = || "camera".to_string();
-        let fovy = c.fovy as f32;
-        let cam = match (c.forward, c.look_at) {
-            (Some(f), None) => Camera::try_new(
-                v3(c.position),
-                v3(f),
-                v3(c.up),
-                fovy,
-                c.near as f32,
-                c.far as f32,
-            ),
-            (None, Some(t)) => {
-                let p = v3(c.position);
-                Camera::try_new(p, v3(t) - p, v3(c.up), fovy, c.near as f32, c.far as f32)
-            }
+        let fail = |message| DescError {
+            item: item(),
+            message,
+        };
+        let position = v3(c.position, Field::CameraPosition.name()).map_err(fail)?;
+        let up = v3(c.up, Field::CameraUp.name()).map_err(fail)?;
+        let fovy = f1(c.fovy, Field::FieldOfView.name()).map_err(fail)?;
+        let near = f1(c.near, Field::Near.name()).map_err(fail)?;
+        let far = f1(c.far, Field::Far.name()).map_err(fail)?;
+        let forward = match (c.forward, c.look_at) {
+            (Some(f), None) => v3(f, Field::CameraForward.name()).map_err(fail)?,
+            (None, Some(t)) => v3(t, "camera look_at").map_err(fail)? - position,
             _ => {
                 return Err(DescError {
                     item: item(),
@@ -348,7 +459,7 @@ impl SceneDesc {
                 });
             }
         };
-        cam.map_err(|e| {
+        Camera::try_new(position, forward, up, fovy, near, far).map_err(|e| {
             let value = match e {
                 tessera::Error::NotFinite(f)
                 | tessera::Error::ZeroLength(f)
@@ -362,19 +473,55 @@ impl SceneDesc {
                     _ => None,
                 },
                 tessera::Error::NotPositive(_) => Some(show(&[c.near])),
-                tessera::Error::NearNotBeforeFar => Some(format!("near {} far {}", c.near, c.far)),
+                tessera::Error::NearNotBeforeFar => {
+                    Some(format!("near {} far {}", num(c.near), num(c.far)))
+                }
                 _ => None,
             };
             err(item(), e, value)
         })
     }
 
+    /// Refuses a list longer than the host scene holds, before any item is
+    /// converted; the item named is the first one too many (`sphere 1025`).
+    fn check_counts(&self) -> Result<(), DescError> {
+        let lens = [
+            self.materials.len(),
+            self.lights.len(),
+            self.spheres.len(),
+            self.planes.len(),
+            self.triangles.len(),
+            self.boxes.len(),
+        ];
+        for ((kind, capacity, list), len) in LISTS.into_iter().zip(lens) {
+            if len > capacity {
+                let mut item = format!("{kind} {}", capacity + 1);
+                if kind == "material" {
+                    item += &format!(" ({:?})", self.materials[capacity].name);
+                }
+                return Err(DescError {
+                    item,
+                    message: too_many(list, capacity),
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// The core scene (every value checked, capacities enforced).
     pub fn to_core(&self) -> Result<Box<HostScene>, DescError> {
+        self.check_counts()?;
         let mut s = Box::new(HostScene::new(self.core_camera()?));
-        s.set_ambient(c3(self.ambient))
+        let fail = |item: &str| {
+            let item = item.to_string();
+            move |message| DescError { item, message }
+        };
+        let ambient = c3(self.ambient, Field::AmbientLight.name()).map_err(fail("ambient"))?;
+        s.set_ambient(ambient)
             .map_err(|e| err("ambient".into(), e, Some(show(&self.ambient))))?;
-        s.set_background(c3(self.background))
+        let background =
+            c3(self.background, Field::Background.name()).map_err(fail("background"))?;
+        s.set_background(background)
             .map_err(|e| err("background".into(), e, Some(show(&self.background))))?;
         for (i, m) in self.materials.iter().enumerate() {
             let item = format!("material {} ({:?})", i + 1, m.name);
@@ -384,28 +531,22 @@ impl SceneDesc {
                     message: "a material of the same name comes earlier".into(),
                 });
             }
-            let mat = core_material(m).map_err(|(e, v)| err(item.clone(), e, v))?;
+            let mat = core_material(m).map_err(fail(&item))?;
             s.add_material(mat).map_err(|e| err(item, e, None))?;
         }
         for (i, l) in self.lights.iter().enumerate() {
             let item = format!("light {}", i + 1);
-            let light = PointLight::try_new(v3(l.position), c3(l.color), l.intensity as f32)
-                .map_err(|e| {
-                    let v = match e {
-                        tessera::Error::NotFinite(Field::LightPosition)
-                        | tessera::Error::OutOfRange {
-                            field: Field::LightPosition,
-                            ..
-                        } => show(&l.position),
-                        tessera::Error::NotFinite(Field::LightColor)
-                        | tessera::Error::OutOfRange {
-                            field: Field::LightColor,
-                            ..
-                        } => show(&l.color),
-                        _ => show(&[l.intensity]),
-                    };
-                    err(item.clone(), e, Some(v))
-                })?;
+            let position = v3(l.position, Field::LightPosition.name()).map_err(fail(&item))?;
+            let color = c3(l.color, Field::LightColor.name()).map_err(fail(&item))?;
+            let intensity = f1(l.intensity, Field::LightIntensity.name()).map_err(fail(&item))?;
+            let light = PointLight::try_new(position, color, intensity).map_err(|e| {
+                let v = match field_of(e) {
+                    Some(Field::LightPosition) => show(&l.position),
+                    Some(Field::LightColor) => show(&l.color),
+                    _ => show(&[l.intensity]),
+                };
+                err(item.clone(), e, Some(v))
+            })?;
             s.add_light(light).map_err(|e| err(item, e, None))?;
         }
         let mat = |item: &str, name: &str| -> Result<MaterialId, DescError> {
@@ -419,13 +560,11 @@ impl SceneDesc {
         };
         for (i, d) in self.spheres.iter().enumerate() {
             let item = format!("sphere {}", i + 1);
-            let g = Sphere::try_new(v3(d.center), d.radius as f32).map_err(|e| {
-                let v = match e {
-                    tessera::Error::NotFinite(Field::SphereCenter)
-                    | tessera::Error::OutOfRange {
-                        field: Field::SphereCenter,
-                        ..
-                    } => show(&d.center),
+            let center = v3(d.center, Field::SphereCenter.name()).map_err(fail(&item))?;
+            let radius = f1(d.radius, Field::SphereRadius.name()).map_err(fail(&item))?;
+            let g = Sphere::try_new(center, radius).map_err(|e| {
+                let v = match field_of(e) {
+                    Some(Field::SphereCenter) => show(&d.center),
                     _ => show(&[d.radius]),
                 };
                 err(item.clone(), e, Some(v))
@@ -435,13 +574,11 @@ impl SceneDesc {
         }
         for (i, d) in self.planes.iter().enumerate() {
             let item = format!("plane {}", i + 1);
-            let g = Plane::try_new(v3(d.point), v3(d.normal)).map_err(|e| {
-                let v = match e {
-                    tessera::Error::NotFinite(Field::PlanePoint)
-                    | tessera::Error::OutOfRange {
-                        field: Field::PlanePoint,
-                        ..
-                    } => show(&d.point),
+            let point = v3(d.point, Field::PlanePoint.name()).map_err(fail(&item))?;
+            let normal = v3(d.normal, Field::PlaneNormal.name()).map_err(fail(&item))?;
+            let g = Plane::try_new(point, normal).map_err(|e| {
+                let v = match field_of(e) {
+                    Some(Field::PlanePoint) => show(&d.point),
                     _ => show(&d.normal),
                 };
                 err(item.clone(), e, Some(v))
@@ -452,16 +589,26 @@ impl SceneDesc {
         for (i, d) in self.triangles.iter().enumerate() {
             let item = format!("triangle {}", i + 1);
             let [a, b, c] = d.vertices;
-            let g = Triangle::try_new(v3(a), v3(b), v3(c)).map_err(|e| {
-                let v = format!("{}, {}, {}", show(&a), show(&b), show(&c));
-                err(item.clone(), e, Some(v))
-            })?;
+            let shown = || format!("{}, {}, {}", show(&a), show(&b), show(&c));
+            let [pa, pb, pc] = match d.vertices.map(|p| f3(p, "")) {
+                [Ok(pa), Ok(pb), Ok(pc)] => [pa, pb, pc].map(|[x, y, z]| Vec3::new(x, y, z)),
+                _ => {
+                    return Err(DescError {
+                        item,
+                        message: too_large(Field::TriangleVertex.name(), &shown()),
+                    });
+                }
+            };
+            let g =
+                Triangle::try_new(pa, pb, pc).map_err(|e| err(item.clone(), e, Some(shown())))?;
             s.add_triangle(g, mat(&item, &d.material)?)
                 .map_err(|e| err(item, e, None))?;
         }
         for (i, d) in self.boxes.iter().enumerate() {
             let item = format!("box {}", i + 1);
-            let g = Aabb::try_new(v3(d.min), v3(d.max)).map_err(|e| {
+            let min = v3(d.min, Field::BoxMin.name()).map_err(fail(&item))?;
+            let max = v3(d.max, Field::BoxMax.name()).map_err(fail(&item))?;
+            let g = Aabb::try_new(min, max).map_err(|e| {
                 let v = format!("min {} max {}", show(&d.min), show(&d.max));
                 err(item.clone(), e, Some(v))
             })?;
@@ -476,82 +623,116 @@ fn tessera_tile_ok(n: usize) -> bool {
     crate::TILE_SIZES.contains(&n)
 }
 
-/// The core material of a description, or the error and the offending value.
-fn core_material(m: &MaterialDesc) -> Result<Material, (tessera::Error, Option<String>)> {
-    let one = |x: f64| Some(show(&[x]));
-    let texture = match &m.texture {
-        None => Texture::Solid(c3(m.color)),
+/// The core texture of a description (not yet validated), or the message.
+fn core_texture(m: &MaterialDesc) -> Result<Texture, String> {
+    Ok(match &m.texture {
+        None => Texture::Solid(c3(m.color, Field::Color.name())?),
         Some(TextureDesc::Checker { a, b, scale }) => Texture::Checker {
-            a: c3(*a),
-            b: c3(*b),
-            scale: *scale as f32,
+            a: c3(*a, "texture a")?,
+            b: c3(*b, "texture b")?,
+            scale: f1(*scale, "texture scale")?,
         },
         Some(TextureDesc::Fringes { color, spacing }) => Texture::Fringes {
-            color: c3(*color),
-            spacing: *spacing as f32,
+            color: c3(*color, "texture color")?,
+            spacing: f1(*spacing, "texture spacing")?,
         },
         Some(TextureDesc::Young {
             color,
             d,
             wavelength,
             distance,
-        }) => Texture::young(c3(*color), *d as f32, *wavelength as f32, *distance as f32).map_err(
-            |e| {
-                (
-                    e,
-                    Some(format!("d {d} wavelength {wavelength} distance {distance}")),
-                )
-            },
-        )?,
-    };
-    let texture_value = || match &m.texture {
-        None => Some(show(&m.color)),
-        Some(TextureDesc::Checker { a, b, scale }) => {
-            Some(format!("a {} b {} scale {scale}", show(a), show(b)))
+        }) => {
+            let c = c3(*color, "texture color")?;
+            let (fd, fw, fl) = (
+                f1(*d, "texture d")?,
+                f1(*wavelength, "texture wavelength")?,
+                f1(*distance, "texture distance")?,
+            );
+            Texture::young(c, fd, fw, fl).map_err(|e| describe(e, Some(texture_value(m, e))))?
         }
-        Some(TextureDesc::Fringes { color, spacing }) => {
-            Some(format!("color {} spacing {spacing}", show(color)))
+    })
+}
+
+/// The value of the texture key a core error `e` is about: `color [0.1, -1, 0]`
+/// for a Young texture's colour, `d 0 wavelength 5e-7 distance 3` for its
+/// spacing, the material's `color` when there is no texture.
+fn texture_value(m: &MaterialDesc, e: tessera::Error) -> String {
+    let is_color = field_of(e) == Some(Field::TextureColor);
+    match &m.texture {
+        None => show(&m.color),
+        Some(TextureDesc::Checker { a, b, .. }) if is_color => {
+            format!("a {} b {}", show(a), show(b))
         }
-        Some(TextureDesc::Young { color, .. }) => Some(format!("color {}", show(color))),
+        Some(TextureDesc::Checker { scale, .. }) => format!("scale {}", num(*scale)),
+        Some(TextureDesc::Fringes { color, .. } | TextureDesc::Young { color, .. }) if is_color => {
+            format!("color {}", show(color))
+        }
+        Some(TextureDesc::Fringes { spacing, .. }) => format!("spacing {}", num(*spacing)),
+        Some(TextureDesc::Young {
+            d,
+            wavelength,
+            distance,
+            ..
+        }) => format!(
+            "d {} wavelength {} distance {}",
+            num(*d),
+            num(*wavelength),
+            num(*distance)
+        ),
+    }
+}
+
+/// The core material of a description, or the message (with the offending value).
+fn core_material(m: &MaterialDesc) -> Result<Material, String> {
+    let one = |x: f64| Some(show(&[x]));
+    let both = || {
+        Some(format!(
+            "reflectivity {} transparency {}",
+            num(m.reflectivity),
+            num(m.transparency)
+        ))
     };
-    let base = Material::matte(Color::WHITE)
+    let texture = core_texture(m)?;
+    let weight = |x: f64, field: Field| f1(x, field.name());
+    let (ambient, diffuse) = (
+        weight(m.ambient, Field::Ambient)?,
+        weight(m.diffuse, Field::Diffuse)?,
+    );
+    let (specular, shininess) = (
+        weight(m.specular, Field::Specular)?,
+        weight(m.shininess, Field::Shininess)?,
+    );
+    let reflectivity = weight(m.reflectivity, Field::Reflectivity)?;
+    let (transparency, ior) = (
+        weight(m.transparency, Field::Transparency)?,
+        weight(m.ior, Field::RefractiveIndex)?,
+    );
+    Material::matte(Color::WHITE)
         .with_texture(texture)
-        .map_err(|e| (e, texture_value()))?;
-    base.with_ambient(m.ambient as f32)
-        .map_err(|e| (e, one(m.ambient)))?
-        .with_diffuse(m.diffuse as f32)
-        .map_err(|e| (e, one(m.diffuse)))?
-        .with_specular(m.specular as f32, m.shininess as f32)
+        .map_err(|e| describe(e, Some(texture_value(m, e))))?
+        .with_ambient(ambient)
+        .map_err(|e| describe(e, one(m.ambient)))?
+        .with_diffuse(diffuse)
+        .map_err(|e| describe(e, one(m.diffuse)))?
+        .with_specular(specular, shininess)
         .map_err(|e| {
-            let v = if matches!(
-                e,
-                tessera::Error::OutOfRange {
-                    field: Field::Shininess,
-                    ..
-                } | tessera::Error::NotFinite(Field::Shininess)
-            ) {
+            let v = if field_of(e) == Some(Field::Shininess) {
                 m.shininess
             } else {
                 m.specular
             };
-            (e, one(v))
+            describe(e, one(v))
         })?
-        .with_reflectivity(m.reflectivity as f32)
-        .map_err(|e| (e, one(m.reflectivity)))?
-        .with_transparency(m.transparency as f32, m.ior as f32)
-        .map_err(|e| {
-            let v = if matches!(
-                e,
-                tessera::Error::OutOfRange {
-                    field: Field::RefractiveIndex,
-                    ..
-                } | tessera::Error::NotFinite(Field::RefractiveIndex)
-            ) {
-                m.ior
-            } else {
-                m.transparency
-            };
-            (e, one(v))
+        .with_reflectivity(reflectivity)
+        .map_err(|e| match field_of(e) {
+            Some(_) => describe(e, one(m.reflectivity)),
+            None => describe(e, both()),
+        })?
+        .with_transparency(transparency, ior)
+        .map_err(|e| match field_of(e) {
+            Some(Field::RefractiveIndex) => describe(e, one(m.ior)),
+            Some(_) => describe(e, one(m.transparency)),
+            None => describe(e, both()),
         })
 }
 
@@ -624,5 +805,101 @@ mod tests {
         ] {
             assert!(parse_sampler(s).is_err(), "{s}");
         }
+    }
+
+    #[test]
+    fn numbers_print_in_the_shortest_form() {
+        let cases = [
+            (-1.0, "-1"),
+            (0.002, "0.002"),
+            (0.0, "0"),
+            (-0.0, "-0"),
+            (123_456.5, "123456.5"),
+            (999_999.0, "999999"),
+            (1e6, "1e6"),
+            (1e-6, "0.000001"),
+            (9e-7, "9e-7"),
+            (-1e-45, "-1e-45"),
+            (f64::from(f32::from_bits(1)), "1.401298464324817e-45"),
+            (1e39, "1e39"),
+            (f64::NAN, "NaN"),
+            (f64::NEG_INFINITY, "-inf"),
+        ];
+        for (x, shown) in cases {
+            assert_eq!(num(x), shown, "{x:?}");
+        }
+        assert_eq!(show(&[0.1, f64::NAN, 0.0]), "[0.1, NaN, 0]");
+    }
+
+    #[test]
+    fn only_numbers_beyond_f32_are_too_large() {
+        let max = f64::from(f32::MAX);
+        assert_eq!(to_f32(max), Some(f32::MAX));
+        // 3.4028235e38 (the largest f32 as printed) rounds to it.
+        assert_eq!(to_f32(3.402_823_5e38), Some(f32::MAX));
+        assert_eq!(to_f32(-3.402_823_5e38), Some(f32::MIN));
+        assert_eq!(to_f32(3.5e38), None);
+        assert_eq!(to_f32(-1e300), None);
+        assert_eq!(to_f32(f64::INFINITY), Some(f32::INFINITY));
+        assert!(to_f32(f64::NAN).unwrap().is_nan());
+        assert_eq!(to_f32(1e-50), Some(0.0));
+        assert_eq!(
+            f3([0.0, 0.0, 1e39], "sphere center").unwrap_err(),
+            "sphere center is too large for f32 (largest 3.4e38), got [0, 0, 1e39]"
+        );
+    }
+
+    #[test]
+    fn control_characters_are_escaped_and_nothing_else() {
+        assert_eq!(
+            escape_controls("a\u{1b}[2J\tb\r\n\u{7f}\u{9b}\u{202e}\u{2066}"),
+            "a\\u{1b}[2J\\u{9}b\\u{d}\\u{a}\\u{7f}\\u{9b}\\u{202e}\\u{2066}"
+        );
+        let plain = "sphere 2: got \"é\\n\" [0.1, -1]";
+        assert_eq!(escape_controls(plain), plain);
+    }
+
+    fn small_scene() -> SceneDesc {
+        crate::file::parse(
+            "[camera]\nposition = [0, 1, 5]\nlook_at = [0, 0, 0]\nnear = 0.1\nfar = 100\n\
+             [[material]]\nname = \"red\"\n",
+            "t.toml",
+        )
+        .unwrap()
+    }
+
+    /// A list beyond its capacity is refused before any item is converted: the
+    /// first sphere's bad radius is not what is reported (it was, after converting
+    /// the 1024 before the one too many).
+    #[test]
+    fn lists_beyond_capacity_are_refused_before_conversion() {
+        let mut d = small_scene();
+        let sphere = SphereDesc {
+            center: [0.0; 3],
+            radius: -1.0,
+            material: "red".into(),
+        };
+        d.spheres = vec![sphere; MAX_SPHERES];
+        assert_eq!(d.to_core().unwrap_err().item, "sphere 1");
+        d.spheres.push(d.spheres[0].clone());
+        assert_eq!(
+            d.to_core().unwrap_err(),
+            DescError {
+                item: "sphere 1025".into(),
+                message: "too many spheres: the scene holds at most 1024".into(),
+            }
+        );
+        let mut d = small_scene();
+        d.materials = (0..=MAX_MATERIALS)
+            .map(|i| MaterialDesc {
+                name: format!("m{i}"),
+                ..d.materials[0].clone()
+            })
+            .collect();
+        d.camera.fovy = -1.0;
+        assert_eq!(
+            d.to_core().unwrap_err().to_string(),
+            "material 257 (\"m256\"): too many materials: the scene holds at most 256"
+        );
     }
 }

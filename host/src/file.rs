@@ -7,13 +7,22 @@
 //! `FILE:LINE: item: message` when a value is refused (`sphere 2: sphere radius must
 //! be > 0, got -1`, the line being where that item starts).
 //!
+//! Before the TOML parser sees the text, the file is bounded: at most
+//! [`MAX_FILE_BYTES`] are read, and a pre-scan refuses arrays and inline tables
+//! nested deeper than [`MAX_NESTING`] and lists with more items than the host
+//! scene holds (counting `[[sphere]]` headers and the inline tables of a top-level
+//! `sphere = [...]`), so neither the parser's memory nor its recursion depends on
+//! what the file holds. [`warnings`] lists what is accepted but looks like a
+//! mistake (`fovy = 1.05`, radians where degrees are meant).
+//!
 //! The built-in scenes exist as files too (`scenes/NAME.toml`, embedded); see
 //! [`builtin_desc`].
 
-use crate::desc::{DescError, SceneDesc};
+use crate::desc::{DescError, LISTS, SceneDesc, escape_controls, num, too_many};
 use serde::Deserialize;
 use serde::de::IgnoredAny;
 use std::fmt;
+use std::io::Read;
 use std::path::Path;
 use tessera::builtin::Builtin;
 use toml::Spanned;
@@ -21,10 +30,12 @@ use toml::Spanned;
 /// What kind of problem a [`FileError`] reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ErrorKind {
-    /// The file could not be read (missing, unreadable, not UTF-8).
+    /// The file could not be read (missing, unreadable, not UTF-8, larger than
+    /// [`MAX_FILE_BYTES`]).
     Read,
     /// The text is not TOML or does not have the shape of a scene: a syntax error,
-    /// an unknown key, a value of the wrong type, a missing key.
+    /// an unknown key, a value of the wrong type, a missing key, a duplicate key,
+    /// nesting deeper than [`MAX_NESTING`].
     Toml,
     /// The shape is right but a value is refused (NaN, out of range, unknown
     /// material, too many primitives, ...).
@@ -49,9 +60,12 @@ pub struct FileError {
     pub message: String,
 }
 
+/// Control characters of the file name, item and message are escaped (see
+/// [`escape_controls`]): a name from the command line or a string from the file
+/// cannot drive the terminal.
 impl fmt::Display for FileError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.file)?;
+        f.write_str(&escape_controls(&self.file))?;
         if let Some(line) = self.line {
             write!(f, ":{line}")?;
             if let Some(column) = self.column {
@@ -60,9 +74,9 @@ impl fmt::Display for FileError {
         }
         f.write_str(": ")?;
         if let Some(item) = &self.item {
-            write!(f, "{item}: ")?;
+            write!(f, "{}: ", escape_controls(item))?;
         }
-        f.write_str(&self.message)
+        f.write_str(&escape_controls(&self.message))
     }
 }
 
@@ -83,26 +97,115 @@ pub fn line_col(text: &str, byte: usize) -> (usize, usize) {
     (line, column)
 }
 
+/// The largest scene file accepted, in bytes: 4 MiB. A scene that fills every
+/// list of the host scene (1024 spheres, 64 planes, 8192 triangles, 1024 boxes,
+/// 256 materials, 64 lights) with every number written to full `f64` precision is
+/// about 2.3 MB; the TOML parser needs up to about 75 bytes of memory a byte of
+/// text (a file of `1,`), so this bounds parsing to about 300 MB.
+pub const MAX_FILE_BYTES: usize = 4 << 20;
+
+/// How deep arrays and inline tables may nest. A scene file needs at most 4
+/// (`triangle = [{ vertices = [[0, 0, 0], ...] }]`); the bound keeps the
+/// recursive TOML parser far from the end of its stack.
+pub const MAX_NESTING: usize = 16;
+
 /// Reads the scene file at `path` and parses it with [`parse`]; messages name the
-/// file by `path` as given.
+/// file by `path` as given. At most [`MAX_FILE_BYTES`] + 1 bytes are read: a
+/// larger file is refused before any parsing, with its size.
 pub fn load(path: &Path) -> Result<SceneDesc, FileError> {
+    load_limited(path, MAX_FILE_BYTES)
+}
+
+/// [`load`] with a size limit of `limit` bytes.
+fn load_limited(path: &Path, limit: usize) -> Result<SceneDesc, FileError> {
     let file = path.display().to_string();
-    match std::fs::read_to_string(path) {
-        Ok(text) => parse(&text, &file),
-        Err(e) => Err(FileError {
+    match read_limited(path, limit) {
+        Ok(text) => parse_limited(&text, &file, limit),
+        Err(message) => Err(FileError {
             kind: ErrorKind::Read,
             file,
             line: None,
             column: None,
             item: None,
-            message: format!("cannot read the scene file: {e}"),
+            message,
         }),
+    }
+}
+
+/// The text of the file at `path` if it is UTF-8 of at most `limit` bytes, else
+/// the message. Reads at most `limit + 1` bytes (a regular file whose size is
+/// known to be above the limit is not read at all).
+fn read_limited(path: &Path, limit: usize) -> Result<String, String> {
+    let cannot = |e: std::io::Error| format!("cannot read the scene file: {e}");
+    let file = std::fs::File::open(path).map_err(cannot)?;
+    let size = file
+        .metadata()
+        .ok()
+        .filter(|m| m.is_file())
+        .map(|m| m.len());
+    if let Some(n) = size.filter(|&n| n > limit as u64) {
+        return Err(too_big(Some(n), limit));
+    }
+    let mut bytes = Vec::new();
+    file.take(limit as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(cannot)?;
+    if bytes.len() > limit {
+        // Grown since, or not a regular file (a pipe): the size is not known.
+        return Err(too_big(size.filter(|&n| n > limit as u64), limit));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let text = std::str::from_utf8(&e.as_bytes()[..at]).unwrap_or_default();
+        let (line, column) = line_col(text, at);
+        format!(
+            "cannot read the scene file: it is not UTF-8 text (invalid byte at {line}:{column})"
+        )
+    })
+}
+
+/// The message for a scene file above the limit.
+fn too_big(size: Option<u64>, limit: usize) -> String {
+    let limit = format!(
+        "the limit of {limit} bytes ({} MiB)",
+        num(limit as f64 / 1_048_576.0)
+    );
+    match size {
+        Some(n) => format!("the scene file is {n} bytes, more than {limit}"),
+        None => format!("the scene file is larger than {limit}"),
     }
 }
 
 /// Parses the scene file `text` and checks that it renders (core scene, render
 /// settings and frame all accepted). `name` is what messages call the file.
+///
+/// A text above [`MAX_FILE_BYTES`], or nesting too deep, or with too many items of
+/// a list, is refused by the [`prescan`] before the TOML parser runs.
 pub fn parse(text: &str, name: &str) -> Result<SceneDesc, FileError> {
+    parse_limited(text, name, MAX_FILE_BYTES)
+}
+
+/// [`parse`] with a size limit of `limit` bytes.
+fn parse_limited(text: &str, name: &str, limit: usize) -> Result<SceneDesc, FileError> {
+    let fail = |kind, line, column, item, message| FileError {
+        kind,
+        file: name.to_string(),
+        line,
+        column,
+        item,
+        message,
+    };
+    if text.len() > limit {
+        let message = too_big(Some(text.len() as u64), limit);
+        return Err(fail(ErrorKind::Read, None, None, None, message));
+    }
+    prescan(text).map_err(|r| {
+        let (line, column) = line_col(text, r.byte);
+        match r.item {
+            Some(item) => fail(ErrorKind::Invalid, Some(line), None, Some(item), r.message),
+            None => fail(ErrorKind::Toml, Some(line), Some(column), None, r.message),
+        }
+    })?;
     let desc: SceneDesc = toml::from_str(text).map_err(|e| {
         let (line, column) = match e.span() {
             Some(span) => {
@@ -111,24 +214,320 @@ pub fn parse(text: &str, name: &str) -> Result<SceneDesc, FileError> {
             }
             None => (None, None),
         };
-        FileError {
-            kind: ErrorKind::Toml,
-            file: name.to_string(),
+        let mut message = e.message().trim().to_string();
+        if message == "duplicate key"
+            && let Some(key) = e.span().and_then(|s| key_at(text, s))
+        {
+            message = format!("duplicate key `{key}`");
+        }
+        fail(
+            ErrorKind::Toml,
             line,
             column,
-            item: None,
-            message: e.message().trim().to_string(),
-        }
+            None,
+            escape_controls(&message),
+        )
     })?;
-    check(&desc).map_err(|e| FileError {
-        kind: ErrorKind::Invalid,
-        file: name.to_string(),
-        line: item_start(text, &e.item).map(|b| line_col(text, b).0),
-        column: None,
-        item: Some(e.item),
-        message: e.message,
+    check(&desc).map_err(|e| {
+        let line = item_start(text, &e.item).map(|b| line_col(text, b).0);
+        fail(ErrorKind::Invalid, line, None, Some(e.item), e.message)
     })?;
     Ok(desc)
+}
+
+/// The key of a TOML error's `span` (which covers the last part of a key) as
+/// written, with the dotted parts before it (`a.b`), at most 64 characters; `None`
+/// if the span is not text.
+fn key_at(text: &str, span: std::ops::Range<usize>) -> Option<String> {
+    let end = span.end.min(text.len());
+    let last = text.get(span.start..end)?;
+    let before = text.get(..span.start)?;
+    let dotted = before
+        .char_indices()
+        .rev()
+        .take_while(|&(_, c)| {
+            c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | ' ' | '\t')
+        })
+        .last()
+        .map_or(span.start, |(i, _)| i);
+    let key = format!("{}{last}", &before[dotted..]);
+    let key = key.trim().trim_start_matches(['.', ' ', '\t']);
+    if key.is_empty() {
+        return None;
+    }
+    let mut shown: String = key.chars().take(64).collect();
+    if shown.len() < key.len() {
+        shown.push('…');
+    }
+    Some(shown)
+}
+
+/// What the [`prescan`] refuses: at `byte`, about `item` when it is an item too
+/// many (else a nesting problem), and why.
+#[derive(Debug, PartialEq)]
+struct Refusal {
+    byte: usize,
+    item: Option<String>,
+    message: String,
+}
+
+/// Scans the text before the TOML parser does, in one pass and constant memory,
+/// skipping strings and comments: refuses arrays and inline tables nested deeper
+/// than [`MAX_NESTING`] (at the first bracket too deep), and the first item beyond
+/// a list's capacity, counting `[[sphere]]` headers and the inline tables of a
+/// top-level `sphere = [...]` (at the item; a list the scan does not recognise,
+/// such as a key with escapes, is still counted after parsing, before any item is
+/// converted). Malformed TOML is left for the parser to report, but a bracket the
+/// parser could nest is always counted.
+fn prescan(text: &str) -> Result<(), Refusal> {
+    let b = text.as_bytes();
+    // The open brackets, innermost last (at most MAX_NESTING).
+    let mut stack: Vec<u8> = Vec::with_capacity(MAX_NESTING);
+    let mut counts = [0usize; LISTS.len()];
+    let mut count = |list: usize, byte: usize| {
+        let (kind, capacity, name) = LISTS[list];
+        counts[list] += 1;
+        if counts[list] > capacity {
+            return Err(Refusal {
+                byte,
+                item: Some(format!("{kind} {}", counts[list])),
+                message: too_many(name, capacity),
+            });
+        }
+        Ok(())
+    };
+    // Only spaces so far on this line, outside brackets: a key or a header may start.
+    let mut line_start = true;
+    // No `[table]` header yet: keys are top-level.
+    let mut root = true;
+    // Where the top-level key being read starts.
+    let mut key_start: Option<usize> = None;
+    // The list named by the key just before `=`, until its value starts.
+    let mut pending: Option<usize> = None;
+    // The list whose top-level array is open (its items are at depth 2).
+    let mut open_list: Option<usize> = None;
+    let mut i = 0;
+    while i < b.len() {
+        let c = b[i];
+        let top = stack.is_empty();
+        match c {
+            b'\n' => {
+                if top {
+                    line_start = true;
+                    key_start = None;
+                    pending = None;
+                }
+                i += 1;
+                continue;
+            }
+            b' ' | b'\t' | b'\r' => {
+                i += 1;
+                continue;
+            }
+            b'#' => {
+                i = b[i..]
+                    .iter()
+                    .position(|&x| x == b'\n')
+                    .map_or(b.len(), |n| i + n);
+                continue;
+            }
+            _ => {}
+        }
+        if top && line_start && c == b'[' {
+            if let Some((name, end)) = header(b, i) {
+                root = false;
+                if b[i + 1] == b'['
+                    && let Some(list) = list_named(&text[name])
+                {
+                    count(list, i)?;
+                }
+                line_start = false;
+                i = end;
+                continue;
+            }
+        }
+        if top && line_start {
+            key_start = Some(i);
+        }
+        line_start = false;
+        match c {
+            b'"' | b'\'' => {
+                pending = None;
+                i = skip_string(b, i);
+                continue;
+            }
+            b'=' if top => {
+                pending = key_start
+                    .take()
+                    .filter(|_| root)
+                    .and_then(|k| list_named(&text[k..i]));
+            }
+            b'[' | b'{' => {
+                if c == b'[' && top {
+                    open_list = pending;
+                } else if c == b'{' && stack.len() == 1 {
+                    if let Some(list) = open_list {
+                        count(list, i)?;
+                    }
+                }
+                pending = None;
+                if stack.len() == MAX_NESTING {
+                    return Err(Refusal {
+                        byte: i,
+                        item: None,
+                        message: format!(
+                            "arrays and inline tables nested more than {MAX_NESTING} deep"
+                        ),
+                    });
+                }
+                stack.push(c);
+            }
+            b']' | b'}' => {
+                let opener = if c == b']' { b'[' } else { b'{' };
+                if stack.last() == Some(&opener) {
+                    stack.pop();
+                }
+                if stack.is_empty() {
+                    open_list = None;
+                }
+            }
+            _ => pending = None,
+        }
+        i += 1;
+    }
+    Ok(())
+}
+
+/// The header `[name]` or `[[name]]` starting at `b[i] == b'['` (outside any
+/// bracket, first on its line): the byte range of `name` and the index after the
+/// header, or `None` if it is not a well-formed header (then its brackets are
+/// scanned as values are).
+fn header(b: &[u8], i: usize) -> Option<(std::ops::Range<usize>, usize)> {
+    let double = b.get(i + 1) == Some(&b'[');
+    let start = i + 1 + usize::from(double);
+    let mut j = start;
+    while j < b.len() {
+        match b[j] {
+            b'"' | b'\'' => j = skip_string(b, j),
+            b']' => break,
+            b'[' | b'{' | b'\n' | b'#' => return None,
+            _ => j += 1,
+        }
+    }
+    if j >= b.len() || (double && b.get(j + 1) != Some(&b']')) {
+        return None;
+    }
+    Some((start..j, j + 1 + usize::from(double)))
+}
+
+/// The index of the list (in [`LISTS`]) a key or header names: `sphere`,
+/// `"sphere"` or `'sphere'`, with spaces around.
+fn list_named(key: &str) -> Option<usize> {
+    let key = key.trim_matches([' ', '\t']);
+    let bare = ['"', '\'']
+        .iter()
+        .find_map(|&q| key.strip_prefix(q)?.strip_suffix(q))
+        .unwrap_or(key);
+    LISTS.iter().position(|&(kind, _, _)| kind == bare)
+}
+
+/// The index just after the string starting at `b[i]` (a quote): basic `"..."`
+/// with `\` escapes, literal `'...'`, and their multi-line forms `"""..."""` and
+/// `'''...'''` (whose closing run may hold up to two more quotes). A single-line
+/// string ends at the end of its line, as the parser ends an unclosed one.
+fn skip_string(b: &[u8], i: usize) -> usize {
+    let q = b[i];
+    let basic = q == b'"';
+    let mut j = i + 1;
+    if b.get(i + 1) == Some(&q) && b.get(i + 2) == Some(&q) {
+        j = i + 3;
+        while j < b.len() {
+            if basic && b[j] == b'\\' {
+                j += 2;
+            } else if b[j] == q && b.get(j + 1) == Some(&q) && b.get(j + 2) == Some(&q) {
+                j += 3;
+                let mut extra = 0;
+                while extra < 2 && b.get(j) == Some(&q) {
+                    j += 1;
+                    extra += 1;
+                }
+                return j;
+            } else {
+                j += 1;
+            }
+        }
+        return b.len();
+    }
+    while j < b.len() {
+        match b[j] {
+            b'\n' => return j,
+            b'\\' if basic && b.get(j + 1) != Some(&b'\n') => j += 2,
+            x if x == q => return j + 1,
+            _ => j += 1,
+        }
+    }
+    b.len()
+}
+
+/// What a scene file says that is accepted but looks like a mistake, one line
+/// each, as `item: message` (empty for a file that looks as meant):
+///
+/// - `fovy` below pi (3.14159...) degrees: a value like `1.05` was most likely
+///   meant in radians; the warning gives the degrees it would be. (From pi up,
+///   the value read as radians would be 180 degrees or more, no field of view, so
+///   a narrow angle such as the built-in `interference` scene's 4 degrees is
+///   meant.)
+/// - nothing lights the surfaces (no light with a non-zero intensity and colour,
+///   and a black `ambient`): every surface renders black but for what it reflects
+///   or transmits.
+/// - a reflective or transparent material with render `depth = 0`: no reflected or
+///   refracted ray is traced, the weight has no effect.
+///
+/// Strings from the file are escaped as in errors.
+pub fn warnings(desc: &SceneDesc) -> Vec<String> {
+    let mut out = Vec::new();
+    let fovy = desc.camera.fovy;
+    if fovy > 0.0 && fovy < std::f64::consts::PI {
+        out.push(format!(
+            "camera: fovy {} is less than pi degrees: it looks like radians \
+             ({} radians would be fovy = {:.1}); fovy is in degrees",
+            num(fovy),
+            num(fovy),
+            fovy.to_degrees()
+        ));
+    }
+    let lit = desc
+        .lights
+        .iter()
+        .any(|l| l.intensity > 0.0 && l.color.iter().any(|&c| c > 0.0));
+    let has_geometry = !(desc.spheres.is_empty()
+        && desc.planes.is_empty()
+        && desc.triangles.is_empty()
+        && desc.boxes.is_empty());
+    if has_geometry && !lit && desc.ambient.iter().all(|&c| c <= 0.0) {
+        out.push(
+            "scene: nothing lights the surfaces (no light with intensity > 0 and \
+             ambient = [0, 0, 0]): they render black but for what they reflect or transmit"
+                .to_string(),
+        );
+    }
+    if desc.render.depth == 0 {
+        for (i, m) in desc.materials.iter().enumerate() {
+            let what = match (m.reflectivity > 0.0, m.transparency > 0.0) {
+                (true, true) => "reflectivity and transparency have",
+                (true, false) => "reflectivity has",
+                (false, true) => "transparency has",
+                (false, false) => continue,
+            };
+            out.push(format!(
+                "material {} ({:?}): {what} no effect with [render] depth = 0 \
+                 (no reflected or refracted ray is traced; depth >= 1 traces them)",
+                i + 1,
+                m.name
+            ));
+        }
+    }
+    out.iter().map(|w| escape_controls(w)).collect()
 }
 
 /// Checks everything the renderer will check: the core scene, the settings, and
@@ -148,7 +547,10 @@ fn check(desc: &SceneDesc) -> Result<(), DescError> {
                 item: "camera".into(),
                 message: format!(
                     "{e}, got near {} and fovy {} at {}x{}",
-                    c.near, c.fovy, vp.width, vp.height
+                    num(c.near),
+                    num(c.fovy),
+                    vp.width,
+                    vp.height
                 ),
             },
         }
@@ -605,5 +1007,405 @@ color = [0.9, 0.1, 0.1]
             "{m}"
         );
         assert!(m.contains("No such file or directory"), "{m}");
+    }
+
+    /// A directory under the system temp folder, removed with its contents when
+    /// dropped (also when the test fails).
+    struct TempDir(PathBuf);
+
+    impl TempDir {
+        fn new(tag: &str) -> Self {
+            use std::sync::atomic::{AtomicUsize, Ordering};
+            static N: AtomicUsize = AtomicUsize::new(0);
+            let n = N.fetch_add(1, Ordering::Relaxed);
+            let dir =
+                std::env::temp_dir().join(format!("tessera-file-{tag}-{}-{n}", std::process::id()));
+            std::fs::create_dir_all(&dir).unwrap();
+            Self(dir)
+        }
+    }
+
+    impl Drop for TempDir {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+
+    /// A valid scene padded with a comment to exactly `len` bytes.
+    fn padded(len: usize) -> String {
+        let mut t = format!("{HEAD}#");
+        t.push_str(&"x".repeat(len - t.len()));
+        t
+    }
+
+    #[test]
+    fn text_above_the_limit_is_refused_with_its_size() {
+        let limit = 400;
+        assert!(parse_limited(&padded(limit), "t.toml", limit).is_ok());
+        let e = parse_limited(&padded(limit + 1), "t.toml", limit).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Read);
+        assert_eq!(
+            e.to_string(),
+            "t.toml: the scene file is 401 bytes, more than the limit of 400 bytes \
+             (0.0003814697265625 MiB)"
+        );
+    }
+
+    #[test]
+    fn file_above_the_limit_is_refused_before_it_is_read() {
+        let dir = TempDir::new("size");
+        let p = dir.0.join("big.toml");
+        std::fs::write(&p, padded(500)).unwrap();
+        assert!(load_limited(&p, 500).is_ok());
+        let e = load_limited(&p, 499).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Read);
+        assert!(
+            e.message
+                .starts_with("the scene file is 500 bytes, more than the limit of 499 bytes"),
+            "{e}"
+        );
+        // The real limit, with a sparse file one byte over it (nothing is written
+        // to disk, nothing is read: the size alone refuses it).
+        let f = std::fs::File::create(&p).unwrap();
+        f.set_len(MAX_FILE_BYTES as u64 + 1).unwrap();
+        drop(f);
+        let e = load(&p).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "{}: the scene file is 4194305 bytes, more than the limit of 4194304 bytes (4 MiB)",
+                p.display()
+            )
+        );
+    }
+
+    /// A file of unknown size (a device, a pipe) is read only up to the limit.
+    #[cfg(unix)]
+    #[test]
+    fn endless_input_is_read_only_up_to_the_limit() {
+        let e = load_limited(Path::new("/dev/zero"), 1000).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Read);
+        assert_eq!(
+            e.to_string(),
+            "/dev/zero: the scene file is larger than the limit of 1000 bytes \
+             (0.00095367431640625 MiB)"
+        );
+        let e = load(Path::new("/dev/zero")).unwrap_err();
+        assert!(e.message.ends_with("limit of 4194304 bytes (4 MiB)"), "{e}");
+    }
+
+    #[test]
+    fn not_utf8_says_where() {
+        let dir = TempDir::new("utf8");
+        let p = dir.0.join("latin1.toml");
+        std::fs::write(&p, b"# ok\n# caf\xe9\n").unwrap();
+        let e = load(&p).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Read);
+        assert_eq!(
+            e.message,
+            "cannot read the scene file: it is not UTF-8 text (invalid byte at 2:6)"
+        );
+    }
+
+    #[test]
+    fn deep_nesting_is_refused_before_parsing_with_its_place() {
+        let text = format!("a = {}\n{HEAD}", "[".repeat(50_000));
+        let e = parse(&text, "t.toml").unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Toml);
+        assert_eq!(
+            e.to_string(),
+            "t.toml:1:21: arrays and inline tables nested more than 16 deep"
+        );
+        // Inline tables and arrays mixed, on a later line, closed or not.
+        let deep = "{ a = [".repeat(10) + &"] }".repeat(10);
+        let m = msg(&format!("{HEAD}x = {deep}\n"));
+        assert_eq!(
+            m,
+            "t.toml:10:61: arrays and inline tables nested more than 16 deep"
+        );
+        // Nesting at the limit reaches the parser (and is refused for its shape).
+        let ok = format!("{}{}", "[".repeat(16), "]".repeat(16));
+        assert_eq!(prescan(&format!("x = {ok}\n")), Ok(()));
+        // A header is no nesting, but a header that is not one is brackets.
+        assert_eq!(prescan("[[sphere]]\n[camera]\n"), Ok(()));
+        assert_eq!(prescan(&"[".repeat(17)).unwrap_err().byte, 16);
+    }
+
+    #[test]
+    fn brackets_in_strings_and_comments_do_not_count() {
+        let many = "[{".repeat(40);
+        let fine = [
+            format!("# {many}\n"),
+            format!("a = \"{many}\" # {many}\n"),
+            format!("a = \"\\\"{many}\"\n"),
+            format!("a = '{many}'\n"),
+            format!("a = \"\"\"\n{many}\n\\\"\"\" {many}\n\"\"\"\n"),
+            format!("a = '''\n{many}''{many}\n''''\n"),
+        ];
+        for t in &fine {
+            assert_eq!(prescan(t), Ok(()), "{t}");
+        }
+        // The closers in strings and in the comment do not close the array.
+        let t = format!("a = [\"]]]]\", '}}}}', \"\"\"]\"\"\" # ]]]]\nb = {many}\n");
+        let r = prescan(&t).unwrap_err();
+        assert_eq!(line_col(&t, r.byte), (2, 20), "{t}");
+        // An unclosed string ends at its line, as for the parser.
+        let t = format!("a = \"x\nb = {many}\n");
+        assert_eq!(line_col(&t, prescan(&t).unwrap_err().byte), (2, 21));
+        // Whole files parse as before.
+        let text = format!("# [[sphere]] [[[[ {many}\n{HEAD}");
+        assert!(parse(&text, "t.toml").is_ok());
+        let text = format!(
+            "{HEAD}\n[[sphere]] # {many}\ncenter = [0, 0, 0] # {many}\nradius = 1\n\
+             material = \"red\"\n"
+        );
+        assert!(parse(&text, "t.toml").is_ok());
+    }
+
+    /// 1025 bare `[[sphere]]` headers: refused at the 1025th by the pre-scan (the
+    /// parser would first complain that sphere 1 has no `center`).
+    #[test]
+    fn too_many_items_are_refused_at_their_header_before_parsing() {
+        let text = format!("{HEAD}{}", "[[sphere]]\n".repeat(1025));
+        assert_eq!(
+            msg(&text),
+            "t.toml:1034: sphere 1025: too many spheres: the scene holds at most 1024"
+        );
+        let text = format!("{HEAD}{}", "[[ \"light\" ]] # a light\n".repeat(65));
+        assert_eq!(
+            msg(&text),
+            "t.toml:74: light 65: too many lights: the scene holds at most 64"
+        );
+        let text = format!("{HEAD}{}", "[[triangle]]\n".repeat(8193));
+        let e = parse(&text, "t.toml").unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Invalid);
+        assert_eq!(e.item.as_deref(), Some("triangle 8193"));
+        // Inline: counted at the item's `{`, on any line.
+        let items = "{},\n".repeat(257);
+        let text = format!("material = [\n{items}]\n{HEAD}");
+        assert_eq!(
+            msg(&text),
+            "t.toml:258: material 257: too many materials: the scene holds at most 256"
+        );
+        let text = format!("'plane' = [{}]\n{HEAD}", "{ a = [{}] }, ".repeat(65));
+        assert_eq!(
+            msg(&text),
+            "t.toml:1: plane 65: too many planes: the scene holds at most 64"
+        );
+        // Not lists: a key of a table, dotted headers, strings.
+        let t = format!("[camera]\nsphere = [{}]\n", "{},".repeat(2000));
+        assert_eq!(prescan(&t), Ok(()));
+        assert_eq!(prescan(&"[[material.texture]]\n".repeat(300)), Ok(()));
+        assert_eq!(
+            prescan(&format!("a = \"{}\"\n", "[[box]]".repeat(2000))),
+            Ok(())
+        );
+    }
+
+    #[test]
+    fn numbers_beyond_f32_say_too_large() {
+        let text =
+            format!("{HEAD}\n[[sphere]]\ncenter = [0, 0, 1e39]\nradius = 1\nmaterial = \"red\"\n");
+        assert_eq!(
+            msg(&text),
+            "t.toml:11: sphere 1: sphere center is too large for f32 (largest 3.4e38), \
+             got [0, 0, 1e39]"
+        );
+        assert_eq!(
+            msg(&format!("{HEAD}{}", sphere("-1e300"))),
+            "t.toml:11: sphere 1: sphere radius is too large for f32 (largest 3.4e38), \
+             got -1e300"
+        );
+        assert_eq!(
+            msg(&HEAD.replace("far = 100", "far = 4e38")),
+            "t.toml:1: camera: camera far distance is too large for f32 (largest 3.4e38), \
+             got 4e38"
+        );
+        let m = msg(&format!(
+            "{HEAD}\n[[material]]\nname = \"y\"\ntexture = {{ kind = \"young\", \
+             color = [1, 1, 1], d = 1e39, wavelength = 5e-7, distance = 3 }}\n"
+        ));
+        assert_eq!(
+            m,
+            "t.toml:11: material 2 (\"y\"): texture d is too large for f32 (largest 3.4e38), \
+             got 1e39"
+        );
+        let m = msg(&format!(
+            "{HEAD}\n[[light]]\nposition = [0, 5, 0]\nintensity = 1e40\n"
+        ));
+        assert_eq!(
+            m,
+            "t.toml:11: light 1: light intensity is too large for f32 (largest 3.4e38), \
+             got 1e40"
+        );
+        // The largest f32, written as printed, fits (and is refused for its range).
+        let m = msg(&format!("{HEAD}{}", sphere("3.4028235e38")));
+        assert!(m.contains("sphere radius must be in"), "{m}");
+    }
+
+    #[test]
+    fn numbers_are_printed_short() {
+        assert_eq!(
+            msg(&format!("{HEAD}{}", sphere("-1e-45"))),
+            "t.toml:11: sphere 1: sphere radius must be > 0, got -1e-45"
+        );
+        let m = msg(&HEAD.replace("near = 0.1", "near = 1e-15\nfovy = 1e-20"));
+        assert!(
+            m.ends_with("got near 1e-15 and fovy 1e-20 at 320x240"),
+            "{m}"
+        );
+        let m = msg(&HEAD.replace("near = 0.1", "near = 2e20"));
+        assert!(m.ends_with("got near 2e20 far 100"), "{m}");
+    }
+
+    #[test]
+    fn young_texture_with_a_bad_colour_shows_the_colour() {
+        let young = |color: &str, wavelength: &str| {
+            msg(&format!(
+                "{HEAD}\n[[material]]\nname = \"y\"\ntexture = {{ kind = \"young\", \
+                 color = {color}, d = 0.002, wavelength = {wavelength}, distance = 3 }}\n"
+            ))
+        };
+        let m = young("[0.1, -1, 0]", "5e-7");
+        assert!(
+            m.starts_with("t.toml:11: material 2 (\"y\"): texture color must be in "),
+            "{m}"
+        );
+        assert!(m.ends_with(", got color [0.1, -1, 0]"), "{m}");
+        // Its spacing still shows the three numbers it comes from.
+        let m = young("[1, 1, 1]", "-5e-7");
+        assert!(
+            m.ends_with("got d 0.002 wavelength -5e-7 distance 3"),
+            "{m}"
+        );
+        // A checker's bad scale shows the scale, not the colours.
+        let m = msg(&format!(
+            "{HEAD}\n[[material]]\nname = \"c\"\n\
+             texture = {{ kind = \"checker\", a = [1, 1, 1], b = [0, 0, 0], scale = -2 }}\n"
+        ));
+        assert!(
+            m.ends_with("texture scale must be > 0, got scale -2"),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn control_characters_in_echoed_strings_are_escaped() {
+        let check = |m: &str, shown: &str| {
+            assert!(!m.chars().any(char::is_control), "raw control in {m:?}");
+            assert!(m.contains(shown), "{shown} not in {m}");
+        };
+        let text = format!(
+            "{HEAD}\n[[material]]\nname = \"t\"\n\
+             texture = {{ kind = \"\\u001b[2J\\u001b[H\", x = 1 }}\n"
+        );
+        check(&msg(&text), "unknown variant `\\u{1b}[2J\\u{1b}[H`");
+        let text = format!("\"\\u0007\\u202e\" = 1\n{HEAD}");
+        check(&msg(&text), "unknown field `\\u{7}\\u{202e}`");
+        let text = format!(
+            "{HEAD}\n[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"\\u009b31m\"\n"
+        );
+        check(&msg(&text), "unknown material \"\\u{9b}31m\"");
+        let text = format!("{HEAD}\n[render]\nsampler = \"\\r\\u001b[K\"\n");
+        check(&msg(&text), "sampler \"\\r\\u{1b}[K\"");
+        let e = parse("x", "evil\u{1b}]0;title\u{7}.toml").unwrap_err();
+        check(&e.to_string(), "evil\\u{1b}]0;title\\u{7}.toml:");
+        let e = DescError {
+            item: "a\u{1b}".into(),
+            message: "b\u{85}".into(),
+        };
+        assert_eq!(e.to_string(), "a\\u{1b}: b\\u{85}");
+    }
+
+    #[test]
+    fn duplicate_key_is_named_with_its_place() {
+        let m = msg(&HEAD.replace("near = 0.1", "near = 0.1\nnear = 0.2"));
+        assert_eq!(m, "t.toml:5:1: duplicate key `near`");
+        assert_eq!(
+            msg(&format!("{HEAD}\n[camera]\n")),
+            "t.toml:11:2: duplicate key `camera`"
+        );
+        let m = msg(&format!("a.b = 1\n a.b = 2\n{HEAD}"));
+        assert_eq!(m, "t.toml:2:4: duplicate key `a.b`");
+        let m = msg(&format!(
+            "sphere = [{{ radius = 1, \"radius\" = 2 }}]\n{HEAD}"
+        ));
+        assert_eq!(m, "t.toml:1:25: duplicate key `\"radius\"`");
+        let long = "k".repeat(100);
+        let m = msg(&format!("{long} = 1\n{long} = 2\n{HEAD}"));
+        assert_eq!(
+            m,
+            format!("t.toml:2:1: duplicate key `{}…`", "k".repeat(64))
+        );
+    }
+
+    fn desc(text: &str) -> SceneDesc {
+        parse(text, "t.toml").unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn fovy_in_radians_is_warned() {
+        let d = desc(&HEAD.replace("near = 0.1", "fovy = 1.05\nnear = 0.1"));
+        let w = warnings(&d);
+        let radians = "camera: fovy 1.05 is less than pi degrees: it looks like radians \
+                       (1.05 radians would be fovy = 60.2); fovy is in degrees";
+        assert_eq!(w, vec![radians.to_string()]);
+        let d = desc(&HEAD.replace("near = 0.1", "fovy = 3.1\nnear = 0.1"));
+        assert!(
+            warnings(&d)[0].contains("would be fovy = 177.6"),
+            "{:?}",
+            warnings(&d)
+        );
+        // 3.2 radians would be more than 180 degrees: no field of view, so meant.
+        for fovy in ["3.2", "4", "60", "179"] {
+            let d = desc(&HEAD.replace("near = 0.1", &format!("fovy = {fovy}\nnear = 0.1")));
+            assert!(!warnings(&d).iter().any(|w| w.contains("fovy")), "{fovy}");
+        }
+    }
+
+    #[test]
+    fn unlit_scene_is_warned() {
+        let unlit = "scene: nothing lights the surfaces (no light with intensity > 0 and \
+                     ambient = [0, 0, 0]): they render black but for what they reflect or \
+                     transmit";
+        let base = format!("{HEAD}{}", sphere("1"));
+        assert_eq!(warnings(&desc(&base)), vec![unlit.to_string()]);
+        let dark = format!("{base}\n[[light]]\nposition = [0, 5, 0]\nintensity = 0\n");
+        assert_eq!(warnings(&desc(&dark)), vec![unlit.to_string()]);
+        let lit = format!("{base}\n[[light]]\nposition = [0, 5, 0]\nintensity = 10\n");
+        assert_eq!(warnings(&desc(&lit)), Vec::<String>::new());
+        let ambient = format!("ambient = [0.1, 0, 0]\n{base}");
+        assert_eq!(warnings(&desc(&ambient)), Vec::<String>::new());
+        // Nothing to light: no warning.
+        assert_eq!(warnings(&desc(HEAD)), Vec::<String>::new());
+    }
+
+    #[test]
+    fn reflection_without_depth_is_warned() {
+        let text = format!(
+            "ambient = [0.1, 0.1, 0.1]\n{HEAD}reflectivity = 0.5\n\n[[material]]\n\
+             name = \"g\\u001b\"\ntransparency = 0.9\nior = 1.5\n\n[render]\ndepth = 0\n"
+        );
+        let effect = "no effect with [render] depth = 0 \
+                      (no reflected or refracted ray is traced; depth >= 1 traces them)";
+        assert_eq!(
+            warnings(&desc(&text)),
+            vec![
+                format!("material 1 (\"red\"): reflectivity has {effect}"),
+                format!("material 2 (\"g\\u{{1b}}\"): transparency has {effect}"),
+            ]
+        );
+        let deeper = text.replace("depth = 0", "depth = 1");
+        assert_eq!(warnings(&desc(&deeper)), Vec::<String>::new());
+    }
+
+    #[test]
+    fn scene_files_have_no_warnings() {
+        let mut files = Vec::new();
+        toml_files(&scenes_dir(), &mut files);
+        for f in &files {
+            let d = load(f).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(warnings(&d), Vec::<String>::new(), "{}", f.display());
+        }
     }
 }
