@@ -1474,6 +1474,105 @@ mod tests {
         assert!(e.to_string().contains("work limit"), "{e}");
     }
 
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn devices_folders_and_empty_names_are_refused_without_touching_them() {
+        use output::Target;
+        let e = Target::check(Path::new("/dev/null"), &[]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "refusing to write /dev/null: it is a character device, not a regular file"
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let e = Target::check(dir.path(), &[]).unwrap_err().to_string();
+        assert!(e.ends_with("it is a folder, not a regular file"), "{e}");
+        let e = Target::check(Path::new(""), &[]).unwrap_err().to_string();
+        assert!(e.contains("the file name is empty"), "{e}");
+        // The same file twice in one write.
+        let a = dir.path().join("a.png");
+        std::os::unix::fs::symlink("a.png", dir.path().join("b.png")).unwrap();
+        let e = Target::check_all(&[a.clone(), dir.path().join("b.png")], &[])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("b.png") && e.contains("names the same file"),
+            "{e}"
+        );
+        assert_eq!(names(dir.path()), vec!["b.png"]);
+    }
+
+    #[test]
+    fn a_failed_rename_puts_back_every_output_and_leaves_no_temporary_file() {
+        use output::{Pending, Target, commit};
+        let dir = tempfile::tempdir().unwrap();
+        let path = |n: &str| dir.path().join(n);
+        std::fs::write(path("a.png"), b"old a").unwrap();
+        let targets =
+            Target::check_all(&[path("a.png"), path("b.png"), path("c.png")], &[]).unwrap();
+        let mut files = Vec::new();
+        for t in targets {
+            let mut f = Pending::create(t).unwrap();
+            f.write_all(b"new").unwrap();
+            files.push(f);
+        }
+        assert_eq!(names(dir.path()).len(), 4);
+        // c.png becomes a folder (with a file in it) after the check.
+        std::fs::create_dir(path("c.png")).unwrap();
+        std::fs::write(path("c.png/x"), b"x").unwrap();
+        let e = commit(files).unwrap_err().to_string();
+        assert!(
+            e.contains("cannot write") && e.contains("c.png: renaming onto it the temporary file"),
+            "{e}"
+        );
+        assert_eq!(std::fs::read(path("a.png")).unwrap(), b"old a");
+        assert_eq!(names(dir.path()), vec!["a.png", "c.png"]);
+        // Without the obstacle: all replaced, nothing else left.
+        std::fs::remove_dir_all(path("c.png")).unwrap();
+        let targets =
+            Target::check_all(&[path("a.png"), path("b.png"), path("c.png")], &[]).unwrap();
+        let mut files = Vec::new();
+        for t in targets {
+            let mut f = Pending::create(t).unwrap();
+            f.write_all(b"new").unwrap();
+            files.push(f);
+        }
+        commit(files).unwrap();
+        assert_eq!(names(dir.path()), vec!["a.png", "b.png", "c.png"]);
+        assert_eq!(std::fs::read(path("a.png")).unwrap(), b"new");
+    }
+
+    #[test]
+    fn an_unfinished_output_removes_its_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let t = output::Target::check(&dir.path().join("x.png"), &[]).unwrap();
+        let mut f = output::Pending::create(t).unwrap();
+        f.write_all(b"half").unwrap();
+        let name = f.temp().file_name().unwrap().to_string_lossy().into_owned();
+        assert!(name.starts_with(".tessera-") && name.len() < 48, "{name}");
+        assert_eq!(names(dir.path()), vec![name]);
+        drop(f);
+        assert!(names(dir.path()).is_empty());
+        // A write that fails: the error names the temporary file.
+        let e = output::write_with(&dir.path().join("y.png"), &[], |_| {
+            Err(HostError::Write(std::io::Error::other("disk on fire")))
+        })
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("y.png: writing the temporary file") && e.contains("disk on fire"),
+            "{e}"
+        );
+        assert!(names(dir.path()).is_empty());
+    }
+
     #[test]
     fn figures_for_people() {
         assert_eq!(limits::thousands(0), "0");

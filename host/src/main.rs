@@ -58,11 +58,14 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to a PNG (the default command).
+    #[command(after_long_help = OUTPUT_HELP)]
     Render(RenderArgs),
     /// Render with the core (f32) and the reference (f64) and print the accuracy.
+    #[command(after_long_help = OUTPUT_HELP)]
     Compare(CompareArgs),
     /// Draw a scene onto a simulated display panel (embedded-graphics-simulator) and
     /// save what the panel shows.
+    #[command(after_long_help = OUTPUT_HELP)]
     Simulate(SimulateArgs),
     /// Measure the speed/accuracy trade of this build's math backend: one row per
     /// setting (tab-separated), host ns/pixel on one thread and accuracy against a
@@ -144,7 +147,7 @@ struct Common {
 struct RenderArgs {
     #[command(flatten)]
     common: Common,
-    /// Output PNG (a symbolic link is followed; see `tessera --help`)
+    /// Output PNG (a symbolic link is followed; see below)
     #[arg(short, long, default_value = "tessera.png")]
     output: PathBuf,
 }

@@ -2,28 +2,11 @@
 //! failure must print a clear message on stderr, exit non-zero, and leave an
 //! existing output file untouched.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_tessera"))
-}
-
-/// A fresh, empty folder for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tessera-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn scenes() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes")
-}
+use common::{bin, scenes, scratch, temps, text};
+use std::path::Path;
+use std::process::Output;
 
 #[test]
 fn no_arguments_renders_the_default_scene_and_says_where() {
@@ -110,11 +93,7 @@ fn fails(dir: &Path, args: &[&str]) -> String {
         b"precious",
         "{args:?} touched the output"
     );
-    let leftovers: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
-        .collect();
+    let leftovers = temps(dir);
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
     stderr
 }
@@ -208,6 +187,11 @@ fn unwritable_output_is_an_error_that_names_the_file() {
     let t = target.to_string_lossy().into_owned();
     let e = fails(&dir, &["render", "--size", "16x16", "-o", &t]);
     assert!(e.contains("cannot write") && e.contains("x.png"), "{e}");
+    // The path that failed is the temporary file's, in the missing folder.
+    assert!(
+        e.contains("creating the temporary file") && e.contains("no-such-folder/.tessera-"),
+        "{e}"
+    );
     // A folder in the way of the file.
     std::fs::create_dir_all(dir.join("taken.png")).unwrap();
     let e = fails(&dir, &["render", "--size", "16x16", "-o", "taken.png"]);
@@ -283,4 +267,54 @@ fn simulate_saves_what_a_240x240_rgb565_panel_shows() {
     assert_eq!(&gif[..6], b"GIF89a");
     let e = fails(&dir, &["simulate", "--color", "rgb999", "-o", "out.png"]);
     assert!(e.contains("rgb565"), "{e}");
+}
+
+#[test]
+fn compare_exits_non_zero_when_the_bar_is_not_met() {
+    // A checkerboard of a million squares per unit: the f32 core and the f64
+    // reference disagree on the parity of some squares, far from any silhouette.
+    let dir = scratch("compare-bar");
+    let body = std::fs::read_to_string(scenes().join("examples/texture-checker.toml")).unwrap();
+    let body = body.replace("scale = 2 }", "scale = 1e6 }");
+    assert!(body.contains("scale = 1e6"));
+    std::fs::write(dir.join("fine.toml"), body).unwrap();
+    let out = bin()
+        .current_dir(&dir)
+        .args([
+            "compare",
+            "fine.toml",
+            "--size",
+            "64x48",
+            "--heatmap",
+            "h.png",
+        ])
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(stdout.contains("): NOT met"), "{stdout}");
+    assert!(
+        stderr.contains("fine.toml: the accuracy bar is NOT met") && stderr.contains("needs"),
+        "{stderr}"
+    );
+    // The heat-map, where to look, is still written.
+    assert!(stdout.contains("wrote h.png"), "{stdout}");
+    assert_eq!(image::open(dir.join("h.png")).unwrap().width(), 64);
+}
+
+#[test]
+fn the_help_says_how_outputs_are_written() {
+    for cmd in ["render", "compare", "simulate"] {
+        let out = bin().args([cmd, "--help"]).output().unwrap();
+        let help = text(&out.stdout).replace('\n', " ");
+        for key in [
+            "A symbolic link is followed: the file it names is written",
+            "a link to a folder is refused",
+            "the input scene file itself",
+            "--threads at most 256",
+            "when compare's accuracy bar is not met",
+        ] {
+            assert!(help.contains(key), "{cmd} --help lacks {key:?}: {help}");
+        }
+    }
 }
