@@ -54,6 +54,24 @@ impl Vec3 {
         )
     }
 
+    /// The cross product with each component to within about 2 ulps however
+    /// nearly parallel the two vectors are: Kahan's difference of products
+    /// `a b - c d = fma(a, b, -cd) + fma(-c, d, cd)` (the second term is the exact
+    /// rounding error of `cd`). For building bases (a software `fma` on chips
+    /// without one: once a frame, not per ray). The products must not overflow.
+    #[must_use]
+    pub fn cross_accurate(self, o: Self) -> Self {
+        fn diff(a: f32, b: f32, c: f32, d: f32) -> f32 {
+            let cd = c * d;
+            libm::fmaf(a, b, -cd) + libm::fmaf(-c, d, cd)
+        }
+        Self::new(
+            diff(self.y, o.z, self.z, o.y),
+            diff(self.z, o.x, self.x, o.z),
+            diff(self.x, o.y, self.y, o.x),
+        )
+    }
+
     /// Squared length.
     #[inline]
     #[must_use]

@@ -1198,6 +1198,87 @@ pub fn up_forward() -> UpForward {
     out
 }
 
+/// Angles between up and forward in the roll part of case 6, radians.
+pub const ROLL_ANGLES: [f64; 5] = [1e-7, 1e-6, 1e-5, 1e-4, 1e-3];
+
+/// Figures of case 6, the roll set by an up nearly parallel to forward.
+#[derive(Clone, Debug, Default)]
+pub struct UpRoll {
+    /// Cameras built.
+    pub cameras: usize,
+    /// Rays compared (corners, edge midpoints and centre of each viewport).
+    pub rays: usize,
+    /// Largest distance between the core's and the `f64` direction, in pixels.
+    pub worst_px: f64,
+    /// The angle (radians) at which `worst_px` was found.
+    pub worst_angle: f64,
+}
+
+/// Case 6, roll: `up` at each of [`ROLL_ANGLES`] from forward (several forwards and
+/// directions of the tilt, 640x480 and 64x48 viewports, 60 and 100 degrees), the
+/// primary rays' directions against an `f64` basis built from the same `f32`
+/// inputs. The example: forward (0.3, 0.4, 0.5), up (0.300002, 0.4,
+/// 0.4999988), 640x480, was rolled by 3.9 pixels at the corners.
+#[must_use]
+pub fn up_roll() -> UpRoll {
+    let mut out = UpRoll::default();
+    let forwards = [
+        D3::new(0.3, 0.4, 0.5),
+        D3::new(0.0, 0.0, -1.0),
+        D3::new(-0.7, 0.1, 0.2),
+        D3::new(1.0, 1e-3, -2e-3),
+    ];
+    let mut cases: Vec<(Vec3, Vec3)> = vec![(
+        Vec3::new(0.3, 0.4, 0.5),
+        Vec3::new(0.300_002, 0.4, 0.499_998_8),
+    )];
+    for f in forwards {
+        let fu = f.norm();
+        let (p, q) = fu.basis();
+        for angle in ROLL_ANGLES {
+            for axis in [p, q, (p - q * 0.3).norm()] {
+                let up = fu * angle.cos() + axis * angle.sin();
+                cases.push((f.f32(), (up * 2.5).f32()));
+            }
+        }
+    }
+    for (fwd, up) in cases {
+        for (fovy, w, h) in [(60.0f32, 640u16, 480u16), (100.0, 64, 48)] {
+            let vp = Viewport::new(w, h);
+            let cam = Camera::try_new(Vec3::ZERO, fwd, up, fovy, 0.1, 100.0).expect("camera");
+            let basis = CameraBasis::try_new(&cam, vp).expect("basis");
+            let rb = RefBasis::new(D3::of(fwd), D3::of(up), f64::from(fovy), 0.1, vp);
+            let angle = D3::of(fwd).norm().cross(D3::of(up).norm()).len().asin();
+            out.cameras += 1;
+            let (fw, fh) = (f64::from(w), f64::from(h));
+            for (x, y) in [
+                (0.0, 0.0),
+                (fw, 0.0),
+                (0.0, fh),
+                (fw, fh),
+                (fw / 2.0, 0.0),
+                (0.0, fh / 2.0),
+                (fw / 2.0, fh / 2.0),
+            ] {
+                let (ray, _) = basis.ray(x as f32, y as f32);
+                let d = D3::of(ray.dir).norm();
+                let truth = rb.dir(x, y);
+                let (cx, cy) = (x.clamp(0.5, fw - 0.5), y.clamp(0.5, fh - 0.5));
+                let pixel = (rb.dir(cx + 0.5, cy) - rb.dir(cx - 0.5, cy))
+                    .len()
+                    .min((rb.dir(cx, cy + 0.5) - rb.dir(cx, cy - 0.5)).len());
+                out.rays += 1;
+                let px = (d - truth).len() / pixel;
+                if px > out.worst_px {
+                    out.worst_px = px;
+                    out.worst_angle = angle;
+                }
+            }
+        }
+    }
+    out
+}
+
 // ---------------------------------------------------------------------------------
 // Case 7: scale invariance (and case 8: flush-to-zero)
 // ---------------------------------------------------------------------------------

@@ -5,6 +5,7 @@ mod builtin_images;
 mod convergence;
 mod culling;
 mod extremes;
+mod finite;
 mod firmware;
 mod frustum;
 mod golden;

@@ -82,11 +82,11 @@ impl RefCamera {
             }
         };
         let fwd = forward.normalize();
-        let up = V3::from_array(c.up).normalize();
+        let up = V3::from_array(c.up);
         let (nl, nh) = (f64::from(viewport.width), f64::from(viewport.height));
         let height = 2.0 * c.near * (c.fovy.to_radians() / 2.0).tan();
         let width = nl / nh * height;
-        let right = right_vector(fwd, up);
+        let right = right_vector(fwd, forward, up);
         let down = fwd.cross(right).normalize();
         Ok(Self {
             position,
@@ -115,11 +115,13 @@ impl RefCamera {
     }
 }
 
-/// `normalize(fwd x up)` after one Gram-Schmidt step against `fwd`; when `up` is
-/// (nearly) parallel to `fwd`, the world axis least aligned with `fwd` replaces it.
-fn right_vector(fwd: V3, up: V3) -> V3 {
-    let mut right = fwd.cross(up);
-    if right.length() <= 1e-6 {
+/// `normalize(forward x up)` (the inputs as given: the direction does not depend on
+/// their lengths) after one Gram-Schmidt step against the unit `fwd`; only
+/// when `up` is exactly parallel to `fwd` (a zero cross product, as in the core) does
+/// the world axis least aligned with `fwd` replace it.
+fn right_vector(fwd: V3, forward: V3, up: V3) -> V3 {
+    let mut right = forward.cross(up);
+    if right.length() == 0.0 {
         let a = fwd.abs();
         let axis = if a.x <= a.y && a.x <= a.z {
             V3::X
@@ -130,6 +132,7 @@ fn right_vector(fwd: V3, up: V3) -> V3 {
         };
         right = fwd.cross(axis);
     }
+    let right = right.normalize();
     (right - fwd * fwd.dot(right)).normalize()
 }
 
