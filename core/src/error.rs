@@ -219,11 +219,13 @@ pub const MIN_LENGTH: f32 = f32::from_bits((127 - 52) << 23);
 /// texture colours, light colours, the ambient light and the background (1 is full
 /// scale). With the shader's cap on a light's `intensity / r^2` (`2^64`, see
 /// [`crate::shade`]) no sum the renderer forms can overflow `f32`: a light's term is
-/// at most `2^16 * 2^64 * 2^16 = 2^96`, summed over at most `2^16` lights, over the
+/// at most about `2^16 * 2^64 * 2^17 = 2^97` (colour, irradiance, diffuse colour
+/// plus highlight), summed over fewer than `2^14` lights, over the
 /// `MAX_DEPTH + 1 <= 2^4` levels of a ray tree (whose weights sum to at most 1 per
 /// level, reflectivity plus transparency being at most 1) and over at most `2^12`
-/// samples of a pixel: below `2^128`. So an accepted scene never gives a NaN or
-/// infinite colour (`inf * 0` needs an infinity first).
+/// samples of a pixel: below `2^128`. So an accepted scene (of fewer than 16,384
+/// lights) never gives a NaN or infinite colour (`inf * 0` needs an infinity
+/// first).
 pub const MAX_COLOR: f32 = 65_536.0;
 
 /// The range message for colours.
