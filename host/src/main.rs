@@ -209,6 +209,10 @@ impl Source {
             ));
         }
         let desc = tessera_host::file::load(path).map_err(|e| e.to_string())?;
+        // Accepted values that look like mistakes (fovy in radians, no light, ...).
+        for w in tessera_host::file::warnings(&desc) {
+            eprintln!("tessera: warning: {name}: {w}");
+        }
         Ok(Self::File(name.to_string(), Box::new(desc)))
     }
 

@@ -75,6 +75,30 @@ fn a_scene_file_renders_with_its_own_settings() {
     assert_eq!(img.dimensions(), (64, 48));
 }
 
+/// A value that looks like a mistake (fovy in radians) is rendered as written,
+/// with a warning on stderr that names the file and says what it looks like.
+#[test]
+fn a_fovy_in_radians_renders_with_a_warning() {
+    let dir = scratch("warn");
+    let body = std::fs::read_to_string(scenes().join("chapter-direct.toml"))
+        .unwrap()
+        .replace("fovy = 60.0", "fovy = 1.05");
+    assert!(body.contains("fovy = 1.05"));
+    let scene = write(&dir, "radians.toml", &body);
+    let out = bin()
+        .current_dir(&dir)
+        .args(["render", &scene, "--size", "16x12", "-o", "w.png"])
+        .output()
+        .unwrap();
+    let stderr = text(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning") && stderr.contains("radians.toml") && stderr.contains("radians"),
+        "{stderr}"
+    );
+    assert!(dir.join("w.png").exists());
+}
+
 /// Runs the binary on bad input with an existing output file and checks the
 /// failure contract; returns stderr.
 fn fails(dir: &Path, args: &[&str]) -> String {
