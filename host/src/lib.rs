@@ -180,6 +180,26 @@ fn one_tile<const N: usize>(
     Ok((tile, rays))
 }
 
+/// Renders tiles `tiles` (row-major indices, `across` tiles a row) of `frame` on
+/// the current rayon pool, in order, calling `on_tile` after each (for progress).
+fn tiles_parallel<const N: usize>(
+    scene: &SceneView<'_>,
+    frame: &Frame,
+    across: usize,
+    tiles: std::ops::Range<usize>,
+    on_tile: &(dyn Fn() + Sync),
+) -> Result<Vec<(Tile<N>, RayCount)>, tessera::Error> {
+    use rayon::prelude::*;
+    tiles
+        .into_par_iter()
+        .map(|i| {
+            let t = one_tile::<N>(scene, frame, across, i)?;
+            on_tile();
+            Ok(t)
+        })
+        .collect()
+}
+
 /// Renders every tile of `frame` with tiles of `N x N` on the current rayon pool,
 /// calling `on_tile` after each tile (for progress), and assembles the image. The
 /// bytes do not depend on the number of threads: a pixel depends only on its
@@ -189,19 +209,11 @@ pub fn render_parallel<const N: usize>(
     frame: &Frame,
     on_tile: &(dyn Fn() + Sync),
 ) -> Result<(RgbImage, RayCount), HostError> {
-    use rayon::prelude::*;
     let vp = frame.viewport();
     let (across, down) = frame.tile_grid(N);
     let across = usize::from(across);
     let count = across * usize::from(down);
-    let tiles: Vec<(Tile<N>, RayCount)> = (0..count)
-        .into_par_iter()
-        .map(|i| {
-            let t = one_tile::<N>(scene, frame, across, i)?;
-            on_tile();
-            Ok(t)
-        })
-        .collect::<Result<_, tessera::Error>>()?;
+    let tiles = tiles_parallel::<N>(scene, frame, across, 0..count, on_tile)?;
     let mut img = RgbImage::new(u32::from(vp.width), u32::from(vp.height));
     let mut rays = RayCount::default();
     for (tile, r) in &tiles {
@@ -277,7 +289,6 @@ fn stream<const N: usize, W: Write + Seek + Send>(
     on_tile: &(dyn Fn() + Sync),
     out: W,
 ) -> Result<(RayCount, W), HostError> {
-    use rayon::prelude::*;
     let vp = frame.viewport();
     let (width, height) = (usize::from(vp.width), usize::from(vp.height));
     let (across, down) = frame.tile_grid(N);
@@ -289,14 +300,8 @@ fn stream<const N: usize, W: Write + Seek + Send>(
     let mut rays = RayCount::default();
     for first in (0..down).step_by(group) {
         let rows = group.min(down - first);
-        let tiles: Vec<(Tile<N>, RayCount)> = (first * across..(first + rows) * across)
-            .into_par_iter()
-            .map(|i| {
-                let t = one_tile::<N>(scene, frame, across, i)?;
-                on_tile();
-                Ok(t)
-            })
-            .collect::<Result<_, tessera::Error>>()?;
+        let band_tiles = first * across..(first + rows) * across;
+        let tiles = tiles_parallel::<N>(scene, frame, across, band_tiles, on_tile)?;
         let top = first * N;
         for (tile, r) in &tiles {
             place_in(&mut band, width, top, tile);

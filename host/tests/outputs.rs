@@ -12,6 +12,20 @@ fn run(dir: &Path, args: &[&str]) -> Output {
     bin().current_dir(dir).args(args).output().unwrap()
 }
 
+/// Runs `args` in `dir`; it must fail with status 1 and a message containing
+/// `message`.
+fn refused(dir: &Path, args: &[&str], message: &str) {
+    let out = run(dir, args);
+    let e = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {e}");
+    assert!(e.contains(message), "{args:?}: {e}");
+}
+
+/// True when `p` is itself a symbolic link (dangling or not).
+fn is_link(p: &Path) -> bool {
+    std::fs::symlink_metadata(p).is_ok_and(|m| m.is_symlink())
+}
+
 fn is_png(p: &Path) -> bool {
     std::fs::read(p).is_ok_and(|b| b.starts_with(b"\x89PNG"))
 }
@@ -37,12 +51,10 @@ fn an_output_that_is_not_a_regular_file_is_refused() {
         .status()
         .unwrap();
     assert!(made.success());
-    let out = run(&dir, &["render", "--size", "16x16", "-o", "pipe.png"]);
-    let e = text(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{e}");
-    assert!(
-        e.contains("refusing to write pipe.png: it is a FIFO"),
-        "{e}"
+    refused(
+        &dir,
+        &["render", "--size", "16x16", "-o", "pipe.png"],
+        "refusing to write pipe.png: it is a FIFO",
     );
     use std::os::unix::fs::FileTypeExt;
     assert!(
@@ -66,42 +78,23 @@ fn a_symbolic_link_is_written_through_and_stays() {
     symlink("sub/real.png", dir.join("link.png")).unwrap();
     let out = run(&dir, &["render", "--size", "16x16", "-o", "link.png"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    assert!(
-        std::fs::symlink_metadata(dir.join("link.png"))
-            .unwrap()
-            .is_symlink()
-    );
+    assert!(is_link(&dir.join("link.png")));
     assert!(is_png(&dir.join("sub/real.png")));
     // Dangling, through a chain of two links: the file is created where it points.
     symlink("sub/new.png", dir.join("dangling.png")).unwrap();
     symlink("dangling.png", dir.join("chain.png")).unwrap();
     let out = run(&dir, &["render", "--size", "16x16", "-o", "chain.png"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    assert!(
-        std::fs::symlink_metadata(dir.join("chain.png"))
-            .unwrap()
-            .is_symlink()
-    );
-    assert!(
-        std::fs::symlink_metadata(dir.join("dangling.png"))
-            .unwrap()
-            .is_symlink()
-    );
+    assert!(is_link(&dir.join("chain.png")) && is_link(&dir.join("dangling.png")));
     assert!(is_png(&dir.join("sub/new.png")));
     // To a folder: refused, the link and the folder untouched.
     symlink("sub", dir.join("folder.png")).unwrap();
-    let out = run(&dir, &["render", "--size", "16x16", "-o", "folder.png"]);
-    let e = text(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{e}");
-    assert!(
-        e.contains("refusing to write folder.png: it is a folder (the symbolic link's target sub)"),
-        "{e}"
+    refused(
+        &dir,
+        &["render", "--size", "16x16", "-o", "folder.png"],
+        "refusing to write folder.png: it is a folder (the symbolic link's target sub)",
     );
-    assert!(
-        std::fs::symlink_metadata(dir.join("folder.png"))
-            .unwrap()
-            .is_symlink()
-    );
+    assert!(is_link(&dir.join("folder.png")));
     assert_eq!(entries(&dir.join("sub")), vec!["new.png", "real.png"]);
     assert!(temps(&dir).is_empty() && temps(&dir.join("sub")).is_empty());
 }
@@ -149,13 +142,7 @@ fn the_input_scene_is_never_the_output() {
             "scene.toml",
         ],
     ] {
-        let out = run(&dir, &args);
-        let e = text(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{args:?}: {e}");
-        assert!(
-            e.contains("it is the input scene file scene.toml"),
-            "{args:?}: {e}"
-        );
+        refused(&dir, &args, "it is the input scene file scene.toml");
         assert_eq!(
             std::fs::read(dir.join("scene.toml")).unwrap(),
             scene,
@@ -170,13 +157,11 @@ fn orbit_frames_are_all_or_nothing() {
     let dir = scratch("orbit");
     std::fs::write(dir.join("f-000.png"), b"precious").unwrap();
     std::fs::create_dir(dir.join("f-001.png")).unwrap();
-    let out = run(
+    refused(
         &dir,
         &["simulate", "--orbit", "3", "--size", "16x16", "-o", "f.png"],
+        "f-001.png: it is a folder",
     );
-    let e = text(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{e}");
-    assert!(e.contains("f-001.png: it is a folder"), "{e}");
     assert_eq!(std::fs::read(dir.join("f-000.png")).unwrap(), b"precious");
     assert_eq!(entries(&dir), vec!["f-000.png", "f-001.png"]);
     // Unblocked: all three written.

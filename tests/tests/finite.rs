@@ -6,10 +6,10 @@
 
 use proptest::prelude::*;
 use tessera::{
-    Aabb, Camera, Color, Frame, MAX_COLOR, MAX_EXTENT, MIN_LENGTH, Material, Plane, PointLight,
-    RenderSettings, Rgb8, Sampler, Scene, SceneView, Sphere, Texture, Tile, TileCoord, Triangle,
-    Vec3, Viewport,
+    Aabb, Camera, Color, MAX_COLOR, MAX_EXTENT, MIN_LENGTH, Material, Plane, PointLight,
+    RenderSettings, Sampler, Scene, Sphere, Texture, Triangle, Vec3, Viewport,
 };
+use tessera_host::render_tiles;
 
 /// A number from the whole `f32` range that matters here: exact ends of the
 /// accepted ranges, just beyond them, and log-uniform magnitudes of either sign.
@@ -265,29 +265,6 @@ fn build(r: &Recipe) -> Option<WildScene> {
     Some(s)
 }
 
-/// The frame's bytes, rendered with tiles of `N`.
-fn render<const N: usize>(view: &SceneView<'_>, frame: &Frame) -> Vec<Rgb8> {
-    let vp = frame.viewport();
-    let (w, h) = (usize::from(vp.width), usize::from(vp.height));
-    let mut out = vec![Rgb8::new(0, 0, 0); w * h];
-    let (across, down) = frame.tile_grid(N);
-    let mut tile = Tile::<N>::new();
-    for ty in 0..down {
-        for tx in 0..across {
-            frame
-                .render_tile(view, TileCoord::new(tx, ty), &mut tile)
-                .unwrap();
-            let (x0, y0) = tile.origin();
-            for (dy, row) in tile.rows().enumerate() {
-                for (dx, &p) in row.iter().enumerate() {
-                    out[(y0 as usize + dy) * w + x0 as usize + dx] = p;
-                }
-            }
-        }
-    }
-    out
-}
-
 /// Scenes built and rendered by the property below (the test checks that the
 /// generator is not refused too often to mean anything).
 static RENDERED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
@@ -329,8 +306,8 @@ proptest! {
                 );
             }
         }
-        let eight = render::<8>(&view, &frame);
-        prop_assert!(eight == render::<16>(&view, &frame), "tiles of 8 and 16 differ");
-        prop_assert!(eight == render::<32>(&view, &frame), "tiles of 8 and 32 differ");
+        let eight = render_tiles::<8>(&view, &frame, None).unwrap();
+        prop_assert!(eight == render_tiles::<16>(&view, &frame, None).unwrap(), "tiles of 8 and 16 differ");
+        prop_assert!(eight == render_tiles::<32>(&view, &frame, None).unwrap(), "tiles of 8 and 32 differ");
     }
 }

@@ -260,31 +260,36 @@ fn agreement(a: &image::RgbImage, b: &image::RgbImage) -> ([f64; 3], f64) {
     (within.map(|w| w as f64 / n), pixels_1 as f64 / n)
 }
 
+/// Renders `d` at 160x120, depth 4, centre and stratified 2x2, with the reference
+/// (checked finite) and the core; per setting the reference image and the
+/// [`agreement`] figures (printed).
+fn against_the_core(d: &SceneDesc) -> Vec<(RefImage, [f64; 3], f64)> {
+    let vp = Viewport::new(160, 120);
+    let scene = d.to_core().unwrap();
+    [(Sampler::Centre, 0), (Sampler::Stratified(2), 7)]
+        .into_iter()
+        .map(|(sampler, seed)| {
+            let settings = RenderSettings {
+                sampler,
+                max_depth: 4,
+                seed,
+            };
+            let reference = render(d, vp, &settings).unwrap();
+            assert_eq!(reference.non_finite(), 0);
+            let core = crate::render(&scene.view(), scene.camera(), vp, settings, 16).unwrap();
+            let (within, pixels_1) = agreement(&reference.to_rgb8(), &core);
+            println!(
+                "{sampler:?}: pixels within 0/1/2 LSB: {:.4} / {:.4} / {:.4}",
+                within[0], within[1], within[2]
+            );
+            (reference, within, pixels_1)
+        })
+        .collect()
+}
+
 #[test]
 fn agrees_with_the_core_on_a_hand_written_scene() {
-    let d = test_scene();
-    let vp = Viewport::new(160, 120);
-    for settings in [
-        RenderSettings {
-            sampler: Sampler::Centre,
-            max_depth: 4,
-            seed: 0,
-        },
-        RenderSettings {
-            sampler: Sampler::Stratified(2),
-            max_depth: 4,
-            seed: 7,
-        },
-    ] {
-        let reference = render(&d, vp, &settings).unwrap();
-        assert_eq!(reference.non_finite(), 0);
-        let scene = d.to_core().unwrap();
-        let core = crate::render(&scene.view(), scene.camera(), vp, settings, 16).unwrap();
-        let (within, pixels_1) = agreement(&reference.to_rgb8(), &core);
-        println!(
-            "{:?}: pixels within 0/1/2 LSB: {:.4} / {:.4} / {:.4}",
-            settings.sampler, within[0], within[1], within[2]
-        );
+    for (reference, within, pixels_1) in against_the_core(&test_scene()) {
         assert!(pixels_1 >= 0.99, "{within:?}");
         // Every kind of primitive is seen: signatures vary across the image.
         let mut kinds = reference.signature.clone();
@@ -333,29 +338,7 @@ fn agrees_with_the_core_where_fast_math_approximates() {
     } else {
         0.999
     };
-    let d = approximated_scene();
-    let vp = Viewport::new(160, 120);
-    for settings in [
-        RenderSettings {
-            sampler: Sampler::Centre,
-            max_depth: 4,
-            seed: 0,
-        },
-        RenderSettings {
-            sampler: Sampler::Stratified(2),
-            max_depth: 4,
-            seed: 7,
-        },
-    ] {
-        let reference = render(&d, vp, &settings).unwrap();
-        assert_eq!(reference.non_finite(), 0);
-        let scene = d.to_core().unwrap();
-        let core = crate::render(&scene.view(), scene.camera(), vp, settings, 16).unwrap();
-        let (within, pixels_1) = agreement(&reference.to_rgb8(), &core);
-        println!(
-            "{:?}: pixels within 0/1/2 LSB: {:.4} / {:.4} / {:.4}",
-            settings.sampler, within[0], within[1], within[2]
-        );
+    for (_, within, pixels_1) in against_the_core(&approximated_scene()) {
         assert!(pixels_1 >= bound, "{pixels_1} < {bound}: {within:?}");
     }
 }
