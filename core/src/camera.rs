@@ -246,7 +246,7 @@ impl CameraBasis {
         let len = d.length();
         let dir = d / len;
         let origin = self.position + d;
-        (Ray::new(origin, dir), len * self.far_over_near_minus_one)
+        (Ray::unit(origin, dir), len * self.far_over_near_minus_one)
     }
 
     /// The unnormalised direction of the primary ray through `(x, y)`: from the

@@ -36,6 +36,8 @@ pub enum Field {
     AmbientLight,
     Background,
     SubPixelOffset,
+    RayOrigin,
+    RayDirection,
 }
 
 impl Field {
@@ -72,6 +74,8 @@ impl Field {
             Self::AmbientLight => "scene ambient light",
             Self::Background => "scene background",
             Self::SubPixelOffset => "sub-pixel offset",
+            Self::RayOrigin => "ray origin",
+            Self::RayDirection => "ray direction",
         }
     }
 }

@@ -1,22 +1,75 @@
 //! The chapter's ray equation `r(t) = r0 + v t`, with `|v| = 1`, and the robust
 //! spawning of secondary rays.
 
+use crate::error::{Error, Field};
 use crate::vec::Vec3;
 
 /// A ray: origin `r0` and unit direction `v`; the point at time `t` is `r0 + v t`.
+///
+/// The fields are private so that no ray can hold a direction of the wrong length:
+/// every intersection test relies on `|v| = 1` (the sphere's half-`b` quadratic most
+/// of all, which would report a miss for a direction of length 2 while the plane,
+/// triangle and box return the parametric `t`). Build one with [`Ray::new`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
-    /// Origin `r0`.
-    pub origin: Vec3,
-    /// Unit direction `v`.
-    pub dir: Vec3,
+    pub(crate) origin: Vec3,
+    pub(crate) dir: Vec3,
 }
 
+/// How far from 1 the squared length of a direction may be for [`Ray::new`] to keep
+/// it bit for bit: 2^-20, about 8 ulp of 1. A unit vector rounded to `f32` (each
+/// component within half an ulp) is well inside; the intersection tests' error
+/// bounds do not depend on more.
+const UNIT_TOLERANCE: f32 = 1.0 / (1u32 << 20) as f32;
+
 impl Ray {
-    /// A ray from an origin and a direction that the caller guarantees is unit length.
+    /// A ray from `origin` in the direction of `dir`, of any non-zero length.
+    ///
+    /// A direction that is already unit to `f32` precision (squared length within
+    /// 2^-20 of 1, e.g. one normalised in `f64` and rounded) is kept bit for bit;
+    /// any other is normalised, so `Ray::new(o, 2 z)` is the ray `Ray::new(o, z)`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::NotFinite`] for a NaN or infinite component of the origin or the
+    /// direction, and [`Error::ZeroLength`] for a direction that cannot be
+    /// normalised (zero).
+    pub fn new(origin: Vec3, dir: Vec3) -> Result<Self, Error> {
+        if !origin.is_finite() {
+            return Err(Error::NotFinite(Field::RayOrigin));
+        }
+        if !dir.is_finite() {
+            return Err(Error::NotFinite(Field::RayDirection));
+        }
+        let dir = if crate::math::abs(dir.length_squared() - 1.0) <= UNIT_TOLERANCE {
+            dir
+        } else {
+            dir.try_normalize()
+                .ok_or(Error::ZeroLength(Field::RayDirection))?
+        };
+        Ok(Self { origin, dir })
+    }
+
+    /// A ray whose direction the renderer has just normalised: no check, for the
+    /// hot paths (primary, shadow and secondary rays).
+    #[inline]
     #[must_use]
-    pub const fn new(origin: Vec3, dir: Vec3) -> Self {
+    pub(crate) const fn unit(origin: Vec3, dir: Vec3) -> Self {
         Self { origin, dir }
+    }
+
+    /// The origin `r0`.
+    #[inline]
+    #[must_use]
+    pub const fn origin(&self) -> Vec3 {
+        self.origin
+    }
+
+    /// The unit direction `v`.
+    #[inline]
+    #[must_use]
+    pub const fn dir(&self) -> Vec3 {
+        self.dir
     }
 
     /// The point `r0 + v t`.
@@ -95,8 +148,46 @@ mod tests {
 
     #[test]
     fn at_follows_the_ray_equation() {
-        let r = Ray::new(Vec3::new(1.0, 2.0, 3.0), Vec3::Z);
+        let r = Ray::new(Vec3::new(1.0, 2.0, 3.0), Vec3::Z).unwrap();
         assert_eq!(r.at(2.5), Vec3::new(1.0, 2.0, 5.5));
+    }
+
+    #[test]
+    fn new_normalises_any_length_and_keeps_unit_directions() {
+        let o = Vec3::new(1.0, -2.0, 0.5);
+        for k in [2.0f32, 1e-30, 1e30, 0.5, 1.0 + 1e-5] {
+            let r = Ray::new(o, Vec3::new(0.0, 0.0, k)).unwrap();
+            assert_eq!((r.origin(), r.dir()), (o, Vec3::Z), "length {k}");
+        }
+        let skew = Ray::new(o, Vec3::new(3.0, 4.0, 0.0)).unwrap();
+        assert_eq!(skew.dir(), Vec3::new(0.6, 0.8, 0.0));
+        // A unit vector computed in f64 and rounded keeps its bits.
+        let (x, y, z) = (0.3f64, 0.4f64, 0.5f64);
+        let l = (x * x + y * y + z * z).sqrt();
+        let d = Vec3::new((x / l) as f32, (y / l) as f32, (z / l) as f32);
+        assert_eq!(Ray::new(o, d).unwrap().dir(), d);
+    }
+
+    #[test]
+    fn new_refuses_what_is_not_a_ray() {
+        let o = Vec3::ZERO;
+        assert_eq!(
+            Ray::new(o, Vec3::ZERO),
+            Err(Error::ZeroLength(Field::RayDirection))
+        );
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            assert_eq!(
+                Ray::new(o, Vec3::new(bad, 0.0, 1.0)),
+                Err(Error::NotFinite(Field::RayDirection))
+            );
+            assert_eq!(
+                Ray::new(Vec3::new(0.0, bad, 0.0), Vec3::Z),
+                Err(Error::NotFinite(Field::RayOrigin))
+            );
+        }
+        // The smallest subnormal direction still normalises.
+        let tiny = Ray::new(o, Vec3::new(0.0, -f32::from_bits(1), 0.0)).unwrap();
+        assert_eq!(tiny.dir(), -Vec3::Y);
     }
 
     #[test]

@@ -511,7 +511,7 @@ impl<'a> SceneView<'a> {
             };
             if let Some(lists) = lists {
                 let origin = offset_origin(hit.point, hit.error(ray), n, l);
-                let ray = Ray::new(origin, l);
+                let ray = Ray::unit(origin, l);
                 let skip = hit.skip_for(l);
                 let blocked = match lists {
                     Some(m) => self.occluded_masked(&ray, dist, m, skip),
@@ -603,7 +603,7 @@ fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, f32)>; 2] {
                 let w = kt * (1.0 - fresnel);
                 if w > 0.0 {
                     let origin = offset_origin(hit.point, error, n, dir);
-                    refracted = Some((Ray::new(origin, dir), w));
+                    refracted = Some((Ray::unit(origin, dir), w));
                 }
             }
             None => reflect_w += kt, // total internal reflection
@@ -612,7 +612,7 @@ fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, f32)>; 2] {
     let reflected = if reflect_w > 0.0 {
         let dir = ray.dir.reflect(n).normalize_or(n);
         let origin = offset_origin(hit.point, error, n, dir);
-        Some((Ray::new(origin, dir), reflect_w))
+        Some((Ray::unit(origin, dir), reflect_w))
     } else {
         None
     };
@@ -671,7 +671,7 @@ mod tests {
                 .unwrap(),
             )
             .unwrap();
-            let ray = Ray::new(Vec3::new(0.0, 1.0, 0.0), -Vec3::Y);
+            let ray = Ray::unit(Vec3::new(0.0, 1.0, 0.0), -Vec3::Y);
             let c = s.view().trace(ray, 10.0, 0);
             assert!(c.is_finite(), "{c:?}");
             assert_eq!(c.is_black(), expect_black, "{c:?}");

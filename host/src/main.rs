@@ -482,9 +482,9 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
     let (files, shown) = source.with_core(|view, camera| {
         let cameras = match args.orbit {
             None => vec![*camera],
-            Some(n) => {
-                sim::orbit(camera, sim::pivot(view, camera), n).map_err(|e| e.to_string())?
-            }
+            Some(n) => sim::pivot(view, camera)
+                .and_then(|pivot| sim::orbit(camera, pivot, n))
+                .map_err(|e| e.to_string())?,
         };
         let bar = progress(
             cameras.len() as u64,

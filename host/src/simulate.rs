@@ -139,13 +139,18 @@ pub fn orbit(camera: &Camera, pivot: Vec3, frames: u32) -> Result<Vec<Camera>, H
 /// The point the camera looks at: where its central ray first hits the scene, or,
 /// if it hits nothing, the point of its forward line nearest the origin (at least
 /// ten near distances ahead).
-pub fn pivot(scene: &SceneView<'_>, camera: &Camera) -> Vec3 {
-    let ray = tessera::Ray::new(camera.position(), camera.forward());
+///
+/// # Errors
+///
+/// The core's error if the camera's position or forward direction is not a ray
+/// (not finite): a camera built by [`Camera::try_new`] always is.
+pub fn pivot(scene: &SceneView<'_>, camera: &Camera) -> Result<Vec3, HostError> {
+    let ray = tessera::Ray::new(camera.position(), camera.forward()).map_err(HostError::Core)?;
     let t = scene
         .first_hit(&ray, camera.far())
         .unwrap_or_else(|| (-camera.position()).dot(camera.forward()))
         .max(10.0 * camera.near());
-    ray.at(t)
+    Ok(ray.at(t))
 }
 
 /// An endlessly looping animated GIF written a frame at a time (`delay_ms` per

@@ -179,7 +179,22 @@ impl Rng {
 #[must_use]
 pub fn ray_towards(o: Vec3, target: D3) -> Option<Ray> {
     let d = target - D3::of(o);
-    (d.len() > 0.0).then(|| Ray::new(o, d.norm().f32()))
+    (d.len() > 0.0).then(|| exact_ray(o, d.norm().f32()))
+}
+
+/// The ray from `o` along the unit direction `d`, exactly as given: the battery's
+/// expectations are computed from these bits, so this asserts that [`Ray::new`]
+/// keeps a direction that is unit to `f32` precision (its promise) rather than
+/// normalising it again.
+#[must_use]
+pub fn exact_ray(o: Vec3, d: Vec3) -> Ray {
+    let r = Ray::new(o, d).expect("the battery's rays are finite and non-zero");
+    assert_eq!(
+        (r.origin(), r.dir()),
+        (o, d),
+        "Ray::new changed a unit direction"
+    );
+    r
 }
 
 // ---------------------------------------------------------------------------------
@@ -237,7 +252,7 @@ pub fn far_sphere(ratio: f64, steps: usize, radius: f32) -> FarSphere {
                 };
                 out.rays += 1;
                 // The same f32 ray, exactly, in f64; RTG ch. 7 form (no cancellation).
-                let d = D3::of(ray.dir);
+                let d = D3::of(ray.dir());
                 let dl = d.len();
                 let dn = d * (1.0 / dl);
                 let f = o - c;
@@ -358,7 +373,7 @@ pub fn reintersection(solid: Solid, magnitude: f32, primaries: usize) -> Reinter
             let primary = |rng: &mut Rng| {
                 if rng.index(4) == 0 {
                     let o = (c + rng.dir() * rng.range(0.0, 0.8)).f32();
-                    Ray::new(o, rng.dir().f32())
+                    exact_ray(o, rng.dir().f32())
                 } else {
                     let u = rng.dir();
                     let target = c + u;
@@ -367,7 +382,7 @@ pub fn reintersection(solid: Solid, magnitude: f32, primaries: usize) -> Reinter
                         v = -v;
                     }
                     let o = (target + v * rng.range(0.2, 4.0)).f32();
-                    ray_towards(o, target).unwrap_or(Ray::new(o, (-v).f32()))
+                    ray_towards(o, target).unwrap_or(exact_ray(o, (-v).f32()))
                 }
             };
             let inward = |_: &Candidate, sf: &Surface, w: Vec3, o: Vec3, h: Option<Candidate>| {
@@ -395,7 +410,7 @@ pub fn reintersection(solid: Solid, magnitude: f32, primaries: usize) -> Reinter
                             rng.range(-0.8, 0.8),
                             rng.range(-0.8, 0.8),
                         ) * 0.7;
-                    Ray::new(o.f32(), rng.dir().f32())
+                    exact_ray(o.f32(), rng.dir().f32())
                 } else {
                     let face = rng.index(6);
                     let axis = face / 2;
@@ -414,7 +429,7 @@ pub fn reintersection(solid: Solid, magnitude: f32, primaries: usize) -> Reinter
                         v = -v;
                     }
                     let o = (target + v * rng.range(0.2, 4.0)).f32();
-                    ray_towards(o, target).unwrap_or(Ray::new(o, (-v).f32()))
+                    ray_towards(o, target).unwrap_or(exact_ray(o, (-v).f32()))
                 }
             };
             let (lo32, hi32) = (b.min(), b.max());
@@ -446,7 +461,7 @@ pub fn reintersection(solid: Solid, magnitude: f32, primaries: usize) -> Reinter
                     v = n0;
                 }
                 let o = (target + v * rng.range(0.2, 4.0)).f32();
-                ray_towards(o, target).unwrap_or(Ray::new(o, (-v).f32()))
+                ray_towards(o, target).unwrap_or(exact_ray(o, (-v).f32()))
             };
             let inward =
                 |_: &Candidate, _: &Surface, _: Vec3, _: Vec3, _: Option<Candidate>| Inward::Ok;
@@ -493,12 +508,12 @@ fn run_reintersection<G: Shape>(
         };
         out.hits += 1;
         let s = shape.surface(&ray, &c);
-        let n = facing(s.normal, ray.dir);
-        let entering = s.normal.dot(ray.dir) < 0.0;
+        let n = facing(s.normal, ray.dir());
+        let entering = s.normal.dot(ray.dir()) < 0.0;
         let mut dirs = Vec::with_capacity(18);
-        dirs.push(ray.dir.reflect(n).normalize_or(n));
-        let cos_i = (-ray.dir.dot(n)).clamp(0.0, 1.0);
-        if let Some((t, _)) = refract(ray.dir, n, cos_i, 1.5, entering) {
+        dirs.push(ray.dir().reflect(n).normalize_or(n));
+        let cos_i = (-ray.dir().dot(n)).clamp(0.0, 1.0);
+        if let Some((t, _)) = refract(ray.dir(), n, cos_i, 1.5, entering) {
             dirs.push(t);
         }
         let nd = D3::of(n);
@@ -518,7 +533,7 @@ fn run_reintersection<G: Shape>(
             out.worst_offset = out
                 .worst_offset
                 .max((D3::of(o) - p).len() / p.len().max(1.0));
-            let r2 = Ray::new(o, w);
+            let r2 = exact_ray(o, w);
             let hit = shape.intersect(&r2, INF);
             let occ = shape.occluded(&r2, INF);
             out.rays += 1;
@@ -721,7 +736,7 @@ pub fn icosphere_leaks(center: Vec3, radius: f64, level: u32, random: usize) -> 
         let rays = targets
             .iter()
             .filter_map(|&t| ray_towards(o, t))
-            .chain((0..random).map(|_| Ray::new(o, rng.dir().f32())));
+            .chain((0..random).map(|_| exact_ray(o, rng.dir().f32())));
         for ray in rays {
             out.rays += 1;
             out.leaks += usize::from(leaks(&mesh, &ray));
@@ -910,7 +925,7 @@ pub fn box_rule(name: &str, lo: Vec3, hi: Vec3) -> BoxRule {
                                 }
                             };
                             let sign = [sg(dx), sg(dy), sg(dz)];
-                            let ray = Ray::new(o, d);
+                            let ray = exact_ray(o, d);
                             let got = b.intersect(&ray, INF);
                             let truth = box_truth(l, h, D3::of(o), sign);
                             if got.is_some() != truth.is_some()
@@ -1102,7 +1117,7 @@ pub fn camera_far(distance: f32, near: f32) -> CameraFar {
                 for x in tx * 16..((tx + 1) * 16).min(w) {
                     let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
                     let (ray, _) = basis.ray(px as f32, py as f32);
-                    let d = D3::of(ray.dir).norm();
+                    let d = D3::of(ray.dir()).norm();
                     let truth = rb.dir(px, py);
                     let pixel = (rb.dir(px + 0.5, py) - rb.dir(px - 0.5, py))
                         .len()
@@ -1110,9 +1125,9 @@ pub fn camera_far(distance: f32, near: f32) -> CameraFar {
                     out.rays += 1;
                     out.worst_px = out.worst_px.max((d - truth).len() / pixel);
                     let bits = |v: Vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
-                    rays.insert((bits(ray.origin), bits(ray.dir)));
-                    dirs.insert(bits(ray.dir));
-                    origins.insert(bits(ray.origin));
+                    rays.insert((bits(ray.origin()), bits(ray.dir())));
+                    dirs.insert(bits(ray.dir()));
+                    origins.insert(bits(ray.origin()));
                     n += 1;
                 }
             }
@@ -1172,7 +1187,7 @@ pub fn up_forward() -> UpForward {
                         && basis.r_ini().is_finite()
                         && rays
                             .iter()
-                            .all(|r| r.origin.is_finite() && r.dir.is_finite()))
+                            .all(|r| r.origin().is_finite() && r.dir().is_finite()))
                     {
                         out.non_finite += 1;
                         continue;
@@ -1261,7 +1276,7 @@ pub fn up_roll() -> UpRoll {
                 (fw / 2.0, fh / 2.0),
             ] {
                 let (ray, _) = basis.ray(x as f32, y as f32);
-                let d = D3::of(ray.dir).norm();
+                let d = D3::of(ray.dir()).norm();
                 let truth = rb.dir(x, y);
                 let (cx, cy) = (x.clamp(0.5, fw - 0.5), y.clamp(0.5, fh - 0.5));
                 let pixel = (rb.dir(cx + 0.5, cy) - rb.dir(cx - 0.5, cy))

@@ -324,7 +324,7 @@ mod tests {
         ];
         let b = boxed();
         for (o, d, face, n) in cases {
-            let ray = Ray::new(o, d);
+            let ray = Ray::unit(o, d);
             let h = b.intersect(&ray, f32::INFINITY).unwrap();
             assert_eq!((h.t, h.face), (4.0, face), "{o:?}");
             let s = b.surface(&ray, &h);
@@ -335,7 +335,7 @@ mod tests {
             assert!(b.occluded(&ray, f32::INFINITY));
         }
         // Oblique: enters -x at t = 3 / 0.8, at y = -1 + 0.6 * 3.75 = 1.25.
-        let ray = Ray::new(Vec3::new(-4.0, -1.0, 0.0), Vec3::new(0.8, 0.6, 0.0));
+        let ray = Ray::unit(Vec3::new(-4.0, -1.0, 0.0), Vec3::new(0.8, 0.6, 0.0));
         let h = b.intersect(&ray, f32::INFINITY).unwrap();
         assert!(close(h.t, 3.75) && h.face == 0, "{h:?}");
         let s = b.surface(&ray, &h);
@@ -347,7 +347,7 @@ mod tests {
     fn origin_inside_returns_exit_face() {
         let b = boxed();
         for (d, t, face) in [(Vec3::Z, 3.0, 5), (-Vec3::X, 1.0, 0), (-Vec3::Y, 2.0, 2)] {
-            let ray = Ray::new(Vec3::ZERO, d);
+            let ray = Ray::unit(Vec3::ZERO, d);
             let h = b.intersect(&ray, f32::INFINITY).unwrap();
             assert!(close(h.t, t) && h.face == face, "{d:?} {h:?}");
             let s = b.surface(&ray, &h);
@@ -360,9 +360,9 @@ mod tests {
     fn misses() {
         let b = boxed();
         for ray in [
-            Ray::new(Vec3::new(-5.0, 3.0, 0.0), Vec3::X),
-            Ray::new(Vec3::new(5.0, 0.0, 0.0), Vec3::X),
-            Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::new(0.6, 0.8, 0.0)),
+            Ray::unit(Vec3::new(-5.0, 3.0, 0.0), Vec3::X),
+            Ray::unit(Vec3::new(5.0, 0.0, 0.0), Vec3::X),
+            Ray::unit(Vec3::new(-5.0, 0.0, 0.0), Vec3::new(0.6, 0.8, 0.0)),
         ] {
             assert_eq!(b.intersect(&ray, f32::INFINITY), None, "{ray:?}");
             assert!(!b.occluded(&ray, f32::INFINITY));
@@ -383,16 +383,16 @@ mod tests {
                             Vec3::ZERO.with(axis, plane).with(b, pb).with(other, po)
                         };
                         // From outside, within the face: enters through axis b.
-                        let ray = Ray::new(at(-10.0 * sign, 0.5), dir);
+                        let ray = Ray::unit(at(-10.0 * sign, 0.5), dir);
                         let h = c.intersect(&ray, f32::INFINITY).unwrap();
                         assert_eq!((h.t, h.face), (9.0, enter), "{ray:?}");
                         assert!(c.occluded(&ray, f32::INFINITY));
                         // Starting on the face: leaves through the opposite side.
-                        let ray = Ray::new(at(0.0, 0.5), dir);
+                        let ray = Ray::unit(at(0.0, 0.5), dir);
                         let h = c.intersect(&ray, f32::INFINITY).unwrap();
                         assert!(close(h.t, 1.0) && h.face == enter ^ 1, "{ray:?} {h:?}");
                         // In the plane but beside the face: no hit, no NaN.
-                        let ray = Ray::new(at(-10.0 * sign, 5.0), dir);
+                        let ray = Ray::unit(at(-10.0 * sign, 5.0), dir);
                         assert_eq!(c.intersect(&ray, f32::INFINITY), None);
                     }
                 }
@@ -405,10 +405,10 @@ mod tests {
         let c = cube();
         for (dx, dy) in [(0.0, 0.0), (-0.0, 0.0), (0.0, -0.0), (-0.0, -0.0)] {
             let dir = Vec3::new(dx, dy, 1.0);
-            let h = c.intersect(&Ray::new(Vec3::new(-1.0, -1.0, -5.0), dir), f32::INFINITY);
+            let h = c.intersect(&Ray::unit(Vec3::new(-1.0, -1.0, -5.0), dir), f32::INFINITY);
             assert_eq!(h.map(|h| (h.t, h.face)), Some((4.0, 4)));
             // From the corner itself: the origin is on the box, so the hit is the exit.
-            let ray = Ray::new(Vec3::splat(-1.0), dir);
+            let ray = Ray::unit(Vec3::splat(-1.0), dir);
             let h = c.intersect(&ray, f32::INFINITY).unwrap();
             assert!(close(h.t, 2.0) && h.face == 5, "{h:?}");
             assert_eq!(c.surface(&ray, &h).point, Vec3::new(-1.0, -1.0, 1.0));
@@ -419,12 +419,12 @@ mod tests {
     #[test]
     fn flat_box_is_hit_and_uv_has_no_nan() {
         let f = Aabb::try_new(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)).unwrap();
-        let ray = Ray::new(Vec3::new(0.5, 0.0, -5.0), Vec3::Z);
+        let ray = Ray::unit(Vec3::new(0.5, 0.0, -5.0), Vec3::Z);
         let h = f.intersect(&ray, f32::INFINITY).unwrap();
         assert_eq!((h.t, h.face), (5.0, 4));
         assert_eq!(f.uv(&f.surface(&ray, &h), &h), [0.75, 0.5]);
         // Hit on an x face of the flat box: its z extent is zero.
-        let ray = Ray::new(Vec3::new(-3.0, 0.0, 0.0), Vec3::X);
+        let ray = Ray::unit(Vec3::new(-3.0, 0.0, 0.0), Vec3::X);
         let h = f.intersect(&ray, f32::INFINITY).unwrap();
         assert_eq!((h.t, h.face), (2.0, 0));
         assert_eq!(f.uv(&f.surface(&ray, &h), &h), [0.5, 0.0]);
@@ -433,11 +433,11 @@ mod tests {
     #[test]
     fn t_max_is_exclusive() {
         let b = boxed();
-        let ray = Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::X);
+        let ray = Ray::unit(Vec3::new(-5.0, 0.0, 0.0), Vec3::X);
         assert_eq!(b.intersect(&ray, 4.0), None);
         assert!(!b.occluded(&ray, 4.0));
         assert_eq!(b.intersect(&ray, 4.001).map(|h| h.t), Some(4.0));
-        let inside = Ray::new(Vec3::ZERO, Vec3::Z);
+        let inside = Ray::unit(Vec3::ZERO, Vec3::Z);
         assert_eq!(b.intersect(&inside, 2.9), None);
         assert!(!b.occluded(&inside, 2.9));
         assert!(b.occluded(&inside, 3.1));
@@ -456,7 +456,7 @@ mod tests {
                 continue;
             };
             let t_max = 10.0 * (rand(&mut seed) + 1.0);
-            let ray = Ray::new(o, d);
+            let ray = Ray::unit(o, d);
             let h = b.intersect(&ray, t_max);
             assert_eq!(b.occluded(&ray, t_max), h.is_some(), "{ray:?}");
             if let Some(h) = h {

@@ -114,13 +114,13 @@ mod tests {
     #[test]
     fn hit_from_above_and_below() {
         let p = Plane::try_new(Vec3::new(0.0, -1.0, 0.0), Vec3::Y).unwrap();
-        let down = Ray::new(Vec3::new(2.0, 3.0, 0.0), -Vec3::Y);
+        let down = Ray::unit(Vec3::new(2.0, 3.0, 0.0), -Vec3::Y);
         let c = p.intersect(&down, f32::INFINITY).unwrap();
         assert_eq!(c.t, 4.0);
         let s = p.surface(&down, &c);
         assert_eq!(s.point, Vec3::new(2.0, -1.0, 0.0));
         assert_eq!(s.normal, Vec3::Y);
-        let up = Ray::new(Vec3::new(0.0, -3.0, 0.0), Vec3::Y);
+        let up = Ray::unit(Vec3::new(0.0, -3.0, 0.0), Vec3::Y);
         assert_eq!(p.intersect(&up, f32::INFINITY).unwrap().t, 2.0);
     }
 
@@ -128,7 +128,7 @@ mod tests {
     fn oblique_hit_matches_analytic_t() {
         let p = Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap();
         let d = Vec3::new(1.0, -1.0, 0.0).try_normalize().unwrap();
-        let r = Ray::new(Vec3::new(0.0, 1.0, 0.0), d);
+        let r = Ray::unit(Vec3::new(0.0, 1.0, 0.0), d);
         let c = p.intersect(&r, f32::INFINITY).unwrap();
         assert!((c.t - core::f32::consts::SQRT_2).abs() < 1e-6);
     }
@@ -137,19 +137,19 @@ mod tests {
     fn parallel_and_receding_rays_miss_without_nan() {
         let p = Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap();
         assert!(
-            p.intersect(&Ray::new(Vec3::Y, Vec3::X), f32::INFINITY)
+            p.intersect(&Ray::unit(Vec3::Y, Vec3::X), f32::INFINITY)
                 .is_none()
         );
         // In the plane itself: parallel, no hit, no NaN.
         assert!(
-            p.intersect(&Ray::new(Vec3::ZERO, Vec3::X), f32::INFINITY)
+            p.intersect(&Ray::unit(Vec3::ZERO, Vec3::X), f32::INFINITY)
                 .is_none()
         );
         assert!(
-            p.intersect(&Ray::new(Vec3::Y, Vec3::Y), f32::INFINITY)
+            p.intersect(&Ray::unit(Vec3::Y, Vec3::Y), f32::INFINITY)
                 .is_none()
         );
-        assert!(!p.occluded(&Ray::new(Vec3::Y, -Vec3::Y), 0.5));
+        assert!(!p.occluded(&Ray::unit(Vec3::Y, -Vec3::Y), 0.5));
     }
 
     #[test]
@@ -163,7 +163,7 @@ mod tests {
             let d = (Vec3::new(1234.5 + a, -77.25, 9000.0 + a * 0.5) - o)
                 .try_normalize()
                 .unwrap();
-            let r = Ray::new(o, d);
+            let r = Ray::unit(o, d);
             let Some(c) = p.intersect(&r, f32::INFINITY) else {
                 continue;
             };
@@ -171,7 +171,7 @@ mod tests {
             // Reflected direction leaves the surface.
             let w = d.reflect(n);
             let o2 = offset_origin(s.point, s.error, n, w);
-            if p.intersect(&Ray::new(o2, w), f32::INFINITY).is_some() {
+            if p.intersect(&Ray::unit(o2, w), f32::INFINITY).is_some() {
                 self_hits += 1;
             }
         }

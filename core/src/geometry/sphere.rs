@@ -253,7 +253,7 @@ mod tests {
     use super::*;
 
     fn ray(o: Vec3, d: Vec3) -> Ray {
-        Ray::new(o, d.try_normalize().unwrap())
+        Ray::unit(o, d.try_normalize().unwrap())
     }
 
     #[test]
@@ -266,6 +266,17 @@ mod tests {
         assert_eq!(sf.point, Vec3::new(0.0, 0.0, -4.0));
         assert_eq!(sf.normal, Vec3::Z);
         assert!(sf.error.z > 0.0);
+    }
+
+    #[test]
+    fn a_ray_built_with_a_long_direction_hits_like_every_other_kind() {
+        // The issue-10 trap: a direction of length 2 made the sphere report a miss
+        // while the plane returned the parametric t. `Ray::new` normalises it.
+        let r = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -2.0)).unwrap();
+        let s = Sphere::try_new(Vec3::new(0.0, 0.0, -5.0), 1.0).unwrap();
+        let p = crate::geometry::Plane::try_new(Vec3::new(0.0, 0.0, -4.0), Vec3::Z).unwrap();
+        assert_eq!(s.intersect(&r, f32::INFINITY).map(|c| c.t), Some(4.0));
+        assert_eq!(p.intersect(&r, f32::INFINITY).map(|c| c.t), Some(4.0));
     }
 
     #[test]

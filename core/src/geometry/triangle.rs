@@ -330,7 +330,7 @@ mod tests {
     }
 
     fn ray_to(origin: Vec3, target: Vec3) -> Ray {
-        Ray::new(origin, (target - origin).try_normalize().unwrap())
+        Ray::unit(origin, (target - origin).try_normalize().unwrap())
     }
 
     /// Deterministic xorshift32 in [-1, 1).
@@ -351,7 +351,7 @@ mod tests {
         // (1, 2, 2) = p0 + 0.25 (p1 - p0) + 0.5 (p2 - p0), aimed at from 3 units away.
         let target = v(1.0, 2.0, 2.0);
         for dir in [Vec3::Z, v(0.6, 0.0, 0.8), v(0.0, -0.6, 0.8)] {
-            let ray = Ray::new(target - dir * 3.0, dir);
+            let ray = Ray::unit(target - dir * 3.0, dir);
             let h = flat().intersect(&ray, INF).unwrap();
             assert!(near(h.t, 3.0, 1e-6), "{dir:?} {h:?}");
             assert!(near(h.b1, 0.25, 1e-6) && near(h.b2, 0.5, 1e-6), "{h:?}");
@@ -365,25 +365,25 @@ mod tests {
     #[test]
     fn misses_outside_behind_and_hits_back_face() {
         for ray in [
-            Ray::new(v(3.0, 3.0, 0.0), Vec3::Z),
-            Ray::new(v(1.0, 1.0, 0.0), -Vec3::Z),
+            Ray::unit(v(3.0, 3.0, 0.0), Vec3::Z),
+            Ray::unit(v(1.0, 1.0, 0.0), -Vec3::Z),
         ] {
             assert_eq!(flat().intersect(&ray, INF), None);
             assert!(!flat().occluded(&ray, INF));
         }
         // Double-sided; the normal still follows the winding.
-        let back = Ray::new(v(1.0, 1.0, 7.0), -Vec3::Z);
+        let back = Ray::unit(v(1.0, 1.0, 7.0), -Vec3::Z);
         let h = flat().intersect(&back, INF).unwrap();
         assert_eq!((h.t, flat().surface(&back, &h).normal), (5.0, Vec3::Z));
     }
 
     #[test]
     fn parallel_and_grazing_rays_give_no_nan() {
-        let parallel = Ray::new(v(-1.0, 1.0, 0.0), Vec3::X);
+        let parallel = Ray::unit(v(-1.0, 1.0, 0.0), Vec3::X);
         assert_eq!(flat().intersect(&parallel, INF), None);
         // In the triangle's plane, through its interior.
         for dir in [Vec3::X, Vec3::Y, v(0.6, 0.8, 0.0), v(-0.8, 0.6, 0.0)] {
-            let ray = Ray::new(v(1.0, 1.0, 2.0) - dir * 5.0, dir);
+            let ray = Ray::unit(v(1.0, 1.0, 2.0) - dir * 5.0, dir);
             if let Some(h) = flat().intersect(&ray, INF) {
                 assert!(h.t > 0.0 && h.t.is_finite() && h.b1.is_finite() && h.b2.is_finite());
             }
@@ -392,7 +392,7 @@ mod tests {
 
     #[test]
     fn t_max_is_exclusive() {
-        let ray = Ray::new(v(1.0, 1.0, -1.0), Vec3::Z);
+        let ray = Ray::unit(v(1.0, 1.0, -1.0), Vec3::Z);
         assert_eq!(
             (flat().intersect(&ray, 3.0), flat().intersect(&ray, 2.9)),
             (None, None)
@@ -466,7 +466,7 @@ mod tests {
             let random = (0..3000).map(|_| v(rand(&mut seed), rand(&mut seed), rand(&mut seed)));
             let dirs = special.into_iter().chain(random);
             for d in dirs.filter_map(Vec3::try_normalize) {
-                let ray = Ray::new(center + offset, d);
+                let ray = Ray::unit(center + offset, d);
                 let hits = oct.iter().filter_map(|t| t.intersect(&ray, INF));
                 assert!(hits.clone().count() >= 1, "leak at {d:?} from {offset:?}");
                 assert!(hits.into_iter().all(|h| h.t > 0.0 && h.t < 2.0 * r));

@@ -6,12 +6,17 @@ use super::vec::V3;
 use std::f64::consts::PI;
 
 /// A ray `origin + t dir`, `dir` of unit length.
+///
+/// The fields are visible to the reference renderer only (which builds every ray
+/// from a direction it has just normalised): the sphere's half-`b` quadratic assumes
+/// `|dir| = 1`, the same trap as the core's `Ray`, so no code outside can build one
+/// with another length.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
     /// Origin.
-    pub origin: V3,
+    pub(super) origin: V3,
     /// Unit direction.
-    pub dir: V3,
+    pub(super) dir: V3,
 }
 
 impl Ray {
