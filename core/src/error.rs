@@ -153,6 +153,9 @@ pub enum Error {
     },
     /// A sampler with zero samples (stratified 0 or random 0), or more than 64x64.
     BadSampleCount,
+    /// Sampler text that is none of `corner`, `centre`, `prefiltered`,
+    /// `offset:X,Y`, `stratified:K`, `random:N`.
+    UnknownSampler,
     /// A tile coordinate outside the frame.
     TileOutOfFrame,
     /// A material's reflectivity and transparency add up to more than 1: it would
@@ -192,6 +195,10 @@ impl fmt::Display for Error {
             Self::BadSampleCount => {
                 f.write_str("sampler needs 1 to 4096 samples per pixel (stratified k: 1 to 64)")
             }
+            Self::UnknownSampler => f.write_str(
+                "unknown sampler: the samplers are corner, centre, prefiltered, offset:X,Y \
+                 (each in [0, 1)), stratified:K (1-64) and random:N (1-4096)",
+            ),
             Self::TileOutOfFrame => f.write_str("tile coordinate is outside the frame"),
             Self::ReflectionAndTransmissionAboveOne => f.write_str(
                 "material reflectivity + transparency must be <= 1 \

@@ -98,6 +98,59 @@ impl Sampler {
     }
 }
 
+/// The text form of every sampler, as scene files and the command line write it:
+/// `corner`, `centre`, `prefiltered`, `offset:X,Y`, `stratified:K`, `random:N`.
+/// [`Sampler::from_str`](core::str::FromStr::from_str) reads it back (and `center`).
+impl core::fmt::Display for Sampler {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            Self::Corner => f.write_str("corner"),
+            Self::Centre => f.write_str("centre"),
+            Self::Prefiltered => f.write_str("prefiltered"),
+            Self::Offset(o) => write!(f, "offset:{},{}", o.x, o.y),
+            Self::Stratified(k) => write!(f, "stratified:{k}"),
+            Self::Random(n) => write!(f, "random:{n}"),
+        }
+    }
+}
+
+impl core::str::FromStr for Sampler {
+    type Err = Error;
+
+    /// Parses the text form of [`Sampler`]'s `Display` (spaces around numbers are
+    /// allowed) and validates it.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::UnknownSampler`] for text that is none of the forms,
+    /// [`Error::BadSampleCount`] for a count out of range, and the sub-pixel
+    /// offset's range error for `offset:X,Y` outside `[0, 1)`.
+    fn from_str(s: &str) -> Result<Self, Error> {
+        let number = |t: &str| t.trim().parse().map_err(|_| Error::UnknownSampler);
+        let sampler = match s.split_once(':') {
+            None => match s {
+                "corner" => Self::Corner,
+                "centre" | "center" => Self::Centre,
+                "prefiltered" => Self::Prefiltered,
+                _ => return Err(Error::UnknownSampler),
+            },
+            Some(("stratified", k)) => {
+                Self::Stratified(k.trim().parse().map_err(|_| Error::BadSampleCount)?)
+            }
+            Some(("random", n)) => {
+                Self::Random(n.trim().parse().map_err(|_| Error::BadSampleCount)?)
+            }
+            Some(("offset", xy)) => {
+                let (x, y) = xy.split_once(',').ok_or(Error::UnknownSampler)?;
+                Self::Offset(SubPixel::try_new(number(x)?, number(y)?)?)
+            }
+            Some(_) => return Err(Error::UnknownSampler),
+        };
+        sampler.validate()?;
+        Ok(sampler)
+    }
+}
+
 /// The cell size `1 / k` of the stratified sampler with `k x k` cells.
 #[inline]
 pub(crate) fn stratum(k: u32) -> f32 {
@@ -190,6 +243,66 @@ fn unit(h: u32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn samplers_print_and_parse_back() {
+        use core::fmt::Write;
+        let offset = Sampler::Offset(SubPixel::try_new(0.25, 0.1).unwrap());
+        for (sampler, text) in [
+            (Sampler::Corner, "corner"),
+            (Sampler::Centre, "centre"),
+            (Sampler::Prefiltered, "prefiltered"),
+            (offset, "offset:0.25,0.1"),
+            (Sampler::Stratified(3), "stratified:3"),
+            (Sampler::Random(16), "random:16"),
+        ] {
+            let mut shown = heapless::String::<32>::new();
+            write!(shown, "{sampler}").unwrap();
+            assert_eq!(shown.as_str(), text);
+            assert_eq!(text.parse::<Sampler>(), Ok(sampler), "{text}");
+        }
+        assert_eq!("center".parse(), Ok(Sampler::Centre));
+        assert_eq!("random: 7".parse(), Ok(Sampler::Random(7)));
+        assert_eq!("offset: 0.5 , 0".parse::<Sampler>().unwrap().count(), 1);
+    }
+
+    #[test]
+    fn bad_sampler_text_says_what_is_wrong() {
+        for text in [
+            "",
+            "gauss",
+            "centre:2",
+            "offset:0.5",
+            "offset:a,0",
+            "Corner",
+        ] {
+            assert_eq!(
+                text.parse::<Sampler>(),
+                Err(Error::UnknownSampler),
+                "{text:?}"
+            );
+        }
+        for text in [
+            "stratified:0",
+            "stratified:65",
+            "stratified:x",
+            "random:0",
+            "random:5000",
+        ] {
+            assert_eq!(
+                text.parse::<Sampler>(),
+                Err(Error::BadSampleCount),
+                "{text:?}"
+            );
+        }
+        assert!(matches!(
+            "offset:1,0".parse::<Sampler>(),
+            Err(Error::OutOfRange {
+                field: Field::SubPixelOffset,
+                ..
+            })
+        ));
+    }
 
     #[test]
     fn fixed_samplers() {

@@ -8,8 +8,8 @@ use serde::Deserialize;
 use std::fmt;
 use tessera::error::{Field, List};
 use tessera::{
-    Aabb, Camera, Color, Material, MaterialId, Plane, PointLight, Sampler, Scene, Sphere, SubPixel,
-    Texture, Triangle, Vec3,
+    Aabb, Camera, Color, Material, MaterialId, Plane, PointLight, Sampler, Scene, Sphere, Texture,
+    Triangle, Vec3,
 };
 
 /// How many spheres the host scene holds.
@@ -403,9 +403,10 @@ fn field_of(e: tessera::Error) -> Option<Field> {
 impl SceneDesc {
     /// The sampler named by `render.sampler`.
     pub fn sampler(&self) -> Result<Sampler, DescError> {
-        parse_sampler(&self.render.sampler).map_err(|message| DescError {
+        let text = &self.render.sampler;
+        text.parse().map_err(|e| DescError {
             item: "render".into(),
-            message,
+            message: format!("sampler {text:?}: {e}"),
         })
     }
 
@@ -736,76 +737,9 @@ fn core_material(m: &MaterialDesc) -> Result<Material, String> {
         })
 }
 
-/// Parses `corner`, `centre` (or `center`), `offset:X,Y`, `stratified:K`,
-/// `random:N`.
-pub fn parse_sampler(s: &str) -> Result<Sampler, String> {
-    let bad = || {
-        format!(
-            "sampler {s:?} is not one of corner, centre, prefiltered, offset:X,Y, stratified:K (1-64), random:N (1-4096)"
-        )
-    };
-    let sampler = match s.split_once(':') {
-        None => match s {
-            "corner" => Sampler::Corner,
-            "centre" | "center" => Sampler::Centre,
-            "prefiltered" => Sampler::Prefiltered,
-            _ => return Err(bad()),
-        },
-        Some(("stratified", k)) => Sampler::Stratified(k.trim().parse().map_err(|_| bad())?),
-        Some(("random", n)) => Sampler::Random(n.trim().parse().map_err(|_| bad())?),
-        Some(("offset", xy)) => {
-            let (x, y) = xy.split_once(',').ok_or_else(bad)?;
-            let (x, y): (f32, f32) = (
-                x.trim().parse().map_err(|_| bad())?,
-                y.trim().parse().map_err(|_| bad())?,
-            );
-            Sampler::Offset(SubPixel::try_new(x, y).map_err(|e| e.to_string())?)
-        }
-        _ => return Err(bad()),
-    };
-    sampler.validate().map_err(|_| bad())?;
-    Ok(sampler)
-}
-
-/// The name of a sampler in the syntax of [`parse_sampler`].
-pub fn sampler_name(s: &Sampler) -> String {
-    match s {
-        Sampler::Corner => "corner".into(),
-        Sampler::Centre => "centre".into(),
-        Sampler::Offset(o) => format!("offset:{},{}", o.x(), o.y()),
-        Sampler::Stratified(k) => format!("stratified:{k}"),
-        Sampler::Random(n) => format!("random:{n}"),
-        Sampler::Prefiltered => "prefiltered".into(),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn samplers_parse_and_print() {
-        for s in [
-            "corner",
-            "centre",
-            "stratified:3",
-            "random:16",
-            "offset:0.25,0.75",
-        ] {
-            assert_eq!(sampler_name(&parse_sampler(s).unwrap()), s);
-        }
-        assert_eq!(parse_sampler("center").unwrap(), Sampler::Centre);
-        for s in [
-            "",
-            "stratified:0",
-            "random:x",
-            "offset:1,0",
-            "gauss",
-            "random:5000",
-        ] {
-            assert!(parse_sampler(s).is_err(), "{s}");
-        }
-    }
 
     #[test]
     fn numbers_print_in_the_shortest_form() {

@@ -949,13 +949,14 @@ color = [0.9, 0.1, 0.1]
         let text = format!("{HEAD}\n[render]\nsampler = \"gauss\"\n");
         assert_eq!(
             msg(&text),
-            "t.toml:11: render: sampler \"gauss\" is not one of corner, centre, prefiltered, offset:X,Y, \
-             stratified:K (1-64), random:N (1-4096)"
+            "t.toml:11: render: sampler \"gauss\": unknown sampler: the samplers are corner, \
+             centre, prefiltered, offset:X,Y (each in [0, 1)), stratified:K (1-64) and random:N \
+             (1-4096)"
         );
         let text = format!("{HEAD}\n[render]\nsampler = \"offset:0.5,1\"\n");
         assert_eq!(
             msg(&text),
-            "t.toml:11: render: sub-pixel offset must be in [0, 1) on each axis"
+            "t.toml:11: render: sampler \"offset:0.5,1\": sub-pixel offset must be in [0, 1) on each axis"
         );
         let text = format!("{HEAD}\n[render]\ndepth = 9\n");
         assert_eq!(

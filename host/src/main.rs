@@ -20,7 +20,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 use tessera::builtin::Builtin;
 use tessera::{Frame, RenderSettings, Viewport};
-use tessera_host::desc::{SceneDesc, parse_sampler, sampler_name};
+use tessera_host::desc::SceneDesc;
 use tessera_host::output::{self, Pending, Target};
 use tessera_host::{HostError, limits};
 
@@ -126,8 +126,8 @@ struct Common {
     /// Image size in pixels, WxH [default: the scene file's, or 320x240]
     #[arg(long, value_parser = parse_size)]
     size: Option<(u16, u16)>,
-    /// Samples per pixel: corner, centre, offset:X,Y, stratified:K, random:N
-    #[arg(long, value_parser = parse_sampler)]
+    /// Samples per pixel: corner, centre, prefiltered, offset:X,Y, stratified:K, random:N
+    #[arg(long)]
     sampler: Option<tessera::Sampler>,
     /// Reflection/refraction depth (0 to 8)
     #[arg(long)]
@@ -314,7 +314,7 @@ fn describe(source: &Source, vp: Viewport, settings: &RenderSettings) -> String 
         vp.width,
         vp.height,
         settings.sampler.count(),
-        sampler_name(&settings.sampler),
+        settings.sampler,
         settings.max_depth
     )
 }

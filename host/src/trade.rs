@@ -10,7 +10,7 @@
 
 use crate::HostError;
 use crate::compare;
-use crate::desc::{SceneDesc, sampler_name};
+use crate::desc::SceneDesc;
 use image::RgbImage;
 use std::time::Instant;
 use tessera::builtin::Builtin;
@@ -107,7 +107,7 @@ impl Row {
             "{}\t{}\t{}\t{}\t{}\t{:.1}\t{:.1}\t{:.1}\t{:.6}\t{:.2}\t{}\t{:.5}",
             self.scene,
             self.backend,
-            sampler_name(&self.setting.sampler),
+            self.setting.sampler,
             self.setting.depth,
             self.setting.tile,
             self.ns_median,
@@ -132,7 +132,7 @@ impl Row {
             scene: f[0].into(),
             backend: f[1].into(),
             setting: Setting {
-                sampler: crate::desc::parse_sampler(f[2])?,
+                sampler: f[2].parse().map_err(|e| format!("{:?}: {e}", f[2]))?,
                 depth: f[3].parse().map_err(|_| bad())?,
                 tile: f[4].parse().map_err(|_| bad())?,
             },
@@ -365,7 +365,7 @@ pub fn interference_study(
             let (rmse, amplitude, row_std) = row_stats(&img, Some(&truth), fp);
             out.push(FringeResult {
                 footprint: fp,
-                method: sampler_name(&sampler),
+                method: sampler.to_string(),
                 rmse,
                 amplitude,
                 row_std,

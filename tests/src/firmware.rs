@@ -201,45 +201,20 @@ impl Run {
             seed: self.seed,
         }
     }
-
-    /// The sampler as the run list writes it.
-    pub fn sampler_text(&self) -> Result<String, String> {
-        Ok(match self.sampler {
-            Sampler::Corner => "corner".into(),
-            Sampler::Centre => "centre".into(),
-            Sampler::Prefiltered => "prefiltered".into(),
-            Sampler::Stratified(k) => format!("stratified:{k}"),
-            Sampler::Random(n) => format!("random:{n}"),
-            Sampler::Offset(_) => return Err("the firmware takes no offset sampler".into()),
-        })
-    }
-
-    /// The run's line in the run list.
-    pub fn line(&self) -> Result<String, String> {
-        let scene = if self.scale == 0 {
-            self.scene.name().to_string()
-        } else {
-            format!("{}@{}", self.scene.name(), self.scale)
-        };
-        Ok(format!(
-            "{} {} {} {} {} {} {}",
-            scene,
-            self.sampler_text()?,
-            self.depth,
-            self.tile,
-            self.width,
-            self.height,
-            self.seed
-        ))
-    }
 }
 
+/// The run's line in the run list: `scene[@k] sampler depth tile width height seed`.
 impl fmt::Display for Run {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.line() {
-            Ok(l) => f.write_str(&l),
-            Err(_) => write!(f, "{self:?}"),
+        f.write_str(self.scene.name())?;
+        if self.scale != 0 {
+            write!(f, "@{}", self.scale)?;
         }
+        write!(
+            f,
+            " {} {} {} {} {} {}",
+            self.sampler, self.depth, self.tile, self.width, self.height, self.seed
+        )
     }
 }
 
@@ -334,7 +309,7 @@ pub fn run_with(elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, St
     let dir = TempDir::new()?;
     let mut list = String::new();
     for r in runs {
-        list.push_str(&r.line()?);
+        list.push_str(&r.to_string());
         list.push('\n');
     }
     let write = |name: &str, bytes: &[u8]| {

@@ -59,7 +59,7 @@ impl Measured {
         format!(
             "{} ({}, depth {}, {}x{}, tiles {})",
             r.scene.name(),
-            r.sampler_text().unwrap_or_default(),
+            r.sampler,
             r.depth,
             r.width,
             r.height,

@@ -175,7 +175,7 @@ fn instruction_counts_stay_within_the_baseline() {
     let now: Vec<(String, u64)> = runs
         .iter()
         .zip(&out.runs)
-        .map(|(r, res)| (r.line().unwrap(), res.instructions))
+        .map(|(r, res)| (r.to_string(), res.instructions))
         .collect();
     let cmp = baseline::Comparison::new(&base, &now);
     let table = cmp.table();

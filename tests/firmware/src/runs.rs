@@ -37,7 +37,7 @@ pub fn parse(line: &str) -> Result<Run<'_>, &'static str> {
     };
     let scene = Builtin::from_name(scene).ok_or("unknown scene")?;
     let sampler_text = next("missing sampler")?;
-    let sampler = parse_sampler(sampler_text)?;
+    let sampler: Sampler = sampler_text.parse().map_err(|_| "bad sampler")?;
     let max_depth = next("missing depth")?.parse().map_err(|_| "bad depth")?;
     let tile = match next("missing tile size")? {
         "8" => 8,
@@ -63,20 +63,5 @@ pub fn parse(line: &str) -> Result<Run<'_>, &'static str> {
         width,
         height,
         scale,
-    })
-}
-
-fn parse_sampler(s: &str) -> Result<Sampler, &'static str> {
-    let bad = "sampler is not corner, centre, prefiltered, stratified:K or random:N";
-    Ok(match s.split_once(':') {
-        None => match s {
-            "corner" => Sampler::Corner,
-            "centre" | "center" => Sampler::Centre,
-            "prefiltered" => Sampler::Prefiltered,
-            _ => return Err(bad),
-        },
-        Some(("stratified", k)) => Sampler::Stratified(k.parse().map_err(|_| bad)?),
-        Some(("random", n)) => Sampler::Random(n.parse().map_err(|_| bad)?),
-        Some(_) => return Err(bad),
     })
 }

@@ -335,7 +335,7 @@ fn report(bless: bool) -> Result<PathBuf, String> {
             "| {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.0} | {:.2} | {} | {} |",
             r.scene.name(),
             r.depth,
-            r.sampler_text()?,
+            r.sampler,
             spp,
             e.instructions_per_pixel(),
             *c as f64 / e.pixels_count.max(1) as f64,
@@ -472,7 +472,7 @@ fn guard(runs: &[Run], out: &Output, bless: bool) -> Result<(), String> {
             .iter()
             .position(|r| *r == g)
             .ok_or_else(|| format!("the guarded run {g} is not in the run list"))?;
-        now.push((g.line()?, out.runs[i].instructions));
+        now.push((g.to_string(), out.runs[i].instructions));
     }
     let path = baseline::path();
     if bless {

@@ -19,7 +19,6 @@ use std::process::{Command, ExitCode, Stdio};
 use std::time::Instant;
 use tessera::Viewport;
 use tessera::builtin::Builtin;
-use tessera_host::desc::sampler_name;
 use tessera_host::trade::{self, FringeResult, Row, Setting};
 use tessera_tests::firmware::{self, Run};
 
@@ -72,7 +71,7 @@ struct Entry {
 
 impl Entry {
     fn is(&self, sampler: &str, depth: u8, tile: usize) -> bool {
-        sampler_name(&self.row.setting.sampler) == sampler
+        self.row.setting.sampler.to_string() == sampler
             && self.row.setting.depth == depth
             && self.row.setting.tile == tile
     }
@@ -188,9 +187,7 @@ fn chip_runs() -> Vec<Run> {
                 seed: SEED,
                 ..Run::of(b, CHIP_SIZE, CHIP_SIZE)
             };
-            if run.sampler_text().is_ok() {
-                runs.push(run);
-            }
+            runs.push(run);
         }
     }
     runs
@@ -202,7 +199,7 @@ fn chip_key(backend: &str, scene: &str, s: &Setting) -> ChipKey {
     (
         backend.into(),
         scene.into(),
-        sampler_name(&s.sampler),
+        s.sampler.to_string(),
         s.depth,
         s.tile,
     )
@@ -299,7 +296,7 @@ fn psnr(p: f64) -> String {
 /// A setting in a few characters, relative to the scene's own settings.
 fn short(scene: &str, s: &Setting) -> String {
     let base = Builtin::from_name(scene).map(Builtin::settings);
-    let mut t = sampler_name(&s.sampler);
+    let mut t = s.sampler.to_string();
     if base.is_some_and(|b| b.max_depth != s.depth) {
         let _ = write!(t, " d{}", s.depth);
     }
@@ -388,7 +385,7 @@ fn report() -> Result<Vec<PathBuf>, String> {
         eprintln!(
             "chip {:<16} {:<13} depth {} tile {:>2}: exact {:>8.1} instr/px, fast-math {:>8.1}",
             r.scene.name(),
-            sampler_name(&r.sampler),
+            r.sampler.to_string(),
             r.depth,
             r.tile,
             chip.get(&chip_key(EXACT, r.scene.name(), &s))
@@ -608,7 +605,7 @@ fn ticks(lo: f64, hi: f64) -> Vec<f64> {
 
 fn short_base(b: Builtin) -> String {
     let s = b.settings();
-    format!("{}, depth {}", sampler_name(&s.sampler), s.max_depth)
+    format!("{}, depth {}", s.sampler, s.max_depth)
 }
 
 // ---------------------------------------------------------------------------------
@@ -710,7 +707,7 @@ fn document(
             let _ = writeln!(
                 w,
                 "| {} | {} | {} | {} | {} ({}-{}) | {} | {:.5} | {} | {} | {} | {} |",
-                sampler_name(&r.setting.sampler),
+                r.setting.sampler,
                 r.setting.depth,
                 r.setting.tile,
                 r.backend,
@@ -781,7 +778,8 @@ fn document(
     for f in fringes {
         let rays = match f.method.as_str() {
             "truth" => "exact area average (f64)".to_string(),
-            m => tessera_host::desc::parse_sampler(m)
+            m => m
+                .parse::<tessera::Sampler>()
                 .map(|s| s.count().to_string())
                 .unwrap_or_default(),
         };
@@ -832,7 +830,7 @@ fn what_to_pick(
         let mut links: Vec<(String, f64)> = Vec::new();
         for e in of_scene(entries, b.name()).into_iter().filter(|e| e.front) {
             all_on += 1;
-            let mut label = sampler_name(&e.row.setting.sampler);
+            let mut label = e.row.setting.sampler.to_string();
             on_front.push(label.clone());
             if e.row.setting.depth < b.settings().max_depth {
                 let _ = write!(label, " at depth {}", e.row.setting.depth);
@@ -848,7 +846,7 @@ fn what_to_pick(
                     entries,
                     b.name(),
                     EXACT,
-                    &sampler_name(&s.sampler),
+                    &s.sampler.to_string(),
                     s.depth,
                     s.tile,
                 )?;
@@ -870,7 +868,7 @@ fn what_to_pick(
     let mut never: Vec<String> = Vec::new();
     for b in Builtin::ALL {
         for s in trade::grid(b.settings()) {
-            let n = sampler_name(&s.sampler);
+            let n = s.sampler.to_string();
             if !on_front.contains(&n) && !never.contains(&n) {
                 never.push(n);
             }
@@ -926,7 +924,7 @@ fn what_to_pick(
             entries,
             &e.row.scene,
             EXACT,
-            &sampler_name(&s.sampler),
+            &s.sampler.to_string(),
             s.depth,
             s.tile,
         ) {
@@ -1009,15 +1007,8 @@ fn what_to_pick(
         .filter(|e| e.row.backend == FAST)
         .all(|e| {
             let s = &e.row.setting;
-            find(
-                entries,
-                i,
-                EXACT,
-                &sampler_name(&s.sampler),
-                s.depth,
-                s.tile,
-            )
-            .is_ok_and(|x| same(x.row.flip, e.row.flip))
+            find(entries, i, EXACT, &s.sampler.to_string(), s.depth, s.tile)
+                .is_ok_and(|x| same(x.row.flip, e.row.flip))
         });
     if same(fast_centre.row.flip, centre.row.flip) && same(fa_s4.row.flip, ex_s4.row.flip) {
         let _ = write!(
