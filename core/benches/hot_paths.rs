@@ -4,7 +4,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use tessera::builtin::{self, Builtin};
-use tessera::geometry::Shape;
+use tessera::testing::Shape;
 use tessera::{
     Aabb, CameraBasis, Frame, Plane, Ray, RenderSettings, Sphere, Tile, TileCoord, Triangle, Vec3,
     Viewport,
@@ -85,7 +85,7 @@ fn shading(c: &mut Criterion) {
     let basis = CameraBasis::try_new(scene.camera(), Viewport::new(240, 240)).unwrap();
     let (ray, t_far) = basis.ray(120.5, 118.5);
     c.bench_function("shade a hit (blue sphere, depth 1)", |b| {
-        b.iter(|| black_box(view.trace(black_box(ray), t_far, 1)))
+        b.iter(|| black_box(view.trace(black_box(ray), t_far, 1, &mut ())))
     });
 }
 
@@ -98,7 +98,7 @@ fn tiles(c: &mut Criterion) {
             c.bench_function(&format!("tile 16x16 ({}, centre)", b.name()), |bch| {
                 bch.iter(|| {
                     frame
-                        .render_tile(view, black_box(TileCoord::new(7, 7)), &mut tile)
+                        .render_tile(view, black_box(TileCoord::new(7, 7)), &mut tile, &mut ())
                         .unwrap()
                 })
             });

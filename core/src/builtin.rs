@@ -81,54 +81,53 @@ impl Builtin {
         }
     }
 
-    /// Builds the scene scaled by `2^k` (see [`Scene::scaled_pow2`]) and hands its
-    /// view and camera to `f`.
+    /// Builds the scene (on the stack) and hands its view and camera to `f`.
+    pub fn with_scene<R>(self, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Result<R, Error> {
+        self.build(0, f)
+    }
+
+    /// [`Builtin::with_scene`] with the scene scaled by `2^k` (see
+    /// [`Scene::scaled_pow2`]): a test hook, with the feature `testing`.
+    #[cfg(feature = "testing")]
     pub fn with_scaled_scene<R>(
         self,
         k: i32,
         f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
     ) -> Result<R, Error> {
-        Ok(match self {
-            Self::ChapterDirect => {
-                let s = chapter_direct()?.scaled_pow2(k)?;
-                f(&s.view(), s.camera())
-            }
-            Self::ChapterReflect => {
-                let s = chapter_reflect()?.scaled_pow2(k)?;
-                f(&s.view(), s.camera())
-            }
-            Self::Interference => {
-                let s = interference()?.scaled_pow2(k)?;
-                f(&s.view(), s.camera())
-            }
-            Self::Showcase => {
-                let s = showcase()?.scaled_pow2(k)?;
-                f(&s.view(), s.camera())
-            }
-        })
+        self.build(k, f)
     }
 
-    /// Builds the scene (on the stack) and hands its view and camera to `f`.
-    pub fn with_scene<R>(self, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Result<R, Error> {
-        Ok(match self {
-            Self::ChapterDirect => {
-                let s = chapter_direct()?;
-                f(&s.view(), s.camera())
-            }
-            Self::ChapterReflect => {
-                let s = chapter_reflect()?;
-                f(&s.view(), s.camera())
-            }
-            Self::Interference => {
-                let s = interference()?;
-                f(&s.view(), s.camera())
-            }
-            Self::Showcase => {
-                let s = showcase()?;
-                f(&s.view(), s.camera())
-            }
-        })
+    /// Builds the scene, scaled by `2^k` unless `k` is 0, and hands it to `f`.
+    fn build<R>(self, k: i32, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Result<R, Error> {
+        match self {
+            Self::ChapterDirect => hand(chapter_direct()?, k, f),
+            Self::ChapterReflect => hand(chapter_reflect()?, k, f),
+            Self::Interference => hand(interference()?, k, f),
+            Self::Showcase => hand(showcase()?, k, f),
+        }
     }
+}
+
+/// `f` of the scene's view and camera, the scene scaled by `2^k` first unless `k`
+/// is 0 (scaling is a test hook: without the feature `testing`, `k` is always 0).
+fn hand<
+    const S: usize,
+    const P: usize,
+    const T: usize,
+    const B: usize,
+    const M: usize,
+    const L: usize,
+    R,
+>(
+    scene: Scene<S, P, T, B, M, L>,
+    k: i32,
+    f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
+) -> Result<R, Error> {
+    #[cfg(feature = "testing")]
+    let scene = if k == 0 { scene } else { scene.scaled_pow2(k)? };
+    #[cfg(not(feature = "testing"))]
+    let _ = k;
+    Ok(f(&scene.view(), scene.camera()))
 }
 
 /// The chapter's spheres; `mirror` gives the red sphere a slight and the green one a

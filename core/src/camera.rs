@@ -210,7 +210,7 @@ impl CameraBasis {
         let r_ini = u1 * (-nl * 0.5) - u2 * (nh * 0.5);
         // A near distance so small (or an angle so close to 0) that a pixel is not a
         // normal f32 would give identical rays for neighbouring pixels.
-        let pixel = (width / nl).min(height / nh);
+        let pixel = crate::math::min(width / nl, height / nh);
         if !(pixel.is_normal() && height.is_finite() && width.is_finite()) {
             return Err(Error::OutOfRange {
                 field: Field::Near,

@@ -47,13 +47,13 @@ impl Color {
     /// The smallest component.
     #[must_use]
     pub fn min_component(self) -> f32 {
-        self.r.min(self.g).min(self.b)
+        crate::math::min(crate::math::min(self.r, self.g), self.b)
     }
 
     /// The largest component.
     #[must_use]
     pub fn max_component(self) -> f32 {
-        self.r.max(self.g).max(self.b)
+        crate::math::max(crate::math::max(self.r, self.g), self.b)
     }
 
     /// Clamps to `[0, 1]` and rounds to the nearest 8-bit value (NaN gives 0).

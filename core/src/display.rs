@@ -3,39 +3,22 @@
 //!
 //! Each tile goes out through one `fill_contiguous` call with the tile's rectangle,
 //! so a driver that streams an address window (ST7789, ILI9341, ...) receives a
-//! whole tile per window. There is no framebuffer: the RAM is the caller's tile
-//! buffer plus the renderer's stack. Errors of the display are returned, never
-//! swallowed.
+//! whole tile per window. There is no framebuffer: the RAM is one tile buffer plus
+//! the renderer's stack. Errors of the display are returned, never swallowed.
 
-use crate::error::Error;
 use crate::scene::SceneView;
 use crate::tile::{Frame, Tile, TileCoord};
-use core::fmt;
+use core::marker::PhantomData;
+use embedded_graphics_core::Drawable;
 use embedded_graphics_core::draw_target::DrawTarget;
-use embedded_graphics_core::geometry::{Point, Size};
-use embedded_graphics_core::pixelcolor::Rgb888;
+use embedded_graphics_core::geometry::{OriginDimensions, Point, Size};
+use embedded_graphics_core::pixelcolor::{PixelColor, Rgb888};
 use embedded_graphics_core::primitives::Rectangle;
 
-/// What can fail while drawing a frame: rendering, or the display itself.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DrawError<E> {
-    /// The renderer refused (a tile outside the frame).
-    Render(Error),
-    /// The display returned an error.
-    Display(E),
-}
-
-impl<E: fmt::Debug> fmt::Display for DrawError<E> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Render(e) => write!(f, "render: {e}"),
-            Self::Display(e) => write!(f, "display: {e:?}"),
-        }
-    }
-}
-
 /// Sends a rendered tile to `display` with one `fill_contiguous` over the tile's
-/// rectangle (its valid part: edge tiles may be partial).
+/// rectangle (its valid part: edge tiles may be partial). For a firmware that
+/// renders and sends the tiles itself, e.g. from a static tile buffer or in an
+/// order of its own.
 pub fn draw_tile<D, const N: usize>(tile: &Tile<N>, display: &mut D) -> Result<(), D::Error>
 where
     D: DrawTarget,
@@ -56,13 +39,26 @@ where
     )
 }
 
+/// A frame of a scene as an embedded-graphics [`Drawable`] in the display's colour
+/// `C`, rendered in rows of `N x N` tiles: [`Frame::drawable`].
+///
+/// Its size ([`OriginDimensions`]) is the viewport's, at the origin; draw it through
+/// a translated or clipped target to place it, like any other drawable. Drawing
+/// renders: the pixel memory is one tile on the stack of `draw` (`3 N^2` bytes, 768
+/// for 16), sent with one `fill_contiguous` per tile.
+#[derive(Clone, Copy, Debug)]
+pub struct Rendering<'a, C, const N: usize> {
+    frame: &'a Frame,
+    scene: SceneView<'a>,
+    color: PhantomData<C>,
+}
+
 impl Frame {
-    /// Renders the whole frame onto `display`, tile after tile in rows, through the
-    /// caller's `tile` buffer: the only pixel memory used.
+    /// This frame of `scene` as a [`Drawable`] ([`Rendering`]) with tiles of `N`:
     ///
     /// ```
-    /// use embedded_graphics_core::{pixelcolor::Rgb565, prelude::*, primitives::Rectangle};
-    /// use tessera::{builtin, RenderSettings, Tile, Viewport};
+    /// use embedded_graphics_core::{pixelcolor::Rgb565, prelude::*};
+    /// use tessera::{builtin, RenderSettings, Viewport};
     ///
     /// // A display that only counts what it receives.
     /// struct Count(u32);
@@ -80,30 +76,58 @@ impl Frame {
     ///
     /// let scene = builtin::chapter_direct()?;
     /// let frame = scene.frame(Viewport::new(40, 30), RenderSettings::default())?;
+    /// let picture = frame.drawable::<_, 16>(&scene.view());
+    /// assert_eq!(picture.size(), Size::new(40, 30));
     /// let mut display = Count(0);
-    /// frame.draw(&scene.view(), &mut Tile::<16>::new(), &mut display).unwrap();
+    /// picture.draw(&mut display).unwrap();
     /// assert_eq!(display.0, 40 * 30);
     /// # Ok::<(), tessera::Error>(())
     /// ```
-    pub fn draw<D, const N: usize>(
-        &self,
-        scene: &SceneView<'_>,
-        tile: &mut Tile<N>,
-        display: &mut D,
-    ) -> Result<(), DrawError<D::Error>>
+    #[must_use]
+    pub fn drawable<'a, C, const N: usize>(&'a self, scene: &SceneView<'a>) -> Rendering<'a, C, N> {
+        Rendering {
+            frame: self,
+            scene: *scene,
+            color: PhantomData,
+        }
+    }
+}
+
+impl<C: PixelColor + From<Rgb888>, const N: usize> Drawable for Rendering<'_, C, N> {
+    type Color = C;
+    type Output = ();
+
+    /// Renders the frame tile after tile, in rows, and sends each tile to `target`
+    /// as soon as it is rendered. An error of the target stops the drawing and is
+    /// returned.
+    fn draw<D>(&self, target: &mut D) -> Result<(), D::Error>
     where
-        D: DrawTarget,
-        D::Color: From<Rgb888>,
+        D: DrawTarget<Color = C>,
     {
-        let (across, down) = self.tile_grid(N);
+        let mut tile = Tile::<N>::new();
+        let (across, down) = self.frame.tile_grid(N);
         for ty in 0..down {
             for tx in 0..across {
-                self.render_tile(scene, TileCoord::new(tx, ty), tile)
-                    .map_err(DrawError::Render)?;
-                draw_tile(tile, display).map_err(DrawError::Display)?;
+                // Every tile of the grid lies in the frame, the one case in which
+                // `render_tile` refuses: there is no render error to report.
+                let coord = TileCoord::new(tx, ty);
+                if self
+                    .frame
+                    .render_tile(&self.scene, coord, &mut tile, &mut ())
+                    .is_ok()
+                {
+                    draw_tile(&tile, target)?;
+                }
             }
         }
         Ok(())
+    }
+}
+
+impl<C, const N: usize> OriginDimensions for Rendering<'_, C, N> {
+    fn size(&self) -> Size {
+        let vp = self.frame.viewport();
+        Size::new(u32::from(vp.width), u32::from(vp.height))
     }
 }
 
@@ -164,9 +188,7 @@ mod tests {
             fills: heapless::Vec::new(),
             fail_after: usize::MAX,
         };
-        frame
-            .draw(&scene.view(), &mut Tile::<16>::new(), &mut d)
-            .unwrap();
+        frame.drawable::<_, 16>(&scene.view()).draw(&mut d).unwrap();
         let want = [
             (0, 0, 16, 16),
             (16, 0, 16, 16),
@@ -191,8 +213,8 @@ mod tests {
             fills: heapless::Vec::new(),
             fail_after: 2,
         };
-        let r = frame.draw(&scene.view(), &mut Tile::<16>::new(), &mut d);
-        assert_eq!(r, Err(DrawError::Display("bus error")));
+        let r = frame.drawable::<_, 16>(&scene.view()).draw(&mut d);
+        assert_eq!(r, Err("bus error"));
         assert_eq!(d.fills.len(), 2);
     }
 }

@@ -190,7 +190,7 @@ impl fmt::Display for Error {
             Self::DepthTooLarge { depth } => write!(
                 f,
                 "recursion depth {depth} is above the maximum {}",
-                crate::shade::MAX_DEPTH
+                MAX_DEPTH
             ),
             Self::BadSampleCount => {
                 f.write_str("sampler needs 1 to 4096 samples per pixel (stratified k: 1 to 64)")
@@ -228,8 +228,8 @@ pub const MIN_LENGTH: f32 = f32::from_bits((127 - 52) << 23);
 
 /// The largest colour component a scene may use: `2^16` (65536), for material and
 /// texture colours, light colours, the ambient light and the background (1 is full
-/// scale). With the shader's cap on a light's `intensity / r^2` (`2^64`, see
-/// [`crate::shade`]) no sum the renderer forms can overflow `f32`: a light's term is
+/// scale). With the shader's cap on a light's `intensity / r^2` (`2^64`, in the
+/// shading) no sum the renderer forms can overflow `f32`: a light's term is
 /// at most about `2^16 * 2^64 * 2^17 = 2^97` (colour, irradiance, diffuse colour
 /// plus highlight), summed over fewer than `2^14` lights, over the
 /// `MAX_DEPTH + 1 <= 2^4` levels of a ray tree (whose weights sum to at most 1 per
@@ -238,6 +238,9 @@ pub const MIN_LENGTH: f32 = f32::from_bits((127 - 52) << 23);
 /// lights) never gives a NaN or infinite colour (`inf * 0` needs an infinity
 /// first).
 pub const MAX_COLOR: f32 = 65_536.0;
+
+/// The deepest reflection/transmission recursion a frame may ask for.
+pub const MAX_DEPTH: u8 = 8;
 
 /// The range message for colours.
 const COLOR_RANGE: &str = "[0, 65536] per component";

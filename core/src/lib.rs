@@ -22,7 +22,7 @@
 //! let scene = builtin::chapter_direct()?;
 //! let frame = scene.frame(Viewport::new(40, 30), RenderSettings::default())?;
 //! let mut tile = Tile::<16>::new();
-//! frame.render_tile(&scene.view(), TileCoord::new(2, 1), &mut tile)?;
+//! frame.render_tile(&scene.view(), TileCoord::new(2, 1), &mut tile, &mut ())?;
 //! // The last tile of a 40-pixel-wide frame holds 8 columns and 14 rows.
 //! assert_eq!((tile.width(), tile.height()), (8, 14));
 //! # Ok::<(), tessera::Error>(())
@@ -43,36 +43,49 @@
     )
 )]
 
+// The public API is the re-exports below (and the built-in scenes): the modules
+// are private, so what a firmware author sees in `tessera::` is what they use.
 pub mod builtin;
-pub mod camera;
-pub mod color;
+mod camera;
+mod color;
 mod cull;
-pub mod display;
-pub mod error;
-pub mod geometry;
-pub mod light;
-pub mod material;
-pub mod math;
-pub mod ray;
-pub mod sample;
-pub mod scene;
-pub mod shade;
-pub mod texture;
-pub mod tile;
+mod display;
+mod error;
+mod geometry;
+mod light;
+mod material;
+mod math;
+mod ray;
+mod sample;
+mod scene;
+mod shade;
+mod texture;
+mod tile;
 mod trace;
-pub mod vec;
+mod vec;
 
 pub use camera::{Camera, CameraBasis, Viewport};
 pub use color::{Color, Rgb8};
-pub use display::{DrawError, draw_tile};
-pub use error::{Error, Field, MAX_COLOR, MAX_EXTENT, MIN_LENGTH};
+pub use display::{Rendering, draw_tile};
+pub use error::{Error, Field, List, MAX_COLOR, MAX_DEPTH, MAX_EXTENT, MIN_LENGTH};
 pub use geometry::{Aabb, Plane, Sphere, Triangle};
 pub use light::PointLight;
 pub use material::{Material, MaterialId};
 pub use ray::Ray;
 pub use sample::{Sampler, SubPixel};
 pub use scene::{Primitive, Scene, SceneView};
-pub use shade::{MAX_DEPTH, RayCount};
+pub use shade::{RayCount, RayCounter};
 pub use texture::Texture;
 pub use tile::{Frame, RenderSettings, Tile, TileCoord};
 pub use vec::Vec3;
+
+/// Internals that the test crates check on their own (the extremes battery, the
+/// benchmarks, the firmware test image's scaled scenes), with the feature `testing`
+/// only: not part of the API, and not kept stable.
+#[cfg(feature = "testing")]
+#[doc(hidden)]
+pub mod testing {
+    pub use crate::geometry::{Candidate, Shape, Surface};
+    pub use crate::ray::offset_origin;
+    pub use crate::shade::refract;
+}

@@ -46,8 +46,10 @@ const UNIT: &str = "[0, 1]";
 
 impl Material {
     /// A diffuse material of one colour: ambient 1, diffuse 1, no specular, no
-    /// mirror, opaque. Colour components should be in `[0, 1]`; they are checked
-    /// when the material is added to a scene.
+    /// mirror, opaque. Colour components are reflectances, meant to be in `[0, 1]`
+    /// (above 1 a surface returns more light than it receives); what is checked,
+    /// when the material is added to a scene, is only that each is finite and in
+    /// `[0, `[`crate::MAX_COLOR`]`]`, the bound that keeps the shading finite.
     #[must_use]
     pub const fn matte(color: Color) -> Self {
         Self {
@@ -186,10 +188,10 @@ impl Material {
         self.ior
     }
     /// The Blinn-Phong highlight `x^shininess` for `x = n.h` in `(0, 1]`: by
-    /// repeated squaring ([`crate::math::powi`]) when the shininess is an integer, a
+    /// repeated squaring (`math::powi`) when the shininess is an integer, a
     /// few dozen instructions instead of a `powf` call (relative error about
     /// `2 shininess 2^-24`: at most 0.3 of an 8-bit step on a full highlight even at
-    /// shininess 10000), else through [`crate::math::powf`].
+    /// shininess 10000), else through `math::powf`.
     #[inline]
     #[must_use]
     pub fn highlight(&self, x: f32) -> f32 {

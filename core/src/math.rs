@@ -19,6 +19,7 @@
 //! Per-pixel paths use only `sqrt`, `powf`, `floor` and the polynomial
 //! [`cos_turns`]; `tan`, `atan2` and `acos` run once a frame or only for textured
 //! spheres (libm's `sinf`/`cosf` go through `f64`, which is software on an M4F).
+#![allow(clippy::disallowed_methods)] // the one home of libm calls (core/clippy.toml)
 
 /// Square root, correctly rounded with the exact backend.
 #[inline]

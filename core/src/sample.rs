@@ -193,19 +193,14 @@ pub fn mix(mut x: u32) -> u32 {
     x
 }
 
-/// The hash of a pixel's sample: every input changes every output bit.
-#[must_use]
-pub fn hash(px: u32, py: u32, index: u32, seed: u32) -> u32 {
-    PixelHash::new(px, py, seed).sample(index)
-}
-
 /// Two uniform numbers in `[0, 1)` for a pixel's sample.
 #[must_use]
 pub fn random_pair(px: u32, py: u32, index: u32, seed: u32) -> (f32, f32) {
     PixelHash::new(px, py, seed).pair(index)
 }
 
-/// The part of [`hash`] that depends on the pixel and the seed only, computed once
+/// The hash of a pixel's samples (every input changes every output bit), split:
+/// the part that depends on the pixel and the seed only, computed once
 /// per pixel rather than once per sample.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PixelHash(u32);

@@ -7,13 +7,12 @@
 //! Adding past a capacity returns [`Error::CapacityExceeded`]; every value is
 //! checked when it is added, so a scene that exists is a valid scene.
 
-use crate::camera::{Camera, Viewport};
+use crate::camera::Camera;
 use crate::color::Color;
 use crate::error::{Error, List};
 use crate::geometry::{Aabb, Plane, Sphere, Triangle};
 use crate::light::PointLight;
 use crate::material::{Material, MaterialId};
-use crate::tile::{Frame, RenderSettings};
 use crate::vec::Vec3;
 use heapless::Vec;
 
@@ -31,7 +30,7 @@ pub struct Primitive<G> {
 ///
 /// ```
 /// use tessera::{Camera, Color, Error, Material, Scene, Sphere, Vec3};
-/// use tessera::error::List;
+/// use tessera::List;
 ///
 /// let cam = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0)?;
 /// let mut scene: Scene<1, 0, 0, 0, 1, 0> = Scene::new(cam);
@@ -203,6 +202,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
     /// A textured material used both by a plane (whose uv are world units) and by
     /// another kind (whose uv are not) cannot be scaled consistently:
     /// [`Error::OutOfRange`] on the texture scale.
+    #[cfg(feature = "testing")]
     pub fn scaled_pow2(&self, k: i32) -> Result<Self, Error> {
         use crate::error::Field;
         use crate::texture::Texture;
@@ -297,11 +297,6 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             tile_lists: crate::cull::lend::<S, P, T, B>,
             triangle_hull: crate::cull::Hull::new(self.triangle_bounds.0, self.triangle_bounds.1),
         }
-    }
-
-    /// The frame of this scene's camera for `viewport` and `settings` (all checked).
-    pub fn frame(&self, viewport: Viewport, settings: RenderSettings) -> Result<Frame, Error> {
-        Frame::try_new(&self.camera, viewport, settings)
     }
 }
 

@@ -27,6 +27,7 @@
 
 use crate::color::Color;
 use crate::cull::{PLANE_RECEIVERS, SOLID_RECEIVERS};
+use crate::error::MAX_DEPTH;
 use crate::geometry::{Candidate, Geom, Locate, Shape, Surface};
 use crate::material::Material;
 use crate::math;
@@ -34,9 +35,6 @@ use crate::ray::{Ray, offset_origin};
 use crate::scene::{Primitive, SceneView};
 use crate::trace::{Kind, Listed, Masked, Nearest, Skip};
 use crate::vec::Vec3;
-
-/// The deepest reflection/transmission recursion a frame may ask for.
-pub const MAX_DEPTH: u8 = 8;
 
 /// How many rays a trace cast, by kind (for reports and for tests of what is not
 /// traced).
@@ -65,18 +63,28 @@ impl RayCount {
     }
 }
 
-/// Where the rays cast are counted: a [`RayCount`] when the caller asks for the
-/// figures, `()` otherwise, which compiles to nothing.
-pub(crate) trait Rays {
+/// Where the rays a render casts are counted: pass `&mut ()` not to count (it
+/// compiles to nothing), or a [`RayCount`] for the figures. Sealed: these are
+/// the two.
+pub trait RayCounter: sealed::Sealed {
     /// A camera ray was traced.
+    #[doc(hidden)]
     fn primary(&mut self);
     /// A reflected or refracted ray was traced.
+    #[doc(hidden)]
     fn secondary(&mut self);
     /// A shadow ray was traced.
+    #[doc(hidden)]
     fn shadow(&mut self);
 }
 
-impl Rays for () {
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for () {}
+    impl Sealed for super::RayCount {}
+}
+
+impl RayCounter for () {
     #[inline(always)]
     fn primary(&mut self) {}
     #[inline(always)]
@@ -85,7 +93,7 @@ impl Rays for () {
     fn shadow(&mut self) {}
 }
 
-impl Rays for RayCount {
+impl RayCounter for RayCount {
     #[inline(always)]
     fn primary(&mut self) {
         self.primary += 1;
@@ -250,8 +258,8 @@ fn uv_box<G: Shape>(
     for r in &footprint.corners() {
         let c = shape.intersect(r, f32::INFINITY)?;
         let [u, v] = shape.uv(&shape.surface(r, &c), &c);
-        lo = [lo[0].min(u), lo[1].min(v)];
-        hi = [hi[0].max(u), hi[1].max(v)];
+        lo = [math::min(lo[0], u), math::min(lo[1], v)];
+        hi = [math::max(hi[0], u), math::max(hi[1], v)];
     }
     // A footprint that wraps (sphere seam) is not a box of the texture.
     if shape.uv_wraps() && (hi[0] - lo[0] > 0.5 || hi[1] - lo[1] > 0.5) {
@@ -313,20 +321,15 @@ impl<'a> SceneView<'a> {
     }
 
     /// The colour seen along `ray` up to `t_max`, with reflections and
-    /// transmissions down to `max_depth` bounces (clamped to [`MAX_DEPTH`]).
-    #[must_use]
-    pub fn trace(&self, ray: Ray, t_max: f32, max_depth: u8) -> Color {
-        let depth = self.depth(max_depth);
-        self.trace_with::<_, true>(ray, t_max, depth, &Picks::default(), &mut (), None)
-    }
-
-    /// [`SceneView::trace`], adding the rays it casts to `count`.
-    pub fn trace_counted(
+    /// transmissions down to `max_depth` bounces (clamped to [`MAX_DEPTH`]), every
+    /// primitive a candidate; the rays cast are added to `count` (`&mut ()` not to
+    /// count).
+    pub fn trace<C: RayCounter>(
         &self,
         ray: Ray,
         t_max: f32,
         max_depth: u8,
-        count: &mut RayCount,
+        count: &mut C,
     ) -> Color {
         let depth = self.depth(max_depth);
         self.trace_with::<_, true>(ray, t_max, depth, &Picks::default(), count, None)
@@ -348,7 +351,7 @@ impl<'a> SceneView<'a> {
     /// `max_depth` is the scene's depth, clamped once by the caller
     /// ([`SceneView::depth`]); `BOUNCES` is false when the caller knows it is 0.
     #[inline(always)]
-    pub(crate) fn trace_with<C: Rays, const BOUNCES: bool>(
+    pub(crate) fn trace_with<C: RayCounter, const BOUNCES: bool>(
         &self,
         ray: Ray,
         t_max: f32,
@@ -372,7 +375,7 @@ impl<'a> SceneView<'a> {
     /// when `max_depth > 0` go to `first` (left as it is otherwise).
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
-    fn primary<C: Rays>(
+    fn primary<C: RayCounter>(
         &self,
         ray: &Ray,
         t_max: f32,
@@ -389,7 +392,7 @@ impl<'a> SceneView<'a> {
     /// bounces).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn primary_in<C: Rays>(
+    fn primary_in<C: RayCounter>(
         &self,
         ray: &Ray,
         t_max: f32,
@@ -435,7 +438,7 @@ impl<'a> SceneView<'a> {
     /// (depth `D` needs at most `D + 1` slots), every primitive a candidate. Out of
     /// line: a scene without mirrors or glass never comes here.
     #[inline(never)]
-    fn bounce<C: Rays>(
+    fn bounce<C: RayCounter>(
         &self,
         first: &[Option<Pending>; 2],
         max_depth: u8,
@@ -470,7 +473,7 @@ impl<'a> SceneView<'a> {
     /// Ambient + direct light at a hit (no secondary rays); the shadow rays test the
     /// candidates of `shadow` (see [`Picks`]).
     #[inline(always)]
-    fn local_in<C: Rays>(
+    fn local_in<C: RayCounter>(
         &self,
         hit: &Shaded<'_>,
         ray: &Ray,
@@ -672,7 +675,7 @@ mod tests {
             )
             .unwrap();
             let ray = Ray::unit(Vec3::new(0.0, 1.0, 0.0), -Vec3::Y);
-            let c = s.view().trace(ray, 10.0, 0);
+            let c = s.view().trace(ray, 10.0, 0, &mut ());
             assert!(c.is_finite(), "{c:?}");
             assert_eq!(c.is_black(), expect_black, "{c:?}");
             assert_eq!(irradiance(1e30, 1e-30), MAX_IRRADIANCE);

@@ -121,7 +121,7 @@ impl Texture {
     /// `[`crate::MAX_EXTENT`]`]`: `u / spacing` stays finite for every point in
     /// view, whose coordinates are below `2^62`, and a scene scaled down by `2^-48`
     /// keeps its fringes; beyond view an overflowing `u / spacing` is a bright
-    /// fringe, see [`crate::math::cos_turns`]).
+    /// fringe, see `math::cos_turns`).
     pub fn validate(&self) -> Result<(), Error> {
         let (colors, scale, length) = match *self {
             Self::Solid(c) => ([c, c], 1.0, false),

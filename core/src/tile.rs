@@ -21,9 +21,10 @@ use crate::camera::{Camera, CameraBasis, Viewport};
 use crate::color::{Color, Rgb8};
 use crate::cull::TileLists;
 use crate::error::Error;
+use crate::error::MAX_DEPTH;
 use crate::sample::{PixelHash, Sampler, stratified, stratum};
-use crate::scene::SceneView;
-use crate::shade::{Footprint, MAX_DEPTH, Picks, RayCount, Rays};
+use crate::scene::{Scene, SceneView};
+use crate::shade::{Footprint, Picks, RayCounter};
 
 /// How a frame is rendered.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -97,13 +98,11 @@ impl<const N: usize> Default for Tile<N> {
 }
 
 impl<const N: usize> Tile<N> {
-    const SIZE_OK: () = assert!(N >= 1 && N <= 256, "tile size must be 1 to 256");
-
-    /// An empty (black, 0 x 0) tile buffer.
+    /// An empty (black, 0 x 0) tile buffer. `N` must be 1 to 256: any other size
+    /// fails to compile.
     #[must_use]
     pub const fn new() -> Self {
-        #[allow(clippy::let_unit_value)]
-        let () = Self::SIZE_OK;
+        const { assert!(N >= 1 && N <= 256, "tile size must be 1 to 256") };
         Self {
             coord: TileCoord::new(0, 0),
             width: 0,
@@ -173,6 +172,17 @@ pub struct Frame {
     single: Option<(f32, f32)>,
 }
 
+impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: usize, const L: usize>
+    Scene<S, P, T, B, M, L>
+{
+    /// The frame of this scene's camera for `viewport` and `settings` (all checked):
+    /// [`Frame::try_new`] with [`Scene::camera`]. (Defined with the renderer, so that
+    /// the scene does not depend on it.)
+    pub fn frame(&self, viewport: Viewport, settings: RenderSettings) -> Result<Frame, Error> {
+        Frame::try_new(self.camera(), viewport, settings)
+    }
+}
+
 impl Frame {
     /// The frame of `camera` over `viewport` with `settings` (checked).
     pub fn try_new(
@@ -228,22 +238,16 @@ impl Frame {
         )
     }
 
-    /// The linear colour of pixel `(x, y)`: the mean of its samples. Every
-    /// primitive is a candidate (no tile, no culling): the same colour as
-    /// [`Frame::render_tile`] gives, which the tests check.
-    #[must_use]
-    pub fn pixel_color(&self, scene: &SceneView<'_>, x: u32, y: u32) -> Color {
-        let depth = scene.depth(self.settings.max_depth);
-        self.pixel::<_, true>(scene, &Picks::default(), depth, x, y, &mut ())
-    }
-
-    /// [`Frame::pixel_color`], adding the rays cast to `count`.
-    pub fn pixel_color_counted(
+    /// The linear colour of pixel `(x, y)`: the mean of its samples, the rays cast
+    /// added to `count` (`&mut ()` not to count). Every primitive is a candidate (no
+    /// tile, no culling): the same colour as [`Frame::render_tile`] gives, which the
+    /// tests check; `.to_rgb8()` is the tile's pixel.
+    pub fn pixel_color<C: RayCounter>(
         &self,
         scene: &SceneView<'_>,
         x: u32,
         y: u32,
-        count: &mut RayCount,
+        count: &mut C,
     ) -> Color {
         let depth = scene.depth(self.settings.max_depth);
         self.pixel::<_, true>(scene, &Picks::default(), depth, x, y, count)
@@ -258,7 +262,7 @@ impl Frame {
     /// bounces the whole camera ray then runs without a call (stratified 4x4 on
     /// chapter-direct: 7,147 -> 6,816 instr/px on the chip).
     #[inline(always)]
-    fn pixel<C: Rays, const BOUNCES: bool>(
+    fn pixel<C: RayCounter, const BOUNCES: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
@@ -307,7 +311,7 @@ impl Frame {
 
     /// The colour the camera ray through the viewport point `at` brings back.
     #[inline(always)]
-    fn ray_color<C: Rays, const BOUNCES: bool>(
+    fn ray_color<C: RayCounter, const BOUNCES: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
@@ -324,7 +328,7 @@ impl Frame {
     /// their pixel loop, chapter-direct costs 20 instructions more per pixel (the
     /// loop's registers spill around the shader).
     #[inline(never)]
-    fn ray_color_call<C: Rays, const BOUNCES: bool>(
+    fn ray_color_call<C: RayCounter, const BOUNCES: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
@@ -343,7 +347,7 @@ impl Frame {
     /// without bounces) does not add to the stack of the other.
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
-    fn fill<const N: usize, C: Rays, const BOUNCES: bool>(
+    fn fill<const N: usize, C: RayCounter, const BOUNCES: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
@@ -393,40 +397,26 @@ impl Frame {
         (sum * self.inv_count).to_rgb8()
     }
 
-    /// Pixel `(x, y)` as an 8-bit output pixel.
-    #[must_use]
-    pub fn render_pixel(&self, scene: &SceneView<'_>, x: u32, y: u32) -> Rgb8 {
-        self.pixel_color(scene, x, y).to_rgb8()
-    }
-
-    /// Renders tile `coord` into `tile`. Pixels of the buffer beyond the frame's
-    /// right or bottom edge are set to black and excluded from `width`/`height`.
+    /// Renders tile `coord` into `tile`, adding the rays cast to `count` (`&mut ()`
+    /// not to count: that compiles to nothing). Pixels of the buffer beyond the
+    /// frame's right or bottom edge are set to black and excluded from
+    /// `width`/`height`.
     ///
     /// Returns [`Error::TileOutOfFrame`] (and leaves `tile` untouched) when the tile
     /// lies entirely outside the frame.
-    pub fn render_tile<const N: usize>(
+    pub fn render_tile<const N: usize, C: RayCounter>(
         &self,
         scene: &SceneView<'_>,
         coord: TileCoord,
         tile: &mut Tile<N>,
-    ) -> Result<(), Error> {
-        self.render_tile_with(scene, coord, tile, &mut ())
-    }
-
-    /// [`Frame::render_tile`], adding the rays cast to `count`.
-    pub fn render_tile_counted<const N: usize>(
-        &self,
-        scene: &SceneView<'_>,
-        coord: TileCoord,
-        tile: &mut Tile<N>,
-        count: &mut RayCount,
+        count: &mut C,
     ) -> Result<(), Error> {
         self.render_tile_with(scene, coord, tile, count)
     }
 
     /// The tile loop: the tile's candidate lists first ([`crate::cull`]), then
     /// every pixel, or the background at once when no primitive reaches the tile.
-    fn render_tile_with<const N: usize, C: Rays>(
+    fn render_tile_with<const N: usize, C: RayCounter>(
         &self,
         scene: &SceneView<'_>,
         coord: TileCoord,

@@ -79,7 +79,7 @@ impl Vec3 {
         self.dot(self)
     }
 
-    /// Length (through [`math::sqrt`]).
+    /// Length (through `math::sqrt`: `vsqrt.f32` on the Cortex-M4F).
     #[inline]
     #[must_use]
     pub fn length(self) -> f32 {
@@ -128,8 +128,8 @@ impl Vec3 {
         Self::new(self.x * o.x, self.y * o.y, self.z * o.z)
     }
 
-    /// Component-wise minimum, by comparison ([`math::min`]: where a component is
-    /// NaN, the result's is `o`'s).
+    /// Component-wise minimum, by comparison (`math::min`: a compare and a
+    /// select; where a component is NaN, the result's is `o`'s).
     #[inline]
     #[must_use]
     pub fn min(self, o: Self) -> Self {
@@ -140,8 +140,8 @@ impl Vec3 {
         )
     }
 
-    /// Component-wise maximum, by comparison ([`math::max`]: where a component is
-    /// NaN, the result's is `o`'s).
+    /// Component-wise maximum, by comparison (`math::max`: a compare and a
+    /// select; where a component is NaN, the result's is `o`'s).
     #[inline]
     #[must_use]
     pub fn max(self, o: Self) -> Self {

@@ -125,7 +125,8 @@ impl Aabb {
     }
 
     /// The slab test: the span `[t0, t1]` of the ray inside the box, clipped to
-    /// `[0, t_max]`, or `None` when it is empty.
+    /// `[0, t_max]`, or `None` when it is empty (for [`Shape::occluded`]).
+    #[cfg_attr(not(any(test, feature = "testing")), allow(dead_code))]
     fn span(&self, ray: &Ray, t_max: f32) -> Option<Span> {
         self.span_inv(ray.origin, inverse(ray.dir), t_max)
     }
@@ -289,6 +290,7 @@ impl Shape for Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::test_rand as rand;
 
     fn boxed() -> Aabb {
         Aabb::try_new(Vec3::new(-1.0, -2.0, -3.0), Vec3::new(1.0, 2.0, 3.0)).unwrap()
@@ -298,17 +300,9 @@ mod tests {
         Aabb::try_new(Vec3::splat(-1.0), Vec3::splat(1.0)).unwrap()
     }
 
-    /// Deterministic xorshift32 in [-1, 1).
-    fn rand(state: &mut u32) -> f32 {
-        *state ^= *state << 13;
-        *state ^= *state >> 17;
-        *state ^= *state << 5;
-        (*state >> 8) as f32 / (1u32 << 23) as f32 - 1.0
-    }
-
     /// Relative closeness allowing for the widened exit time.
     fn close(a: f32, b: f32) -> bool {
-        (a - b).abs() <= 1e-6 * b.abs().max(1.0)
+        (a - b).abs() <= 1e-6 * crate::math::max(b.abs(), 1.0)
     }
 
     #[test]

@@ -76,7 +76,10 @@ pub trait Shape {
     /// Never returns a NaN `t`.
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Candidate>;
 
-    /// True when the ray hits the shape at some `0 < t < t_max` (shadow rays).
+    /// True when the ray hits the shape at some `0 < t < t_max`: the any-hit test
+    /// of each kind, which the tests and the extremes battery check against
+    /// `intersect`. (The renderer's shadow search inlines its own, per list.)
+    #[cfg_attr(not(any(test, feature = "testing")), allow(dead_code))]
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool;
 
     /// Point, outward normal and error bound of a hit returned by `intersect` for the
@@ -152,6 +155,15 @@ pub fn tangent_basis(n: Vec3) -> (Vec3, Vec3) {
     let t = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
     let bt = Vec3::new(b, sign + n.y * n.y * a, -n.y);
     (t, bt)
+}
+
+/// The geometry tests' deterministic random numbers (xorshift32), in `[-1, 1)`.
+#[cfg(test)]
+pub(crate) fn test_rand(state: &mut u32) -> f32 {
+    *state ^= *state << 13;
+    *state ^= *state >> 17;
+    *state ^= *state << 5;
+    (*state >> 8) as f32 / (1u32 << 23) as f32 - 1.0
 }
 
 #[cfg(test)]

@@ -313,6 +313,7 @@ impl Shape for Triangle {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::test_rand as rand;
 
     const INF: f32 = f32::INFINITY;
     const FAR: Vec3 = Vec3::new(148_376.0, 1234.0, -223_423.0);
@@ -331,14 +332,6 @@ mod tests {
 
     fn ray_to(origin: Vec3, target: Vec3) -> Ray {
         Ray::unit(origin, (target - origin).try_normalize().unwrap())
-    }
-
-    /// Deterministic xorshift32 in [-1, 1).
-    fn rand(state: &mut u32) -> f32 {
-        *state ^= *state << 13;
-        *state ^= *state >> 17;
-        *state ^= *state << 5;
-        (*state >> 8) as f32 / (1u32 << 23) as f32 - 1.0
     }
 
     /// The triangle (0,0,2), (4,0,2), (0,4,2): normal +z.
