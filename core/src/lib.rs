@@ -55,6 +55,7 @@ mod geometry;
 mod light;
 mod material;
 mod math;
+mod prefilter;
 mod ray;
 mod sample;
 mod scene;

@@ -215,7 +215,7 @@ impl PixelHash {
         Self(h.wrapping_add(0xc2b2_ae35))
     }
 
-    /// [`hash`] of sample `index`.
+    /// The hash of sample `index` of this pixel.
     #[inline]
     pub(crate) fn sample(self, index: u32) -> u32 {
         mix(self.0 ^ index)

@@ -23,17 +23,17 @@
 //! it; a hit's error bound (for the origin of the rays leaving it) is computed only
 //! when a ray leaves it; a shadow ray whose tile lists hold no blocker of its light
 //! is answered without being built. The Blinn-Phong power is computed by repeated
-//! squaring when the shininess is an integer ([`Material::highlight`]).
+//! squaring when the shininess is an integer ([`crate::Material::highlight`]).
 
 use crate::color::Color;
 use crate::cull::{PLANE_RECEIVERS, SOLID_RECEIVERS};
 use crate::error::MAX_DEPTH;
-use crate::geometry::{Candidate, Geom, Locate, Shape, Surface};
-use crate::material::Material;
+use crate::geometry::Geom;
 use crate::math;
+use crate::prefilter::Footprint;
 use crate::ray::{Ray, offset_origin};
-use crate::scene::{Primitive, SceneView};
-use crate::trace::{Kind, Listed, Masked, Nearest, Skip};
+use crate::scene::SceneView;
+use crate::trace::{Hit, Listed, Masked, Skip};
 use crate::vec::Vec3;
 
 /// How many rays a trace cast, by kind (for reports and for tests of what is not
@@ -119,155 +119,6 @@ struct Pending {
     depth: u8,
 }
 
-/// A resolved hit: the point and its normal, its material, the colour of the
-/// texture there (only evaluated if textured) and which primitive it is. The error
-/// bound of the point, which only a ray leaving it needs, is computed on demand
-/// ([`Shaded::error`]).
-struct Shaded<'a> {
-    point: Vec3,
-    /// The outward unit normal.
-    normal: Vec3,
-    /// What the error bound needs besides the point (see `Locate`).
-    aux: Vec3,
-    hit: Candidate,
-    geom: Geom<'a>,
-    index: usize,
-    material: &'a Material,
-    base: Color,
-    /// The error bound, once computed (shadow rays, then the bounces, share it).
-    error: core::cell::Cell<Option<Vec3>>,
-}
-
-impl Shaded<'_> {
-    /// The bound on the rounding error of each component of the point (`ray` is
-    /// the ray that hit it).
-    ///
-    /// Computed once per hit, out of line ([`Shaded::compute_error`]); the check
-    /// of the cached value is inlined.
-    #[inline(always)]
-    fn error(&self, ray: &Ray) -> Vec3 {
-        match self.error.get() {
-            Some(e) => e,
-            None => self.compute_error(ray),
-        }
-    }
-
-    /// [`Shaded::error`] when not yet known.
-    #[inline(never)]
-    fn compute_error(&self, ray: &Ray) -> Vec3 {
-        let e = self.geom.error(ray, &self.hit, self.point, self.aux);
-        self.error.set(Some(e));
-        e
-    }
-
-    /// What a ray leaving this hit in direction `w` must not test: this primitive,
-    /// when `w` leaves it for good (see [`crate::trace`]): always for a flat one
-    /// (plane, triangle), for a closed convex one when `w . n > 0` with the outward
-    /// normal `n`, which is also the side `offset_origin` moves the origin to.
-    fn skip_for(&self, w: Vec3) -> Skip {
-        let (kind, flat) = match self.geom {
-            Geom::Sphere(_) => (Kind::Sphere, false),
-            Geom::Plane(_) => (Kind::Plane, true),
-            Geom::Triangle(_) => (Kind::Triangle, true),
-            Geom::Box(_) => (Kind::Box, false),
-        };
-        if flat || w.dot(self.normal) > 0.0 {
-            Skip::new(kind, self.index)
-        } else {
-            Skip::NONE
-        }
-    }
-}
-
-#[inline(always)]
-fn resolve<'a, G: Locate>(
-    view: &SceneView<'a>,
-    list: &'a [Primitive<G>],
-    n: &Nearest,
-    ray: &Ray,
-    footprint: Option<&Footprint<'_>>,
-) -> Option<Shaded<'a>> {
-    let prim = list.get(n.index)?;
-    let material = view.materials.get(usize::from(prim.material.0))?;
-    let (point, normal, aux) = prim.geometry.locate(ray, &n.hit);
-    let texture = material.texture();
-    let base = if texture.needs_uv() {
-        // The uv need no error bound.
-        let surface = Surface {
-            point,
-            normal,
-            error: Vec3::ZERO,
-        };
-        let uv = prim.geometry.uv(&surface, &n.hit);
-        match footprint.and_then(|f| uv_box(&prim.geometry, f, uv)) {
-            Some((lo, hi)) => texture.eval_box(lo, hi),
-            None => texture.eval(uv),
-        }
-    } else {
-        texture.eval([0.0, 0.0])
-    };
-    Some(Shaded {
-        point,
-        normal,
-        aux,
-        hit: n.hit,
-        geom: prim.geometry.geom(),
-        index: n.index,
-        material,
-        base,
-        error: core::cell::Cell::new(None),
-    })
-}
-
-/// A camera ray's pixel, for the prefiltered sampler: the four corner rays are
-/// only built when the ray hits a textured surface.
-#[derive(Clone, Copy, Debug)]
-pub struct Footprint<'a> {
-    basis: &'a crate::camera::CameraBasis,
-    x: f32,
-    y: f32,
-}
-
-impl<'a> Footprint<'a> {
-    /// The footprint of pixel `(x, y)` (its top-left corner) of `basis`.
-    #[must_use]
-    pub fn new(basis: &'a crate::camera::CameraBasis, x: f32, y: f32) -> Self {
-        Self { basis, x, y }
-    }
-
-    /// The rays through the pixel's four corners.
-    #[must_use]
-    pub fn corners(&self) -> [Ray; 4] {
-        [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
-            .map(|(dx, dy)| self.basis.ray(self.x + dx, self.y + dy).0)
-    }
-}
-
-/// The uv bounding box of a pixel's footprint on `shape`: where the rays through the
-/// pixel's four corners meet the same shape. `None` (point sampling instead) when a
-/// corner ray misses it, or when the box spans more than half the uv range of a
-/// wrapping parametrisation (a sphere's seam). Out of line: only the prefiltered
-/// sampler comes here, and its four rays would weigh on every caller's frame.
-#[inline(never)]
-fn uv_box<G: Shape>(
-    shape: &G,
-    footprint: &Footprint<'_>,
-    centre: [f32; 2],
-) -> Option<([f32; 2], [f32; 2])> {
-    let (mut lo, mut hi) = (centre, centre);
-    for r in &footprint.corners() {
-        let c = shape.intersect(r, f32::INFINITY)?;
-        let [u, v] = shape.uv(&shape.surface(r, &c), &c);
-        lo = [math::min(lo[0], u), math::min(lo[1], v)];
-        hi = [math::max(hi[0], u), math::max(hi[1], v)];
-    }
-    // A footprint that wraps (sphere seam) is not a box of the texture.
-    if shape.uv_wraps() && (hi[0] - lo[0] > 0.5 || hi[1] - lo[1] > 0.5) {
-        return None;
-    }
-    Some((lo, hi))
-}
-
 /// The candidates of one camera ray's tree: its own nearest-hit search (a tile's
 /// camera lists, or every primitive) and the shadow rays of its hit (a tile's shadow
 /// lists, entries `index | mask << 16`, or every primitive). Reflected and
@@ -293,23 +144,6 @@ pub(crate) struct ShadowLists<'l> {
 pub(crate) const MASKED_LIGHTS: usize = 8;
 
 impl<'a> SceneView<'a> {
-    /// The resolved hit of `n` (inlined where it is called: [`SceneView::primary`]
-    /// and [`SceneView::bounce`] each have their copy).
-    #[inline(always)]
-    fn shaded(
-        &self,
-        n: &Nearest,
-        ray: &Ray,
-        footprint: Option<&Footprint<'_>>,
-    ) -> Option<Shaded<'a>> {
-        match n.kind {
-            Kind::Sphere => resolve(self, self.spheres, n, ray, footprint),
-            Kind::Plane => resolve(self, self.planes, n, ray, footprint),
-            Kind::Triangle => resolve(self, self.triangles, n, ray, footprint),
-            Kind::Box => resolve(self, self.boxes, n, ray, footprint),
-        }
-    }
-
     /// The depth that rays reach in this scene when `max_depth` is asked for: at
     /// most [`MAX_DEPTH`], and 0 without a mirror or a transparent material.
     pub(crate) fn depth(&self, max_depth: u8) -> u8 {
@@ -410,7 +244,7 @@ impl<'a> SceneView<'a> {
         let Some(nearest) = nearest else {
             return self.background;
         };
-        let Some(hit) = self.shaded(&nearest, ray, footprint) else {
+        let Some(hit) = self.hit(&nearest, ray, footprint) else {
             return Color::BLACK; // unreachable for a validated scene: no material
         };
         // A hit that no light changes and that sends no ray is its ambient colour
@@ -422,7 +256,7 @@ impl<'a> SceneView<'a> {
         if !(m.is_lit() || max_depth > 0 && m.sends_rays()) {
             return hit.base * self.ambient * m.ambient();
         }
-        let hit = Shaded {
+        let hit = Hit {
             error: core::cell::Cell::new(None),
             ..hit
         };
@@ -456,7 +290,7 @@ impl<'a> SceneView<'a> {
                 *total += self.background * p.weight;
                 continue;
             };
-            let Some(hit) = self.shaded(&nearest, &p.ray, None) else {
+            let Some(hit) = self.hit(&nearest, &p.ray, None) else {
                 continue; // unreachable for a validated scene: no material
             };
             *total += self.local_in(&hit, &p.ray, None, count) * p.weight;
@@ -475,7 +309,7 @@ impl<'a> SceneView<'a> {
     #[inline(always)]
     fn local_in<C: RayCounter>(
         &self,
-        hit: &Shaded<'_>,
+        hit: &Hit<'_>,
         ray: &Ray,
         shadow: Option<&ShadowLists<'_>>,
         count: &mut C,
@@ -545,7 +379,7 @@ impl<'a> SceneView<'a> {
 /// the ray tree. Written in place rather than returned: the 80-byte pair then is
 /// not copied by `memcpy` on its way (82 instructions a copy on the chip).
 #[inline(never)]
-fn children(hit: &Shaded<'_>, ray: &Ray, weight: f32, depth: u8, out: &mut [Option<Pending>; 2]) {
+fn children(hit: &Hit<'_>, ray: &Ray, weight: f32, depth: u8, out: &mut [Option<Pending>; 2]) {
     *out = secondary(hit, ray).map(|child| {
         let (ray, w) = child?;
         let weight = weight * w;
@@ -587,7 +421,7 @@ fn facing(normal: Vec3, dir: Vec3) -> Vec3 {
 
 /// The reflected and refracted rays of a hit, with their weights (each `None` when
 /// its weight is zero).
-fn secondary(hit: &Shaded<'_>, ray: &Ray) -> [Option<(Ray, f32)>; 2] {
+fn secondary(hit: &Hit<'_>, ray: &Ray) -> [Option<(Ray, f32)>; 2] {
     let m = hit.material;
     let (kr, kt) = (m.reflectivity(), m.transparency());
     if kr == 0.0 && kt == 0.0 {
@@ -662,7 +496,9 @@ mod tests {
             let cam =
                 Camera::look_at(Vec3::new(0.0, 1.0, 0.0), Vec3::ZERO, Vec3::Z, 0.1, 10.0).unwrap();
             let mut s = Scene::<0, 1, 0, 0, 1, 1>::new(cam);
-            let m = s.add_material(Material::matte(Color::splat(grey))).unwrap();
+            let m = s
+                .add_material(crate::Material::matte(Color::splat(grey)))
+                .unwrap();
             s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap(), m)
                 .unwrap();
             s.add_light(

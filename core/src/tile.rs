@@ -22,9 +22,10 @@ use crate::color::{Color, Rgb8};
 use crate::cull::TileLists;
 use crate::error::Error;
 use crate::error::MAX_DEPTH;
+use crate::prefilter::Footprint;
 use crate::sample::{PixelHash, Sampler, stratified, stratum};
 use crate::scene::{Scene, SceneView};
-use crate::shade::{Footprint, Picks, RayCounter};
+use crate::shade::{Picks, RayCounter};
 
 /// How a frame is rendered.
 #[derive(Clone, Copy, Debug, PartialEq)]

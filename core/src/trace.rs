@@ -1,6 +1,13 @@
 //! The searches of a ray through the scene's lists: the nearest hit (camera and
 //! secondary rays) and any hit (shadow rays), over every primitive or over the
-//! candidates a tile's culling kept ([`crate::cull`]).
+//! candidates a tile's culling kept ([`crate::cull`]); and the nearest hit resolved
+//! into the chapter's [`Hit`] (point, normal, material, texture colour).
+//!
+//! A hit goes through three stages, each computed only when needed: every
+//! primitive's test returns a [`Candidate`] (the time `t` and the little the test
+//! already knows, e.g. a triangle's barycentrics); the search keeps the nearest as a
+//! [`Nearest`] (the candidate and which primitive); only that one is resolved into a
+//! [`Hit`], and the point's error bound only when a ray leaves it.
 //!
 //! Per-ray work is done once per ray, not once per primitive: the triangle test's
 //! ray frame ([`Shear`], Woop's axis permutation and shear) and the box test's
@@ -13,9 +20,12 @@
 //! the searches skip it ([`Skip`]), which saves a test that could only answer "no"
 //! in exact arithmetic (and that rounding must never turn into a "yes").
 
+use crate::color::Color;
 use crate::cull::Hull;
 use crate::geometry::triangle::{Axes, Shear, with_axes};
-use crate::geometry::{Candidate, aabb_inverse};
+use crate::geometry::{Candidate, Geom, Locate, Surface, aabb_inverse};
+use crate::material::Material;
+use crate::prefilter::{Footprint, uv_box};
 use crate::ray::Ray;
 use crate::scene::{Primitive, SceneView};
 use crate::vec::Vec3;
@@ -371,6 +381,127 @@ fn nearest_triangle<A: Axes, S: Candidates>(
         }
         false
     });
+}
+
+/// The chapter's hit, resolved from the nearest [`Candidate`] (time `hit.t`): the
+/// point and its normal, its material, the colour of the texture there (its uv
+/// evaluated only if textured, box-filtered over the pixel's footprint for the
+/// prefiltered sampler) and which primitive it is. The error
+/// bound of the point, which only a ray leaving it needs, is computed on demand
+/// ([`Hit::error`]).
+pub(crate) struct Hit<'a> {
+    pub(crate) point: Vec3,
+    /// The outward unit normal.
+    pub(crate) normal: Vec3,
+    /// What the error bound needs besides the point (see `Locate`).
+    pub(crate) aux: Vec3,
+    pub(crate) hit: Candidate,
+    pub(crate) geom: Geom<'a>,
+    pub(crate) index: usize,
+    pub(crate) material: &'a Material,
+    pub(crate) base: Color,
+    /// The error bound, once computed (shadow rays, then the bounces, share it).
+    pub(crate) error: core::cell::Cell<Option<Vec3>>,
+}
+
+impl Hit<'_> {
+    /// The bound on the rounding error of each component of the point (`ray` is
+    /// the ray that hit it).
+    ///
+    /// Computed once per hit, out of line ([`Hit::compute_error`]); the check
+    /// of the cached value is inlined.
+    #[inline(always)]
+    pub(crate) fn error(&self, ray: &Ray) -> Vec3 {
+        match self.error.get() {
+            Some(e) => e,
+            None => self.compute_error(ray),
+        }
+    }
+
+    /// [`Hit::error`] when not yet known.
+    #[inline(never)]
+    fn compute_error(&self, ray: &Ray) -> Vec3 {
+        let e = self.geom.error(ray, &self.hit, self.point, self.aux);
+        self.error.set(Some(e));
+        e
+    }
+
+    /// What a ray leaving this hit in direction `w` must not test: this primitive,
+    /// when `w` leaves it for good (see the module doc): always for a flat one
+    /// (plane, triangle), for a closed convex one when `w . n > 0` with the outward
+    /// normal `n`, which is also the side `offset_origin` moves the origin to.
+    pub(crate) fn skip_for(&self, w: Vec3) -> Skip {
+        let (kind, flat) = match self.geom {
+            Geom::Sphere(_) => (Kind::Sphere, false),
+            Geom::Plane(_) => (Kind::Plane, true),
+            Geom::Triangle(_) => (Kind::Triangle, true),
+            Geom::Box(_) => (Kind::Box, false),
+        };
+        if flat || w.dot(self.normal) > 0.0 {
+            Skip::new(kind, self.index)
+        } else {
+            Skip::NONE
+        }
+    }
+}
+
+#[inline(always)]
+fn resolve<'a, G: Locate>(
+    view: &SceneView<'a>,
+    list: &'a [Primitive<G>],
+    n: &Nearest,
+    ray: &Ray,
+    footprint: Option<&Footprint<'_>>,
+) -> Option<Hit<'a>> {
+    let prim = list.get(n.index)?;
+    let material = view.materials.get(usize::from(prim.material.0))?;
+    let (point, normal, aux) = prim.geometry.locate(ray, &n.hit);
+    let texture = material.texture();
+    let base = if texture.needs_uv() {
+        // The uv need no error bound.
+        let surface = Surface {
+            point,
+            normal,
+            error: Vec3::ZERO,
+        };
+        let uv = prim.geometry.uv(&surface, &n.hit);
+        match footprint.and_then(|f| uv_box(&prim.geometry, f, uv)) {
+            Some((lo, hi)) => texture.eval_box(lo, hi),
+            None => texture.eval(uv),
+        }
+    } else {
+        texture.eval([0.0, 0.0])
+    };
+    Some(Hit {
+        point,
+        normal,
+        aux,
+        hit: n.hit,
+        geom: prim.geometry.geom(),
+        index: n.index,
+        material,
+        base,
+        error: core::cell::Cell::new(None),
+    })
+}
+
+impl<'a> SceneView<'a> {
+    /// The [`Hit`] of `n` (inlined where it is called: `SceneView::primary`
+    /// and `SceneView::bounce` each have their copy).
+    #[inline(always)]
+    pub(crate) fn hit(
+        &self,
+        n: &Nearest,
+        ray: &Ray,
+        footprint: Option<&Footprint<'_>>,
+    ) -> Option<Hit<'a>> {
+        match n.kind {
+            Kind::Sphere => resolve(self, self.spheres, n, ray, footprint),
+            Kind::Plane => resolve(self, self.planes, n, ray, footprint),
+            Kind::Triangle => resolve(self, self.triangles, n, ray, footprint),
+            Kind::Box => resolve(self, self.boxes, n, ray, footprint),
+        }
+    }
 }
 
 #[cfg(test)]
