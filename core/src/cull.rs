@@ -174,6 +174,7 @@ pub(crate) fn lend<const S: usize, const P: usize, const T: usize, const B: usiz
 }
 
 /// Lends no lists: every primitive is a candidate (culling off).
+#[cfg(feature = "testing")]
 pub(crate) fn lend_none(f: &mut WithLists<'_>) {
     f(None);
 }

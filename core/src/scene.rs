@@ -339,8 +339,9 @@ impl core::fmt::Debug for SceneView<'_> {
 impl<'a> SceneView<'a> {
     /// The same view with every culling bound off: no tile lists, no list hull.
     /// Renders to the same bytes (the point of the culling's conservative bounds,
-    /// which the tests check this way); slower.
-    #[doc(hidden)]
+    /// which the tests check this way); slower. A test hook, with the feature
+    /// `testing`.
+    #[cfg(feature = "testing")]
     #[must_use]
     pub fn without_culling(&self) -> Self {
         Self {

@@ -171,7 +171,7 @@ fn render<const N: usize>(
         let mut lit = false;
         for ty in 0..down {
             for tx in 0..across {
-                frame.render_tile(view, TileCoord::new(tx, ty), tile)?;
+                frame.render_tile(view, TileCoord::new(tx, ty), tile, &mut ())?;
                 for p in tile.pixels() {
                     lit |= (p.r | p.g | p.b) != 0;
                     let word = u32::from_le_bytes([p.r, p.g, p.b, 0]);
