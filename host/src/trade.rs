@@ -225,12 +225,9 @@ pub fn measure_scene(
                 let mut last = None;
                 for _ in 0..runs.max(1) {
                     let start = Instant::now();
-                    let img = match setting.tile {
-                        8 => crate::render_tiles::<8>(view, &frame, None),
-                        16 => crate::render_tiles::<16>(view, &frame, None),
-                        32 => crate::render_tiles::<32>(view, &frame, None),
-                        n => Err(HostError::TileSize(n)),
-                    }?;
+                    let img = with_tile_size!(setting.tile, |N| {
+                        crate::render_tiles::<N>(view, &frame, None)
+                    })?;
                     times.push(start.elapsed().as_secs_f64() * 1e9 / pixels);
                     last = Some(img);
                 }
