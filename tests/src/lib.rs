@@ -97,10 +97,21 @@ pub fn thousands(n: u64) -> String {
     let s = n.to_string();
     let mut out = String::new();
     for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
+        if i > 0 && (s.len() - i).is_multiple_of(3) {
             out.push(',');
         }
         out.push(c);
     }
     out
+}
+
+/// `x` rounded, with [`thousands`] separators (a negative or non-finite figure,
+/// which the reports never have, is printed as it is, rounded).
+#[must_use]
+pub fn thousands_rounded(x: f64) -> String {
+    if x.is_finite() && x >= 0.0 {
+        thousands(x.round() as u64)
+    } else {
+        format!("{x:.0}")
+    }
 }
