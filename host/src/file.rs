@@ -20,12 +20,11 @@
 
 use crate::desc::{DescError, LISTS, SceneDesc, escape_controls, num, too_many};
 use serde::Deserialize;
-use serde::de::IgnoredAny;
 use std::fmt;
 use std::io::Read;
 use std::path::Path;
 use tessera::builtin::Builtin;
-use toml::Spanned;
+use toml::de::{DeTable, DeValue};
 
 /// What kind of problem a [`FileError`] reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -207,7 +206,7 @@ fn parse_limited(text: &str, name: &str, limit: usize) -> Result<SceneDesc, File
             None => fail(ErrorKind::Toml, Some(line), Some(column), None, r.message),
         }
     })?;
-    let desc: SceneDesc = toml::from_str(text).map_err(|e| {
+    let toml_error = |e: toml::de::Error| {
         let (line, column) = match e.span() {
             Some(span) => {
                 let (l, c) = line_col(text, span.start);
@@ -228,9 +227,13 @@ fn parse_limited(text: &str, name: &str, limit: usize) -> Result<SceneDesc, File
             None,
             escape_controls(&message),
         )
-    })?;
+    };
+    // Parsed once: the spanned tables give the items' positions, then the scene.
+    let root = DeTable::parse(text).map_err(toml_error)?;
+    let places = Places::of(root.get_ref());
+    let desc = SceneDesc::deserialize(toml::de::Deserializer::from(root)).map_err(toml_error)?;
     check(&desc).map_err(|e| {
-        let line = item_start(text, &e.item).map(|b| line_col(text, b).0);
+        let line = places.start(&e.item).map(|b| line_col(text, b).0);
         fail(ErrorKind::Invalid, line, None, Some(e.item), e.message)
     })?;
     Ok(desc)
@@ -334,18 +337,20 @@ fn prescan(text: &str) -> Result<(), Refusal> {
             }
             _ => {}
         }
-        if top && line_start && c == b'[' {
-            if let Some((name, end)) = header(b, i) {
-                root = false;
-                if b[i + 1] == b'['
-                    && let Some(list) = list_named(&text[name])
-                {
-                    count(list, i)?;
-                }
-                line_start = false;
-                i = end;
-                continue;
+        if top
+            && line_start
+            && c == b'['
+            && let Some((name, end)) = header(b, i)
+        {
+            root = false;
+            if b[i + 1] == b'['
+                && let Some(list) = list_named(&text[name])
+            {
+                count(list, i)?;
             }
+            line_start = false;
+            i = end;
+            continue;
         }
         if top && line_start {
             key_start = Some(i);
@@ -366,10 +371,11 @@ fn prescan(text: &str) -> Result<(), Refusal> {
             b'[' | b'{' => {
                 if c == b'[' && top {
                     open_list = pending;
-                } else if c == b'{' && stack.len() == 1 {
-                    if let Some(list) = open_list {
-                        count(list, i)?;
-                    }
+                } else if c == b'{'
+                    && stack.len() == 1
+                    && let Some(list) = open_list
+                {
+                    count(list, i)?;
                 }
                 pending = None;
                 if stack.len() == MAX_NESTING {
@@ -559,49 +565,37 @@ fn check(desc: &SceneDesc) -> Result<(), DescError> {
     Ok(())
 }
 
-/// Where each item of a scene file starts (only the positions are kept).
-#[derive(Deserialize)]
-struct Places {
-    camera: Option<Spanned<IgnoredAny>>,
-    render: Option<Spanned<IgnoredAny>>,
-    ambient: Option<Spanned<IgnoredAny>>,
-    background: Option<Spanned<IgnoredAny>>,
-    #[serde(default)]
-    material: Vec<Spanned<IgnoredAny>>,
-    #[serde(default)]
-    light: Vec<Spanned<IgnoredAny>>,
-    #[serde(default)]
-    sphere: Vec<Spanned<IgnoredAny>>,
-    #[serde(default)]
-    plane: Vec<Spanned<IgnoredAny>>,
-    #[serde(default)]
-    triangle: Vec<Spanned<IgnoredAny>>,
-    #[serde(default, rename = "box")]
-    boxes: Vec<Spanned<IgnoredAny>>,
-}
+/// Where each item of a scene file starts, read from the spans of the parsed
+/// file: per top-level key, the byte of its value (the `[camera]` table, ...) and
+/// of each element when it is an array (each `[[sphere]]` or inline table of
+/// `sphere = [...]`).
+struct Places(Vec<(String, usize, Vec<usize>)>);
 
-/// The byte where `item` (`camera`, `sphere 3`, `material 2 ("red")`, ...) starts
-/// in `text`: its `[[sphere]]`/`[camera]` header, its inline table, or its key.
-fn item_start(text: &str, item: &str) -> Option<usize> {
-    let places: Places = toml::from_str(text).ok()?;
-    let start = |s: &Option<Spanned<IgnoredAny>>| s.as_ref().map(|s| s.span().start);
-    let mut words = item.split_whitespace();
-    let kind = words.next()?;
-    let list = match kind {
-        "camera" => return start(&places.camera),
-        "render" => return start(&places.render),
-        "ambient" => return start(&places.ambient),
-        "background" => return start(&places.background),
-        "material" => &places.material,
-        "light" => &places.light,
-        "sphere" => &places.sphere,
-        "plane" => &places.plane,
-        "triangle" => &places.triangle,
-        "box" => &places.boxes,
-        _ => return None,
-    };
-    let n: usize = words.next()?.parse().ok()?;
-    list.get(n.checked_sub(1)?).map(|s| s.span().start)
+impl Places {
+    fn of(root: &DeTable<'_>) -> Self {
+        let places = root.iter().map(|(key, value)| {
+            let elements = match value.get_ref() {
+                DeValue::Array(items) => items.iter().map(|v| v.span().start).collect(),
+                _ => Vec::new(),
+            };
+            (key.get_ref().to_string(), value.span().start, elements)
+        });
+        Self(places.collect())
+    }
+
+    /// The byte where `item` (`camera`, `sphere 3`, `material 2 ("red")`, ...)
+    /// starts: its `[[sphere]]`/`[camera]` header, its inline table, or its key.
+    fn start(&self, item: &str) -> Option<usize> {
+        let mut words = item.split_whitespace();
+        let key = words.next()?;
+        let (_, start, elements) = self.0.iter().find(|(k, ..)| k == key)?;
+        match words.next() {
+            None => Some(*start),
+            Some(n) => elements
+                .get(n.parse::<usize>().ok()?.checked_sub(1)?)
+                .copied(),
+        }
+    }
 }
 
 /// The text of the built-in scene's file, `scenes/NAME.toml` (embedded).
