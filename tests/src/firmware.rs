@@ -60,6 +60,16 @@ pub fn repo_root() -> PathBuf {
         .map_or_else(|| PathBuf::from(".."), Path::to_path_buf)
 }
 
+/// `p` relative to the repository root (as it is, if it is not under the root), for
+/// the reports.
+#[must_use]
+pub fn repo_relative(p: &Path) -> String {
+    let root = repo_root();
+    let root = root.canonicalize().unwrap_or(root);
+    let p = p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
+    p.strip_prefix(&root).unwrap_or(&p).display().to_string()
+}
+
 /// The firmware package's folder (`tests/firmware`).
 #[must_use]
 pub fn firmware_dir() -> PathBuf {

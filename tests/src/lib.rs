@@ -3,7 +3,8 @@
 //! ([`firmware`]), its instruction profile ([`profile`], attributed to source
 //! functions by [`dwarf`], weighted by the cycle model [`cycles`]), the guarded
 //! instruction counts ([`baseline`]), the host's profile under callgrind
-//! ([`callgrind`]) and the sections of the profile document ([`profile_doc`]).
+//! ([`callgrind`]), the sections of the profile document ([`profile_doc`]) and the
+//! speed/accuracy trade report ([`trade_report`]).
 
 pub mod firmware;
 
@@ -20,6 +21,8 @@ pub mod baseline;
 pub mod callgrind;
 
 pub mod profile_doc;
+
+pub mod trade_report;
 
 use std::path::PathBuf;
 use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};
