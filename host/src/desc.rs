@@ -440,46 +440,34 @@ impl SceneDesc {
     /// The core camera (checked).
     pub fn core_camera(&self) -> Result<Camera, DescError> {
         let c = &self.camera;
-        let item = || "camera".to_string();
-        let fail = |message| DescError {
-            item: item(),
-            message,
-        };
-        let position = v3(c.position, Field::CameraPosition.name()).map_err(fail)?;
-        let up = v3(c.up, Field::CameraUp.name()).map_err(fail)?;
-        let fovy = f1(c.fovy, Field::FieldOfView.name()).map_err(fail)?;
-        let near = f1(c.near, Field::Near.name()).map_err(fail)?;
-        let far = f1(c.far, Field::Far.name()).map_err(fail)?;
+        let item = Item::new("camera");
+        let position = item.v3(c.position, Field::CameraPosition)?;
+        let up = item.v3(c.up, Field::CameraUp)?;
+        let fovy = item.f1(c.fovy, Field::FieldOfView)?;
+        let near = item.f1(c.near, Field::Near)?;
+        let far = item.f1(c.far, Field::Far)?;
         let forward = match (c.forward, c.look_at) {
-            (Some(f), None) => v3(f, Field::CameraForward.name()).map_err(fail)?,
-            (None, Some(t)) => v3(t, "camera look_at").map_err(fail)? - position,
-            _ => {
-                return Err(DescError {
-                    item: item(),
-                    message: "give exactly one of `forward` and `look_at`".into(),
-                });
-            }
+            (Some(f), None) => item.v3(f, Field::CameraForward)?,
+            (None, Some(t)) => v3(t, "camera look_at").map_err(|m| item.fail(m))? - position,
+            _ => return Err(item.fail("give exactly one of `forward` and `look_at`".into())),
         };
         Camera::try_new(position, forward, up, fovy, near, far).map_err(|e| {
             let value = match e {
-                tessera::Error::NotFinite(f)
-                | tessera::Error::ZeroLength(f)
-                | tessera::Error::OutOfRange { field: f, .. } => match f {
-                    Field::CameraPosition => Some(show(&c.position)),
-                    Field::CameraForward => c.forward.or(c.look_at).map(|v| show(&v)),
-                    Field::CameraUp => Some(show(&c.up)),
-                    Field::FieldOfView => Some(show(&[c.fovy])),
-                    Field::Near => Some(show(&[c.near])),
-                    Field::Far => Some(show(&[c.far])),
-                    _ => None,
-                },
                 tessera::Error::NotPositive(_) => Some(show(&[c.near])),
                 tessera::Error::NearNotBeforeFar => {
                     Some(format!("near {} far {}", num(c.near), num(c.far)))
                 }
-                _ => None,
+                _ => match field_of(e) {
+                    Some(Field::CameraPosition) => Some(show(&c.position)),
+                    Some(Field::CameraForward) => c.forward.or(c.look_at).map(|v| show(&v)),
+                    Some(Field::CameraUp) => Some(show(&c.up)),
+                    Some(Field::FieldOfView) => Some(show(&[c.fovy])),
+                    Some(Field::Near) => Some(show(&[c.near])),
+                    Some(Field::Far) => Some(show(&[c.far])),
+                    _ => None,
+                },
             };
-            err(item(), e, value)
+            err(item.0.clone(), e, value)
         })
     }
 

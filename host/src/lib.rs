@@ -90,6 +90,11 @@ pub enum HostError {
     Encode(String),
     /// The thread pool could not be built.
     Threads(String),
+    /// A scene description was refused (the item and why).
+    Scene(desc::DescError),
+    /// Two images could not be measured against each other (sizes differ, FLIP
+    /// refused them).
+    Measure(String),
 }
 
 /// The step of writing an output through its temporary file that failed.
@@ -130,6 +135,8 @@ impl fmt::Display for HostError {
             Self::Write(e) => write!(f, "cannot write the output: {e}"),
             Self::Encode(e) => write!(f, "cannot encode the PNG: {e}"),
             Self::Threads(e) => write!(f, "cannot start the render threads: {e}"),
+            Self::Scene(e) => write!(f, "{e}"),
+            Self::Measure(e) => f.write_str(e),
         }
     }
 }
@@ -139,6 +146,12 @@ impl std::error::Error for HostError {}
 impl From<tessera::Error> for HostError {
     fn from(e: tessera::Error) -> Self {
         Self::Core(e)
+    }
+}
+
+impl From<desc::DescError> for HostError {
+    fn from(e: desc::DescError) -> Self {
+        Self::Scene(e)
     }
 }
 

@@ -32,8 +32,7 @@ pub fn run(args: &CompareArgs) -> Result<(), Error> {
         &ref_img,
         reference.non_finite(),
         &reference.signature,
-    )
-    .map_err(Error::Measure)?;
+    )?;
     println!(
         "{}: core (f32, {}) vs reference (f64)",
         describe(&source, vp, &settings),

@@ -25,8 +25,6 @@ pub enum Error {
     NoSuchScene(String),
     /// `trade --scenes` names a scene that is not built in.
     UnknownBuiltin(String),
-    /// The core's and the reference's images could not be measured.
-    Measure(String),
     /// `compare`'s accuracy bar is not met.
     BelowBar {
         /// The scene.
@@ -37,6 +35,7 @@ pub enum Error {
     /// `simulate --orbit 0`.
     NoOrbitFrames,
     /// `simulate --window` in a build without the `sdl` feature.
+    #[cfg(not(feature = "sdl"))]
     NoWindow,
     /// A folder could not be created.
     Folder {
@@ -65,9 +64,9 @@ impl fmt::Display for Error {
                 )
             }
             Self::UnknownBuiltin(name) => write!(f, "unknown built-in scene {name:?}"),
-            Self::Measure(e) => f.write_str(e),
             Self::BelowBar { name, shortfall } => write!(f, "{name}: {shortfall}"),
             Self::NoOrbitFrames => f.write_str("--orbit needs at least 1 frame"),
+            #[cfg(not(feature = "sdl"))]
             Self::NoWindow => f.write_str(
                 "this tessera was built without the SDL window: rebuild with `--features sdl` (needs libsdl2-dev)",
             ),
