@@ -180,7 +180,7 @@ fn too_big(size: Option<u64>, limit: usize) -> String {
 /// settings and frame all accepted). `name` is what messages call the file.
 ///
 /// A text above [`MAX_FILE_BYTES`], or nesting too deep, or with too many items of
-/// a list, is refused by the [`prescan`] before the TOML parser runs.
+/// a list, is refused by a pre-scan (see the module doc) before the TOML parser runs.
 pub fn parse(text: &str, name: &str) -> Result<SceneDesc, FileError> {
     parse_limited(text, name, MAX_FILE_BYTES)
 }
