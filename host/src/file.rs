@@ -206,27 +206,9 @@ fn parse_limited(text: &str, name: &str, limit: usize) -> Result<SceneDesc, File
             None => fail(ErrorKind::Toml, Some(line), Some(column), None, r.message),
         }
     })?;
-    let toml_error = |e: toml::de::Error| {
-        let (line, column) = match e.span() {
-            Some(span) => {
-                let (l, c) = line_col(text, span.start);
-                (Some(l), Some(c))
-            }
-            None => (None, None),
-        };
-        let mut message = e.message().trim().to_string();
-        if message == "duplicate key"
-            && let Some(key) = e.span().and_then(|s| key_at(text, s))
-        {
-            message = format!("duplicate key `{key}`");
-        }
-        fail(
-            ErrorKind::Toml,
-            line,
-            column,
-            None,
-            escape_controls(&message),
-        )
+    let toml_error = |e| {
+        let (line, column, message) = toml_message(text, &e);
+        fail(ErrorKind::Toml, line, column, None, message)
     };
     // Parsed once: the spanned tables give the items' positions, then the scene.
     let root = DeTable::parse(text).map_err(toml_error)?;
@@ -237,6 +219,19 @@ fn parse_limited(text: &str, name: &str, limit: usize) -> Result<SceneDesc, File
         fail(ErrorKind::Invalid, line, None, Some(e.item), e.message)
     })?;
     Ok(desc)
+}
+
+/// Where in `text` a TOML error is (line and column, when known) and its message
+/// (a duplicate key named, control characters escaped).
+fn toml_message(text: &str, e: &toml::de::Error) -> (Option<usize>, Option<usize>, String) {
+    let (line, column) = e.span().map(|span| line_col(text, span.start)).unzip();
+    let mut message = e.message().trim().to_string();
+    if message == "duplicate key"
+        && let Some(key) = e.span().and_then(|s| key_at(text, s))
+    {
+        message = format!("duplicate key `{key}`");
+    }
+    (line, column, escape_controls(&message))
 }
 
 /// The key of a TOML error's `span` (which covers the last part of a key) as
