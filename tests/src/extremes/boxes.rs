@@ -70,7 +70,6 @@ fn box_truth(lo: V3, hi: V3, o: V3, sign: [i8; 3]) -> Option<(f64, Vec<u8>)> {
 #[must_use]
 pub fn box_rule(name: &str, lo: Vec3, hi: Vec3) -> BoxRule {
     let b = Aabb::try_new(lo, hi).expect("box");
-    let (l, h) = (V3::of(lo), V3::of(hi));
     let mut out = BoxRule {
         name: name.into(),
         ..BoxRule::default()
@@ -94,59 +93,8 @@ pub fn box_rule(name: &str, lo: Vec3, hi: Vec3) -> BoxRule {
                                 continue;
                             };
                             out.rays += 1;
-                            let sg = |v: f32| {
-                                if v > 0.0 {
-                                    1i8
-                                } else if v < 0.0 {
-                                    -1
-                                } else {
-                                    0
-                                }
-                            };
-                            let sign = [sg(dx), sg(dy), sg(dz)];
-                            let ray = exact_ray(o, d);
-                            let got = b.intersect(&ray, INF);
-                            let truth = box_truth(l, h, V3::of(o), sign);
-                            if got.is_some() != truth.is_some()
-                                || b.occluded(&ray, INF) != truth.is_some()
-                            {
-                                out.disagreements += 1;
-                            }
-                            if let (Some(g), Some((s, faces))) = (got, &truth) {
-                                let a = f64::from(
-                                    d.get(sign.iter().position(|&x| x != 0).unwrap_or(0)).abs(),
-                                );
-                                let t = s / a;
-                                if !faces.contains(&g.face)
-                                    || (f64::from(g.t) - t).abs() > 1e-6 * t.max(1.0)
-                                {
-                                    out.wrong_hits += 1;
-                                }
-                            }
-                            if let Some(g) = got {
-                                let s = b.surface(&ray, &g);
-                                let uv = b.uv(&s, &g);
-                                if !(g.t.is_finite()
-                                    && s.point.is_finite()
-                                    && s.normal.is_finite()
-                                    && s.error.is_finite()
-                                    && uv.iter().all(|x| x.is_finite()))
-                                {
-                                    out.non_finite += 1;
-                                }
-                                for (axis, &sg) in sign.iter().enumerate() {
-                                    if sg == 0 {
-                                        for (face, plane) in
-                                            [(2 * axis, lo.get(axis)), (2 * axis + 1, hi.get(axis))]
-                                        {
-                                            if o.get(axis) == plane {
-                                                out.in_plane_hits[face] += 1;
-                                            }
-                                        }
-                                    }
-                                }
-                            }
-                            let key = got.map(|g| (g.t.to_bits(), g.face));
+                            let sign = [sign_of(dx), sign_of(dy), sign_of(dz)];
+                            let key = check_ray(&b, (lo, hi), o, d, sign, &mut out);
                             match groups.get(&sign) {
                                 Some(prev) if *prev != key => out.sign_mismatches += 1,
                                 Some(_) => {}
@@ -161,4 +109,66 @@ pub fn box_rule(name: &str, lo: Vec3, hi: Vec3) -> BoxRule {
         }
     }
     out
+}
+
+/// The sign of a component: 1, -1, or 0 for either zero.
+fn sign_of(v: f32) -> i8 {
+    if v > 0.0 {
+        1
+    } else if v < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// One ray of case 5, from `o` along the unit `d` whose components have the signs
+/// `sign`, against the exact answer for the box `b` = `[lo, hi]`: counts a
+/// disagreement, a wrong hit, a non-finite hit and the in-plane hits in `out`.
+/// Returns the hit's `t` (bits) and face, which must not depend on the sign of zero
+/// components.
+fn check_ray(
+    b: &Aabb,
+    (lo, hi): (Vec3, Vec3),
+    o: Vec3,
+    d: Vec3,
+    sign: [i8; 3],
+    out: &mut BoxRule,
+) -> Option<(u32, u8)> {
+    let (l, h) = (V3::of(lo), V3::of(hi));
+    let ray = exact_ray(o, d);
+    let got = b.intersect(&ray, INF);
+    let truth = box_truth(l, h, V3::of(o), sign);
+    if got.is_some() != truth.is_some() || b.occluded(&ray, INF) != truth.is_some() {
+        out.disagreements += 1;
+    }
+    if let (Some(g), Some((s, faces))) = (got, &truth) {
+        let a = f64::from(d.get(sign.iter().position(|&x| x != 0).unwrap_or(0)).abs());
+        let t = s / a;
+        if !faces.contains(&g.face) || (f64::from(g.t) - t).abs() > 1e-6 * t.max(1.0) {
+            out.wrong_hits += 1;
+        }
+    }
+    if let Some(g) = got {
+        let s = b.surface(&ray, &g);
+        let uv = b.uv(&s, &g);
+        if !(g.t.is_finite()
+            && s.point.is_finite()
+            && s.normal.is_finite()
+            && s.error.is_finite()
+            && uv.iter().all(|x| x.is_finite()))
+        {
+            out.non_finite += 1;
+        }
+        for (axis, &sg) in sign.iter().enumerate() {
+            if sg == 0 {
+                for (face, plane) in [(2 * axis, lo.get(axis)), (2 * axis + 1, hi.get(axis))] {
+                    if o.get(axis) == plane {
+                        out.in_plane_hits[face] += 1;
+                    }
+                }
+            }
+        }
+    }
+    got.map(|g| (g.t.to_bits(), g.face))
 }

@@ -101,54 +101,8 @@ pub fn camera_far(distance: f32, near: f32) -> CameraFar {
             f64::from(near),
             vp,
         );
-        let (across, down) = (w.div_ceil(16), h.div_ceil(16));
-        let tiles: Vec<(u16, u16)> = if u32::from(across) * u32::from(down) <= 300 {
-            (0..down)
-                .flat_map(|ty| (0..across).map(move |tx| (tx, ty)))
-                .collect()
-        } else {
-            let mut t = vec![
-                (0, 0),
-                (across - 1, 0),
-                (0, down - 1),
-                (across - 1, down - 1),
-            ];
-            t.push((across / 2, down / 2));
-            t.extend((0..19).map(|_| {
-                (
-                    rng.index(usize::from(across)) as u16,
-                    rng.index(usize::from(down)) as u16,
-                )
-            }));
-            t
-        };
-        for (tx, ty) in tiles {
-            out.tiles += 1;
-            let mut rays = std::collections::HashSet::new();
-            let mut dirs = std::collections::HashSet::new();
-            let mut origins = std::collections::HashSet::new();
-            let mut n = 0;
-            for y in ty * 16..((ty + 1) * 16).min(h) {
-                for x in tx * 16..((tx + 1) * 16).min(w) {
-                    let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
-                    let (ray, _) = basis.ray(px as f32, py as f32);
-                    let d = V3::of(ray.dir()).normalize();
-                    let truth = rb.dir(px, py);
-                    let pixel = (rb.dir(px + 0.5, py) - rb.dir(px - 0.5, py))
-                        .length()
-                        .min((rb.dir(px, py + 0.5) - rb.dir(px, py - 0.5)).length());
-                    out.rays += 1;
-                    out.worst_px = out.worst_px.max((d - truth).length() / pixel);
-                    let bits = |v: Vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
-                    rays.insert((bits(ray.origin()), bits(ray.dir())));
-                    dirs.insert(bits(ray.dir()));
-                    origins.insert(bits(ray.origin()));
-                    n += 1;
-                }
-            }
-            out.shared_rays += n - rays.len();
-            out.shared_dirs += n - dirs.len();
-            out.tiles_with_shared_origins += usize::from(origins.len() < n);
+        for (tx, ty) in tiles(w, h, &mut rng) {
+            check_tile(&basis, &rb, (tx, ty), (w, h), &mut out);
         }
     }
     out
@@ -315,4 +269,67 @@ pub fn up_roll() -> UpRoll {
         }
     }
     out
+}
+
+/// The 16x16 tiles of case 6 in a `w x h` viewport: all of them up to 300, else the
+/// four corners, the centre and 19 random ones.
+fn tiles(w: u16, h: u16, rng: &mut Rng) -> Vec<(u16, u16)> {
+    let (across, down) = (w.div_ceil(16), h.div_ceil(16));
+    if u32::from(across) * u32::from(down) <= 300 {
+        (0..down)
+            .flat_map(|ty| (0..across).map(move |tx| (tx, ty)))
+            .collect()
+    } else {
+        let mut t = vec![
+            (0, 0),
+            (across - 1, 0),
+            (0, down - 1),
+            (across - 1, down - 1),
+        ];
+        t.push((across / 2, down / 2));
+        t.extend((0..19).map(|_| {
+            (
+                rng.index(usize::from(across)) as u16,
+                rng.index(usize::from(down)) as u16,
+            )
+        }));
+        t
+    }
+}
+
+/// One tile of case 6: every pixel's ray direction against `f64`, and the rays,
+/// directions and origins shared between its pixels.
+fn check_tile(
+    basis: &CameraBasis,
+    rb: &RefBasis,
+    (tx, ty): (u16, u16),
+    (w, h): (u16, u16),
+    out: &mut CameraFar,
+) {
+    out.tiles += 1;
+    let mut rays = std::collections::HashSet::new();
+    let mut dirs = std::collections::HashSet::new();
+    let mut origins = std::collections::HashSet::new();
+    let mut n = 0;
+    for y in ty * 16..((ty + 1) * 16).min(h) {
+        for x in tx * 16..((tx + 1) * 16).min(w) {
+            let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+            let (ray, _) = basis.ray(px as f32, py as f32);
+            let d = V3::of(ray.dir()).normalize();
+            let truth = rb.dir(px, py);
+            let pixel = (rb.dir(px + 0.5, py) - rb.dir(px - 0.5, py))
+                .length()
+                .min((rb.dir(px, py + 0.5) - rb.dir(px, py - 0.5)).length());
+            out.rays += 1;
+            out.worst_px = out.worst_px.max((d - truth).length() / pixel);
+            let bits = |v: Vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+            rays.insert((bits(ray.origin()), bits(ray.dir())));
+            dirs.insert(bits(ray.dir()));
+            origins.insert(bits(ray.origin()));
+            n += 1;
+        }
+    }
+    out.shared_rays += n - rays.len();
+    out.shared_dirs += n - dirs.len();
+    out.tiles_with_shared_origins += usize::from(origins.len() < n);
 }

@@ -75,116 +75,126 @@ pub fn reintersection(solid: Solid, magnitude: f32, primaries: usize) -> Reinter
     let mut rng = Rng::new(0x5eed ^ u64::from(magnitude.to_bits()));
     let p32 = (V3::new(0.6, -0.48, 0.64).normalize() * f64::from(magnitude)).f32();
     let n0 = V3::new(0.3, 0.8, 0.52).normalize();
-    let half = V3::new(1.0, 0.7, 1.3);
     let mut out = Reintersection {
         solid: solid.name(),
         magnitude,
         ..Reintersection::default()
     };
     match solid {
-        Solid::Sphere => {
-            let c32 = (V3::of(p32) - n0).f32();
-            let s = Sphere::try_new(c32, 1.0).expect("sphere");
-            let c = V3::of(c32);
-            let primary = |rng: &mut Rng| {
-                if rng.index(4) == 0 {
-                    let o = (c + rng.dir() * rng.range(0.0, 0.8)).f32();
-                    exact_ray(o, rng.dir().f32())
-                } else {
-                    let u = rng.dir();
-                    let target = c + u;
-                    let mut v = rng.dir();
-                    if v.dot(u) < 0.0 {
-                        v = -v;
-                    }
-                    let o = (target + v * rng.range(0.2, 4.0)).f32();
-                    ray_towards(o, target).unwrap_or(exact_ray(o, (-v).f32()))
-                }
-            };
-            let inward = |_: &Candidate, sf: &Surface, w: Vec3, o: Vec3, h: Option<Candidate>| {
-                let chord = -2.0 * V3::of(w).dot(V3::of(sf.normal));
-                let offset = (V3::of(o) - V3::of(sf.point)).length();
-                match h {
-                    _ if chord < 4.0 * offset => Inward::Skip,
-                    None => Inward::Miss,
-                    Some(h) if f64::from(h.t) < 0.5 * chord => Inward::SelfHit,
-                    Some(_) => Inward::Ok,
-                }
-            };
-            run_reintersection(&s, true, primary, inward, &mut rng, primaries, &mut out);
-        }
-        Solid::Box => {
-            let centre = V3::of(p32);
-            let (lo, hi) = ((centre - half).f32(), (centre + half).f32());
-            let b = Aabb::try_new(lo, hi).expect("box");
-            let (lo, hi) = (V3::of(lo), V3::of(hi));
-            let primary = |rng: &mut Rng| {
-                if rng.index(4) == 0 {
-                    let o = centre
-                        + V3::new(
-                            rng.range(-0.8, 0.8),
-                            rng.range(-0.8, 0.8),
-                            rng.range(-0.8, 0.8),
-                        ) * 0.7;
-                    exact_ray(o.f32(), rng.dir().f32())
-                } else {
-                    let face = rng.index(6);
-                    let axis = face / 2;
-                    let pick = |i: usize, rng: &mut Rng| {
-                        let (a, b) = (lo.get(i), hi.get(i));
-                        if i == axis {
-                            if face % 2 == 1 { b } else { a }
-                        } else {
-                            rng.range(a, b)
-                        }
-                    };
-                    let target = V3::new(pick(0, rng), pick(1, rng), pick(2, rng));
-                    let n = V3::ZERO.with(axis, if face % 2 == 1 { 1.0 } else { -1.0 });
-                    let mut v = rng.dir();
-                    if v.dot(n) < 0.0 {
-                        v = -v;
-                    }
-                    let o = (target + v * rng.range(0.2, 4.0)).f32();
-                    ray_towards(o, target).unwrap_or(exact_ray(o, (-v).f32()))
-                }
-            };
-            let (lo32, hi32) = (b.min(), b.max());
-            let inward =
-                |c: &Candidate, sf: &Surface, w: Vec3, _: Vec3, h: Option<Candidate>| match h {
-                    // A point on an edge (on two faces) with a direction leaving through
-                    // the other face: a chord of length zero, nothing to find.
-                    _ if (0..3).any(|i| {
-                        (sf.point.get(i) == lo32.get(i) && w.get(i) < 0.0)
-                            || (sf.point.get(i) == hi32.get(i) && w.get(i) > 0.0)
-                    }) =>
-                    {
-                        Inward::Skip
-                    }
-                    None => Inward::Miss,
-                    Some(h) if h.face == c.face => Inward::SelfHit,
-                    Some(_) => Inward::Ok,
-                };
-            run_reintersection(&b, true, primary, inward, &mut rng, primaries, &mut out);
-        }
-        Solid::Plane => {
-            let pl = Plane::try_new(p32, n0.f32()).expect("plane");
-            let p = V3::of(p32);
-            let (t1, t2) = n0.basis();
-            let primary = |rng: &mut Rng| {
-                let target = p + t1 * rng.range(-2.0, 2.0) + t2 * rng.range(-2.0, 2.0);
-                let mut v = rng.dir();
-                if v.dot(n0) == 0.0 {
-                    v = n0;
-                }
-                let o = (target + v * rng.range(0.2, 4.0)).f32();
-                ray_towards(o, target).unwrap_or(exact_ray(o, (-v).f32()))
-            };
-            let inward =
-                |_: &Candidate, _: &Surface, _: Vec3, _: Vec3, _: Option<Candidate>| Inward::Ok;
-            run_reintersection(&pl, false, primary, inward, &mut rng, primaries, &mut out);
-        }
+        Solid::Sphere => on_sphere(p32, n0, &mut rng, primaries, &mut out),
+        Solid::Box => on_box(p32, &mut rng, primaries, &mut out),
+        Solid::Plane => on_plane(p32, n0, &mut rng, primaries, &mut out),
     }
     out
+}
+
+/// Case 2 on the unit sphere whose surface passes through `p32` with normal `n0`:
+/// primaries from outside, and a quarter from inside.
+fn on_sphere(p32: Vec3, n0: V3, rng: &mut Rng, primaries: usize, out: &mut Reintersection) {
+    let c32 = (V3::of(p32) - n0).f32();
+    let s = Sphere::try_new(c32, 1.0).expect("sphere");
+    let c = V3::of(c32);
+    let primary = |rng: &mut Rng| {
+        if rng.index(4) == 0 {
+            let o = (c + rng.dir() * rng.range(0.0, 0.8)).f32();
+            exact_ray(o, rng.dir().f32())
+        } else {
+            let u = rng.dir();
+            let target = c + u;
+            let mut v = rng.dir();
+            if v.dot(u) < 0.0 {
+                v = -v;
+            }
+            let o = (target + v * rng.range(0.2, 4.0)).f32();
+            ray_towards(o, target).unwrap_or(exact_ray(o, (-v).f32()))
+        }
+    };
+    let inward = |_: &Candidate, sf: &Surface, w: Vec3, o: Vec3, h: Option<Candidate>| {
+        let chord = -2.0 * V3::of(w).dot(V3::of(sf.normal));
+        let offset = (V3::of(o) - V3::of(sf.point)).length();
+        match h {
+            _ if chord < 4.0 * offset => Inward::Skip,
+            None => Inward::Miss,
+            Some(h) if f64::from(h.t) < 0.5 * chord => Inward::SelfHit,
+            Some(_) => Inward::Ok,
+        }
+    };
+    run_reintersection(&s, true, primary, inward, rng, primaries, out);
+}
+
+/// Case 2 on the box of half-extents (1, 0.7, 1.3) around `p32`: primaries at
+/// random points of its faces from outside, and a quarter from inside.
+fn on_box(p32: Vec3, rng: &mut Rng, primaries: usize, out: &mut Reintersection) {
+    let half = V3::new(1.0, 0.7, 1.3);
+    let centre = V3::of(p32);
+    let (lo, hi) = ((centre - half).f32(), (centre + half).f32());
+    let b = Aabb::try_new(lo, hi).expect("box");
+    let (lo, hi) = (V3::of(lo), V3::of(hi));
+    let primary = |rng: &mut Rng| {
+        if rng.index(4) == 0 {
+            let o = centre
+                + V3::new(
+                    rng.range(-0.8, 0.8),
+                    rng.range(-0.8, 0.8),
+                    rng.range(-0.8, 0.8),
+                ) * 0.7;
+            exact_ray(o.f32(), rng.dir().f32())
+        } else {
+            let face = rng.index(6);
+            let axis = face / 2;
+            let pick = |i: usize, rng: &mut Rng| {
+                let (a, b) = (lo.get(i), hi.get(i));
+                if i == axis {
+                    if face % 2 == 1 { b } else { a }
+                } else {
+                    rng.range(a, b)
+                }
+            };
+            let target = V3::new(pick(0, rng), pick(1, rng), pick(2, rng));
+            let n = V3::ZERO.with(axis, if face % 2 == 1 { 1.0 } else { -1.0 });
+            let mut v = rng.dir();
+            if v.dot(n) < 0.0 {
+                v = -v;
+            }
+            let o = (target + v * rng.range(0.2, 4.0)).f32();
+            ray_towards(o, target).unwrap_or(exact_ray(o, (-v).f32()))
+        }
+    };
+    let (lo32, hi32) = (b.min(), b.max());
+    let inward = |c: &Candidate, sf: &Surface, w: Vec3, _: Vec3, h: Option<Candidate>| match h {
+        // A point on an edge (on two faces) with a direction leaving through
+        // the other face: a chord of length zero, nothing to find.
+        _ if (0..3).any(|i| {
+            (sf.point.get(i) == lo32.get(i) && w.get(i) < 0.0)
+                || (sf.point.get(i) == hi32.get(i) && w.get(i) > 0.0)
+        }) =>
+        {
+            Inward::Skip
+        }
+        None => Inward::Miss,
+        Some(h) if h.face == c.face => Inward::SelfHit,
+        Some(_) => Inward::Ok,
+    };
+    run_reintersection(&b, true, primary, inward, rng, primaries, out);
+}
+
+/// Case 2 on the plane through `p32` with normal `n0` (open: every secondary ray
+/// leaves it).
+fn on_plane(p32: Vec3, n0: V3, rng: &mut Rng, primaries: usize, out: &mut Reintersection) {
+    let pl = Plane::try_new(p32, n0.f32()).expect("plane");
+    let p = V3::of(p32);
+    let (t1, t2) = n0.basis();
+    let primary = |rng: &mut Rng| {
+        let target = p + t1 * rng.range(-2.0, 2.0) + t2 * rng.range(-2.0, 2.0);
+        let mut v = rng.dir();
+        if v.dot(n0) == 0.0 {
+            v = n0;
+        }
+        let o = (target + v * rng.range(0.2, 4.0)).f32();
+        ray_towards(o, target).unwrap_or(exact_ray(o, (-v).f32()))
+    };
+    let inward = |_: &Candidate, _: &Surface, _: Vec3, _: Vec3, _: Option<Candidate>| Inward::Ok;
+    run_reintersection(&pl, false, primary, inward, rng, primaries, out);
 }
 
 /// The shader's rule: the normal turned to face the incoming ray.
