@@ -279,125 +279,148 @@ struct Refusal {
 /// converted). Malformed TOML is left for the parser to report, but a bracket the
 /// parser could nest is always counted.
 fn prescan(text: &str) -> Result<(), Refusal> {
-    let b = text.as_bytes();
-    // The open brackets, innermost last (at most MAX_NESTING).
-    let mut stack: Vec<u8> = Vec::with_capacity(MAX_NESTING);
-    let mut counts = [0usize; LISTS.len()];
-    let mut count = |list: usize, byte: usize| {
-        let (kind, capacity, name) = LISTS[list];
-        counts[list] += 1;
-        if counts[list] > capacity {
-            return Err(Refusal {
-                byte,
-                item: Some(format!("{kind} {}", counts[list])),
-                message: too_many(name, capacity),
-            });
-        }
-        Ok(())
+    let mut scan = Scan {
+        text,
+        stack: Vec::with_capacity(MAX_NESTING),
+        counts: [0; LISTS.len()],
+        line_start: true,
+        root: true,
+        key_start: None,
+        pending: None,
+        open_list: None,
     };
-    // Only spaces so far on this line, outside brackets: a key or a header may start.
-    let mut line_start = true;
-    // No `[table]` header yet: keys are top-level.
-    let mut root = true;
-    // Where the top-level key being read starts.
-    let mut key_start: Option<usize> = None;
-    // The list named by the key just before `=`, until its value starts.
-    let mut pending: Option<usize> = None;
-    // The list whose top-level array is open (its items are at depth 2).
-    let mut open_list: Option<usize> = None;
     let mut i = 0;
-    while i < b.len() {
+    while i < text.len() {
+        i = scan.step(i)?;
+    }
+    Ok(())
+}
+
+/// Where the [`prescan`] is in the structure of the text.
+struct Scan<'t> {
+    text: &'t str,
+    /// The open brackets, innermost last (at most [`MAX_NESTING`]).
+    stack: Vec<u8>,
+    /// The items seen of each list of [`LISTS`].
+    counts: [usize; LISTS.len()],
+    /// Only spaces so far on this line, outside brackets: a key or a header may
+    /// start.
+    line_start: bool,
+    /// No `[table]` header yet: keys are top-level.
+    root: bool,
+    /// Where the top-level key being read starts.
+    key_start: Option<usize>,
+    /// The list named by the key just before `=`, until its value starts.
+    pending: Option<usize>,
+    /// The list whose top-level array is open (its items are at depth 2).
+    open_list: Option<usize>,
+}
+
+impl Scan<'_> {
+    /// Scans the byte at `i` (with a header, a string or a comment starting there,
+    /// all of it); returns where to go on.
+    fn step(&mut self, i: usize) -> Result<usize, Refusal> {
+        let b = self.text.as_bytes();
         let c = b[i];
-        let top = stack.is_empty();
+        let top = self.stack.is_empty();
         match c {
             b'\n' => {
                 if top {
-                    line_start = true;
-                    key_start = None;
-                    pending = None;
+                    self.line_start = true;
+                    self.key_start = None;
+                    self.pending = None;
                 }
-                i += 1;
-                continue;
+                return Ok(i + 1);
             }
-            b' ' | b'\t' | b'\r' => {
-                i += 1;
-                continue;
-            }
+            b' ' | b'\t' | b'\r' => return Ok(i + 1),
             b'#' => {
-                i = b[i..]
-                    .iter()
-                    .position(|&x| x == b'\n')
-                    .map_or(b.len(), |n| i + n);
-                continue;
+                let end = b[i..].iter().position(|&x| x == b'\n');
+                return Ok(end.map_or(b.len(), |n| i + n));
             }
             _ => {}
         }
         if top
-            && line_start
+            && self.line_start
             && c == b'['
             && let Some((name, end)) = header(b, i)
         {
-            root = false;
+            self.root = false;
             if b[i + 1] == b'['
-                && let Some(list) = list_named(&text[name])
+                && let Some(list) = list_named(&self.text[name])
             {
-                count(list, i)?;
+                self.count(list, i)?;
             }
-            line_start = false;
-            i = end;
-            continue;
+            self.line_start = false;
+            return Ok(end);
         }
-        if top && line_start {
-            key_start = Some(i);
+        if top && self.line_start {
+            self.key_start = Some(i);
         }
-        line_start = false;
+        self.line_start = false;
         match c {
             b'"' | b'\'' => {
-                pending = None;
-                i = skip_string(b, i);
-                continue;
+                self.pending = None;
+                return Ok(skip_string(b, i));
             }
             b'=' if top => {
-                pending = key_start
-                    .take()
-                    .filter(|_| root)
-                    .and_then(|k| list_named(&text[k..i]));
+                let key = self.key_start.take().filter(|_| self.root);
+                self.pending = key.and_then(|k| list_named(&self.text[k..i]));
             }
-            b'[' | b'{' => {
-                if c == b'[' && top {
-                    open_list = pending;
-                } else if c == b'{'
-                    && stack.len() == 1
-                    && let Some(list) = open_list
-                {
-                    count(list, i)?;
-                }
-                pending = None;
-                if stack.len() == MAX_NESTING {
-                    return Err(Refusal {
-                        byte: i,
-                        item: None,
-                        message: format!(
-                            "arrays and inline tables nested more than {MAX_NESTING} deep"
-                        ),
-                    });
-                }
-                stack.push(c);
-            }
-            b']' | b'}' => {
-                let opener = if c == b']' { b'[' } else { b'{' };
-                if stack.last() == Some(&opener) {
-                    stack.pop();
-                }
-                if stack.is_empty() {
-                    open_list = None;
-                }
-            }
-            _ => pending = None,
+            b'[' | b'{' => self.open(c, i)?,
+            b']' | b'}' => self.close(c),
+            _ => self.pending = None,
         }
-        i += 1;
+        Ok(i + 1)
     }
-    Ok(())
+
+    /// The bracket `c` (`[` or `{`) at `i` opens: an item of an open list when it
+    /// is an inline table in the list's array; refused one level too deep.
+    fn open(&mut self, c: u8, i: usize) -> Result<(), Refusal> {
+        if c == b'[' && self.stack.is_empty() {
+            self.open_list = self.pending;
+        } else if c == b'{'
+            && self.stack.len() == 1
+            && let Some(list) = self.open_list
+        {
+            self.count(list, i)?;
+        }
+        self.pending = None;
+        if self.stack.len() == MAX_NESTING {
+            return Err(Refusal {
+                byte: i,
+                item: None,
+                message: format!("arrays and inline tables nested more than {MAX_NESTING} deep"),
+            });
+        }
+        self.stack.push(c);
+        Ok(())
+    }
+
+    /// The bracket `c` (`]` or `}`) closes the innermost one if it matches.
+    fn close(&mut self, c: u8) {
+        let opener = if c == b']' { b'[' } else { b'{' };
+        if self.stack.last() == Some(&opener) {
+            self.stack.pop();
+        }
+        if self.stack.is_empty() {
+            self.open_list = None;
+        }
+    }
+
+    /// One more item of list `list` (an index of [`LISTS`]) at byte `byte`;
+    /// refused beyond the list's capacity.
+    fn count(&mut self, list: usize, byte: usize) -> Result<(), Refusal> {
+        let (kind, capacity, name) = LISTS[list];
+        self.counts[list] += 1;
+        if self.counts[list] > capacity {
+            return Err(Refusal {
+                byte,
+                item: Some(format!("{kind} {}", self.counts[list])),
+                message: too_many(name, capacity),
+            });
+        }
+        Ok(())
+    }
 }
 
 /// The header `[name]` or `[[name]]` starting at `b[i] == b'['` (outside any
