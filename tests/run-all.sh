@@ -1,11 +1,40 @@
 #!/usr/bin/env bash
 # Runs every check and test of tessera, installing what a fresh machine lacks first:
-# the thumbv7em-none-eabihf target (the core is cross-built for a Cortex-M4F) and
-# qemu-system-arm (the firmware tests run under emulation).
+# the thumbv7em-none-eabihf target (the core is cross-built for a Cortex-M4F),
+# qemu-system-arm (the firmware tests run under emulation) and the minimum supported
+# Rust (Cargo.toml's rust-version, checked with a minimal toolchain).
+#
+# The workspace commands are the cargo aliases of .cargo/config.toml (`cargo lint`,
+# `cargo lint-fast`, `cargo fw-core`, `cargo test-all`): they are defined there only.
+# Every step runs even when one before it failed; the last lines are always the
+# summary `tests: N passed, M failed` and then the failed steps, if any (exit 1).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 say() { printf '\n== %s\n' "$*"; }
+
+log=$(mktemp)
+failed=()
+# Runs one step, its output also appended to the log of the summary; a failure is
+# remembered, and the other steps and the summary still happen.
+run() {
+  "$@" 2>&1 | tee -a "$log" || failed+=("$*")
+}
+# The closing lines, also when the script stops early (an installation that fails):
+# one count for every test run (cargo prints one line per test binary, the last of
+# which is often an empty doc-test binary), then what failed.
+finish() {
+  local status=$?
+  awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed;?$/) p += $(i-1); if ($i ~ /^failed;?$/) f += $(i-1) } }
+       END { printf "tests: %d passed, %d failed\n", p, f }' "$log"
+  rm -f "$log"
+  if [ "${#failed[@]}" -ne 0 ]; then
+    printf 'failed: %s\n' "${failed[@]}" >&2
+    [ "$status" -ne 0 ] || status=1
+  fi
+  exit "$status"
+}
+trap finish EXIT
 
 say "toolchain: $(rustc --version)"
 if ! rustup target list --installed | grep -qx thumbv7em-none-eabihf; then
@@ -22,27 +51,41 @@ if ! command -v qemu-system-arm >/dev/null 2>&1; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq qemu-system-arm >/dev/null
 fi
 qemu-system-arm --version | head -n 1
+msrv=$(sed -n 's/^rust-version = "\([0-9.]*\)"$/\1/p' Cargo.toml)
+if ! rustup toolchain list | grep -q "^$msrv-"; then
+  say "installing Rust $msrv (the minimum supported version), minimal profile"
+  rustup toolchain install "$msrv" --profile minimal
+fi
 
 say "format"
-cargo fmt --all -- --check
+run cargo fmt --all -- --check
 
 say "clippy (exact and fast-math backends)"
-cargo clippy --workspace --all-targets -- -D warnings
-cargo clippy -p tessera --all-targets --features fast-math -- -D warnings
+run cargo lint
+run cargo lint-fast
+
+say "rustdoc: no warnings (broken or private links, unclosed HTML tags)"
+run env RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
+
+# rust-version is what the dependencies need (flip-rs 1.88, criterion 1.86): the
+# whole workspace, every target, type-checks with that toolchain, and cargo refuses
+# a dependency whose own rust-version is newer.
+say "minimum supported Rust: cargo +$msrv check (Cargo.toml's rust-version)"
+run cargo "+$msrv" check --workspace --all-targets
 
 say "firmware test image (tests/firmware): format and clippy, both backends"
-cargo fmt --manifest-path tests/firmware/Cargo.toml -- --check
-cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
-cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
+run cargo fmt --manifest-path tests/firmware/Cargo.toml -- --check
+run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
 
 say "no-panic proof (tests/nopanic): format and clippy, both backends"
-cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check
-cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
-cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
+run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check
+run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
 
 say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends"
-cargo build -p tessera --target thumbv7em-none-eabihf --release
-cargo build -p tessera --target thumbv7em-none-eabihf --release --features fast-math
+run cargo fw-core
+run cargo fw-core --features fast-math
 
 # The image renders every built-in scene through the tile API and its panic handler
 # calls an undefined symbol: the link fails ("undefined symbol:
@@ -52,36 +95,17 @@ say "no panic reachable on the Cortex-M4F (tests/nopanic links), both backends"
 for backend in exact fast-math; do
   features=()
   [ "$backend" = fast-math ] && features=(--features fast-math)
-  cargo build --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
-  cargo run -q --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
-  echo "tests/nopanic ($backend): links, renders every built-in scene under qemu"
+  run cargo build --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
+  run cargo run -q --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
 done
 
-log=$(mktemp)
-trap 'rm -f "$log"' EXIT
-failed_runs=()
-# Runs one test command, its output also appended to the log of the summary; a
-# failure is remembered, and the other runs and the summary still happen.
-run_tests() {
-  "$@" 2>&1 | tee -a "$log" || failed_runs+=("$*")
-}
-
 say "tests"
-run_tests cargo test --workspace
+run cargo test-all
 
 # The same tests with the micromath backend: the core's own (math, texture
 # coordinates) and the host's (the f64 reference against the core, also where
 # fast-math approximates). Not tessera-tests, which has no fast-math feature and
 # holds the long runs (qemu, golden images).
 say "tests with the fast-math backend (core, host)"
-run_tests cargo test -p tessera --features fast-math
-run_tests cargo test -p tessera-host --features fast-math
-
-# One closing line for every run above (cargo prints one per test binary, the last
-# of which is often an empty doc-test binary).
-awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed;?$/) p += $(i-1); if ($i ~ /^failed;?$/) f += $(i-1) } }
-     END { printf "tests: %d passed, %d failed\n", p, f }' "$log"
-if [ "${#failed_runs[@]}" -ne 0 ]; then
-  printf 'failed: %s\n' "${failed_runs[@]}" >&2
-  exit 1
-fi
+run cargo test -p tessera --features fast-math
+run cargo test -p tessera-host --features fast-math

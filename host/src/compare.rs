@@ -7,6 +7,7 @@
 //! from one of its 8 neighbours lies on an edge (of an object, a reflection or a
 //! shadow), where a rounding difference may legitimately flip a whole sample.
 
+use crate::HostError;
 use image::{Rgb, RgbImage};
 use std::fmt;
 
@@ -199,13 +200,13 @@ pub fn measure(
     reference: &RgbImage,
     reference_non_finite: usize,
     signature: &[u64],
-) -> Result<Accuracy, String> {
+) -> Result<Accuracy, HostError> {
     if core.dimensions() != reference.dimensions() {
-        return Err(format!(
+        return Err(HostError::Measure(format!(
             "image sizes differ: {:?} vs {:?}",
             core.dimensions(),
             reference.dimensions()
-        ));
+        )));
     }
     let (w, h) = core.dimensions();
     let band = silhouette_band(w, h, signature);
@@ -257,14 +258,14 @@ pub fn measure(
 
 /// Mean LDR-FLIP of `test` against `reference` (sRGB 8-bit), at FLIP's default
 /// 67 pixels per degree.
-pub fn mean_flip(reference: &RgbImage, test: &RgbImage) -> Result<f64, String> {
+pub fn mean_flip(reference: &RgbImage, test: &RgbImage) -> Result<f64, HostError> {
     let (w, h) = reference.dimensions();
     let to_flip = |img: &RgbImage| {
         flip_rs::RgbImage::new(w as usize, h as usize, img.as_raw().clone())
-            .map_err(|e| format!("FLIP: {e}"))
+            .map_err(|e| HostError::Measure(format!("FLIP: {e}")))
     };
     let map = flip_rs::ldr_flip(&to_flip(reference)?, &to_flip(test)?, flip_rs::DEFAULT_PPD)
-        .map_err(|e| format!("FLIP: {e}"))?;
+        .map_err(|e| HostError::Measure(format!("FLIP: {e}")))?;
     Ok(f64::from(map.statistics().mean))
 }
 

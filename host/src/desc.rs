@@ -440,46 +440,34 @@ impl SceneDesc {
     /// The core camera (checked).
     pub fn core_camera(&self) -> Result<Camera, DescError> {
         let c = &self.camera;
-        let item = || "camera".to_string();
-        let fail = |message| DescError {
-            item: item(),
-            message,
-        };
-        let position = v3(c.position, Field::CameraPosition.name()).map_err(fail)?;
-        let up = v3(c.up, Field::CameraUp.name()).map_err(fail)?;
-        let fovy = f1(c.fovy, Field::FieldOfView.name()).map_err(fail)?;
-        let near = f1(c.near, Field::Near.name()).map_err(fail)?;
-        let far = f1(c.far, Field::Far.name()).map_err(fail)?;
+        let item = Item::new("camera");
+        let position = item.v3(c.position, Field::CameraPosition)?;
+        let up = item.v3(c.up, Field::CameraUp)?;
+        let fovy = item.f1(c.fovy, Field::FieldOfView)?;
+        let near = item.f1(c.near, Field::Near)?;
+        let far = item.f1(c.far, Field::Far)?;
         let forward = match (c.forward, c.look_at) {
-            (Some(f), None) => v3(f, Field::CameraForward.name()).map_err(fail)?,
-            (None, Some(t)) => v3(t, "camera look_at").map_err(fail)? - position,
-            _ => {
-                return Err(DescError {
-                    item: item(),
-                    message: "give exactly one of `forward` and `look_at`".into(),
-                });
-            }
+            (Some(f), None) => item.v3(f, Field::CameraForward)?,
+            (None, Some(t)) => v3(t, "camera look_at").map_err(|m| item.fail(m))? - position,
+            _ => return Err(item.fail("give exactly one of `forward` and `look_at`".into())),
         };
         Camera::try_new(position, forward, up, fovy, near, far).map_err(|e| {
             let value = match e {
-                tessera::Error::NotFinite(f)
-                | tessera::Error::ZeroLength(f)
-                | tessera::Error::OutOfRange { field: f, .. } => match f {
-                    Field::CameraPosition => Some(show(&c.position)),
-                    Field::CameraForward => c.forward.or(c.look_at).map(|v| show(&v)),
-                    Field::CameraUp => Some(show(&c.up)),
-                    Field::FieldOfView => Some(show(&[c.fovy])),
-                    Field::Near => Some(show(&[c.near])),
-                    Field::Far => Some(show(&[c.far])),
-                    _ => None,
-                },
                 tessera::Error::NotPositive(_) => Some(show(&[c.near])),
                 tessera::Error::NearNotBeforeFar => {
                     Some(format!("near {} far {}", num(c.near), num(c.far)))
                 }
-                _ => None,
+                _ => match field_of(e) {
+                    Some(Field::CameraPosition) => Some(show(&c.position)),
+                    Some(Field::CameraForward) => c.forward.or(c.look_at).map(|v| show(&v)),
+                    Some(Field::CameraUp) => Some(show(&c.up)),
+                    Some(Field::FieldOfView) => Some(show(&[c.fovy])),
+                    Some(Field::Near) => Some(show(&[c.near])),
+                    Some(Field::Far) => Some(show(&[c.far])),
+                    _ => None,
+                },
             };
-            err(item(), e, value)
+            err(item.0.clone(), e, value)
         })
     }
 
@@ -513,111 +501,164 @@ impl SceneDesc {
     pub fn to_core(&self) -> Result<Box<HostScene>, DescError> {
         self.check_counts()?;
         let mut s = Box::new(HostScene::new(self.core_camera()?));
-        let fail = |item: &str| {
-            let item = item.to_string();
-            move |message| DescError { item, message }
-        };
-        let ambient = c3(self.ambient, Field::AmbientLight.name()).map_err(fail("ambient"))?;
-        s.set_ambient(ambient)
-            .map_err(|e| err("ambient".into(), e, Some(show(&self.ambient))))?;
-        let background =
-            c3(self.background, Field::Background.name()).map_err(fail("background"))?;
-        s.set_background(background)
-            .map_err(|e| err("background".into(), e, Some(show(&self.background))))?;
+        let item = Item::new("ambient");
+        s.set_ambient(item.c3(self.ambient, Field::AmbientLight)?)
+            .map_err(|e| item.core(e, show(&self.ambient)))?;
+        let item = Item::new("background");
+        s.set_background(item.c3(self.background, Field::Background)?)
+            .map_err(|e| item.core(e, show(&self.background)))?;
         for (i, m) in self.materials.iter().enumerate() {
-            let item = format!("material {} ({:?})", i + 1, m.name);
+            let item = Item(format!("material {} ({:?})", i + 1, m.name));
             if self.materials[..i].iter().any(|o| o.name == m.name) {
-                return Err(DescError {
-                    item,
-                    message: "a material of the same name comes earlier".into(),
-                });
+                return Err(item.fail("a material of the same name comes earlier".into()));
             }
-            let mat = core_material(m).map_err(fail(&item))?;
-            s.add_material(mat).map_err(|e| err(item, e, None))?;
+            let mat = core_material(m).map_err(|message| item.fail(message))?;
+            s.add_material(mat).map_err(|e| item.refused(e))?;
         }
         for (i, l) in self.lights.iter().enumerate() {
-            let item = format!("light {}", i + 1);
-            let position = v3(l.position, Field::LightPosition.name()).map_err(fail(&item))?;
-            let color = c3(l.color, Field::LightColor.name()).map_err(fail(&item))?;
-            let intensity = f1(l.intensity, Field::LightIntensity.name()).map_err(fail(&item))?;
-            let light = PointLight::try_new(position, color, intensity).map_err(|e| {
-                let v = match field_of(e) {
-                    Some(Field::LightPosition) => show(&l.position),
-                    Some(Field::LightColor) => show(&l.color),
-                    _ => show(&[l.intensity]),
-                };
-                err(item.clone(), e, Some(v))
-            })?;
-            s.add_light(light).map_err(|e| err(item, e, None))?;
+            let item = Item(format!("light {}", i + 1));
+            s.add_light(core_light(&item, l)?)
+                .map_err(|e| item.refused(e))?;
         }
-        let mat = |item: &str, name: &str| -> Result<MaterialId, DescError> {
-            self.material_index(name)
-                .and_then(|i| u16::try_from(i).ok())
-                .map(MaterialId)
-                .ok_or_else(|| DescError {
-                    item: item.to_string(),
-                    message: format!("unknown material {name:?}"),
-                })
-        };
         for (i, d) in self.spheres.iter().enumerate() {
-            let item = format!("sphere {}", i + 1);
-            let center = v3(d.center, Field::SphereCenter.name()).map_err(fail(&item))?;
-            let radius = f1(d.radius, Field::SphereRadius.name()).map_err(fail(&item))?;
-            let g = Sphere::try_new(center, radius).map_err(|e| {
-                let v = match field_of(e) {
-                    Some(Field::SphereCenter) => show(&d.center),
-                    _ => show(&[d.radius]),
-                };
-                err(item.clone(), e, Some(v))
-            })?;
-            s.add_sphere(g, mat(&item, &d.material)?)
-                .map_err(|e| err(item, e, None))?;
+            let item = Item(format!("sphere {}", i + 1));
+            s.add_sphere(
+                core_sphere(&item, d)?,
+                self.material_id(&item, &d.material)?,
+            )
+            .map_err(|e| item.refused(e))?;
         }
         for (i, d) in self.planes.iter().enumerate() {
-            let item = format!("plane {}", i + 1);
-            let point = v3(d.point, Field::PlanePoint.name()).map_err(fail(&item))?;
-            let normal = v3(d.normal, Field::PlaneNormal.name()).map_err(fail(&item))?;
-            let g = Plane::try_new(point, normal).map_err(|e| {
-                let v = match field_of(e) {
-                    Some(Field::PlanePoint) => show(&d.point),
-                    _ => show(&d.normal),
-                };
-                err(item.clone(), e, Some(v))
-            })?;
-            s.add_plane(g, mat(&item, &d.material)?)
-                .map_err(|e| err(item, e, None))?;
+            let item = Item(format!("plane {}", i + 1));
+            s.add_plane(core_plane(&item, d)?, self.material_id(&item, &d.material)?)
+                .map_err(|e| item.refused(e))?;
         }
         for (i, d) in self.triangles.iter().enumerate() {
-            let item = format!("triangle {}", i + 1);
-            let [a, b, c] = d.vertices;
-            let shown = || format!("{}, {}, {}", show(&a), show(&b), show(&c));
-            let [pa, pb, pc] = match d.vertices.map(|p| f3(p, "")) {
-                [Ok(pa), Ok(pb), Ok(pc)] => [pa, pb, pc].map(|[x, y, z]| Vec3::new(x, y, z)),
-                _ => {
-                    return Err(DescError {
-                        item,
-                        message: too_large(Field::TriangleVertex.name(), &shown()),
-                    });
-                }
-            };
-            let g =
-                Triangle::try_new(pa, pb, pc).map_err(|e| err(item.clone(), e, Some(shown())))?;
-            s.add_triangle(g, mat(&item, &d.material)?)
-                .map_err(|e| err(item, e, None))?;
+            let item = Item(format!("triangle {}", i + 1));
+            s.add_triangle(
+                core_triangle(&item, d)?,
+                self.material_id(&item, &d.material)?,
+            )
+            .map_err(|e| item.refused(e))?;
         }
         for (i, d) in self.boxes.iter().enumerate() {
-            let item = format!("box {}", i + 1);
-            let min = v3(d.min, Field::BoxMin.name()).map_err(fail(&item))?;
-            let max = v3(d.max, Field::BoxMax.name()).map_err(fail(&item))?;
-            let g = Aabb::try_new(min, max).map_err(|e| {
-                let v = format!("min {} max {}", show(&d.min), show(&d.max));
-                err(item.clone(), e, Some(v))
-            })?;
-            s.add_box(g, mat(&item, &d.material)?)
-                .map_err(|e| err(item, e, None))?;
+            let item = Item(format!("box {}", i + 1));
+            s.add_box(core_box(&item, d)?, self.material_id(&item, &d.material)?)
+                .map_err(|e| item.refused(e))?;
         }
         Ok(s)
     }
+
+    /// The id of the material called `name`, which `item` uses.
+    fn material_id(&self, item: &Item, name: &str) -> Result<MaterialId, DescError> {
+        self.material_index(name)
+            .and_then(|i| u16::try_from(i).ok())
+            .map(MaterialId)
+            .ok_or_else(|| item.fail(format!("unknown material {name:?}")))
+    }
+}
+
+/// An item of the file (`sphere 3`, `camera`), named in every message about it.
+struct Item(String);
+
+impl Item {
+    fn new(name: &str) -> Self {
+        Self(name.to_string())
+    }
+
+    /// `message` about this item.
+    fn fail(&self, message: String) -> DescError {
+        DescError {
+            item: self.0.clone(),
+            message,
+        }
+    }
+
+    /// The core refused this item; the offending value is `value`.
+    fn core(&self, e: tessera::Error, value: String) -> DescError {
+        err(self.0.clone(), e, Some(value))
+    }
+
+    /// The core refused this item, with no value to show (a full list, ...).
+    fn refused(&self, e: tessera::Error) -> DescError {
+        err(self.0.clone(), e, None)
+    }
+
+    /// The number `x` of `field` in `f32` (see [`f1`]).
+    fn f1(&self, x: f64, field: Field) -> Result<f32, DescError> {
+        f1(x, field.name()).map_err(|m| self.fail(m))
+    }
+
+    /// The vector `a` of `field` in `f32` (see [`v3`]).
+    fn v3(&self, a: [f64; 3], field: Field) -> Result<Vec3, DescError> {
+        v3(a, field.name()).map_err(|m| self.fail(m))
+    }
+
+    /// The colour `a` of `field` in `f32` (see [`c3`]).
+    fn c3(&self, a: [f64; 3], field: Field) -> Result<Color, DescError> {
+        c3(a, field.name()).map_err(|m| self.fail(m))
+    }
+}
+
+/// The value of the field a core error `e` names among `fields`, or `other` (the
+/// value shown with the message).
+fn value_for(e: tessera::Error, fields: &[(Field, &[f64])], other: &[f64]) -> String {
+    let f = field_of(e);
+    let v = fields
+        .iter()
+        .find(|(x, _)| Some(*x) == f)
+        .map_or(other, |(_, v)| v);
+    show(v)
+}
+
+fn core_light(item: &Item, l: &LightDesc) -> Result<PointLight, DescError> {
+    let position = item.v3(l.position, Field::LightPosition)?;
+    let color = item.c3(l.color, Field::LightColor)?;
+    let intensity = item.f1(l.intensity, Field::LightIntensity)?;
+    PointLight::try_new(position, color, intensity).map_err(|e| {
+        let fields = [
+            (Field::LightPosition, &l.position[..]),
+            (Field::LightColor, &l.color[..]),
+        ];
+        item.core(e, value_for(e, &fields, &[l.intensity]))
+    })
+}
+
+fn core_sphere(item: &Item, d: &SphereDesc) -> Result<Sphere, DescError> {
+    let center = item.v3(d.center, Field::SphereCenter)?;
+    let radius = item.f1(d.radius, Field::SphereRadius)?;
+    Sphere::try_new(center, radius).map_err(|e| {
+        let fields = [(Field::SphereCenter, &d.center[..])];
+        item.core(e, value_for(e, &fields, &[d.radius]))
+    })
+}
+
+fn core_plane(item: &Item, d: &PlaneDesc) -> Result<Plane, DescError> {
+    let point = item.v3(d.point, Field::PlanePoint)?;
+    let normal = item.v3(d.normal, Field::PlaneNormal)?;
+    Plane::try_new(point, normal).map_err(|e| {
+        let fields = [(Field::PlanePoint, &d.point[..])];
+        item.core(e, value_for(e, &fields, &d.normal))
+    })
+}
+
+fn core_triangle(item: &Item, d: &TriangleDesc) -> Result<Triangle, DescError> {
+    let [a, b, c] = d.vertices;
+    let shown = || format!("{}, {}, {}", show(&a), show(&b), show(&c));
+    match d.vertices.map(|p| f3(p, "")) {
+        [Ok(pa), Ok(pb), Ok(pc)] => {
+            let [pa, pb, pc] = [pa, pb, pc].map(|[x, y, z]| Vec3::new(x, y, z));
+            Triangle::try_new(pa, pb, pc).map_err(|e| item.core(e, shown()))
+        }
+        _ => Err(item.fail(too_large(Field::TriangleVertex.name(), &shown()))),
+    }
+}
+
+fn core_box(item: &Item, d: &BoxDesc) -> Result<Aabb, DescError> {
+    let min = item.v3(d.min, Field::BoxMin)?;
+    let max = item.v3(d.max, Field::BoxMax)?;
+    Aabb::try_new(min, max)
+        .map_err(|e| item.core(e, format!("min {} max {}", show(&d.min), show(&d.max))))
 }
 
 fn tessera_tile_ok(n: usize) -> bool {

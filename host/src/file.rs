@@ -20,12 +20,11 @@
 
 use crate::desc::{DescError, LISTS, SceneDesc, escape_controls, num, too_many};
 use serde::Deserialize;
-use serde::de::IgnoredAny;
 use std::fmt;
 use std::io::Read;
 use std::path::Path;
 use tessera::builtin::Builtin;
-use toml::Spanned;
+use toml::de::{DeTable, DeValue};
 
 /// What kind of problem a [`FileError`] reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -181,7 +180,7 @@ fn too_big(size: Option<u64>, limit: usize) -> String {
 /// settings and frame all accepted). `name` is what messages call the file.
 ///
 /// A text above [`MAX_FILE_BYTES`], or nesting too deep, or with too many items of
-/// a list, is refused by the [`prescan`] before the TOML parser runs.
+/// a list, is refused by a pre-scan (see the module doc) before the TOML parser runs.
 pub fn parse(text: &str, name: &str) -> Result<SceneDesc, FileError> {
     parse_limited(text, name, MAX_FILE_BYTES)
 }
@@ -207,33 +206,32 @@ fn parse_limited(text: &str, name: &str, limit: usize) -> Result<SceneDesc, File
             None => fail(ErrorKind::Toml, Some(line), Some(column), None, r.message),
         }
     })?;
-    let desc: SceneDesc = toml::from_str(text).map_err(|e| {
-        let (line, column) = match e.span() {
-            Some(span) => {
-                let (l, c) = line_col(text, span.start);
-                (Some(l), Some(c))
-            }
-            None => (None, None),
-        };
-        let mut message = e.message().trim().to_string();
-        if message == "duplicate key"
-            && let Some(key) = e.span().and_then(|s| key_at(text, s))
-        {
-            message = format!("duplicate key `{key}`");
-        }
-        fail(
-            ErrorKind::Toml,
-            line,
-            column,
-            None,
-            escape_controls(&message),
-        )
-    })?;
+    let toml_error = |e| {
+        let (line, column, message) = toml_message(text, &e);
+        fail(ErrorKind::Toml, line, column, None, message)
+    };
+    // Parsed once: the spanned tables give the items' positions, then the scene.
+    let root = DeTable::parse(text).map_err(toml_error)?;
+    let places = Places::of(root.get_ref());
+    let desc = SceneDesc::deserialize(toml::de::Deserializer::from(root)).map_err(toml_error)?;
     check(&desc).map_err(|e| {
-        let line = item_start(text, &e.item).map(|b| line_col(text, b).0);
+        let line = places.start(&e.item).map(|b| line_col(text, b).0);
         fail(ErrorKind::Invalid, line, None, Some(e.item), e.message)
     })?;
     Ok(desc)
+}
+
+/// Where in `text` a TOML error is (line and column, when known) and its message
+/// (a duplicate key named, control characters escaped).
+fn toml_message(text: &str, e: &toml::de::Error) -> (Option<usize>, Option<usize>, String) {
+    let (line, column) = e.span().map(|span| line_col(text, span.start)).unzip();
+    let mut message = e.message().trim().to_string();
+    if message == "duplicate key"
+        && let Some(key) = e.span().and_then(|s| key_at(text, s))
+    {
+        message = format!("duplicate key `{key}`");
+    }
+    (line, column, escape_controls(&message))
 }
 
 /// The key of a TOML error's `span` (which covers the last part of a key) as
@@ -281,122 +279,148 @@ struct Refusal {
 /// converted). Malformed TOML is left for the parser to report, but a bracket the
 /// parser could nest is always counted.
 fn prescan(text: &str) -> Result<(), Refusal> {
-    let b = text.as_bytes();
-    // The open brackets, innermost last (at most MAX_NESTING).
-    let mut stack: Vec<u8> = Vec::with_capacity(MAX_NESTING);
-    let mut counts = [0usize; LISTS.len()];
-    let mut count = |list: usize, byte: usize| {
+    let mut scan = Scan {
+        text,
+        stack: Vec::with_capacity(MAX_NESTING),
+        counts: [0; LISTS.len()],
+        line_start: true,
+        root: true,
+        key_start: None,
+        pending: None,
+        open_list: None,
+    };
+    let mut i = 0;
+    while i < text.len() {
+        i = scan.step(i)?;
+    }
+    Ok(())
+}
+
+/// Where the [`prescan`] is in the structure of the text.
+struct Scan<'t> {
+    text: &'t str,
+    /// The open brackets, innermost last (at most [`MAX_NESTING`]).
+    stack: Vec<u8>,
+    /// The items seen of each list of [`LISTS`].
+    counts: [usize; LISTS.len()],
+    /// Only spaces so far on this line, outside brackets: a key or a header may
+    /// start.
+    line_start: bool,
+    /// No `[table]` header yet: keys are top-level.
+    root: bool,
+    /// Where the top-level key being read starts.
+    key_start: Option<usize>,
+    /// The list named by the key just before `=`, until its value starts.
+    pending: Option<usize>,
+    /// The list whose top-level array is open (its items are at depth 2).
+    open_list: Option<usize>,
+}
+
+impl Scan<'_> {
+    /// Scans the byte at `i` (with a header, a string or a comment starting there,
+    /// all of it); returns where to go on.
+    fn step(&mut self, i: usize) -> Result<usize, Refusal> {
+        let b = self.text.as_bytes();
+        let c = b[i];
+        let top = self.stack.is_empty();
+        match c {
+            b'\n' => {
+                if top {
+                    self.line_start = true;
+                    self.key_start = None;
+                    self.pending = None;
+                }
+                return Ok(i + 1);
+            }
+            b' ' | b'\t' | b'\r' => return Ok(i + 1),
+            b'#' => {
+                let end = b[i..].iter().position(|&x| x == b'\n');
+                return Ok(end.map_or(b.len(), |n| i + n));
+            }
+            _ => {}
+        }
+        if top
+            && self.line_start
+            && c == b'['
+            && let Some((name, end)) = header(b, i)
+        {
+            self.root = false;
+            if b[i + 1] == b'['
+                && let Some(list) = list_named(&self.text[name])
+            {
+                self.count(list, i)?;
+            }
+            self.line_start = false;
+            return Ok(end);
+        }
+        if top && self.line_start {
+            self.key_start = Some(i);
+        }
+        self.line_start = false;
+        match c {
+            b'"' | b'\'' => {
+                self.pending = None;
+                return Ok(skip_string(b, i));
+            }
+            b'=' if top => {
+                let key = self.key_start.take().filter(|_| self.root);
+                self.pending = key.and_then(|k| list_named(&self.text[k..i]));
+            }
+            b'[' | b'{' => self.open(c, i)?,
+            b']' | b'}' => self.close(c),
+            _ => self.pending = None,
+        }
+        Ok(i + 1)
+    }
+
+    /// The bracket `c` (`[` or `{`) at `i` opens: an item of an open list when it
+    /// is an inline table in the list's array; refused one level too deep.
+    fn open(&mut self, c: u8, i: usize) -> Result<(), Refusal> {
+        if c == b'[' && self.stack.is_empty() {
+            self.open_list = self.pending;
+        } else if c == b'{'
+            && self.stack.len() == 1
+            && let Some(list) = self.open_list
+        {
+            self.count(list, i)?;
+        }
+        self.pending = None;
+        if self.stack.len() == MAX_NESTING {
+            return Err(Refusal {
+                byte: i,
+                item: None,
+                message: format!("arrays and inline tables nested more than {MAX_NESTING} deep"),
+            });
+        }
+        self.stack.push(c);
+        Ok(())
+    }
+
+    /// The bracket `c` (`]` or `}`) closes the innermost one if it matches.
+    fn close(&mut self, c: u8) {
+        let opener = if c == b']' { b'[' } else { b'{' };
+        if self.stack.last() == Some(&opener) {
+            self.stack.pop();
+        }
+        if self.stack.is_empty() {
+            self.open_list = None;
+        }
+    }
+
+    /// One more item of list `list` (an index of [`LISTS`]) at byte `byte`;
+    /// refused beyond the list's capacity.
+    fn count(&mut self, list: usize, byte: usize) -> Result<(), Refusal> {
         let (kind, capacity, name) = LISTS[list];
-        counts[list] += 1;
-        if counts[list] > capacity {
+        self.counts[list] += 1;
+        if self.counts[list] > capacity {
             return Err(Refusal {
                 byte,
-                item: Some(format!("{kind} {}", counts[list])),
+                item: Some(format!("{kind} {}", self.counts[list])),
                 message: too_many(name, capacity),
             });
         }
         Ok(())
-    };
-    // Only spaces so far on this line, outside brackets: a key or a header may start.
-    let mut line_start = true;
-    // No `[table]` header yet: keys are top-level.
-    let mut root = true;
-    // Where the top-level key being read starts.
-    let mut key_start: Option<usize> = None;
-    // The list named by the key just before `=`, until its value starts.
-    let mut pending: Option<usize> = None;
-    // The list whose top-level array is open (its items are at depth 2).
-    let mut open_list: Option<usize> = None;
-    let mut i = 0;
-    while i < b.len() {
-        let c = b[i];
-        let top = stack.is_empty();
-        match c {
-            b'\n' => {
-                if top {
-                    line_start = true;
-                    key_start = None;
-                    pending = None;
-                }
-                i += 1;
-                continue;
-            }
-            b' ' | b'\t' | b'\r' => {
-                i += 1;
-                continue;
-            }
-            b'#' => {
-                i = b[i..]
-                    .iter()
-                    .position(|&x| x == b'\n')
-                    .map_or(b.len(), |n| i + n);
-                continue;
-            }
-            _ => {}
-        }
-        if top && line_start && c == b'[' {
-            if let Some((name, end)) = header(b, i) {
-                root = false;
-                if b[i + 1] == b'['
-                    && let Some(list) = list_named(&text[name])
-                {
-                    count(list, i)?;
-                }
-                line_start = false;
-                i = end;
-                continue;
-            }
-        }
-        if top && line_start {
-            key_start = Some(i);
-        }
-        line_start = false;
-        match c {
-            b'"' | b'\'' => {
-                pending = None;
-                i = skip_string(b, i);
-                continue;
-            }
-            b'=' if top => {
-                pending = key_start
-                    .take()
-                    .filter(|_| root)
-                    .and_then(|k| list_named(&text[k..i]));
-            }
-            b'[' | b'{' => {
-                if c == b'[' && top {
-                    open_list = pending;
-                } else if c == b'{' && stack.len() == 1 {
-                    if let Some(list) = open_list {
-                        count(list, i)?;
-                    }
-                }
-                pending = None;
-                if stack.len() == MAX_NESTING {
-                    return Err(Refusal {
-                        byte: i,
-                        item: None,
-                        message: format!(
-                            "arrays and inline tables nested more than {MAX_NESTING} deep"
-                        ),
-                    });
-                }
-                stack.push(c);
-            }
-            b']' | b'}' => {
-                let opener = if c == b']' { b'[' } else { b'{' };
-                if stack.last() == Some(&opener) {
-                    stack.pop();
-                }
-                if stack.is_empty() {
-                    open_list = None;
-                }
-            }
-            _ => pending = None,
-        }
-        i += 1;
     }
-    Ok(())
 }
 
 /// The header `[name]` or `[[name]]` starting at `b[i] == b'['` (outside any
@@ -559,49 +583,37 @@ fn check(desc: &SceneDesc) -> Result<(), DescError> {
     Ok(())
 }
 
-/// Where each item of a scene file starts (only the positions are kept).
-#[derive(Deserialize)]
-struct Places {
-    camera: Option<Spanned<IgnoredAny>>,
-    render: Option<Spanned<IgnoredAny>>,
-    ambient: Option<Spanned<IgnoredAny>>,
-    background: Option<Spanned<IgnoredAny>>,
-    #[serde(default)]
-    material: Vec<Spanned<IgnoredAny>>,
-    #[serde(default)]
-    light: Vec<Spanned<IgnoredAny>>,
-    #[serde(default)]
-    sphere: Vec<Spanned<IgnoredAny>>,
-    #[serde(default)]
-    plane: Vec<Spanned<IgnoredAny>>,
-    #[serde(default)]
-    triangle: Vec<Spanned<IgnoredAny>>,
-    #[serde(default, rename = "box")]
-    boxes: Vec<Spanned<IgnoredAny>>,
-}
+/// Where each item of a scene file starts, read from the spans of the parsed
+/// file: per top-level key, the byte of its value (the `[camera]` table, ...) and
+/// of each element when it is an array (each `[[sphere]]` or inline table of
+/// `sphere = [...]`).
+struct Places(Vec<(String, usize, Vec<usize>)>);
 
-/// The byte where `item` (`camera`, `sphere 3`, `material 2 ("red")`, ...) starts
-/// in `text`: its `[[sphere]]`/`[camera]` header, its inline table, or its key.
-fn item_start(text: &str, item: &str) -> Option<usize> {
-    let places: Places = toml::from_str(text).ok()?;
-    let start = |s: &Option<Spanned<IgnoredAny>>| s.as_ref().map(|s| s.span().start);
-    let mut words = item.split_whitespace();
-    let kind = words.next()?;
-    let list = match kind {
-        "camera" => return start(&places.camera),
-        "render" => return start(&places.render),
-        "ambient" => return start(&places.ambient),
-        "background" => return start(&places.background),
-        "material" => &places.material,
-        "light" => &places.light,
-        "sphere" => &places.sphere,
-        "plane" => &places.plane,
-        "triangle" => &places.triangle,
-        "box" => &places.boxes,
-        _ => return None,
-    };
-    let n: usize = words.next()?.parse().ok()?;
-    list.get(n.checked_sub(1)?).map(|s| s.span().start)
+impl Places {
+    fn of(root: &DeTable<'_>) -> Self {
+        let places = root.iter().map(|(key, value)| {
+            let elements = match value.get_ref() {
+                DeValue::Array(items) => items.iter().map(|v| v.span().start).collect(),
+                _ => Vec::new(),
+            };
+            (key.get_ref().to_string(), value.span().start, elements)
+        });
+        Self(places.collect())
+    }
+
+    /// The byte where `item` (`camera`, `sphere 3`, `material 2 ("red")`, ...)
+    /// starts: its `[[sphere]]`/`[camera]` header, its inline table, or its key.
+    fn start(&self, item: &str) -> Option<usize> {
+        let mut words = item.split_whitespace();
+        let key = words.next()?;
+        let (_, start, elements) = self.0.iter().find(|(k, ..)| k == key)?;
+        match words.next() {
+            None => Some(*start),
+            Some(n) => elements
+                .get(n.parse::<usize>().ok()?.checked_sub(1)?)
+                .copied(),
+        }
+    }
 }
 
 /// The text of the built-in scene's file, `scenes/NAME.toml` (embedded).

@@ -91,24 +91,12 @@ pub fn simulate_tiled(
     color: PanelColor,
     tile: usize,
 ) -> Result<RgbImage, HostError> {
-    fn with<const N: usize>(
-        scene: &SceneView<'_>,
-        frame: &Frame,
-        color: PanelColor,
-    ) -> Result<RgbImage, HostError> {
-        match color {
-            PanelColor::Rgb565 => panel::<Rgb565, N>(scene, frame),
-            PanelColor::Rgb555 => panel::<Rgb555, N>(scene, frame),
-            PanelColor::Rgb888 => panel::<Rgb888, N>(scene, frame),
-            PanelColor::Gray8 => panel::<Gray8, N>(scene, frame),
-        }
-    }
-    match tile {
-        8 => with::<8>(scene, frame, color),
-        16 => with::<16>(scene, frame, color),
-        32 => with::<32>(scene, frame, color),
-        n => Err(HostError::TileSize(n)),
-    }
+    with_tile_size!(tile, |N| match color {
+        PanelColor::Rgb565 => panel::<Rgb565, N>(scene, frame),
+        PanelColor::Rgb555 => panel::<Rgb555, N>(scene, frame),
+        PanelColor::Rgb888 => panel::<Rgb888, N>(scene, frame),
+        PanelColor::Gray8 => panel::<Gray8, N>(scene, frame),
+    })
 }
 
 /// The cameras of an orbit of `frames` steps around the vertical (camera up) axis

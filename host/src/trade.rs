@@ -14,7 +14,7 @@ use crate::desc::SceneDesc;
 use image::RgbImage;
 use std::time::Instant;
 use tessera::builtin::Builtin;
-use tessera::{Frame, MAX_DEPTH, RenderSettings, Sampler, Viewport};
+use tessera::{Frame, MAX_DEPTH, RenderSettings, Sampler, SceneView, Viewport};
 
 /// One setting of the trade.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -165,14 +165,12 @@ pub fn converged(desc: &SceneDesc, vp: Viewport) -> Result<RgbImage, HostError> 
         max_depth: MAX_DEPTH,
         seed: 0x5eed,
     };
-    let r = crate::reference::render(desc, vp, &settings)
-        .map_err(|e| HostError::Encode(e.to_string()))?;
-    Ok(r.to_rgb8())
+    Ok(crate::reference::render(desc, vp, &settings)?.to_rgb8())
 }
 
 fn accuracy(img: &RgbImage, truth: &RgbImage) -> Result<compare::Accuracy, HostError> {
     let flat = vec![0u64; (img.width() * img.height()) as usize];
-    compare::measure(img, 0, truth, 0, &flat).map_err(HostError::Encode)
+    compare::measure(img, 0, truth, 0, &flat)
 }
 
 fn row(
@@ -218,31 +216,15 @@ pub fn measure_scene(
             max_depth: setting.depth,
             seed: 1,
         };
-        let (img, mut times) = b
-            .with_scene(|view, cam| {
-                let frame = Frame::try_new(cam, vp, settings)?;
-                let mut times = Vec::new();
-                let mut last = None;
-                for _ in 0..runs.max(1) {
-                    let start = Instant::now();
-                    let img = match setting.tile {
-                        8 => crate::render_tiles::<8>(view, &frame, None),
-                        16 => crate::render_tiles::<16>(view, &frame, None),
-                        32 => crate::render_tiles::<32>(view, &frame, None),
-                        n => Err(HostError::TileSize(n)),
-                    }?;
-                    times.push(start.elapsed().as_secs_f64() * 1e9 / pixels);
-                    last = Some(img);
-                }
-                let img = last.ok_or(HostError::TileSize(0))?;
-                Ok::<_, HostError>((img, times))
-            })
-            .map_err(HostError::Core)??;
+        let timed = b.with_scene(|view, cam| {
+            let frame = Frame::try_new(cam, vp, settings)?;
+            timed_renders(view, &frame, setting.tile, runs.max(1), pixels)
+        })?;
+        let (img, mut times) = timed?;
         rows.push(row(b.name(), backend(), setting, &mut times, &img, truth)?);
         if reference {
             let start = Instant::now();
-            let r = crate::reference::render(&desc, vp, &settings)
-                .map_err(|e| HostError::Encode(e.to_string()))?;
+            let r = crate::reference::render(&desc, vp, &settings)?;
             let mut t = vec![start.elapsed().as_secs_f64() * 1e9 / pixels];
             rows.push(row(
                 b.name(),
@@ -255,6 +237,30 @@ pub fn measure_scene(
         }
     }
     Ok(rows)
+}
+
+/// Renders `frame` `runs` times (at least once) with tiles of `tile` pixels, one
+/// after the other on this thread: the last image and each run's ns per pixel
+/// (`pixels` in the frame).
+fn timed_renders(
+    view: &SceneView<'_>,
+    frame: &Frame,
+    tile: usize,
+    runs: usize,
+    pixels: f64,
+) -> Result<(RgbImage, Vec<f64>), HostError> {
+    let mut times = Vec::new();
+    let mut render = || {
+        let start = Instant::now();
+        let img = with_tile_size!(tile, |N| crate::render_tiles::<N>(view, frame, None))?;
+        times.push(start.elapsed().as_secs_f64() * 1e9 / pixels);
+        Ok::<_, HostError>(img)
+    };
+    let mut img = render()?;
+    for _ in 1..runs {
+        img = render()?;
+    }
+    Ok((img, times))
 }
 
 /// One image of the interference study.
@@ -330,17 +336,13 @@ pub fn interference_study(
     let mut out = Vec::new();
     for &fp in footprints {
         let desc = fringe_desc(fp, vp);
-        let scene = desc
-            .to_core()
-            .map_err(|e| HostError::Encode(e.to_string()))?;
+        let scene = desc.to_core()?;
         let truth_settings = RenderSettings {
             sampler: Sampler::Prefiltered,
             max_depth: 0,
             seed: 0,
         };
-        let truth = crate::reference::render(&desc, vp, &truth_settings)
-            .map_err(|e| HostError::Encode(e.to_string()))?
-            .to_rgb8();
+        let truth = crate::reference::render(&desc, vp, &truth_settings)?.to_rgb8();
         let (_, amp, std) = row_stats(&truth, None, fp);
         out.push(FringeResult {
             footprint: fp,

@@ -23,6 +23,12 @@ use std::time::{Duration, Instant};
 use tessera::builtin::Builtin;
 use tessera::{RenderSettings, Sampler};
 
+/// The file names, limits and tick rate the firmware and this harness agree on: the
+/// firmware's own `tests/firmware/src/protocol.rs`, included here.
+#[path = "../firmware/src/protocol.rs"]
+mod protocol;
+pub use protocol::*;
+
 /// The firmware's target.
 pub const TARGET: &str = "thumbv7em-none-eabihf";
 /// The emulator.
@@ -42,10 +48,6 @@ pub const QEMU_ARGS: [&str; 10] = [
 ];
 /// A qemu run taking longer than this is killed and reported as an error.
 pub const TIMEOUT: Duration = Duration::from_secs(300);
-/// Guest instructions per SysTick tick (1 ns per instruction, 25 MHz SysTick).
-pub const INSTRUCTIONS_PER_TICK: u64 = 40;
-/// The largest run list the firmware reads, bytes.
-pub const RUNS_MAX: usize = 4096;
 /// What to do when qemu is missing.
 pub const INSTALL_HINT: &str =
     "run `bash tests/run-all.sh`, which installs qemu-system-arm and the thumbv7em target";
@@ -56,6 +58,16 @@ pub fn repo_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
         .map_or_else(|| PathBuf::from(".."), Path::to_path_buf)
+}
+
+/// `p` relative to the repository root (as it is, if it is not under the root), for
+/// the reports.
+#[must_use]
+pub fn repo_relative(p: &Path) -> String {
+    let root = repo_root();
+    let root = root.canonicalize().unwrap_or(root);
+    let p = p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
+    p.strip_prefix(&root).unwrap_or(&p).display().to_string()
 }
 
 /// The firmware package's folder (`tests/firmware`).
@@ -321,7 +333,7 @@ pub fn run_with(elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, St
             list.len()
         ));
     }
-    write("tessera-fw.runs", list.as_bytes())?;
+    write(RUNS_FILE, list.as_bytes())?;
     let file = |name: &str| {
         std::fs::File::create(dir.0.join(name)).map_err(|e| format!("cannot create {name}: {e}"))
     };
@@ -415,7 +427,7 @@ fn parse_output(stdout: &str, runs: &[Run], dir: &Path) -> Result<Output, String
         if instructions != ticks * INSTRUCTIONS_PER_TICK {
             return Err(format!("run {i}: instructions != ticks x 40 in {l:?}"));
         }
-        let name = format!("tessera-fw-{i}.rgb");
+        let name = format!("{FRAME_PREFIX}{i}{FRAME_SUFFIX}");
         let bytes =
             std::fs::read(dir.join(&name)).map_err(|e| format!("cannot read {name}: {e}"))?;
         let n = bytes.len();

@@ -3,7 +3,8 @@
 //! ([`firmware`]), its instruction profile ([`profile`], attributed to source
 //! functions by [`dwarf`], weighted by the cycle model [`cycles`]), the guarded
 //! instruction counts ([`baseline`]), the host's profile under callgrind
-//! ([`callgrind`]) and the sections of the profile document ([`profile_doc`]).
+//! ([`callgrind`]), the sections of the profile document ([`profile_doc`]) and the
+//! speed/accuracy trade report ([`trade_report`]).
 
 pub mod firmware;
 
@@ -20,6 +21,8 @@ pub mod baseline;
 pub mod callgrind;
 
 pub mod profile_doc;
+
+pub mod trade_report;
 
 use std::path::PathBuf;
 use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};
@@ -97,10 +100,21 @@ pub fn thousands(n: u64) -> String {
     let s = n.to_string();
     let mut out = String::new();
     for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
+        if i > 0 && (s.len() - i).is_multiple_of(3) {
             out.push(',');
         }
         out.push(c);
     }
     out
+}
+
+/// `x` rounded, with [`thousands`] separators (a negative or non-finite figure,
+/// which the reports never have, is printed as it is, rounded).
+#[must_use]
+pub fn thousands_rounded(x: f64) -> String {
+    if x.is_finite() && x >= 0.0 {
+        thousands(x.round() as u64)
+    } else {
+        format!("{x:.0}")
+    }
 }

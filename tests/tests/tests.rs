@@ -4,6 +4,7 @@ mod analytic;
 mod builtin_images;
 mod convergence;
 mod culling;
+mod docs;
 mod extremes;
 mod finite;
 mod firmware;

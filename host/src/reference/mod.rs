@@ -1,8 +1,14 @@
 //! The reference renderer: an independent, straightforward whole-image renderer in
-//! `f64` with `std` math (no tiles, no culling, no fixed capacity, plain `Vec`s),
-//! implementing the core's model and shading from the same [`SceneDesc`]. It is the
-//! truth the `f32` core is measured against; it shares with the core only the
-//! sub-pixel sample positions ([`tessera::Sampler::offset`]).
+//! `f64` with `std` math (no tiles, no fixed capacity, plain `Vec`s; every ray
+//! tests every primitive), implementing the core's model and shading from the same
+//! [`SceneDesc`]. It is the truth the `f32` core is measured against; it shares with
+//! the core only the sub-pixel sample positions ([`tessera::Sampler::offset`]).
+//!
+//! The core skips, per tile, the primitives no ray of the tile can hit (its `cull`
+//! module); that culling is conservative and never changes a pixel (the core's
+//! tests compare culled and unculled renders byte for byte), so the reference has
+//! none and a comparison does not measure it. Neither renderer culls back faces:
+//! triangles are hit from both sides.
 //!
 //! Besides the colours, each pixel gets a [`RefImage::signature`]: a hash of what
 //! every ray of every sample hit (primitive kind and index, or nothing) and of every

@@ -10,9 +10,6 @@ use cortex_m::peripheral::SYST;
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_rt::exception;
 
-/// Guest instructions per SysTick tick (1 GHz virtual instruction rate / 25 MHz).
-pub const INSTRUCTIONS_PER_TICK: u64 = 40;
-
 const RELOAD: u32 = 0x00FF_FFFF;
 
 static WRAPS: AtomicU32 = AtomicU32::new(0);
@@ -49,7 +46,8 @@ pub fn now() -> u64 {
 }
 
 /// Runs a loop of exactly `2 * iterations` instructions (`subs` + `bne`) and
-/// returns the ticks it took, to check [`INSTRUCTIONS_PER_TICK`].
+/// returns the ticks it took, to check
+/// [`INSTRUCTIONS_PER_TICK`](crate::protocol::INSTRUCTIONS_PER_TICK).
 pub fn calibrate(iterations: u32) -> u64 {
     let t0 = now();
     let mut n = iterations.max(1);

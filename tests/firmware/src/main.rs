@@ -1,7 +1,8 @@
 //! Firmware test image of tessera for qemu's mps2-an386 (Cortex-M4F with FPU).
 //!
 //! Protocol (all I/O over semihosting, files relative to qemu's working directory):
-//! 1. reads the run list `tessera-fw.runs` (see [`runs`]);
+//! 1. reads the run list `tessera-fw.runs` (see [`runs`]; the file names and limits
+//!    are in [`protocol`], shared with the host-side harness);
 //! 2. prints `calibration instructions=<n> ticks=<t>` (a loop of known length);
 //! 3. for run `i` (counted over non-blank, non-comment lines, from 0) renders the
 //!    built-in scene tile after tile, row-major, into a static tile buffer of the
@@ -29,6 +30,7 @@
 #![no_main]
 
 mod clock;
+mod protocol;
 mod runs;
 mod semihost;
 mod stack;
@@ -37,13 +39,10 @@ use core::fmt::{self, Write as _};
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::{heprintln, hprintln};
+use protocol::{FRAME_PATTERN, FRAME_PREFIX, FRAME_SUFFIX, RUNS_FILE, RUNS_MAX};
 use semihost::{HostFile, IoError};
 use tessera::{Frame, Tile, TileCoord, Viewport};
 
-/// The run list, read from the host.
-const RUNS_FILE: &str = "tessera-fw.runs";
-/// Largest run list accepted, bytes.
-const RUNS_MAX: usize = 4096;
 /// Iterations of the calibration loop (2 instructions each).
 const CALIBRATION_LOOPS: u32 = 2_000_000;
 
@@ -144,7 +143,7 @@ fn run_all() -> Result<(), FwError> {
             run.height,
             s.seed,
             ticks,
-            ticks * clock::INSTRUCTIONS_PER_TICK,
+            ticks * protocol::INSTRUCTIONS_PER_TICK,
             u32::from(run.width) * u32::from(run.height),
             used,
             base,
@@ -191,8 +190,8 @@ fn read_runs(buf: &'static mut [u8; RUNS_MAX]) -> Result<&'static str, FwError> 
 /// in `render_tile` and the stack pointer of the tile loop.
 fn render(run: &runs::Run<'_>, index: usize, tiles: &mut Tiles) -> Result<(u64, usize), FwError> {
     let mut name = heapless::String::<32>::new();
-    let _ = write!(name, "tessera-fw-{index}.rgb");
-    let out = HostFile::create(&name).map_err(|e| FwError::Io(e, "tessera-fw-<i>.rgb"))?;
+    let _ = write!(name, "{FRAME_PREFIX}{index}{FRAME_SUFFIX}");
+    let out = HostFile::create(&name).map_err(|e| FwError::Io(e, FRAME_PATTERN))?;
     match run.tile {
         8 => render_tiles(run, &out, tiles.t8),
         16 => render_tiles(run, &out, tiles.t16),
@@ -264,7 +263,7 @@ pub extern "C" fn tessera_profile_end() {
 
 /// Writes each row of `tile` at its place in the row-major RGB image.
 fn write_tile<const N: usize>(out: &HostFile, tile: &Tile<N>, width: u16) -> Result<(), FwError> {
-    let io = |e| FwError::Io(e, "tessera-fw-<i>.rgb");
+    let io = |e| FwError::Io(e, FRAME_PATTERN);
     let (x0, y0) = tile.origin();
     let (x0, y0) = (x0 as usize, y0 as usize);
     let mut bytes = [0u8; 3 * 32];

@@ -1,0 +1,86 @@
+//! `tessera compare`: the core (f32) against the reference (f64), with a heat-map.
+
+use super::{Common, Error, Source, describe};
+use clap::Args;
+use image::RgbImage;
+use std::path::PathBuf;
+use tessera::{Frame, RenderSettings, Viewport};
+use tessera_host::output::{self, Pending};
+use tessera_host::{HostError, compare, limits};
+
+#[derive(Args)]
+pub struct CompareArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Where to write the difference heat-map PNG
+    #[arg(long, default_value = "compare-heatmap.png")]
+    heatmap: PathBuf,
+}
+
+pub fn run(args: &CompareArgs) -> Result<(), Error> {
+    let source = Source::open(args.common.scene.as_deref())?;
+    let (settings, vp, tile) = source.settings(&args.common)?;
+    limits::measured("compare", vp)?;
+    let mut heatmap = Pending::create(source.target(&args.heatmap)?)?;
+    let (core_img, core_non_finite) = core_image(&source, vp, settings, tile, args.common.threads)?;
+    let reference = tessera_host::reference::render(&source.desc(), vp, &settings)
+        .map_err(|e| source.error(e))?;
+    let ref_img = reference.to_rgb8();
+    let acc = compare::measure(
+        &core_img,
+        core_non_finite,
+        &ref_img,
+        reference.non_finite(),
+        &reference.signature,
+    )?;
+    println!(
+        "{}: core (f32, {}) vs reference (f64)",
+        describe(&source, vp, &settings),
+        if cfg!(feature = "fast-math") {
+            "fast-math"
+        } else {
+            "exact math"
+        },
+    );
+    println!("{acc}");
+    let map = compare::heatmap(&core_img, &ref_img, &reference.signature);
+    if let Err(e) = tessera_host::encode_png(&map, &mut heatmap) {
+        return Err(heatmap.error(HostError::Write(e)).into());
+    }
+    output::commit(vec![heatmap])?;
+    println!(
+        "wrote {} (black: equal, blue: 1 LSB, green: 2, yellow: 3-4, red: 5+; grey: band)",
+        args.heatmap.display()
+    );
+    if acc.meets_bar() {
+        Ok(())
+    } else {
+        Err(Error::BelowBar {
+            name: source.name().to_string(),
+            shortfall: acc.shortfall(),
+        })
+    }
+}
+
+/// The core's image and its number of non-finite pixels.
+fn core_image(
+    source: &Source,
+    vp: Viewport,
+    settings: RenderSettings,
+    tile: usize,
+    threads: usize,
+) -> Result<(RgbImage, usize), Error> {
+    source.with_core(|view, camera| {
+        let frame = Frame::try_new(camera, vp, settings)?;
+        let (img, _) = tessera_host::render_with(view, &frame, tile, threads, &|| {})?;
+        let mut non_finite = 0;
+        for y in 0..u32::from(vp.height) {
+            for x in 0..u32::from(vp.width) {
+                if !frame.pixel_color(view, x, y).is_finite() {
+                    non_finite += 1;
+                }
+            }
+        }
+        Ok((img, non_finite))
+    })
+}

@@ -1,0 +1,96 @@
+//! The one error type of the `tessera` command.
+
+use std::fmt;
+use std::path::PathBuf;
+use tessera_host::HostError;
+use tessera_host::desc::DescError;
+use tessera_host::file::FileError;
+
+/// Why a command failed (printed as `tessera: error: ...`, exit status 1).
+#[derive(Debug)]
+pub enum Error {
+    /// The host library refused or failed: the core's errors, outputs, limits, ...
+    Host(HostError),
+    /// A scene file could not be read or is invalid (the message names the file).
+    File(FileError),
+    /// The scene called `name` was refused: its settings, its conversion to a core
+    /// scene, or the reference's checks.
+    Scene {
+        /// The built-in scene's name or the file, as given.
+        name: String,
+        /// Why.
+        source: DescError,
+    },
+    /// A scene argument that is neither a built-in name nor an existing file.
+    NoSuchScene(String),
+    /// `trade --scenes` names a scene that is not built in.
+    UnknownBuiltin(String),
+    /// `compare`'s accuracy bar is not met.
+    BelowBar {
+        /// The scene.
+        name: String,
+        /// What falls short, with the figures.
+        shortfall: String,
+    },
+    /// `simulate --orbit 0`.
+    NoOrbitFrames,
+    /// `simulate --window` in a build without the `sdl` feature.
+    #[cfg(not(feature = "sdl"))]
+    NoWindow,
+    /// A folder could not be created.
+    Folder {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Host(e) => write!(f, "{e}"),
+            Self::File(e) => write!(f, "{e}"),
+            Self::Scene { name, source } => write!(f, "{name}: {source}"),
+            Self::NoSuchScene(name) => {
+                let names: Vec<&str> = tessera::builtin::Builtin::ALL
+                    .iter()
+                    .map(|b| b.name())
+                    .collect();
+                write!(
+                    f,
+                    "{name:?} is neither a built-in scene ({}) nor an existing file",
+                    names.join(", ")
+                )
+            }
+            Self::UnknownBuiltin(name) => write!(f, "unknown built-in scene {name:?}"),
+            Self::BelowBar { name, shortfall } => write!(f, "{name}: {shortfall}"),
+            Self::NoOrbitFrames => f.write_str("--orbit needs at least 1 frame"),
+            #[cfg(not(feature = "sdl"))]
+            Self::NoWindow => f.write_str(
+                "this tessera was built without the SDL window: rebuild with `--features sdl` (needs libsdl2-dev)",
+            ),
+            Self::Folder { path, source } => write!(f, "{}: {source}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+impl From<HostError> for Error {
+    fn from(e: HostError) -> Self {
+        Self::Host(e)
+    }
+}
+
+impl From<tessera::Error> for Error {
+    fn from(e: tessera::Error) -> Self {
+        Self::Host(HostError::Core(e))
+    }
+}
+
+impl From<FileError> for Error {
+    fn from(e: FileError) -> Self {
+        Self::File(e)
+    }
+}

@@ -1,0 +1,170 @@
+//! The `tessera` command line: the arguments shared by the commands, and a module
+//! per command (`render`, `compare`, `simulate`, `trade`; `scenes` is one loop).
+//! Every command returns the one [`Error`] type.
+
+mod compare;
+mod error;
+mod render;
+mod simulate;
+mod source;
+mod trade;
+
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use tessera::builtin::Builtin;
+use tessera::{RenderSettings, Viewport};
+use tessera_host::limits;
+
+pub use error::Error;
+use source::Source;
+
+/// How outputs are written (shown by `--help`).
+const OUTPUT_HELP: &str = "\
+Output files: each is written to a temporary file next to it (.tessera-PID-N.tmp) \
+and renamed onto it when complete, so an existing file is replaced whole or left \
+untouched; Ctrl-C, SIGTERM, SIGHUP and a file size limit leave no temporary file. \
+Several outputs (orbit frames) are all or nothing. Refused before any work: an \
+output that exists and is not a regular file (a folder, a device such as /dev/null, \
+a FIFO), and the input scene file itself. A symbolic link is followed: the file it \
+names is written (created, for a dangling link) and the link stays; a link to a \
+folder is refused.
+
+Limits, checked before any work: --threads at most 256; compare and trade at most \
+about 28.5 million pixels (FLIP's work limit); simulate at most 4 GiB for its \
+panel, and 3600 orbit frames. render has no size limit: it streams the PNG a row \
+of tiles at a time.
+
+Exit status: 0 on success, 1 on an error or when compare's accuracy bar is not met, \
+2 on a bad command line.";
+
+#[derive(Parser)]
+#[command(
+    name = "tessera",
+    version,
+    about = "A ray tracer for microcontrollers: host tools",
+    after_long_help = OUTPUT_HELP
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to a PNG (the default command).
+    #[command(after_long_help = OUTPUT_HELP)]
+    Render(render::RenderArgs),
+    /// Render with the core (f32) and the reference (f64) and print the accuracy.
+    #[command(after_long_help = OUTPUT_HELP)]
+    Compare(compare::CompareArgs),
+    /// Draw a scene onto a simulated display panel (embedded-graphics-simulator) and
+    /// save what the panel shows.
+    #[command(after_long_help = OUTPUT_HELP)]
+    Simulate(simulate::SimulateArgs),
+    /// Measure the speed/accuracy trade of this build's math backend: one row per
+    /// setting (tab-separated), host ns/pixel on one thread and accuracy against a
+    /// converged f64 reference.
+    Trade(trade::TradeArgs),
+    /// List the built-in scenes.
+    Scenes,
+}
+
+impl Cli {
+    /// Runs the command (`render` with its defaults when none is given).
+    pub fn run(self) -> Result<(), Error> {
+        match self.command {
+            None => render::run(&render::RenderArgs::default()),
+            Some(Command::Render(a)) => render::run(&a),
+            Some(Command::Compare(a)) => compare::run(&a),
+            Some(Command::Simulate(a)) => simulate::run(&a),
+            Some(Command::Trade(a)) => trade::run(&a),
+            Some(Command::Scenes) => {
+                for b in Builtin::ALL {
+                    println!("{}", b.name());
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// The scene and the render settings, common to `render`, `compare` and `simulate`.
+#[derive(Args, Default)]
+struct Common {
+    /// A built-in scene name (see `tessera scenes`) or a .toml scene file
+    /// [default: the chapter's second picture, chapter-reflect]
+    scene: Option<String>,
+    /// Image size in pixels, WxH [default: the scene file's, or 320x240]
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u16, u16)>,
+    /// Samples per pixel: corner, centre, prefiltered, offset:X,Y, stratified:K, random:N
+    #[arg(long)]
+    sampler: Option<tessera::Sampler>,
+    /// Reflection/refraction depth (0 to 8)
+    #[arg(long)]
+    depth: Option<u8>,
+    /// Seed of the random samplers
+    #[arg(long)]
+    seed: Option<u32>,
+    /// Tile size: 8, 16 or 32
+    #[arg(long, value_parser = parse_tile)]
+    tile: Option<usize>,
+    /// Render threads (0 = one per core; at most 256)
+    #[arg(long, default_value_t = 0, value_parser = parse_threads)]
+    threads: usize,
+}
+
+// The value parsers below return clap's message (a `String`): a bad value is a
+// usage error, exit status 2, not an `Error`.
+
+fn parse_size(s: &str) -> Result<(u16, u16), String> {
+    let bad = || format!("expected WxH with 1 to 65535 pixels each, like 320x240, got {s:?}");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u16 = w.trim().parse().map_err(|_| bad())?;
+    let h: u16 = h.trim().parse().map_err(|_| bad())?;
+    if w == 0 || h == 0 {
+        return Err(bad());
+    }
+    Ok((w, h))
+}
+
+fn parse_threads(s: &str) -> Result<usize, String> {
+    let n: usize = s
+        .parse()
+        .map_err(|_| format!("expected a number of threads (0 = one per core), got {s:?}"))?;
+    limits::threads(n)
+}
+
+fn parse_tile(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if tessera_host::TILE_SIZES.contains(&n) => Ok(n),
+        _ => Err(format!("expected 8, 16 or 32, got {s:?}")),
+    }
+}
+
+/// A progress bar of `tiles` steps, shown only on a terminal and only for renders
+/// that take more than a moment (`work`: pixels times samples).
+fn progress(tiles: u64, work: u64) -> ProgressBar {
+    if !std::io::stderr().is_terminal() || work < (1 << 21) {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(tiles);
+    if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} tiles, {eta} left") {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// `NAME: WxH, N sample(s)/px (SAMPLER), depth D`: the start of every summary line.
+fn describe(source: &Source, vp: Viewport, settings: &RenderSettings) -> String {
+    format!(
+        "{}: {}x{}, {} sample(s)/px ({}), depth {}",
+        source.name(),
+        vp.width,
+        vp.height,
+        settings.sampler.count(),
+        settings.sampler,
+        settings.max_depth
+    )
+}

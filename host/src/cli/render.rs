@@ -1,0 +1,70 @@
+//! `tessera render`: a scene to a PNG, streamed a row of tiles at a time.
+
+use super::{Common, Error, Source, describe, progress};
+use clap::Args;
+use std::path::PathBuf;
+use std::time::Instant;
+use tessera::Frame;
+use tessera_host::output::{self, Pending};
+
+#[derive(Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Output PNG (a symbolic link is followed; see below)
+    #[arg(short, long, default_value = "tessera.png")]
+    output: PathBuf,
+}
+
+/// What `tessera` alone does: `tessera render` with its defaults.
+impl Default for RenderArgs {
+    fn default() -> Self {
+        Self {
+            common: Common::default(),
+            output: PathBuf::from("tessera.png"),
+        }
+    }
+}
+
+pub fn run(args: &RenderArgs) -> Result<(), Error> {
+    let source = Source::open(args.common.scene.as_deref())?;
+    let (settings, vp, tile) = source.settings(&args.common)?;
+    let target = source.target(&args.output)?;
+    let start = Instant::now();
+    let (file, rays) = source.with_core(|view, camera| {
+        let frame = Frame::try_new(camera, vp, settings)?;
+        // Created before the work, so an unwritable folder is known at once.
+        let mut file = Pending::create(target)?;
+        let (across, down) = frame.tile_grid(tile);
+        let work = u64::from(vp.width) * u64::from(vp.height) * u64::from(settings.sampler.count());
+        let bar = progress(u64::from(across) * u64::from(down), work);
+        let out = tessera_host::render_png(
+            view,
+            &frame,
+            tile,
+            args.common.threads,
+            &|| bar.inc(1),
+            &mut file,
+        );
+        bar.finish_and_clear();
+        match out {
+            Ok((rays, _)) => Ok((file, rays)),
+            Err(e) => Err(file.error(e).into()),
+        }
+    })?;
+    let secs = start.elapsed().as_secs_f64();
+    output::commit(vec![file])?;
+    let threads = if args.common.threads == 0 {
+        rayon::current_num_threads()
+    } else {
+        args.common.threads
+    };
+    println!(
+        "{}, {tile}x{tile} tiles, {threads} thread(s): {secs:.3} s, {} rays, {:.2} Mrays/s",
+        describe(&source, vp, &settings),
+        rays.total(),
+        rays.total() as f64 / secs.max(1e-9) / 1e6,
+    );
+    println!("wrote {}", args.output.display());
+    Ok(())
+}

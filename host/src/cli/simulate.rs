@@ -1,0 +1,206 @@
+//! `tessera simulate`: a scene drawn onto a simulated display panel, one frame or
+//! an orbit of the camera, saved as PNG(s) or a GIF and optionally shown in a window.
+
+use super::{Common, Error, Source, describe, progress};
+use clap::Args;
+use image::RgbImage;
+use std::path::PathBuf;
+use std::time::Instant;
+use tessera::{Frame, Viewport};
+use tessera_host::output::{self, Pending, Target};
+use tessera_host::simulate::{self as sim, PanelColor};
+use tessera_host::{HostError, limits};
+
+#[derive(Args)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    common: Common,
+    /// The panel's colour type: rgb565, rgb555, rgb888 or gray8
+    #[arg(long, default_value = "rgb565")]
+    color: PanelColor,
+    /// Output: a PNG, or with --orbit an animated GIF (.gif) or numbered PNG frames
+    /// (NAME-000.png, ...) [default: simulator.png, or simulator-orbit.gif]
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Render an orbit of the camera around what it looks at, in this many frames
+    /// (1 to 3600)
+    #[arg(long)]
+    orbit: Option<u32>,
+    /// Delay between orbit frames in the GIF, milliseconds
+    #[arg(long, default_value_t = 80)]
+    delay_ms: u32,
+    /// Also show the frame(s) in an SDL window (build with --features sdl)
+    #[arg(long)]
+    window: bool,
+}
+
+/// Where `simulate` writes, checked: one animated GIF, or one PNG per frame.
+enum Outputs {
+    Gif(Target),
+    Pngs(Vec<Target>),
+}
+
+impl Outputs {
+    /// The outputs asked for, checked against the input, and how they are shown in
+    /// the summary: a PNG, a GIF, or `N frames, NAME-000.png ...`.
+    fn check(args: &SimulateArgs, source: &Source) -> Result<(Self, String), Error> {
+        let Some(n) = args.orbit else {
+            let path = args
+                .output
+                .clone()
+                .unwrap_or_else(|| "simulator.png".into());
+            let shown = path.display().to_string();
+            return Ok((Self::Pngs(vec![source.target(&path)?]), shown));
+        };
+        let path = args
+            .output
+            .clone()
+            .unwrap_or_else(|| "simulator-orbit.gif".into());
+        if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
+        {
+            let shown = path.display().to_string();
+            return Ok((Self::Gif(source.target(&path)?), shown));
+        }
+        let stem = path.with_extension("");
+        let paths: Vec<PathBuf> = (0..n)
+            .map(|i| PathBuf::from(format!("{}-{i:03}.png", stem.display())))
+            .collect();
+        let shown = format!(
+            "{} frames, {} ...",
+            paths.len(),
+            paths
+                .first()
+                .map(|p| p.display().to_string())
+                .unwrap_or_default()
+        );
+        Ok((Self::Pngs(source.targets(&paths)?), shown))
+    }
+
+    /// Writes `frames` (as many as the PNG targets, for PNGs) to the temporary
+    /// files, returned for [`output::commit`]. Each frame is handed to `keep` once
+    /// written.
+    fn write(
+        self,
+        vp: Viewport,
+        delay_ms: u32,
+        frames: impl Iterator<Item = Result<RgbImage, Error>>,
+        mut keep: impl FnMut(RgbImage),
+    ) -> Result<Vec<Pending>, Error> {
+        match self {
+            Self::Gif(target) => {
+                let file = Pending::create(target)?;
+                let mut gif = sim::GifStream::new(file, vp.width, vp.height, delay_ms)?;
+                for img in frames {
+                    let img = img?;
+                    if let Err(e) = gif.add(&img) {
+                        return Err(gif.writer().error(e).into());
+                    }
+                    keep(img);
+                }
+                Ok(vec![gif.finish()?])
+            }
+            Self::Pngs(targets) => {
+                let mut files = Vec::new();
+                for (img, target) in frames.zip(targets) {
+                    let img = img?;
+                    let mut file = Pending::create(target)?;
+                    if let Err(e) = tessera_host::encode_png(&img, &mut file) {
+                        return Err(file.error(HostError::Write(e)).into());
+                    }
+                    // Closed now: an orbit may have more frames than open files.
+                    file.finish()?;
+                    files.push(file);
+                    keep(img);
+                }
+                Ok(files)
+            }
+        }
+    }
+}
+
+pub fn run(args: &SimulateArgs) -> Result<(), Error> {
+    let source = Source::open(args.common.scene.as_deref())?;
+    let (settings, mut vp, tile) = source.settings(&args.common)?;
+    if args.common.size.is_none() {
+        vp = Viewport::new(240, 240);
+    }
+    if args.orbit == Some(0) {
+        return Err(Error::NoOrbitFrames);
+    }
+    let count = args.orbit.unwrap_or(1);
+    limits::simulated(vp, count, args.window)?;
+    let (outputs, written) = Outputs::check(args, &source)?;
+    let start = Instant::now();
+    let mut shown = Vec::new();
+    let files = source.with_core(|view, camera| {
+        let cameras = match args.orbit {
+            None => vec![*camera],
+            Some(n) => sim::pivot(view, camera).and_then(|pivot| sim::orbit(camera, pivot, n))?,
+        };
+        let bar = progress(
+            cameras.len() as u64,
+            u64::from(vp.width) * u64::from(vp.height) * cameras.len() as u64,
+        );
+        let frames = cameras.iter().map(|cam| {
+            let frame = Frame::try_new(cam, vp, settings)?;
+            let img = sim::simulate_tiled(view, &frame, args.color, tile)?;
+            bar.inc(1);
+            Ok(img)
+        });
+        let files = outputs.write(vp, args.delay_ms, frames, |img| {
+            if args.window {
+                shown.push(img);
+            }
+        })?;
+        bar.finish_and_clear();
+        Ok(files)
+    })?;
+    let secs = start.elapsed().as_secs_f64();
+    output::commit(files)?;
+    println!(
+        "{}, {count} frame(s) on an {} panel: {secs:.3} s",
+        describe(&source, vp, &settings),
+        args.color,
+    );
+    println!("wrote {written}");
+    if args.window {
+        show_window(&shown, args.delay_ms)?;
+    }
+    Ok(())
+}
+
+/// Shows `frames` in an SDL window, in a loop, until it is closed.
+#[cfg(feature = "sdl")]
+fn show_window(frames: &[RgbImage], delay_ms: u32) -> Result<(), Error> {
+    use embedded_graphics_core::pixelcolor::Rgb888;
+    use embedded_graphics_core::prelude::*;
+    use embedded_graphics_simulator::{OutputSettings, SimulatorDisplay, SimulatorEvent, Window};
+    let Some(first) = frames.first() else {
+        return Ok(());
+    };
+    let size = Size::new(first.width(), first.height());
+    let mut display = SimulatorDisplay::<Rgb888>::with_default_color(size, Rgb888::BLACK);
+    let mut window = Window::new("tessera", &OutputSettings::default());
+    for f in frames.iter().cycle() {
+        for (x, y, p) in f.enumerate_pixels() {
+            let _ = Pixel(
+                Point::new(x as i32, y as i32),
+                Rgb888::new(p[0], p[1], p[2]),
+            )
+            .draw(&mut display);
+        }
+        window.update(&display);
+        if window.events().any(|e| e == SimulatorEvent::Quit) {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(u64::from(delay_ms)));
+    }
+    Ok(())
+}
+
+#[cfg(not(feature = "sdl"))]
+fn show_window(_: &[RgbImage], _: u32) -> Result<(), Error> {
+    Err(Error::NoWindow)
+}

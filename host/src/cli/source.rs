@@ -1,0 +1,113 @@
+//! The scene a command renders: a built-in or a scene file.
+
+use super::{Common, Error};
+use std::path::{Path, PathBuf};
+use tessera::builtin::Builtin;
+use tessera::{Camera, RenderSettings, SceneView, Viewport};
+use tessera_host::desc::{DescError, SceneDesc};
+use tessera_host::output::Target;
+
+/// A scene to render: a built-in (rendered from the core's own code) or a file.
+pub enum Source {
+    Builtin(Builtin),
+    File(String, Box<SceneDesc>),
+}
+
+impl Source {
+    /// The scene named on the command line (`None`: the default built-in). A file's
+    /// warnings (accepted values that look like mistakes) go to stderr.
+    pub fn open(name: Option<&str>) -> Result<Self, Error> {
+        let Some(name) = name else {
+            return Ok(Self::Builtin(Builtin::DEFAULT));
+        };
+        if let Some(b) = Builtin::from_name(name) {
+            return Ok(Self::Builtin(b));
+        }
+        let path = Path::new(name);
+        if !path.exists() && !name.ends_with(".toml") {
+            return Err(Error::NoSuchScene(name.to_string()));
+        }
+        let desc = tessera_host::file::load(path)?;
+        for w in tessera_host::file::warnings(&desc) {
+            eprintln!("tessera: warning: {name}: {w}");
+        }
+        Ok(Self::File(name.to_string(), Box::new(desc)))
+    }
+
+    /// The scene file, which no output may replace.
+    fn inputs(&self) -> Vec<&Path> {
+        match self {
+            Self::Builtin(_) => Vec::new(),
+            Self::File(n, _) => vec![Path::new(n)],
+        }
+    }
+
+    /// Checks an output path against the input (see [`Target::check`]).
+    pub fn target(&self, path: &Path) -> Result<Target, Error> {
+        Ok(Target::check(path, &self.inputs())?)
+    }
+
+    /// Checks several outputs, written all or nothing (see [`Target::check_all`]).
+    pub fn targets(&self, paths: &[PathBuf]) -> Result<Vec<Target>, Error> {
+        Ok(Target::check_all(paths, &self.inputs())?)
+    }
+
+    pub fn name(&self) -> &str {
+        match self {
+            Self::Builtin(b) => b.name(),
+            Self::File(n, _) => n,
+        }
+    }
+
+    /// An error about this scene's description.
+    pub fn error(&self, source: DescError) -> Error {
+        Error::Scene {
+            name: self.name().to_string(),
+            source,
+        }
+    }
+
+    /// The scene description (for the reference).
+    pub fn desc(&self) -> SceneDesc {
+        match self {
+            Self::Builtin(b) => tessera_host::file::builtin_desc(*b),
+            Self::File(_, d) => (**d).clone(),
+        }
+    }
+
+    /// Settings, viewport and tile size: the scene's own, after the command-line
+    /// overrides.
+    pub fn settings(&self, c: &Common) -> Result<(RenderSettings, Viewport, usize), Error> {
+        let (mut s, mut vp, mut tile) = match self {
+            Self::Builtin(b) => (b.settings(), Viewport::new(320, 240), 16),
+            Self::File(_, d) => (
+                d.settings().map_err(|e| self.error(e))?,
+                d.viewport(),
+                d.render.tile,
+            ),
+        };
+        s.sampler = c.sampler.unwrap_or(s.sampler);
+        s.max_depth = c.depth.unwrap_or(s.max_depth);
+        s.seed = c.seed.unwrap_or(s.seed);
+        if let Some((w, h)) = c.size {
+            vp = Viewport::new(w, h);
+        }
+        tile = c.tile.unwrap_or(tile);
+        s.validate()?;
+        Ok((s, vp, tile))
+    }
+
+    /// Runs `f` with the core scene's view and camera.
+    pub fn with_core<R>(
+        &self,
+        f: impl FnOnce(&SceneView<'_>, &Camera) -> Result<R, Error>,
+    ) -> Result<R, Error> {
+        match self {
+            Self::Builtin(b) => b.with_scene(f)?,
+            Self::File(_, d) => {
+                let s = d.to_core().map_err(|e| self.error(e))?;
+                f(&s.view(), s.camera())
+            }
+        }
+    }
+}

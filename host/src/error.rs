@@ -1,0 +1,112 @@
+//! What can go wrong on the host: [`HostError`], re-exported at the crate root.
+
+use crate::desc;
+use std::fmt;
+
+/// What can go wrong on the host.
+#[derive(Debug)]
+pub enum HostError {
+    /// The core refused the scene, camera or settings.
+    Core(tessera::Error),
+    /// A tile size other than 8, 16 or 32.
+    TileSize(usize),
+    /// Writing the output failed.
+    Io {
+        /// The file.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A step with an output's temporary file failed (see [`crate::output`]).
+    Temp {
+        /// The output file, as the user named it.
+        target: String,
+        /// The file that could not be created, written or renamed.
+        temp: String,
+        /// What was being done.
+        step: TempStep,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// An output that must not be written: not a regular file, the input, ...
+    Refused {
+        /// The output, as the user named it.
+        path: String,
+        /// Why.
+        reason: String,
+    },
+    /// A request beyond a documented limit (see [`crate::limits`]), refused before any work.
+    Limit(String),
+    /// Writing failed on a stream that does not know its file's name (the caller
+    /// names it: [`crate::output::Pending::error`]).
+    Write(std::io::Error),
+    /// Several steps failed (an all-or-nothing write that could not be undone).
+    Files(String),
+    /// Encoding the PNG failed.
+    Encode(String),
+    /// The thread pool could not be built.
+    Threads(String),
+    /// A scene description was refused (the item and why).
+    Scene(desc::DescError),
+    /// Two images could not be measured against each other (sizes differ, FLIP
+    /// refused them).
+    Measure(String),
+}
+
+/// The step of writing an output through its temporary file that failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TempStep {
+    /// Creating the temporary file (next to the output).
+    Create,
+    /// Writing it (or flushing it to the disk).
+    Write,
+    /// Renaming it onto the output.
+    Rename,
+    /// Keeping a copy of the old output while several files are replaced.
+    Backup,
+}
+
+impl fmt::Display for HostError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Core(e) => write!(f, "{e}"),
+            Self::TileSize(n) => write!(f, "tile size {n} is not one of 8, 16, 32"),
+            Self::Io { path, source } => write!(f, "cannot write {path}: {source}"),
+            Self::Temp {
+                target,
+                temp,
+                step,
+                source,
+            } => {
+                let what = match step {
+                    TempStep::Create => "creating the temporary file",
+                    TempStep::Write => "writing the temporary file",
+                    TempStep::Rename => "renaming onto it the temporary file",
+                    TempStep::Backup => "keeping a copy of the old file as",
+                };
+                write!(f, "cannot write {target}: {what} {temp} failed: {source}")
+            }
+            Self::Refused { path, reason } => write!(f, "refusing to write {path}: {reason}"),
+            Self::Limit(e) | Self::Files(e) => f.write_str(e),
+            Self::Write(e) => write!(f, "cannot write the output: {e}"),
+            Self::Encode(e) => write!(f, "cannot encode the PNG: {e}"),
+            Self::Threads(e) => write!(f, "cannot start the render threads: {e}"),
+            Self::Scene(e) => write!(f, "{e}"),
+            Self::Measure(e) => f.write_str(e),
+        }
+    }
+}
+
+impl std::error::Error for HostError {}
+
+impl From<tessera::Error> for HostError {
+    fn from(e: tessera::Error) -> Self {
+        Self::Core(e)
+    }
+}
+
+impl From<desc::DescError> for HostError {
+    fn from(e: desc::DescError) -> Self {
+        Self::Scene(e)
+    }
+}

@@ -1,0 +1,45 @@
+//! The numerical-stability battery: each case measures the `f32` core against `f64`
+//! (formulas written here, independent of the core, on the f64 reference's plain
+//! vector [`V3`]) or an analytic truth, and returns its figures.
+//! `tests/tests/extremes.rs` asserts the criteria on them; `src/bin/extremes-report.rs`
+//! prints them to `docs/extremes.md`.
+//!
+//! One module per case (or family of cases), every public item re-exported here:
+//! 1. `far_sphere`: far spheres;
+//! 2. `reintersection`: re-intersection of secondary rays;
+//! 3. `watertight`: watertightness of fans and closed meshes;
+//! 4. `tiny`: tiny triangles;
+//! 5. `boxes`: boxes, rays in face planes, along edges, signed zeros;
+//! 6. `camera`: the camera far from the origin, up close to forward;
+//! 7. and 8. `scale`: scale invariance and flush-to-zero;
+//! 9. `analytic`: the analytic scene;
+//! 10. `refraction`: refraction near the critical angle;
+//! 11. `range`: the edges of the supported range.
+//!
+//! What they share (`support`): the `f64` side of the comparisons, ulps, a seeded
+//! generator, rays built exactly. Everything is deterministic: rays come from fixed
+//! grids or a seeded SplitMix64.
+
+mod analytic;
+mod boxes;
+mod camera;
+mod far_sphere;
+mod range;
+mod refraction;
+mod reintersection;
+mod scale;
+mod support;
+mod tiny;
+mod watertight;
+
+pub use analytic::*;
+pub use boxes::*;
+pub use camera::*;
+pub use far_sphere::*;
+pub use range::*;
+pub use refraction::*;
+pub use reintersection::*;
+pub use scale::*;
+pub use support::*;
+pub use tiny::*;
+pub use watertight::*;

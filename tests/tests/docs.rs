@@ -1,0 +1,739 @@
+//! The README's figures are the reports': every figure README.md quotes from a
+//! generated report (`docs/chip-cost.md`, `docs/chip-profile.md`, `docs/trade.md`,
+//! `docs/extremes*.md`) is read from both files and compared, so that a report
+//! regenerated without the README, or a figure edited by hand, fails here. Text
+//! only, no rendering.
+//!
+//! A quote is a pattern of the README's text with `{}` for its numbers, such as
+//! ``"`render_tile` needs {} to {} bytes"``, paired with the report's figures. The
+//! README may round a figure (0.0118 for 0.01183), half up, to at least two
+//! significant digits unless the rounding is exact, and must not differ otherwise.
+//! Every occurrence of a pattern is checked, and a pattern the README no longer
+//! contains is a failure too: rewording such a sentence means updating it here.
+
+use std::fmt;
+use std::path::PathBuf;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("tests/ has a parent")
+        .to_path_buf()
+}
+
+fn read(rel: &str) -> String {
+    let path = root().join(rel);
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()))
+}
+
+/// Every `docs/extremes*.md`, in name order, as one text.
+fn extremes_reports() -> String {
+    let mut names: Vec<PathBuf> = std::fs::read_dir(root().join("docs"))
+        .expect("docs/ is readable")
+        .map(|e| e.expect("docs/ entry").path())
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("extremes") && n.ends_with(".md"))
+        })
+        .collect();
+    names.sort();
+    assert!(!names.is_empty(), "no docs/extremes*.md");
+    names
+        .iter()
+        .map(|p| std::fs::read_to_string(p).expect("extremes report is readable"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Whitespace runs (line breaks included) as one space: the README is wrapped.
+fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// A decimal number as written: `digits x 10^exp`, with its sign.
+#[derive(Clone, Debug)]
+struct Dec {
+    neg: bool,
+    digits: Vec<u8>,
+    exp: i32,
+}
+
+impl Dec {
+    /// Reads `1,106`, `0.00355`, `-48`, `7.0e-4`, `1.00e5` (thousands commas ignored).
+    fn parse(text: &str) -> Option<Dec> {
+        let text = text.trim();
+        let (neg, text) = match text.strip_prefix('-') {
+            Some(rest) => (true, rest),
+            None => (false, text),
+        };
+        let (mantissa, power) = match text.find(['e', 'E']) {
+            Some(i) => (&text[..i], text[i + 1..].parse::<i32>().ok()?),
+            None => (text, 0),
+        };
+        let mantissa = mantissa.replace(',', "");
+        let (int, frac) = mantissa.split_once('.').unwrap_or((&mantissa, ""));
+        if int.is_empty() && frac.is_empty() {
+            return None;
+        }
+        let mut digits = Vec::new();
+        for c in int.chars().chain(frac.chars()) {
+            digits.push(u8::try_from(c.to_digit(10)?).ok()?);
+        }
+        Some(Dec {
+            neg,
+            digits,
+            exp: power - i32::try_from(frac.len()).ok()?,
+        })
+    }
+
+    /// An `f64` by its shortest decimal form (Rust's `Display` has no exponent).
+    fn of(x: f64) -> Dec {
+        Dec::parse(&x.to_string()).expect("a finite f64 prints as a decimal")
+    }
+
+    /// The same value with no leading and no trailing zeros (zero: no digits).
+    fn normal(&self) -> Dec {
+        let mut digits: Vec<u8> = self
+            .digits
+            .iter()
+            .copied()
+            .skip_while(|&d| d == 0)
+            .collect();
+        let mut exp = self.exp;
+        while digits.last() == Some(&0) {
+            digits.pop();
+            exp += 1;
+        }
+        Dec {
+            neg: self.neg && !digits.is_empty(),
+            digits,
+            exp,
+        }
+    }
+
+    /// Rounded half up (away from zero) to a multiple of `10^exp`.
+    fn round(&self, exp: i32) -> Dec {
+        let n = self.normal();
+        if n.exp >= exp {
+            return n;
+        }
+        let drop = usize::try_from(exp - n.exp).expect("positive");
+        if drop > n.digits.len() {
+            return Dec {
+                neg: false,
+                digits: Vec::new(),
+                exp,
+            };
+        }
+        let keep = n.digits.len() - drop;
+        let mut digits = n.digits[..keep].to_vec();
+        if n.digits[keep] >= 5 {
+            let mut i = digits.len();
+            loop {
+                if i == 0 {
+                    digits.insert(0, 1);
+                    break;
+                }
+                i -= 1;
+                if digits[i] == 9 {
+                    digits[i] = 0;
+                } else {
+                    digits[i] += 1;
+                    break;
+                }
+            }
+        }
+        Dec {
+            neg: n.neg,
+            digits,
+            exp,
+        }
+        .normal()
+    }
+
+    fn same(&self, other: &Dec) -> bool {
+        let (a, b) = (self.normal(), other.normal());
+        a.neg == b.neg && a.digits == b.digits && (a.digits.is_empty() || a.exp == b.exp)
+    }
+
+    /// Significant digits as written (`0.0118`: 3, `7.0e-4`: 2, `110`: 3).
+    fn significant(&self) -> usize {
+        self.digits.iter().skip_while(|&&d| d == 0).count()
+    }
+
+    fn to_f64(&self) -> f64 {
+        let mut s = String::new();
+        if self.neg {
+            s.push('-');
+        }
+        s.extend(self.digits.iter().map(|d| char::from(b'0' + d)));
+        if s.is_empty() || s == "-" {
+            s.push('0');
+        }
+        format!("{s}e{}", self.exp)
+            .parse()
+            .expect("digits and an exponent")
+    }
+}
+
+impl fmt::Display for Dec {
+    /// Plain decimal notation, with the written number of decimals.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let decimals = usize::try_from(-self.exp.min(0)).expect("non-negative");
+        write!(f, "{:.*}", decimals, self.to_f64())
+    }
+}
+
+/// The number at the start of `text` (`-` only before a digit; `,` and `.` only
+/// between digits, so that a sentence's comma or full stop ends it; an exponent
+/// `e-4`), and the rest of `text`.
+fn leading_number(text: &str) -> Option<(&str, &str)> {
+    let b = text.as_bytes();
+    let digit = |i: usize| b.get(i).is_some_and(u8::is_ascii_digit);
+    let mut i = 0;
+    if b.first() == Some(&b'-') && digit(1) {
+        i = 1;
+    }
+    if !digit(i) {
+        return None;
+    }
+    while digit(i) || (matches!(b.get(i), Some(b',' | b'.')) && digit(i + 1)) {
+        i += 1;
+    }
+    if b.get(i) == Some(&b'e') {
+        let sign = usize::from(matches!(b.get(i + 1), Some(b'-' | b'+')));
+        if digit(i + 1 + sign) {
+            i += 1 + sign;
+            while digit(i) {
+                i += 1;
+            }
+        }
+    }
+    Some((&text[..i], &text[i..]))
+}
+
+/// Every occurrence in `text` of `pattern` (literal text with `{}` for numbers), as
+/// the numbers' texts; none is an error.
+fn find(text: &str, pattern: &str) -> Result<Vec<Vec<String>>, String> {
+    let parts: Vec<&str> = pattern.split("{}").collect();
+    let first = parts[0];
+    assert!(!first.is_empty(), "a pattern starts with text: {pattern}");
+    let found: Vec<Vec<String>> = text
+        .match_indices(first)
+        .filter_map(|(at, _)| {
+            let mut rest = &text[at + first.len()..];
+            let mut numbers = Vec::new();
+            for literal in &parts[1..] {
+                let (number, after) = leading_number(rest)?;
+                numbers.push(number.to_string());
+                rest = after.strip_prefix(literal)?;
+            }
+            Some(numbers)
+        })
+        .collect();
+    if found.is_empty() {
+        return Err(format!("`{pattern}` is not in the text (any more)"));
+    }
+    Ok(found)
+}
+
+/// The numbers of the one occurrence of `pattern` in a report.
+fn in_report(report: &str, name: &str, pattern: &str) -> Vec<Dec> {
+    let found = find(&one_line(report), pattern).unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert_eq!(
+        found.len(),
+        1,
+        "{name}: `{pattern}` occurs {} times",
+        found.len()
+    );
+    found[0]
+        .iter()
+        .map(|n| Dec::parse(n).expect("a number"))
+        .collect()
+}
+
+/// A Markdown table: its header cells and its rows of cells.
+struct Table {
+    name: String,
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+/// The cells of a table line; `\|` is a `|` inside a cell.
+fn cells(line: &str) -> Vec<String> {
+    let inner = line.trim().trim_start_matches('|');
+    let inner = inner.strip_suffix('|').unwrap_or(inner);
+    let mut out = vec![String::new()];
+    let mut chars = inner.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' if chars.peek() == Some(&'|') => {
+                out.last_mut().expect("a cell").push('|');
+                chars.next();
+            }
+            '|' => out.push(String::new()),
+            c => out.last_mut().expect("a cell").push(c),
+        }
+    }
+    out.iter().map(|c| c.trim().to_string()).collect()
+}
+
+/// The first table after the first line of `text` that starts with `heading`.
+fn table(text: &str, name: &str, heading: &str) -> Table {
+    let mut lines = text.lines().skip_while(|l| !l.starts_with(heading));
+    assert!(
+        lines.next().is_some(),
+        "{name}: no line starting with `{heading}`"
+    );
+    let mut rows = lines
+        .skip_while(|l| !l.trim_start().starts_with('|'))
+        .take_while(|l| l.trim_start().starts_with('|'))
+        .map(cells);
+    let header = rows
+        .next()
+        .unwrap_or_else(|| panic!("{name}: no table after `{heading}`"));
+    let rows: Vec<Vec<String>> = rows
+        .filter(|r| {
+            !r.iter()
+                .all(|c| !c.is_empty() && c.chars().all(|ch| matches!(ch, '-' | ':')))
+        })
+        .collect();
+    assert!(
+        !rows.is_empty(),
+        "{name}: the table after `{heading}` is empty"
+    );
+    Table {
+        name: format!("{name} ({heading})"),
+        header,
+        rows,
+    }
+}
+
+impl Table {
+    fn column(&self, name: &str) -> usize {
+        self.header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("{}: no column `{name}` in {:?}", self.name, self.header))
+    }
+
+    /// The one row whose cells in the columns `key` are the given texts.
+    fn row(&self, key: &[(&str, &str)]) -> &[String] {
+        let columns: Vec<(usize, &str)> = key.iter().map(|&(c, v)| (self.column(c), v)).collect();
+        let matching: Vec<&Vec<String>> = self
+            .rows
+            .iter()
+            .filter(|r| {
+                columns
+                    .iter()
+                    .all(|&(c, v)| r.get(c).is_some_and(|x| x == v))
+            })
+            .collect();
+        assert_eq!(
+            matching.len(),
+            1,
+            "{}: {} rows where {key:?}",
+            self.name,
+            matching.len()
+        );
+        matching[0]
+    }
+
+    /// The number that starts the cell `column` of the row `key`.
+    fn figure(&self, key: &[(&str, &str)], column: &str) -> Dec {
+        let cell = &self.row(key)[self.column(column)];
+        number(cell)
+            .unwrap_or_else(|| panic!("{}: {key:?} {column}: `{cell}` is not a number", self.name))
+    }
+
+    /// Every number of the column `column` (cells without one are skipped).
+    fn all(&self, column: &str) -> Vec<Dec> {
+        let c = self.column(column);
+        self.rows
+            .iter()
+            .filter_map(|r| r.get(c).and_then(|x| number(x)))
+            .collect()
+    }
+}
+
+fn number(cell: &str) -> Option<Dec> {
+    leading_number(cell.trim()).and_then(|(n, _)| Dec::parse(n))
+}
+
+fn largest(values: &[Dec]) -> Dec {
+    values
+        .iter()
+        .max_by(|a, b| a.to_f64().total_cmp(&b.to_f64()))
+        .expect("values")
+        .clone()
+}
+
+fn smallest(values: &[Dec]) -> Dec {
+    values
+        .iter()
+        .min_by(|a, b| a.to_f64().total_cmp(&b.to_f64()))
+        .expect("values")
+        .clone()
+}
+
+/// The README and what is wrong with it.
+struct Readme {
+    text: String,
+    failures: Vec<String>,
+}
+
+impl Readme {
+    fn new(text: &str) -> Readme {
+        Readme {
+            text: one_line(text),
+            failures: Vec::new(),
+        }
+    }
+
+    /// Every occurrence of `pattern` quotes `truths`, each from `source`.
+    fn quotes(&mut self, pattern: &str, source: &str, truths: &[Dec]) {
+        let found = match find(&self.text, pattern) {
+            Ok(found) => found,
+            Err(e) => {
+                self.failures
+                    .push(format!("README: {e} (quoting {source})"));
+                return;
+            }
+        };
+        for numbers in found {
+            assert_eq!(
+                numbers.len(),
+                truths.len(),
+                "`{pattern}`: one truth per {{}}"
+            );
+            for (written, truth) in numbers.iter().zip(truths) {
+                let quoted = Dec::parse(written).expect("a number");
+                let rounded = truth.round(quoted.exp);
+                if !quoted.same(&rounded) {
+                    self.failures.push(format!(
+                        "README `{pattern}`: says {written}, {source} says {truth} (to the README's \
+                         precision: {rounded})"
+                    ));
+                } else if !quoted.same(truth) && quoted.significant() < 2 {
+                    self.failures.push(format!(
+                        "README `{pattern}`: {written} rounds {source}'s {truth} to fewer than two \
+                         significant digits"
+                    ));
+                }
+            }
+        }
+    }
+}
+
+/// The README's excerpt of the cost table: one row per scene and depth, a column
+/// per sampler (instructions per pixel) and `est. cycles/px (SAMPLER)`.
+fn cost_table(readme: &mut Readme, readme_text: &str, cost: &Table) {
+    let excerpt = table(readme_text, "README", "### What it costs on a Cortex-M4F");
+    assert!(excerpt.rows.len() >= 4, "README: the cost table lost rows");
+    for row in &excerpt.rows {
+        let scene = row[excerpt.column("scene")]
+            .split(' ')
+            .next()
+            .expect("a scene");
+        let depth = row[excerpt.column("depth")].as_str();
+        for (i, head) in excerpt.header.iter().enumerate() {
+            let (sampler, column) = match head.strip_prefix("est. cycles/px (") {
+                Some(s) => (s.trim_end_matches(')'), "est. cycles/px"),
+                None if head == "scene" || head == "depth" => continue,
+                None => (head.as_str(), "exact instr/px"),
+            };
+            let key = [("scene", scene), ("depth", depth), ("sampler", sampler)];
+            let truth = cost.figure(&key, column);
+            let pattern = format!("| {scene} ... | {head}: {{}}");
+            match number(&row[i]) {
+                Some(q) if q.same(&truth) => {}
+                _ => readme.failures.push(format!(
+                    "README `{pattern}`: says `{}`, docs/chip-cost.md says {truth}",
+                    row[i]
+                )),
+            }
+        }
+    }
+}
+
+fn kib(bytes: &Dec) -> Dec {
+    Dec::of(bytes.to_f64() / 1024.0)
+}
+
+fn check(readme_text: &str) -> Vec<String> {
+    let mut readme = Readme::new(readme_text);
+
+    // docs/chip-cost.md
+    let cost_text = read("docs/chip-cost.md");
+    let cost = table(&cost_text, "docs/chip-cost.md", "## Instructions per pixel");
+    cost_table(&mut readme, readme_text, &cost);
+    let sizes = table(&cost_text, "docs/chip-cost.md", "## Image size");
+    let size = |section: &str| sizes.figure(&[("section", section)], "exact");
+    let flash = size("flash (vector table + text + rodata + data)");
+    let (text, rodata, bss) = (size("`.text`"), size("`.rodata`"), size("`.bss`"));
+    let src = "docs/chip-cost.md";
+    readme.quotes(
+        "Flash {} bytes ({} KiB: `.text` {} KiB, `.rodata` {} KiB)",
+        src,
+        &[flash.clone(), kib(&flash), kib(&text), kib(&rodata)],
+    );
+    readme.quotes("`.bss` {} bytes ({} KiB:", src, &[bss.clone(), kib(&bss)]);
+    let stack = table(&cost_text, src, "## Stack");
+    let mut render_tile = stack.all("exact: render_tile");
+    render_tile.extend(stack.all("fast-math: render_tile"));
+    let (low, high) = (smallest(&render_tile), largest(&render_tile));
+    readme.quotes(
+        "`render_tile` needs {} to {} bytes",
+        src,
+        &[low.clone(), high.clone()],
+    );
+    readme.quotes(
+        "bytes ({} to {} KiB), measured on the Cortex-M4F",
+        src,
+        &[kib(&low), kib(&high)],
+    );
+    let peak = in_report(&cost_text, src, "over every render: peak {} bytes (exact)");
+    readme.quotes(
+        "peaks at {} bytes, {} KiB,",
+        src,
+        &[peak[0].clone(), kib(&peak[0])],
+    );
+    let budget = in_report(
+        &cost_text,
+        src,
+        "memory.x`): {} KiB of flash, {} KiB of RAM",
+    );
+    readme.quotes("within a {} KiB flash / {} KiB RAM budget", src, &budget);
+    let buffers = in_report(&cost_text, src, "32x32: {} + {} + {} bytes)");
+    readme.quotes("(8x8: {} B, 16x16: {} B, 32x32: {} B)", src, &buffers);
+
+    // docs/chip-profile.md
+    let profile = table(
+        &read("docs/chip-profile.md"),
+        "docs/chip-profile.md",
+        "## Summary",
+    );
+    let cpi = profile.all("cycles/instr");
+    readme.quotes(
+        "instruction mix ({} to {} cycles per instruction",
+        "docs/chip-profile.md",
+        &[smallest(&cpi), largest(&cpi)],
+    );
+
+    // docs/trade.md: the default scene (chapter-reflect) and the interference screen.
+    let trade_text = read("docs/trade.md");
+    let src = "docs/trade.md";
+    let reflect = table(&trade_text, src, "### chapter-reflect");
+    let interference = table(&trade_text, src, "### interference");
+    let at = |t: &Table, sampler: &str, depth: &str, column: &str| {
+        let key = [
+            ("sampler", sampler),
+            ("depth", depth),
+            ("tile", "16"),
+            ("backend", "exact"),
+        ];
+        t.figure(&key, column)
+    };
+    let flip = |sampler: &str, depth: &str| at(&reflect, sampler, depth, "mean FLIP");
+    let chip = |sampler: &str| at(&reflect, sampler, "1", "chip instr/px");
+    readme.quotes(
+        "FLIP {} on the default scene against {} for centre",
+        src,
+        &[flip("corner", "1"), flip("centre", "1")],
+    );
+    readme.quotes(
+        "random 16 ({} instr/px for FLIP {}, where stratified 4x4 gives {} for {})",
+        src,
+        &[
+            chip("random:16"),
+            flip("random:16", "1"),
+            flip("stratified:4", "1"),
+            chip("stratified:4"),
+        ],
+    );
+    readme.quotes(
+        "(default scene at depth 0: FLIP {} against {})",
+        src,
+        &[flip("centre", "0"), flip("centre", "1")],
+    );
+    readme.quotes(
+        "pixels up to {} LSB off on the default scene; stratified 2x2, {} instr/px against \
+         centre's {}, brings the worst to {} LSB and FLIP from {} to {})",
+        src,
+        &[
+            at(&reflect, "centre", "1", "max diff"),
+            chip("stratified:2"),
+            chip("centre"),
+            at(&reflect, "stratified:2", "1", "max diff"),
+            flip("centre", "1"),
+            flip("stratified:2", "1"),
+        ],
+    );
+    // fast-math against exact, instructions on the chip, over every setting with both.
+    let mut ratios = Vec::new();
+    for t in [&reflect, &interference] {
+        let (backend, chip) = (t.column("backend"), t.column("chip instr/px"));
+        for row in t.rows.iter().filter(|r| r[backend] == "fast-math") {
+            let key: Vec<(&str, &str)> = ["sampler", "depth", "tile"]
+                .iter()
+                .map(|&c| (c, row[t.column(c)].as_str()))
+                .chain([("backend", "exact")])
+                .collect();
+            let exact = t.figure(&key, "chip instr/px");
+            let fast = number(&row[chip]).expect("a chip count");
+            ratios.push(Dec::of(fast.to_f64() / exact.to_f64()));
+        }
+    }
+    readme.quotes(
+        "renders the same images for {} to {} times the instructions on the chip",
+        src,
+        &[smallest(&ratios), largest(&ratios)],
+    );
+    let study = table(&trade_text, src, "## The interference study");
+    let rmse = |column: &str| {
+        study.figure(
+            &[("footprint / fringe spacing", "1.6x"), ("column", column)],
+            "RMSE vs truth",
+        )
+    };
+    let fringes = |sampler: &str, column: &str| at(&interference, sampler, "0", column);
+    readme.quotes(
+        "it shows false fringes ({} LSB RMSE), 5 random rays (the chapter's example) lose the \
+         pattern in noise ({} LSB), stratified 3x3 still misses by {} LSB, while the prefiltered \
+         texture is exact in one evaluation ({} LSB; {} instr/px on the chip against {} for \
+         stratified 4x4, which still has FLIP {} against prefiltered's {})",
+        src,
+        &[
+            rmse("centre"),
+            rmse("random:5"),
+            rmse("stratified:3"),
+            rmse("prefiltered"),
+            fringes("prefiltered", "chip instr/px"),
+            fringes("stratified:4", "chip instr/px"),
+            fringes("stratified:4", "mean FLIP"),
+            fringes("prefiltered", "mean FLIP"),
+        ],
+    );
+
+    // docs/extremes*.md
+    let extremes = extremes_reports();
+    let src = "docs/extremes*.md";
+    let far = table(&extremes, src, "## 1. Far spheres");
+    readme.quotes(
+        "a sphere up to {} radii away",
+        src,
+        &[largest(&far.all("distance / radius"))],
+    );
+    readme.quotes(
+        "with the hit time within {} ulp",
+        src,
+        &[largest(&far.all("worst dt (ulp)"))],
+    );
+    let reintersection = table(&extremes, src, "## 2. Re-intersection");
+    readme.quotes(
+        "hit points up to {} object sizes from the origin never re-hit",
+        src,
+        &[largest(&reintersection.all("|p|"))],
+    );
+    let tiny = in_report(&extremes, src, "({} of the distance and more)");
+    readme.quotes("triangles down to {} of their distance are hit", src, &tiny);
+    let camera = table(&extremes, src, "## 6. Camera far away");
+    readme.quotes(
+        "a camera {} units out with near {} keeps ray directions within {} pixel",
+        src,
+        &[
+            largest(&camera.all("|r_cam|")),
+            smallest(&camera.all("near")),
+            largest(&camera.all("worst direction error (px)")),
+        ],
+    );
+    let scales = table(&extremes, src, "## 7. Scale invariance");
+    let range = |scene: &str| {
+        let row = scales.row(&[("scene", scene)]);
+        let accepted = &row[scales.column("k accepted")];
+        let identical = &row[scales.column("bit-identical for")];
+        assert_eq!(
+            accepted, identical,
+            "{src}: {scene} is not the same bytes at every accepted k"
+        );
+        let [a, b] = [0, 1].map(|i| {
+            accepted
+                .trim_matches(|c| c == '[' || c == ']')
+                .split(',')
+                .nth(i)
+                .and_then(number)
+                .unwrap_or_else(|| panic!("{src}: {scene}: k accepted `{accepted}`"))
+        });
+        (a, b)
+    };
+    let (lo, hi) = range("chapter-direct");
+    for scene in ["chapter-reflect", "showcase"] {
+        let (l, h) = range(scene);
+        if !l.same(&lo) || !h.same(&hi) {
+            readme.failures.push(format!(
+                "README groups chapter-direct, chapter-reflect and showcase, but {src} gives {scene} \
+                 [{l}, {h}] against [{lo}, {hi}]"
+            ));
+        }
+    }
+    let (ilo, ihi) = range("interference");
+    readme.quotes(
+        "(from {} to {} for the chapter's two scenes and the showcase, from {} to {} for the \
+         interference screen)",
+        src,
+        &[lo, hi, ilo, ihi],
+    );
+
+    readme.failures
+}
+
+#[test]
+fn readme_figures_are_the_reports() {
+    let failures = check(&read("README.md"));
+    assert!(
+        failures.is_empty(),
+        "{} figure(s) of README.md differ from the reports (docs/*.md are generated: update \
+         the README, or tests/tests/docs.rs if a sentence was reworded):\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+/// The check is not vacuous: a wrong figure anywhere it looks is caught.
+#[test]
+fn a_wrong_figure_fails() {
+    let readme = read("README.md");
+    for (right, wrong) in [
+        ("| 440 |", "| 437 |"),
+        ("within 2.66 ulp", "within 2.5 ulp"),
+        ("needs 1,328 to", "needs 1,456 to"),
+        ("(1.3 to 1.9 KiB)", "(1.5 to 1.8 KiB)"),
+        (
+            "Flash 198,380 bytes (193.7 KiB",
+            "Flash 198,380 bytes (93.7 KiB",
+        ),
+        ("FLIP 0.044 on the default", "FLIP 0.04 on the default"),
+        ("(0.00 LSB; 1,106", "(0.00 LSB; 1,107"),
+        ("(1.73 to 1.95", "(1.85 to 1.95"),
+        ("(from -48 to 53", "(from -47 to 53"),
+    ] {
+        assert!(
+            readme.contains(right),
+            "README.md no longer contains `{right}`: update this test"
+        );
+        let failures = check(&readme.replacen(right, wrong, 1));
+        assert!(
+            !failures.is_empty(),
+            "`{wrong}` for `{right}` was not caught"
+        );
+    }
+    // Rounding: half up, and at least two significant digits unless exact.
+    let q = |s: &str| Dec::parse(s).unwrap();
+    assert!(q("0.0036").same(&q("0.00355").round(-4)));
+    assert!(q("0.044").same(&q("0.04366").round(-3)));
+    assert!(q("1.3").same(&Dec::of(1328.0 / 1024.0).round(-1)));
+    assert!(q("7.0e-4").same(&q("7.0e-4").round(q("7.0e-4").exp)));
+    assert!(q("1e6").same(&q("1.00e6").round(6)));
+    assert_eq!(q("0.04").significant(), 1);
+}
