@@ -1,5 +1,7 @@
 //! Where in a pixel the rays go: the chapter's corner, the centre, a fixed offset,
-//! stratified (jittered) k x k, or n random positions (anti-aliasing).
+//! stratified (jittered) k x k, n random positions (anti-aliasing), or the centre
+//! with the texture averaged over the pixel's footprint (prefiltered, see the
+//! module `prefilter`).
 //!
 //! Random numbers come from a hash of `(pixel x, pixel y, sample index, seed)`, so a
 //! pixel's samples never depend on the tile size, the tile order or the thread count.

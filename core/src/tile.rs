@@ -13,8 +13,8 @@
 //!
 //! (3 bytes a pixel plus 8 bytes of coordinates; checked by a unit test.) The
 //! renderer's stack does not depend on `N`: measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md`), `render_tile` needs 1.4 to 2.0 KiB below its
-//! caller, the tile's culling lists (module `cull`) and the shader's pending-ray
+//! painting; `docs/chip-cost.md`), `render_tile` needs 1,328 to 1,896 bytes (1.3
+//! to 1.9 KiB) below its caller, the tile's culling lists (module `cull`) and the shader's pending-ray
 //! stack (`MAX_DEPTH + 1` rays) included.
 
 use crate::camera::{Camera, CameraBasis, Viewport};
