@@ -553,3 +553,30 @@ pub fn memory_budget() -> Result<(u64, u64), String> {
     };
     Ok((length("FLASH")?, length("RAM")?))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `cargo run` of the firmware (the root `.cargo/config.toml`'s runner) and this
+    /// harness start qemu the same way: the runner line is [`QEMU`] and
+    /// [`QEMU_ARGS`], word for word.
+    #[test]
+    fn qemu_args_are_the_cargo_runners() {
+        let path = repo_root().join(".cargo").join("config.toml");
+        let config = std::fs::read_to_string(&path).expect("the root .cargo/config.toml");
+        let runner = config
+            .lines()
+            .find_map(|l| l.trim().strip_prefix("runner = "))
+            .expect("a runner line")
+            .trim_matches('"');
+        let words: Vec<&str> = runner.split_whitespace().collect();
+        let ours: Vec<&str> = std::iter::once(QEMU).chain(QEMU_ARGS).collect();
+        assert_eq!(
+            words,
+            ours,
+            "{} and firmware::QEMU_ARGS differ",
+            path.display()
+        );
+    }
+}
