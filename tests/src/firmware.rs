@@ -17,7 +17,7 @@ use image::RgbImage;
 use std::fmt;
 use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 use tessera::builtin::Builtin;
@@ -319,55 +319,8 @@ pub fn run(elf: &Path, runs: &[Run]) -> Result<Output, String> {
 /// [`run`] with `extra` qemu arguments placed before `-kernel` (a `-plugin`, say).
 pub fn run_with(elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, String> {
     let dir = TempDir::new()?;
-    let mut list = String::new();
-    for r in runs {
-        list.push_str(&r.to_string());
-        list.push('\n');
-    }
-    let write = |name: &str, bytes: &[u8]| {
-        std::fs::write(dir.0.join(name), bytes).map_err(|e| format!("cannot write {name}: {e}"))
-    };
-    if list.len() > RUNS_MAX {
-        return Err(format!(
-            "the run list is {} bytes, the firmware reads at most {RUNS_MAX}: split it",
-            list.len()
-        ));
-    }
-    write(RUNS_FILE, list.as_bytes())?;
-    let file = |name: &str| {
-        std::fs::File::create(dir.0.join(name)).map_err(|e| format!("cannot create {name}: {e}"))
-    };
-    let (kernel, before) = QEMU_ARGS.split_last().unwrap_or((&"-kernel", &[]));
-    let mut child = Command::new(QEMU)
-        .args(before)
-        .args(extra)
-        .arg(kernel)
-        .arg(elf)
-        .current_dir(&dir.0)
-        .stdin(Stdio::null())
-        .stdout(file("qemu.stdout")?)
-        .stderr(file("qemu.stderr")?)
-        .spawn()
-        .map_err(|e| {
-            if e.kind() == ErrorKind::NotFound {
-                format!("{QEMU} is not installed: {INSTALL_HINT}")
-            } else {
-                format!("cannot start {QEMU}: {e}")
-            }
-        })?;
-    let start = Instant::now();
-    let status = loop {
-        match child.try_wait() {
-            Ok(Some(status)) => break Ok(status),
-            Ok(None) if start.elapsed() > TIMEOUT => {
-                let _ = child.kill();
-                let _ = child.wait();
-                break Err(format!("qemu ran for more than {} s", TIMEOUT.as_secs()));
-            }
-            Ok(None) => std::thread::sleep(Duration::from_millis(10)),
-            Err(e) => break Err(format!("waiting for qemu: {e}")),
-        }
-    };
+    let list = write_run_list(&dir.0, runs)?;
+    let status = wait_for_qemu(start_qemu(&dir.0, elf, extra)?);
     let read = |name: &str| std::fs::read_to_string(dir.0.join(name)).unwrap_or_default();
     let (stdout, stderr) = (read("qemu.stdout"), read("qemu.stderr"));
     let fail = |why: String| {
@@ -387,6 +340,68 @@ pub fn run_with(elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, St
         return Err(fail(l.to_string()));
     }
     parse_output(&stdout, runs, &dir.0).map_err(fail)
+}
+
+/// Writes the run list of `runs` to [`RUNS_FILE`] in `dir` and returns it; an error
+/// if it is longer than the firmware reads.
+fn write_run_list(dir: &Path, runs: &[Run]) -> Result<String, String> {
+    let mut list = String::new();
+    for r in runs {
+        list.push_str(&r.to_string());
+        list.push('\n');
+    }
+    if list.len() > RUNS_MAX {
+        return Err(format!(
+            "the run list is {} bytes, the firmware reads at most {RUNS_MAX}: split it",
+            list.len()
+        ));
+    }
+    std::fs::write(dir.join(RUNS_FILE), list.as_bytes())
+        .map_err(|e| format!("cannot write {RUNS_FILE}: {e}"))?;
+    Ok(list)
+}
+
+/// Starts qemu on `elf` in `dir` ([`QEMU_ARGS`], `extra` before `-kernel`), its
+/// output to `qemu.stdout` and `qemu.stderr` there.
+fn start_qemu(dir: &Path, elf: &Path, extra: &[String]) -> Result<Child, String> {
+    let file = |name: &str| {
+        std::fs::File::create(dir.join(name)).map_err(|e| format!("cannot create {name}: {e}"))
+    };
+    let (kernel, before) = QEMU_ARGS.split_last().unwrap_or((&"-kernel", &[]));
+    Command::new(QEMU)
+        .args(before)
+        .args(extra)
+        .arg(kernel)
+        .arg(elf)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(file("qemu.stdout")?)
+        .stderr(file("qemu.stderr")?)
+        .spawn()
+        .map_err(|e| {
+            if e.kind() == ErrorKind::NotFound {
+                format!("{QEMU} is not installed: {INSTALL_HINT}")
+            } else {
+                format!("cannot start {QEMU}: {e}")
+            }
+        })
+}
+
+/// Waits for qemu to exit; kills it after [`TIMEOUT`].
+fn wait_for_qemu(mut child: Child) -> Result<ExitStatus, String> {
+    let start = Instant::now();
+    loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Ok(status),
+            Ok(None) if start.elapsed() > TIMEOUT => {
+                let _ = child.kill();
+                let _ = child.wait();
+                break Err(format!("qemu ran for more than {} s", TIMEOUT.as_secs()));
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(10)),
+            Err(e) => break Err(format!("waiting for qemu: {e}")),
+        }
+    }
 }
 
 /// The value of `key=` in a result line.
@@ -537,4 +552,31 @@ pub fn memory_budget() -> Result<(u64, u64), String> {
             .map_err(|_| format!("bad LENGTH {v:?} for {region} in memory.x"))
     };
     Ok((length("FLASH")?, length("RAM")?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `cargo run` of the firmware (the root `.cargo/config.toml`'s runner) and this
+    /// harness start qemu the same way: the runner line is [`QEMU`] and
+    /// [`QEMU_ARGS`], word for word.
+    #[test]
+    fn qemu_args_are_the_cargo_runners() {
+        let path = repo_root().join(".cargo").join("config.toml");
+        let config = std::fs::read_to_string(&path).expect("the root .cargo/config.toml");
+        let runner = config
+            .lines()
+            .find_map(|l| l.trim().strip_prefix("runner = "))
+            .expect("a runner line")
+            .trim_matches('"');
+        let words: Vec<&str> = runner.split_whitespace().collect();
+        let ours: Vec<&str> = std::iter::once(QEMU).chain(QEMU_ARGS).collect();
+        assert_eq!(
+            words,
+            ours,
+            "{} and firmware::QEMU_ARGS differ",
+            path.display()
+        );
+    }
 }

@@ -125,7 +125,6 @@ pub fn cycle_model(w: &mut String) {
 /// A run's section: class table, self-cost and inclusive function tables.
 pub fn run_section(w: &mut String, m: &Measured) {
     let px = |n: u64| m.per_px(n);
-    let total = m.profile.total.max(1) as f64;
     let total_cycles = m.cycles_at(cycles::REFILL).max(1) as f64;
     let _ = writeln!(w, "## {}\n", m.title());
     let _ = writeln!(
@@ -137,7 +136,29 @@ pub fn run_section(w: &mut String, m: &Measured) {
         px(total_cycles as u64),
         m.profile.insns.len()
     );
-    // Instruction classes; branches split into taken and not taken.
+    class_table(w, m);
+
+    let _ = writeln!(
+        w,
+        "Self cost: each instruction counts in the innermost function it belongs to \
+         (inlined ones included); \"inlined into\" is the chain of functions it was \
+         inlined into, innermost first (the most frequent, with its share when there \
+         are several), empty for an out-of-line function's own code.\n"
+    );
+    function_table(w, m, &m.functions, TOP, true);
+    let _ = writeln!(
+        w,
+        "Inclusive of inlined code: each function with everything inlined into it (what \
+         it calls out of line is not included; a line counts in every function of its \
+         chain, so the shares add up to more than 100%). \"source\" is the range of \
+         lines of the function itself, call sites of inlined code included.\n"
+    );
+    function_table(w, m, &m.inclusive, TOP_INCLUSIVE, false);
+}
+
+/// The instruction classes of a run: instructions and estimated cycles per
+/// class, branches split into taken and not taken.
+fn class_rows(m: &Measured) -> Vec<(String, u64, u64)> {
     let mut rows: Vec<(String, u64, u64)> = Vec::new();
     for class in Class::ALL {
         let of = |f: &dyn Fn(&cycles::Insn, &Cost) -> (u64, u64)| {
@@ -166,6 +187,15 @@ pub fn run_section(w: &mut String, m: &Measured) {
             rows.push((class.label().to_string(), n, c));
         }
     }
+    rows
+}
+
+/// The table of instruction classes of a run, and its pipelined loads and stores.
+fn class_table(w: &mut String, m: &Measured) {
+    let px = |n: u64| m.per_px(n);
+    let total = m.profile.total.max(1) as f64;
+    let total_cycles = m.cycles_at(cycles::REFILL).max(1) as f64;
+    let rows = class_rows(m);
     let _ = writeln!(
         w,
         "| instruction class (cycles each) | instr/px | share | est. cycles/px | share of cycles |"
@@ -193,23 +223,6 @@ pub fn run_section(w: &mut String, m: &Measured) {
         "Loads and stores pipelined with the one before (1 cycle instead of 2): {:.1}/px.\n",
         px(pipelined)
     );
-
-    let _ = writeln!(
-        w,
-        "Self cost: each instruction counts in the innermost function it belongs to \
-         (inlined ones included); \"inlined into\" is the chain of functions it was \
-         inlined into, innermost first (the most frequent, with its share when there \
-         are several), empty for an out-of-line function's own code.\n"
-    );
-    function_table(w, m, &m.functions, TOP, true);
-    let _ = writeln!(
-        w,
-        "Inclusive of inlined code: each function with everything inlined into it (what \
-         it calls out of line is not included; a line counts in every function of its \
-         chain, so the shares add up to more than 100%). \"source\" is the range of \
-         lines of the function itself, call sites of inlined code included.\n"
-    );
-    function_table(w, m, &m.inclusive, TOP_INCLUSIVE, false);
 }
 
 /// A table of `functions` (the first `top`, then the rest as "other" when `other`).

@@ -4,7 +4,8 @@
 //! `#[path]`. Plain constants only, so that it builds in both (`no_std` and `std`).
 //!
 //! The qemu command line is the harness's (`tessera_tests::firmware::QEMU_ARGS`);
-//! the runner line in the root `.cargo/config.toml` repeats it for `cargo run`.
+//! the runner line in the root `.cargo/config.toml` repeats it for `cargo run`, and a
+//! test of the harness checks that the two agree.
 
 /// The run list the firmware reads, in qemu's working directory.
 pub const RUNS_FILE: &str = "tessera-fw.runs";

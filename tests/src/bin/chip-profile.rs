@@ -44,10 +44,24 @@ fn main() -> ExitCode {
     }
 }
 
+/// Profiles the firmware (and the host, when valgrind is there) and writes
+/// `docs/chip-profile.md`; returns its path.
 fn report() -> Result<PathBuf, String> {
     let qemu = firmware::qemu_version()?;
     let rustc = tessera_tests::tool_version("rustc");
     let cc = tessera_tests::tool_version(&std::env::var("CC").unwrap_or_else(|_| "gcc".into()));
+    let measured = profile_firmware()?;
+    let host = profile_host()?;
+    let path = firmware::repo_root().join("docs").join("chip-profile.md");
+    let d = document(&qemu, &rustc, &cc, &measured, host.as_ref());
+    std::fs::write(&path, d).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    Ok(path)
+}
+
+/// Builds the firmware and the qemu plugin, profiles the guarded runs (one qemu
+/// each, in parallel), checks each plugin total against SysTick's, and attributes
+/// the instructions and their cycles to source functions.
+fn profile_firmware() -> Result<Vec<Measured>, String> {
     println!("building the firmware and the qemu plugin...");
     let elf = firmware::build(false)?;
     let plugin = profile::build_plugin()?;
@@ -87,8 +101,13 @@ fn report() -> Result<PathBuf, String> {
             inclusive,
         });
     }
+    Ok(measured)
+}
 
-    let host = match callgrind::valgrind_version() {
+/// The host's profiles under callgrind, with valgrind's version; `None` without
+/// valgrind.
+fn profile_host() -> Result<Option<(String, Vec<callgrind::HostProfile>)>, String> {
+    Ok(match callgrind::valgrind_version() {
         Some(v) => {
             println!("building the host binary and profiling it under callgrind...");
             let bin = callgrind::build_host()?;
@@ -99,8 +118,17 @@ fn report() -> Result<PathBuf, String> {
             Some((v, profiles))
         }
         None => None,
-    };
+    })
+}
 
+/// The document, section after section.
+fn document(
+    qemu: &str,
+    rustc: &str,
+    cc: &str,
+    measured: &[Measured],
+    host: Option<&(String, Vec<callgrind::HostProfile>)>,
+) -> String {
     let mut d = String::new();
     let w = &mut d;
     let _ = writeln!(
@@ -114,13 +142,13 @@ fn report() -> Result<PathBuf, String> {
          instructions for every setting; this file says where they go, and what they \
          would cost in cycles.\n"
     );
-    summary(w, &measured);
-    method(w, &qemu, &rustc, &cc, &measured);
+    summary(w, measured);
+    method(w, qemu, rustc, cc, measured);
     profile_doc::cycle_model(w);
-    for m in &measured {
+    for m in measured {
         profile_doc::run_section(w, m);
     }
-    profile_doc::host_section(w, host.as_ref());
+    profile_doc::host_section(w, host);
     let _ = writeln!(w, "## Regenerate\n");
     let _ = writeln!(
         w,
@@ -129,9 +157,7 @@ fn report() -> Result<PathBuf, String> {
          valgrind for the host section (left out, with a note, without it):\n"
     );
     let _ = writeln!(w, "```sh\n{COMMAND}\n```");
-    let path = firmware::repo_root().join("docs").join("chip-profile.md");
-    std::fs::write(&path, d).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    Ok(path)
+    d
 }
 
 fn summary(w: &mut String, measured: &[Measured]) {
