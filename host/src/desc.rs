@@ -6,11 +6,11 @@
 
 use serde::Deserialize;
 use std::fmt;
-use tessera::error::{Field, List};
 use tessera::{
     Aabb, Camera, Color, Material, MaterialId, Plane, PointLight, Sampler, Scene, Sphere, Texture,
     Triangle, Vec3,
 };
+use tessera::{Field, List};
 
 /// How many spheres the host scene holds.
 pub const MAX_SPHERES: usize = 1024;

@@ -67,7 +67,7 @@ pub fn render_tiles<const N: usize>(
             (i % usize::from(across)) as u16,
             (i / usize::from(across)) as u16,
         );
-        frame.render_tile(scene, coord, &mut tile)?;
+        frame.render_tile(scene, coord, &mut tile, &mut ())?;
         place(&mut img, &tile);
     }
     Ok(img)
@@ -109,7 +109,7 @@ fn one_tile<const N: usize>(
     let coord = TileCoord::new((i % across) as u16, (i / across) as u16);
     let mut tile = Tile::<N>::new();
     let mut rays = RayCount::default();
-    frame.render_tile_counted(scene, coord, &mut tile, &mut rays)?;
+    frame.render_tile(scene, coord, &mut tile, &mut rays)?;
     Ok((tile, rays))
 }
 

@@ -4,13 +4,13 @@
 
 use crate::HostError;
 use embedded_graphics_core::pixelcolor::{Gray8, PixelColor, Rgb555, Rgb565, Rgb888};
-use embedded_graphics_core::prelude::Size;
+use embedded_graphics_core::prelude::{Drawable, Size};
 use embedded_graphics_simulator::{OutputSettings, SimulatorDisplay};
 use image::RgbImage;
 use std::fmt;
 use std::io::Write;
 use std::str::FromStr;
-use tessera::{Camera, Frame, SceneView, Tile, Vec3};
+use tessera::{Camera, Frame, SceneView, Vec3};
 
 /// The colour type of the simulated panel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -52,9 +52,9 @@ impl fmt::Display for PanelColor {
     }
 }
 
-/// Draws `frame` onto a simulated panel of colour type `C` through
-/// [`tessera::Frame::draw`] (tiles of N x N, one `fill_contiguous` each) and returns
-/// what the panel shows, as 8-bit RGB.
+/// Draws `frame` onto a simulated panel of colour type `C` as the embedded-graphics
+/// drawable [`tessera::Frame::drawable`] (tiles of N x N, one `fill_contiguous`
+/// each) and returns what the panel shows, as 8-bit RGB.
 fn panel<C, const N: usize>(scene: &SceneView<'_>, frame: &Frame) -> Result<RgbImage, HostError>
 where
     C: PixelColor + From<Rgb888> + Into<Rgb888>,
@@ -63,12 +63,7 @@ where
     let size = Size::new(u32::from(vp.width), u32::from(vp.height));
     let mut display =
         SimulatorDisplay::<C>::with_default_color(size, C::from(Rgb888::new(0, 0, 0)));
-    frame
-        .draw(scene, &mut Tile::<N>::new(), &mut display)
-        .map_err(|e| match e {
-            tessera::DrawError::Render(e) => HostError::Core(e),
-            tessera::DrawError::Display(never) => match never {},
-        })?;
+    let Ok(()) = frame.drawable::<C, N>(scene).draw(&mut display);
     let out = display.to_rgb_output_image(&OutputSettings::default());
     let buf = out.as_image_buffer();
     RgbImage::from_raw(buf.width(), buf.height(), buf.as_raw().to_vec())

@@ -1,14 +1,16 @@
-//! A real display driver as client of `Frame::draw`: `mipidsi`'s ST7789 driver over a
+//! A real display driver as client of `Frame::drawable` (an embedded-graphics
+//! `Drawable`): `mipidsi`'s ST7789 driver over a
 //! recording fake SPI bus, and an emulated ST7789 that decodes the recorded
 //! command/data stream into its 240 x 320 RGB565 frame memory (GRAM).
 //!
 //! Checked: GRAM equals the host image converted with embedded-graphics'
 //! `Rgb565::from(Rgb888)` pixel for pixel (and nothing else was written); after the
 //! init sequence the driver got exactly one CASET/RASET/RAMWR window per tile, each
-//! the tile's rectangle; display errors come back as `DrawError::Display`. The
+//! the tile's rectangle; display errors come back from `draw`. The
 //! negative controls show that the comparisons catch a tile shifted by one pixel
 //! and a single wrong bit.
 
+use embedded_graphics_core::Drawable;
 use embedded_graphics_core::Pixel;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Dimensions, Point};
@@ -27,7 +29,7 @@ use std::cell::RefCell;
 use std::convert::Infallible;
 use std::rc::Rc;
 use tessera::builtin::Builtin;
-use tessera::{DrawError, Frame, Tile, Viewport};
+use tessera::{Frame, Viewport};
 
 // ---------------------------------------------------------------------------------
 // The fake hardware: SPI device, DC pin, reset pin and delay share one event log.
@@ -621,14 +623,14 @@ impl<D: DrawTarget<Color = Rgb565>> DrawTarget for Tampered<'_, D> {
 struct Run {
     img: RgbImage,
     panel: Panel,
-    /// `Frame::draw`'s answer.
-    drawn: Result<(), DrawError<SpiError<BusFault, Infallible>>>,
+    /// `Drawable::draw`'s answer.
+    drawn: Result<(), SpiError<BusFault, Infallible>>,
     /// SPI transfers of the init sequence, and in all.
     init_transfers: usize,
     transfers: usize,
 }
 
-/// Renders `scene` at `w x h` on the host, and through `Frame::draw` with `Tile<N>`
+/// Renders `scene` at `w x h` on the host, and through `Frame::drawable` with tiles of `N`
 /// onto mipidsi's ST7789 over the fake bus (through a `Tampered` wrapper if
 /// `tamper` is given; the bus fails `fail_after` transfers after the init if given);
 /// then decodes the bus into the emulated panel.
@@ -660,16 +662,16 @@ fn run<const N: usize>(
         .with_scene(|view, camera| {
             let img = tessera_host::render(view, camera, viewport, settings, N).expect("host");
             let frame = Frame::try_new(camera, viewport, settings).expect("frame");
-            let mut tile = Tile::<N>::new();
+            let picture = frame.drawable::<_, N>(view);
             let drawn = match tamper {
-                None => frame.draw(view, &mut tile, &mut display),
+                None => picture.draw(&mut display),
                 Some(tamper) => {
                     let mut wrapped = Tampered {
                         inner: &mut display,
                         tamper,
                         fills: 0,
                     };
-                    frame.draw(view, &mut tile, &mut wrapped)
+                    picture.draw(&mut wrapped)
                 }
             };
             (img, drawn)
@@ -823,7 +825,7 @@ fn a_bus_error_comes_back_from_draw_and_stops_it() {
     );
     let fail_on = r.init_transfers + 25;
     match r.drawn {
-        Err(DrawError::Display(SpiError::Spi(BusFault { transfer }))) => {
+        Err(SpiError::Spi(BusFault { transfer })) => {
             assert_eq!(transfer, fail_on);
         }
         other => panic!("want a display error, got {other:?}"),

@@ -76,7 +76,7 @@ fn core_image(
         let mut non_finite = 0;
         for y in 0..u32::from(vp.height) {
             for x in 0..u32::from(vp.width) {
-                if !frame.pixel_color(view, x, y).is_finite() {
+                if !frame.pixel_color(view, x, y, &mut ()).is_finite() {
                     non_finite += 1;
                 }
             }
