@@ -2,11 +2,14 @@
 //! the Cortex-M4F and running it under qemu's `mps2-an386` board.
 //!
 //! Protocol: [`run`] writes the run list to `tessera-fw.runs` in a fresh temporary
-//! folder, one [`Run`] per line (`<scene> <sampler> <depth> <tile> <width> <height>
-//! <seed>`), starts qemu there with semihosting and `-icount shift=0`, and reads
+//! folder, one [`Run`] per line (`<scene>[@k] <sampler> <depth> <tile> <width>
+//! <height> <seed>`), starts qemu there with semihosting and `-icount shift=0`, and reads
 //! back what the firmware wrote: one result line per run on its standard output,
 //! and for run `i` the file `tessera-fw-<i>.rgb`, the frame's pixels in row-major
-//! image order, 3 bytes (R, G, B) each, no header.
+//! image order, 3 bytes (R, G, B) each, no header. The firmware's side of it is
+//! shared, not repeated: its file names, limits and tick rate
+//! (`tests/firmware/src/protocol.rs`) and the run list's line ([`Run`] and
+//! [`parse_run`], `tests/firmware/src/runs.rs`) are compiled into both.
 //!
 //! Instruction counts: with `-icount shift=0` a guest instruction takes 1 ns of
 //! virtual time and SysTick (processor clock, 25 MHz) ticks every 40 instructions;
