@@ -2,11 +2,14 @@
 //! the Cortex-M4F and running it under qemu's `mps2-an386` board.
 //!
 //! Protocol: [`run`] writes the run list to `tessera-fw.runs` in a fresh temporary
-//! folder, one [`Run`] per line (`<scene> <sampler> <depth> <tile> <width> <height>
-//! <seed>`), starts qemu there with semihosting and `-icount shift=0`, and reads
+//! folder, one [`Run`] per line (`<scene>[@k] <sampler> <depth> <tile> <width>
+//! <height> <seed>`), starts qemu there with semihosting and `-icount shift=0`, and reads
 //! back what the firmware wrote: one result line per run on its standard output,
 //! and for run `i` the file `tessera-fw-<i>.rgb`, the frame's pixels in row-major
-//! image order, 3 bytes (R, G, B) each, no header.
+//! image order, 3 bytes (R, G, B) each, no header. The firmware's side of it is
+//! shared, not repeated: its file names, limits and tick rate
+//! (`tests/firmware/src/protocol.rs`) and the run list's line ([`Run`] and
+//! [`parse_run`], `tests/firmware/src/runs.rs`) are compiled into both.
 //!
 //! Instruction counts: with `-icount shift=0` a guest instruction takes 1 ns of
 //! virtual time and SysTick (processor clock, 25 MHz) ticks every 40 instructions;
@@ -14,14 +17,12 @@
 //! `ticks x 40`, exact to 40 instructions per tile, and repeatable bit for bit.
 
 use image::RgbImage;
-use std::fmt;
 use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 use tessera::builtin::Builtin;
-use tessera::{RenderSettings, Sampler};
 
 /// The file names, limits and tick rate the firmware and this harness agree on: the
 /// firmware's own `tests/firmware/src/protocol.rs`, included here.
@@ -166,26 +167,12 @@ pub fn build(fast_math: bool) -> Result<PathBuf, String> {
     }
 }
 
-/// One render on the chip.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Run {
-    /// The built-in scene.
-    pub scene: Builtin,
-    /// Corner, centre, stratified or random (the firmware parses no offsets).
-    pub sampler: Sampler,
-    /// Reflection/transmission depth.
-    pub depth: u8,
-    /// Tile size: 8, 16 or 32.
-    pub tile: usize,
-    /// Width, pixels.
-    pub width: u16,
-    /// Height, pixels.
-    pub height: u16,
-    /// Seed of the random samplers.
-    pub seed: u32,
-    /// The scene scaled by `2^scale` (`Scene::scaled_pow2`); 0 = as built.
-    pub scale: i32,
-}
+/// The run list's line, written here ([`Run`]'s `Display`) and read by the
+/// firmware ([`parse_run`]): the firmware's own `tests/firmware/src/runs.rs`,
+/// included here.
+#[path = "../firmware/src/runs.rs"]
+mod runs;
+pub use runs::{Run, parse as parse_run};
 
 impl Run {
     /// `scene` with its own settings, tiles of 16, `width x height`.
@@ -202,31 +189,6 @@ impl Run {
             seed: s.seed,
             scale: 0,
         }
-    }
-
-    /// The settings the firmware renders with.
-    #[must_use]
-    pub fn settings(&self) -> RenderSettings {
-        RenderSettings {
-            sampler: self.sampler,
-            max_depth: self.depth,
-            seed: self.seed,
-        }
-    }
-}
-
-/// The run's line in the run list: `scene[@k] sampler depth tile width height seed`.
-impl fmt::Display for Run {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.scene.name())?;
-        if self.scale != 0 {
-            write!(f, "@{}", self.scale)?;
-        }
-        write!(
-            f,
-            " {} {} {} {} {} {}",
-            self.sampler, self.depth, self.tile, self.width, self.height, self.seed
-        )
     }
 }
 
@@ -557,6 +519,39 @@ pub fn memory_budget() -> Result<(u64, u64), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use tessera::Sampler;
+
+    /// Every run the reports and tests send reads back as itself: the run list's
+    /// writer and reader agree.
+    #[test]
+    fn run_lines_read_back_as_written() {
+        let mut runs = Vec::new();
+        for b in Builtin::ALL {
+            for (sampler, tile, scale) in [
+                (Sampler::Centre, 8, 0),
+                (Sampler::Stratified(3), 16, -20),
+                (Sampler::Random(5), 32, 7),
+                (b.settings().sampler, 16, 0),
+            ] {
+                runs.push(Run {
+                    sampler,
+                    tile,
+                    scale,
+                    seed: 12345,
+                    ..Run::of(b, 64, 48)
+                });
+            }
+        }
+        runs.extend(crate::baseline::runs());
+        for r in runs {
+            let line = r.to_string();
+            assert_eq!(parse_run(&line), Ok(r), "{line}");
+        }
+        assert_eq!(
+            parse_run("chapter-reflect centre 1 12 8 8 0"),
+            Err("tile size is not 8, 16 or 32")
+        );
+    }
 
     /// `cargo run` of the firmware (the root `.cargo/config.toml`'s runner) and this
     /// harness start qemu the same way: the runner line is [`QEMU`] and

@@ -1,5 +1,6 @@
 //! Shared helpers of the integration tests: scenes built for tests, a place to
-//! write the images a test renders, the firmware test image under qemu
+//! write the images a test renders, the numerical-stability battery
+//! ([`extremes`]), the firmware test image under qemu
 //! ([`firmware`]), its instruction profile ([`profile`], attributed to source
 //! functions by [`dwarf`], weighted by the cycle model [`cycles`]), the guarded
 //! instruction counts ([`baseline`]), the host's profile under callgrind

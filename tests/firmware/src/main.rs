@@ -131,17 +131,16 @@ fn run_all() -> Result<(), FwError> {
         let lowest = stack::lowest().ok_or(FwError::StackOverflow)?;
         let used = stack::top() - lowest;
         peak = peak.max(used);
-        let s = &run.settings;
         hprintln!(
             "run {} scene={} sampler={} depth={} tile={} size={}x{} seed={} ticks={} instructions={} pixels={} stack={} base={} render={}",
             index,
             run.scene.name(),
             run.sampler,
-            s.max_depth,
+            run.depth,
             run.tile,
             run.width,
             run.height,
-            s.seed,
+            run.seed,
             ticks,
             ticks * protocol::INSTRUCTIONS_PER_TICK,
             u32::from(run.width) * u32::from(run.height),
@@ -188,7 +187,7 @@ fn read_runs(buf: &'static mut [u8; RUNS_MAX]) -> Result<&'static str, FwError> 
 
 /// Renders run `index` with the tile buffer of its size; returns the ticks spent
 /// in `render_tile` and the stack pointer of the tile loop.
-fn render(run: &runs::Run<'_>, index: usize, tiles: &mut Tiles) -> Result<(u64, usize), FwError> {
+fn render(run: &runs::Run, index: usize, tiles: &mut Tiles) -> Result<(u64, usize), FwError> {
     let mut name = heapless::String::<32>::new();
     let _ = write!(name, "{FRAME_PREFIX}{index}{FRAME_SUFFIX}");
     let out = HostFile::create(&name).map_err(|e| FwError::Io(e, FRAME_PATTERN))?;
@@ -204,12 +203,12 @@ fn render(run: &runs::Run<'_>, index: usize, tiles: &mut Tiles) -> Result<(u64, 
 /// line is what tessera itself needs.
 #[inline(never)]
 fn render_tiles<const N: usize>(
-    run: &runs::Run<'_>,
+    run: &runs::Run,
     out: &HostFile,
     tile: &mut Tile<N>,
 ) -> Result<(u64, usize), FwError> {
     run.scene.with_scaled_scene(run.scale, |view, camera| {
-        let frame = Frame::try_new(camera, Viewport::new(run.width, run.height), run.settings)?;
+        let frame = Frame::try_new(camera, Viewport::new(run.width, run.height), run.settings())?;
         let (across, down) = frame.tile_grid(N);
         let mut ticks = 0;
         let loop_sp = stack::sp();

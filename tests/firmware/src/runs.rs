@@ -1,32 +1,67 @@
 //! The run list: one run per line,
 //! `<scene>[@k] <sampler> <depth> <tile 8|16|32> <width> <height> <seed>` (`@k`
-//! scales the scene by `2^k`), with the
-//! sampler as `corner`, `centre`, `prefiltered`, `stratified:K` or `random:N`. Blank lines and
-//! lines starting with `#` are skipped.
+//! scales the scene by `2^k`), with the sampler in its text form (`corner`,
+//! `centre`, `prefiltered`, `stratified:K`, `random:N`, ...). Blank lines and lines
+//! starting with `#` are skipped.
+//!
+//! One home for both sides of the line: the host-side harness
+//! (`tessera_tests::firmware`, which includes this file with `#[path]`) writes a
+//! [`Run`] with its `Display`, the firmware reads it back with [`parse`].
 
+use core::fmt;
 use tessera::builtin::Builtin;
 use tessera::{RenderSettings, Sampler};
 
-/// One render.
-pub struct Run<'a> {
+/// One render on the chip.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Run {
     /// The built-in scene.
     pub scene: Builtin,
-    /// The sampler as written in the list (echoed in the result line).
-    pub sampler: &'a str,
-    /// Sampler, depth and seed.
-    pub settings: RenderSettings,
+    /// The sampler.
+    pub sampler: Sampler,
+    /// Reflection/transmission depth.
+    pub depth: u8,
     /// Tile size: 8, 16 or 32.
     pub tile: usize,
-    /// Image width, pixels.
+    /// Width, pixels.
     pub width: u16,
-    /// Image height, pixels.
+    /// Height, pixels.
     pub height: u16,
-    /// The scene is scaled by `2^scale` (`Builtin::with_scaled_scene`).
+    /// Seed of the random samplers.
+    pub seed: u32,
+    /// The scene scaled by `2^scale` (`Builtin::with_scaled_scene`); 0 = as built.
     pub scale: i32,
 }
 
+impl Run {
+    /// The settings the firmware renders with.
+    #[must_use]
+    pub fn settings(&self) -> RenderSettings {
+        RenderSettings {
+            sampler: self.sampler,
+            max_depth: self.depth,
+            seed: self.seed,
+        }
+    }
+}
+
+/// The run's line in the run list: `scene[@k] sampler depth tile width height seed`.
+impl fmt::Display for Run {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.scene.name())?;
+        if self.scale != 0 {
+            write!(f, "@{}", self.scale)?;
+        }
+        write!(
+            f,
+            " {} {} {} {} {} {}",
+            self.sampler, self.depth, self.tile, self.width, self.height, self.seed
+        )
+    }
+}
+
 /// Parses one line (already known not to be blank or a comment).
-pub fn parse(line: &str) -> Result<Run<'_>, &'static str> {
+pub fn parse(line: &str) -> Result<Run, &'static str> {
     let mut f = line.split_ascii_whitespace();
     let mut next = |what| f.next().ok_or(what);
     // `name` or `name@k`: the scene scaled by 2^k (lengths; intensities by 4^k).
@@ -36,9 +71,10 @@ pub fn parse(line: &str) -> Result<Run<'_>, &'static str> {
         None => (token, 0),
     };
     let scene = Builtin::from_name(scene).ok_or("unknown scene")?;
-    let sampler_text = next("missing sampler")?;
-    let sampler: Sampler = sampler_text.parse().map_err(|_| "bad sampler")?;
-    let max_depth = next("missing depth")?.parse().map_err(|_| "bad depth")?;
+    let sampler = next("missing sampler")?
+        .parse()
+        .map_err(|_| "bad sampler")?;
+    let depth = next("missing depth")?.parse().map_err(|_| "bad depth")?;
     let tile = match next("missing tile size")? {
         "8" => 8,
         "16" => 16,
@@ -53,15 +89,12 @@ pub fn parse(line: &str) -> Result<Run<'_>, &'static str> {
     }
     Ok(Run {
         scene,
-        sampler: sampler_text,
-        settings: RenderSettings {
-            sampler,
-            max_depth,
-            seed,
-        },
+        sampler,
+        depth,
         tile,
         width,
         height,
+        seed,
         scale,
     })
 }

@@ -5,16 +5,16 @@
 //! prints them to `docs/extremes.md`.
 //!
 //! One module per case (or family of cases), every public item re-exported here:
-//! 1. `far_sphere`: far spheres;
-//! 2. `reintersection`: re-intersection of secondary rays;
-//! 3. `watertight`: watertightness of fans and closed meshes;
-//! 4. `tiny`: tiny triangles;
-//! 5. `boxes`: boxes, rays in face planes, along edges, signed zeros;
-//! 6. `camera`: the camera far from the origin, up close to forward;
-//! 7. and 8. `scale`: scale invariance and flush-to-zero;
-//! 9. `analytic`: the analytic scene;
-//! 10. `refraction`: refraction near the critical angle;
-//! 11. `range`: the edges of the supported range.
+//! - case 1, `far_sphere`: far spheres;
+//! - case 2, `reintersection`: re-intersection of secondary rays;
+//! - case 3, `watertight`: watertightness of fans and closed meshes;
+//! - case 4, `tiny`: tiny triangles;
+//! - case 5, `boxes`: boxes, rays in face planes, along edges, signed zeros;
+//! - case 6, `camera`: the camera far from the origin, up close to forward;
+//! - cases 7 and 8, `scale`: scale invariance and flush-to-zero;
+//! - case 9, `analytic`: the analytic scene;
+//! - case 10, `refraction`: refraction near the critical angle;
+//! - case 11, `range`: the edges of the supported range.
 //!
 //! What they share (`support`): the `f64` side of the comparisons, ulps, a seeded
 //! generator, rays built exactly. Everything is deterministic: rays come from fixed
