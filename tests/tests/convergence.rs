@@ -67,7 +67,7 @@ fn rmse(frame_for: impl Fn(u32) -> Frame, edge: &[(u32, u32, f64)]) -> f64 {
     for seed in 0..seeds {
         let frame = frame_for(seed);
         for &(x, y, truth) in edge {
-            let v = f64::from(frame.pixel_color(&view, x, y).r);
+            let v = f64::from(frame.pixel_color(&view, x, y, &mut ()).r);
             se += (v - truth) * (v - truth);
         }
     }
@@ -110,8 +110,8 @@ fn stratified_converges_faster_than_random_on_edges() {
     };
     // The renderer itself is exact away from the edge: check a few interior pixels.
     let f = frame(Sampler::Centre)(0);
-    assert_eq!(f.pixel_color(&s.view(), 5, 60).r, 1.0);
-    assert_eq!(f.pixel_color(&s.view(), 60, 2).r, 0.0);
+    assert_eq!(f.pixel_color(&s.view(), 5, 60, &mut ()).r, 1.0);
+    assert_eq!(f.pixel_color(&s.view(), 60, 2, &mut ()).r, 0.0);
 
     let random: Vec<(f64, f64)> = [4u16, 16, 64, 256]
         .iter()

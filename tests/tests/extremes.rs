@@ -4,7 +4,7 @@
 //! `cargo run -p tessera-tests --release --bin extremes-report` prints the figures
 //! over larger sweeps. Case 12 (firmware under qemu) lives with the firmware tests.
 
-use tessera::error::Field;
+use tessera::Field;
 use tessera::{
     Aabb, Camera, Color, Error, MAX_EXTENT, MIN_LENGTH, Plane, PointLight, Sphere, Triangle, Vec3,
 };

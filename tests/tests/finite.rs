@@ -299,7 +299,7 @@ proptest! {
         let view = scene.view();
         for y in 0..14 {
             for x in 0..20 {
-                let colour = frame.pixel_color(&view, x, y);
+                let colour = frame.pixel_color(&view, x, y, &mut ());
                 prop_assert!(
                     colour.is_finite() && colour.min_component() >= 0.0,
                     "pixel ({}, {}) is {:?}", x, y, colour

@@ -24,7 +24,7 @@ fn centre_pixel_with_sphere_at(d: f32) -> tessera::Rgb8 {
     let frame = s
         .frame(Viewport::new(9, 9), RenderSettings::default())
         .unwrap();
-    frame.render_pixel(&s.view(), 4, 4)
+    frame.pixel_color(&s.view(), 4, 4, &mut ()).to_rgb8()
 }
 
 #[test]
@@ -48,7 +48,7 @@ fn count(b: Builtin, settings: RenderSettings) -> RayCount {
         let mut c = RayCount::default();
         for y in 0..30 {
             for x in 0..40 {
-                let _ = frame.pixel_color_counted(view, x, y, &mut c);
+                let _ = frame.pixel_color(view, x, y, &mut c);
             }
         }
         c
@@ -95,7 +95,7 @@ fn unlit_materials_cast_no_shadow_rays() {
     let mut c = RayCount::default();
     for y in 0..8 {
         for x in 0..8 {
-            let _ = frame.pixel_color_counted(&s.view(), x, y, &mut c);
+            let _ = frame.pixel_color(&s.view(), x, y, &mut c);
         }
     }
     assert_eq!((c.primary, c.shadow), (64, 0));
@@ -115,7 +115,7 @@ fn deepest_recursion_through_glass_stays_finite() {
             let frame = Frame::try_new(cam, Viewport::new(40, 30), settings).unwrap();
             for y in 0..30 {
                 for x in 0..40 {
-                    assert!(frame.pixel_color(view, x, y).is_finite());
+                    assert!(frame.pixel_color(view, x, y, &mut ()).is_finite());
                 }
             }
         })

@@ -14,7 +14,7 @@ fn accuracy(b: Builtin, settings: RenderSettings, vp: Viewport) -> Accuracy {
             let mut nf = 0;
             for y in 0..u32::from(vp.height) {
                 for x in 0..u32::from(vp.width) {
-                    nf += usize::from(!frame.pixel_color(view, x, y).is_finite());
+                    nf += usize::from(!frame.pixel_color(view, x, y, &mut ()).is_finite());
                 }
             }
             (img, nf)

@@ -54,7 +54,7 @@ fn tile_size_and_order_do_not_change_a_pixel() {
                 );
                 // And equal to rendering each pixel on its own.
                 for (x, y, p) in reference.enumerate_pixels() {
-                    let q = frame.render_pixel(view, x, y);
+                    let q = frame.pixel_color(view, x, y, &mut ()).to_rgb8();
                     assert_eq!(p.0, [q.r, q.g, q.b], "{name} pixel ({x}, {y})");
                 }
             })
@@ -70,16 +70,16 @@ fn partial_edge_tiles_report_their_size_and_out_of_frame_is_an_error() {
         let frame = tessera::Frame::try_new(cam, Viewport::new(20, 10), b.settings()).unwrap();
         let mut tile = tessera::Tile::<16>::new();
         frame
-            .render_tile(view, tessera::TileCoord::new(1, 0), &mut tile)
+            .render_tile(view, tessera::TileCoord::new(1, 0), &mut tile, &mut ())
             .unwrap();
         assert_eq!((tile.width(), tile.height()), (4, 10));
         assert_eq!(tile.pixels().count(), 40);
         assert_eq!(
-            frame.render_tile(view, tessera::TileCoord::new(2, 0), &mut tile),
+            frame.render_tile(view, tessera::TileCoord::new(2, 0), &mut tile, &mut ()),
             Err(tessera::Error::TileOutOfFrame)
         );
         assert_eq!(
-            frame.render_tile(view, tessera::TileCoord::new(0, 1), &mut tile),
+            frame.render_tile(view, tessera::TileCoord::new(0, 1), &mut tile, &mut ()),
             Err(tessera::Error::TileOutOfFrame)
         );
     })

@@ -216,7 +216,7 @@ fn render_tiles<const N: usize>(
             for tx in 0..across {
                 let t0 = clock::now();
                 tessera_profile_begin();
-                let rendered = frame.render_tile(view, TileCoord::new(tx, ty), tile);
+                let rendered = frame.render_tile(view, TileCoord::new(tx, ty), tile, &mut ());
                 tessera_profile_end();
                 ticks += clock::now() - t0;
                 rendered?;

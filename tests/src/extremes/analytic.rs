@@ -42,7 +42,7 @@ pub fn analytic(r: f32) -> Analytic {
         };
         for y in 0..30 {
             for x in 0..40 {
-                let p = frame.render_pixel(&scene.view(), x, y);
+                let p = frame.pixel_color(&scene.view(), x, y, &mut ()).to_rgb8();
                 for (got, want) in [p.r, p.g, p.b].into_iter().zip(want) {
                     out.channels += 1;
                     out.worst_lsb = out.worst_lsb.max((i32::from(got) - want).abs());

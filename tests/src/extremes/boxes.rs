@@ -1,7 +1,7 @@
 //! Case 5: boxes, rays in face planes, along edges, signed zeros, against the exact answer.
 
 use super::{INF, V3, V3Ext, exact_ray};
-use tessera::geometry::Shape;
+use tessera::testing::Shape;
 use tessera::{Aabb, Vec3};
 
 /// Figures of case 5 for one box.

@@ -2,7 +2,7 @@
 
 use super::{INF, V3, V3Ext, ray_towards, ulp32};
 use tessera::Sphere;
-use tessera::geometry::Shape;
+use tessera::testing::Shape;
 
 /// Distance/radius ratios of case 1: 1e1 to 1e6 in half decades.
 pub const FAR_SPHERE_RATIOS: [f64; 11] = [

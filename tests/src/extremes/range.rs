@@ -23,7 +23,7 @@ pub fn lit_sphere_error(scene: &tessera::Scene<1, 0, 0, 0, 1, 1>) -> (i32, usize
     let (mut worst, mut non_finite) = (0, 0);
     for y in 0..24 {
         for x in 0..32 {
-            let c = frame.pixel_color(&scene.view(), x, y);
+            let c = frame.pixel_color(&scene.view(), x, y, &mut ());
             non_finite += usize::from(!c.is_finite());
             let p = c.to_rgb8();
             for (got, want) in [p.r, p.g, p.b].into_iter().zip(want) {

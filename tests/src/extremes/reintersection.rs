@@ -1,9 +1,9 @@
 //! Case 2: re-intersection of secondary rays leaving a surface through `offset_origin`.
 
 use super::{INF, Rng, V3, V3Ext, exact_ray, ray_towards};
-use tessera::geometry::{Candidate, Shape, Surface};
-use tessera::ray::offset_origin;
-use tessera::shade::refract;
+use tessera::testing::offset_origin;
+use tessera::testing::refract;
+use tessera::testing::{Candidate, Shape, Surface};
 use tessera::{Aabb, Plane, Ray, Sphere, Vec3};
 
 /// Distances of the hit points from the origin in case 2.

@@ -89,7 +89,7 @@ pub fn render_desc(desc: &SceneDesc, vp: Viewport) -> Result<Rendered, String> {
     let view = scene.view();
     let mut non_finite = 0;
     let image = RgbImage::from_fn(u32::from(vp.width), u32::from(vp.height), |x, y| {
-        let c = frame.pixel_color(&view, x, y);
+        let c = frame.pixel_color(&view, x, y, &mut ());
         non_finite += usize::from(!c.is_finite());
         let p = c.to_rgb8();
         image::Rgb([p.r, p.g, p.b])

@@ -1,7 +1,7 @@
 //! Case 4: tiny triangles, the ray aimed at the centroid must hit.
 
 use super::{INF, Rng, V3, V3Ext, ray_towards};
-use tessera::geometry::Shape;
+use tessera::testing::Shape;
 use tessera::{Triangle, Vec3};
 
 /// Edge lengths of case 4 (the report goes further down).

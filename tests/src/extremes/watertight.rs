@@ -1,7 +1,7 @@
 //! Case 3: watertightness of a non-planar fan and of a closed icosphere.
 
 use super::{INF, Rng, V3, V3Ext, exact_ray, ray_towards, show};
-use tessera::geometry::Shape;
+use tessera::testing::Shape;
 use tessera::{Ray, Triangle, Vec3};
 
 /// Figures of one watertightness configuration.
