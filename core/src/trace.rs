@@ -118,7 +118,12 @@ impl Candidates for Every {
 
     #[inline(always)]
     fn any<G>(self, list: &[Primitive<G>], _: Kind, mut f: impl FnMut(usize, &G) -> bool) -> bool {
-        list.iter().enumerate().any(|(i, p)| f(i, &p.geometry))
+        for (i, p) in list.iter().enumerate() {
+            if f(i, &p.geometry) {
+                return true;
+            }
+        }
+        false
     }
 
     #[inline(always)]
@@ -137,10 +142,15 @@ impl Candidates for Listed<'_> {
         kind: Kind,
         mut f: impl FnMut(usize, &G) -> bool,
     ) -> bool {
-        of(self.0, kind).iter().any(|&i| {
+        for &i in of(self.0, kind) {
             let i = usize::from(i);
-            list.get(i).is_some_and(|p| f(i, &p.geometry))
-        })
+            if let Some(p) = list.get(i)
+                && f(i, &p.geometry)
+            {
+                return true;
+            }
+        }
+        false
     }
 
     #[inline(always)]
@@ -160,10 +170,16 @@ impl Candidates for Masked<'_> {
         mut f: impl FnMut(usize, &G) -> bool,
     ) -> bool {
         let bit = self.1;
-        of(self.0, kind).iter().any(|&e| {
+        for &e in of(self.0, kind) {
             let i = (e & 0xffff) as usize;
-            e & bit != 0 && list.get(i).is_some_and(|p| f(i, &p.geometry))
-        })
+            if e & bit != 0
+                && let Some(p) = list.get(i)
+                && f(i, &p.geometry)
+            {
+                return true;
+            }
+        }
+        false
     }
 
     #[inline(always)]
