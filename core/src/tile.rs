@@ -13,7 +13,7 @@
 //!
 //! (3 bytes a pixel plus 8 bytes of coordinates; checked by a unit test.) The
 //! renderer's stack does not depend on `N`: measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md`), `render_tile` needs 1,328 to 1,896 bytes (1.3
+//! painting; `docs/chip-cost.md`), `render_tile` needs 1,312 to 1,912 bytes (1.3
 //! to 1.9 KiB) below its caller, the tile's culling lists (module `cull`) and the shader's pending-ray
 //! stack (`MAX_DEPTH + 1` rays) included.
 

@@ -95,19 +95,9 @@ pub fn tool_version(cmd: &str) -> String {
         .unwrap_or_else(|| format!("{cmd}: unknown"))
 }
 
-/// `n` with a comma every three digits (`1234567` -> `1,234,567`).
-#[must_use]
-pub fn thousands(n: u64) -> String {
-    let s = n.to_string();
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
-}
+/// `n` with a comma every three digits (`1234567` -> `1,234,567`): the host's, so
+/// that the reports print figures the way the command's messages do.
+pub use tessera_host::limits::thousands;
 
 /// `x` rounded, with [`thousands`] separators (a negative or non-finite figure,
 /// which the reports never have, is printed as it is, rounded).
