@@ -326,7 +326,7 @@ fn approximated_scene() -> SceneDesc {
 /// [`approximated_scene`], per backend (the images are deterministic: the same
 /// figures on every run). Exact: measured 1.0000 (centre) and 0.9999 (stratified
 /// 2x2), bound 0.999. fast-math: measured 0.9995 and 0.9988, bound 0.997: the
-/// highlights are within 1.6 LSB (`tessera::math::powf`'s bound up to shininess
+/// highlights are within 1.6 LSB (the core's `math::powf`'s bound up to shininess
 /// 100.5), the rest is the checker's edges on the red sphere, moved by micromath's
 /// `atan2` and `acos` (up to 9.2e-3 of the texture in `v`). Before the fast-math
 /// `powf` took an exact reciprocal: 0.933 (centre), the highlights up to 60 LSB off
