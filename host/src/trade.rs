@@ -218,7 +218,7 @@ pub fn measure_scene(
         };
         let timed = b.with_scene(|view, cam| {
             let frame = Frame::try_new(cam, vp, settings)?;
-            timed_renders(view, &frame, setting.tile, runs.max(1), pixels)
+            timed_renders(view, &frame, setting.tile, runs, pixels)
         })?;
         let (img, mut times) = timed?;
         rows.push(row(b.name(), backend(), setting, &mut times, &img, truth)?);

@@ -93,7 +93,9 @@ fn a_fovy_in_radians_renders_with_a_warning() {
     let stderr = text(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(
-        stderr.contains("warning") && stderr.contains("radians.toml") && stderr.contains("radians"),
+        stderr.contains("warning")
+            && stderr.contains("radians.toml")
+            && stderr.contains("fovy 1.05 is less than pi degrees: it looks like radians"),
         "{stderr}"
     );
     assert!(dir.join("w.png").exists());

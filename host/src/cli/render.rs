@@ -7,12 +7,15 @@ use std::time::Instant;
 use tessera::Frame;
 use tessera_host::output::{self, Pending};
 
+/// Where `render` writes when no `-o` is given.
+const DEFAULT_OUTPUT: &str = "tessera.png";
+
 #[derive(Args)]
 pub struct RenderArgs {
     #[command(flatten)]
     common: Common,
     /// Output PNG (a symbolic link is followed; see below)
-    #[arg(short, long, default_value = "tessera.png")]
+    #[arg(short, long, default_value = DEFAULT_OUTPUT)]
     output: PathBuf,
 }
 
@@ -21,7 +24,7 @@ impl Default for RenderArgs {
     fn default() -> Self {
         Self {
             common: Common::default(),
-            output: PathBuf::from("tessera.png"),
+            output: PathBuf::from(DEFAULT_OUTPUT),
         }
     }
 }

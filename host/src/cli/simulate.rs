@@ -44,18 +44,15 @@ impl Outputs {
     /// The outputs asked for, checked against the input, and how they are shown in
     /// the summary: a PNG, a GIF, or `N frames, NAME-000.png ...`.
     fn check(args: &SimulateArgs, source: &Source) -> Result<(Self, String), Error> {
+        let default = match args.orbit {
+            None => "simulator.png",
+            Some(_) => "simulator-orbit.gif",
+        };
+        let path = args.output.clone().unwrap_or_else(|| default.into());
         let Some(n) = args.orbit else {
-            let path = args
-                .output
-                .clone()
-                .unwrap_or_else(|| "simulator.png".into());
             let shown = path.display().to_string();
             return Ok((Self::Pngs(vec![source.target(&path)?]), shown));
         };
-        let path = args
-            .output
-            .clone()
-            .unwrap_or_else(|| "simulator-orbit.gif".into());
         if path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
