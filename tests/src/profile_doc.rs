@@ -136,7 +136,7 @@ pub fn run_section(w: &mut String, m: &Measured) {
         px(total_cycles as u64),
         m.profile.insns.len()
     );
-    class_table(w, m);
+    class_table(w, m, total_cycles);
 
     let _ = writeln!(
         w,
@@ -191,10 +191,11 @@ fn class_rows(m: &Measured) -> Vec<(String, u64, u64)> {
 }
 
 /// The table of instruction classes of a run, and its pipelined loads and stores.
-fn class_table(w: &mut String, m: &Measured) {
+/// `total_cycles` is the run's estimate ([`Measured::cycles_at`] with the refill
+/// penalty), computed once by the caller.
+fn class_table(w: &mut String, m: &Measured, total_cycles: f64) {
     let px = |n: u64| m.per_px(n);
     let total = m.profile.total.max(1) as f64;
-    let total_cycles = m.cycles_at(cycles::REFILL).max(1) as f64;
     let rows = class_rows(m);
     let _ = writeln!(
         w,

@@ -18,13 +18,25 @@ pub const RUNS_MAX: usize = 4096;
 /// every 40 ns.
 pub const INSTRUCTIONS_PER_TICK: u64 = 40;
 
+// The frame file name's two parts, as literals so that `concat!` can join them.
+macro_rules! frame_prefix {
+    () => {
+        "tessera-fw-"
+    };
+}
+macro_rules! frame_suffix {
+    () => {
+        ".rgb"
+    };
+}
+
 /// Run `i`'s frame is written to `{FRAME_PREFIX}{i}{FRAME_SUFFIX}`
 /// (`tessera-fw-<i>.rgb`): the pixels in row-major image order, 3 bytes (R, G, B)
 /// each, no header.
-pub const FRAME_PREFIX: &str = "tessera-fw-";
+pub const FRAME_PREFIX: &str = frame_prefix!();
 
 /// See [`FRAME_PREFIX`].
-pub const FRAME_SUFFIX: &str = ".rgb";
+pub const FRAME_SUFFIX: &str = frame_suffix!();
 
-/// The frame files' name in messages.
-pub const FRAME_PATTERN: &str = "tessera-fw-<i>.rgb";
+/// The frame files' name in messages, built from the same two literals.
+pub const FRAME_PATTERN: &str = concat!(frame_prefix!(), "<i>", frame_suffix!());

@@ -85,10 +85,7 @@ pub fn camera_far(distance: f32, near: f32) -> CameraFar {
     let pos = (V3::new(0.6, -0.64, 0.48) * f64::from(distance)).f32();
     let mut rng = Rng::new(0xca3e);
     for (fwd, up, fovy, w, h) in VIEWS {
-        let (fwd, up) = (
-            V3::new(fwd[0], fwd[1], fwd[2]),
-            V3::new(up[0], up[1], up[2]),
-        );
+        let (fwd, up) = (V3::from_array(fwd), V3::from_array(up));
         let vp = Viewport::new(w, h);
         let cam =
             Camera::try_new(pos, fwd.f32(), up.f32(), fovy, near, near * 1e6).expect("camera");

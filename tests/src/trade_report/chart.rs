@@ -48,8 +48,9 @@ pub(super) fn svg(entries: &[Entry]) -> Result<String, String> {
 /// One scene's panel: the axes, the points of the three backends, the front.
 fn panel(area: &Area<'_>, b: Builtin, rows: &[&Entry]) -> Result<(), String> {
     let mut c = axes(area, b, rows)?;
-    points(&mut c, rows)?;
-    front(&mut c, rows)?;
+    let best = front_by_cost(rows);
+    points(&mut c, rows, &best)?;
+    front(&mut c, &best)?;
     c.configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.85))
@@ -104,14 +105,13 @@ fn axes<'a, 'b>(area: &'a Area<'b>, b: Builtin, rows: &[&Entry]) -> Result<Chart
 
 /// The front as a staircase (what the best setting up to a cost achieves), then the
 /// rows of each backend: grey crosses, blue dots, orange triangles.
-fn points(c: &mut Chart<'_, '_>, rows: &[&Entry]) -> Result<(), String> {
+fn points(c: &mut Chart<'_, '_>, rows: &[&Entry], front: &[&Entry]) -> Result<(), String> {
     let pts = |backend: &str| -> Vec<(f64, f64)> {
         rows.iter()
             .filter(|e| e.row.backend == backend)
             .map(|e| (e.row.ns_median, e.row.flip))
             .collect()
     };
-    let front = front_by_cost(rows);
     let mut stair = Vec::new();
     for (i, e) in front.iter().enumerate() {
         if i > 0 {
@@ -152,9 +152,9 @@ fn points(c: &mut Chart<'_, '_>, rows: &[&Entry]) -> Result<(), String> {
 
 /// Rings every front point; labels it unless the previous one (the next cheaper)
 /// has the same label.
-fn front(c: &mut Chart<'_, '_>, rows: &[&Entry]) -> Result<(), String> {
+fn front(c: &mut Chart<'_, '_>, front: &[&Entry]) -> Result<(), String> {
     let mut last = String::new();
-    c.draw_series(front_by_cost(rows).iter().map(|e| {
+    c.draw_series(front.iter().map(|e| {
         let label = short(&e.row.scene, &e.row.setting);
         let text = if label == last {
             String::new()
