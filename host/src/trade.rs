@@ -47,6 +47,7 @@ pub fn grid(base: RenderSettings) -> Vec<Setting> {
         Sampler::Stratified(4),
         Sampler::Random(4),
         Sampler::Random(16),
+        Sampler::adaptive(4),
     ] {
         add(Setting {
             sampler,
