@@ -77,7 +77,9 @@ pub fn grid(base: RenderSettings) -> Vec<Setting> {
 pub struct Row {
     /// Scene name.
     pub scene: String,
-    /// `exact`, `fast-math` or `f64-reference`.
+    /// The math backend: [`backend`] (`exact` or `fast-math`) for the core's
+    /// rows, [`REFERENCE`] for the f64 reference's. The trade report renames the
+    /// core's rows of each binary it builds after its own list of backends.
     pub backend: String,
     /// The setting.
     pub setting: Setting,
@@ -148,7 +150,15 @@ impl Row {
     }
 }
 
-/// The backend this binary's core was built with.
+/// The backend name of the f64 reference's rows.
+pub const REFERENCE: &str = "f64-reference";
+
+/// The name of the backend this binary's core was built with, as far as this
+/// crate's features tell: `fast-math` with the feature `fast-math`, else `exact`.
+/// A binary built with other core features still says one of the two; the trade
+/// report, which builds one binary per backend of its list (a name and the cargo
+/// features it is built with), renames the core's rows it reads from each binary
+/// after that backend ([`Row::backend`]).
 #[must_use]
 pub fn backend() -> &'static str {
     if cfg!(feature = "fast-math") {
@@ -229,7 +239,7 @@ pub fn measure_scene(
             let mut t = vec![start.elapsed().as_secs_f64() * 1e9 / pixels];
             rows.push(row(
                 b.name(),
-                "f64-reference",
+                REFERENCE,
                 setting,
                 &mut t,
                 &r.to_rgb8(),
