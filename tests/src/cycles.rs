@@ -337,6 +337,13 @@ pub fn costs(insns: &[Insn]) -> Vec<Cost> {
         .collect()
 }
 
+/// The estimated cycles of a whole profile: the sum of [`costs`] with the
+/// assumed refill [`REFILL`] for each taken branch.
+#[must_use]
+pub fn estimate(insns: &[Insn]) -> u64 {
+    costs(insns).iter().map(Cost::cycles).sum()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -500,6 +507,9 @@ mod tests {
         assert_eq!(c[3].cycles(), 10 + 9 * REFILL);
         assert_eq!(c[3].cycles_at(1), 19);
         assert_eq!(c[4].cycles(), 3 + REFILL);
+        // The whole profile: 20 + 10 + 10 + (10 + 9P) + (3 + P).
+        assert_eq!(estimate(&insns), 53 + 10 * REFILL);
+        assert_eq!(estimate(&[]), 0);
         // A load reached only by branching to it does not pipeline.
         let jumped = [
             insn(0x200, 5, 5, 2, "ldr r0, [r1]"),

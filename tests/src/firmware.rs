@@ -119,14 +119,39 @@ pub fn checked(
     Ok(out)
 }
 
-/// Builds the firmware (release profile of `tests/firmware`) and returns the ELF's
-/// path. The exact and fast-math images have their own target folders under
-/// `tests/firmware/target/`, so both exist side by side. Cargo runs from the
-/// repository root so that the root `.cargo/config.toml` (linker script) applies.
-pub fn build(fast_math: bool) -> Result<PathBuf, String> {
+/// The name of the firmware image built with the core features `features`, and
+/// of its target folder under `tests/firmware/target/`: `exact` without features,
+/// else the features joined by `+` (`fast-math`, `fast-rsqrt+fast-pow`). An error
+/// for a feature that is not a cargo feature name (letters, digits, `-`, `_`), so
+/// that the name is a plain folder name.
+pub fn image_name(features: &[&str]) -> Result<String, String> {
+    for f in features {
+        if f.is_empty()
+            || !f
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+        {
+            return Err(format!("{f:?} is not a cargo feature name"));
+        }
+    }
+    Ok(if features.is_empty() {
+        "exact".into()
+    } else {
+        features.join("+")
+    })
+}
+
+/// Builds the firmware (release profile of `tests/firmware`) with the core
+/// features `features` (features of `tessera-fw`, which forwards them to the core:
+/// `&[]` is the exact math, `&["fast-math"]` the fast-math backend) and returns the
+/// ELF's path. Each set of features has its own target folder under
+/// `tests/firmware/target/` ([`image_name`]), so the images exist side by side.
+/// Cargo runs from the repository root so that the root `.cargo/config.toml`
+/// (linker script) applies.
+pub fn build(features: &[&str]) -> Result<PathBuf, String> {
     let root = repo_root();
-    let backend = if fast_math { "fast-math" } else { "exact" };
-    let target_dir = firmware_dir().join("target").join(backend);
+    let backend = image_name(features)?;
+    let target_dir = firmware_dir().join("target").join(&backend);
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.current_dir(&root)
@@ -134,8 +159,8 @@ pub fn build(fast_math: bool) -> Result<PathBuf, String> {
         .arg(firmware_dir().join("Cargo.toml"))
         .arg("--target-dir")
         .arg(&target_dir);
-    if fast_math {
-        cmd.args(["--features", "fast-math"]);
+    if !features.is_empty() {
+        cmd.arg("--features").arg(features.join(","));
     }
     // Flags from the environment would replace the config's `-Tlink.x`.
     for var in [
@@ -551,6 +576,22 @@ mod tests {
             parse_run("chapter-reflect centre 1 12 8 8 0"),
             Err("tile size is not 8, 16 or 32")
         );
+    }
+
+    /// The image names (target folders) of the feature sets: the exact image and
+    /// the fast-math one keep the folders they always had; a set of features is
+    /// joined with `+`; anything that could leave `tests/firmware/target/` is refused.
+    #[test]
+    fn image_names_are_plain_folder_names() {
+        assert_eq!(image_name(&[]).as_deref(), Ok("exact"));
+        assert_eq!(image_name(&["fast-math"]).as_deref(), Ok("fast-math"));
+        assert_eq!(
+            image_name(&["fast-rsqrt", "fast_pow"]).as_deref(),
+            Ok("fast-rsqrt+fast_pow")
+        );
+        for bad in ["", "../x", "a/b", "a,b", "a b", "."] {
+            assert!(image_name(&[bad]).is_err(), "{bad:?}");
+        }
     }
 
     /// `cargo run` of the firmware (the root `.cargo/config.toml`'s runner) and this

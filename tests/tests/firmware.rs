@@ -19,7 +19,7 @@ fn elf() -> PathBuf {
     static ELF: OnceLock<Result<PathBuf, String>> = OnceLock::new();
     ELF.get_or_init(|| {
         firmware::qemu_version()?;
-        firmware::build(false)
+        firmware::build(&[])
     })
     .clone()
     .unwrap_or_else(|e| panic!("{e}"))

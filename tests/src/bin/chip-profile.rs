@@ -63,7 +63,7 @@ fn report() -> Result<PathBuf, String> {
 /// the instructions and their cycles to source functions.
 fn profile_firmware() -> Result<Vec<Measured>, String> {
     println!("building the firmware and the qemu plugin...");
-    let elf = firmware::build(false)?;
+    let elf = firmware::build(&[])?;
     let plugin = profile::build_plugin()?;
     let markers = profile::markers(&elf)?;
     // The guarded runs (`tests/chip-baseline.txt`).

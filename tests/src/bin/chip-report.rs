@@ -212,8 +212,8 @@ fn report(bless: bool) -> Result<PathBuf, String> {
 /// twice ([`measure`]), and the exact one under the profiling plugin ([`profiled`]).
 fn measure_all(runs: &[Run]) -> Result<(Backend, Backend, Vec<Profiled>), String> {
     println!("building the firmware (exact and fast-math)...");
-    let exact_elf = firmware::build(false)?;
-    let fast_elf = firmware::build(true)?;
+    let exact_elf = firmware::build(&[])?;
+    let fast_elf = firmware::build(&["fast-math"])?;
     println!(
         "running {} renders x 2 passes x 2 backends, and the exact backend once more \
          under the profiling plugin...",
