@@ -151,10 +151,13 @@ pub enum Error {
         /// The depth asked for.
         depth: u8,
     },
-    /// A sampler with zero samples (stratified 0 or random 0), or more than 64x64.
+    /// A sampler with zero samples (stratified 0 or random 0), or more than 64x64
+    /// (adaptive: fewer than 2x2 or more than 64x64).
     BadSampleCount,
+    /// An adaptive sampler's threshold that is not an integer from 0 to 255.
+    BadThreshold,
     /// Sampler text that is none of `corner`, `centre`, `prefiltered`,
-    /// `offset:X,Y`, `stratified:K`, `random:N`.
+    /// `offset:X,Y`, `stratified:K`, `random:N`, `adaptive:K[,T]`.
     UnknownSampler,
     /// A tile coordinate outside the frame.
     TileOutOfFrame,
@@ -192,12 +195,18 @@ impl fmt::Display for Error {
                 "recursion depth {depth} is above the maximum {}",
                 MAX_DEPTH
             ),
-            Self::BadSampleCount => {
-                f.write_str("sampler needs 1 to 4096 samples per pixel (stratified k: 1 to 64)")
-            }
+            Self::BadSampleCount => f.write_str(
+                "sampler needs 1 to 4096 samples per pixel (stratified k: 1 to 64, \
+                 adaptive k: 2 to 64)",
+            ),
+            Self::BadThreshold => f.write_str(
+                "the adaptive sampler's threshold is a colour difference in 8-bit units, \
+                 an integer from 0 to 255 (adaptive:K,T)",
+            ),
             Self::UnknownSampler => f.write_str(
                 "unknown sampler: the samplers are corner, centre, prefiltered, offset:X,Y \
-                 (each in [0, 1)), stratified:K (1-64) and random:N (1-4096)",
+                 (each in [0, 1)), stratified:K (1-64), random:N (1-4096) and \
+                 adaptive:K (2-64) or adaptive:K,T (T: 0-255)",
             ),
             Self::TileOutOfFrame => f.write_str("tile coordinate is outside the frame"),
             Self::ReflectionAndTransmissionAboveOne => f.write_str(

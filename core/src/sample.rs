@@ -61,36 +61,78 @@ pub enum Sampler {
     /// pixel's footprint (box-filtered, prefiltered) instead of point-sampled: the
     /// right answer for textures in one evaluation (geometry edges stay aliased).
     Prefiltered,
+    /// Adaptive anti-aliasing: one ray through each pixel's centre, its texture
+    /// averaged over the pixel as [`Sampler::Prefiltered`] does, then, only where
+    /// a pixel needs it, the `k x k` samples of [`Sampler::Stratified`]`(k)` (the
+    /// same rays: a refined pixel is the stratified one), `2 <= k <= 64`.
+    ///
+    /// A pixel is refined when the centre ray of one of its four neighbours in
+    /// the frame (above, left, right, below) met something else (another primitive or none, or a shadow where
+    /// the pixel's own is lit, by light) or, on untextured surfaces, brought back
+    /// an 8-bit colour that differs from the pixel's by more than `threshold` in a
+    /// channel. Textured surfaces are left to the prefiltered centre ray (a
+    /// texture's colour steps are not edges the samples would improve: refining
+    /// Young's fringes by their colour steps makes them worse, FLIP 0.0048 ->
+    /// 0.017 at 128x96). The decision depends only on the centre rays of the
+    /// pixel and its neighbours; a tile traces the centre rays of a one-pixel
+    /// apron around it, so the image is the same for every tile size, order and
+    /// thread count, with three rows of centre samples as its only memory.
+    Adaptive {
+        /// Samples per side of a refined pixel.
+        k: u8,
+        /// Largest channel difference (8-bit units) between neighbouring centre
+        /// samples that does not refine them ([`Sampler::ADAPTIVE_THRESHOLD`] by
+        /// default).
+        threshold: u8,
+    },
 }
 
 impl Sampler {
+    /// The colour difference (8-bit units) above which [`Sampler::Adaptive`]
+    /// refines neighbouring pixels when the text form gives none (`adaptive:K`).
+    pub const ADAPTIVE_THRESHOLD: u8 = 16;
+
+    /// Adaptive anti-aliasing with `k x k` samples where needed and the default
+    /// threshold.
+    #[must_use]
+    pub const fn adaptive(k: u8) -> Self {
+        Self::Adaptive {
+            k,
+            threshold: Self::ADAPTIVE_THRESHOLD,
+        }
+    }
+
     /// Checks the sample count.
     pub fn validate(&self) -> Result<(), Error> {
         match *self {
             Self::Stratified(k) if k == 0 || k > 64 => Err(Error::BadSampleCount),
+            Self::Adaptive { k, .. } if !(2..=64).contains(&k) => Err(Error::BadSampleCount),
             Self::Random(n) if n == 0 || n > 4096 => Err(Error::BadSampleCount),
             _ => Ok(()),
         }
     }
 
-    /// Rays per pixel.
+    /// Camera rays per pixel; for [`Sampler::Adaptive`], the most a pixel takes
+    /// (its centre ray and `k x k` samples; most pixels take one).
     #[must_use]
     pub fn count(&self) -> u32 {
         match *self {
             Self::Corner | Self::Centre | Self::Offset(_) | Self::Prefiltered => 1,
             Self::Stratified(k) => u32::from(k) * u32::from(k),
+            Self::Adaptive { k, .. } => u32::from(k) * u32::from(k) + 1,
             Self::Random(n) => u32::from(n),
         }
     }
 
-    /// Offset `(dx, dy)` in `[0, 1)^2` of sample `index` of pixel `(px, py)`.
+    /// Offset `(dx, dy)` in `[0, 1)^2` of sample `index` of pixel `(px, py)`
+    /// (for [`Sampler::Adaptive`], of its refined samples, the stratified ones).
     #[must_use]
     pub fn offset(&self, px: u32, py: u32, index: u32, seed: u32) -> (f32, f32) {
         match *self {
             Self::Corner => (0.0, 0.0),
             Self::Centre | Self::Prefiltered => (0.5, 0.5),
             Self::Offset(s) => (s.x, s.y),
-            Self::Stratified(k) => {
+            Self::Stratified(k) | Self::Adaptive { k, .. } => {
                 let k = u32::from(k.max(1));
                 let cell = (index % k, index / k);
                 stratified(PixelHash::new(px, py, seed), index, cell, stratum(k))
@@ -101,7 +143,8 @@ impl Sampler {
 }
 
 /// The text form of every sampler, as scene files and the command line write it:
-/// `corner`, `centre`, `prefiltered`, `offset:X,Y`, `stratified:K`, `random:N`.
+/// `corner`, `centre`, `prefiltered`, `offset:X,Y`, `stratified:K`, `random:N`,
+/// `adaptive:K` (the default threshold) or `adaptive:K,T`.
 /// [`Sampler::from_str`](core::str::FromStr::from_str) reads it back (and `center`).
 impl core::fmt::Display for Sampler {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -112,6 +155,10 @@ impl core::fmt::Display for Sampler {
             Self::Offset(o) => write!(f, "offset:{},{}", o.x, o.y),
             Self::Stratified(k) => write!(f, "stratified:{k}"),
             Self::Random(n) => write!(f, "random:{n}"),
+            Self::Adaptive { k, threshold } if threshold == Self::ADAPTIVE_THRESHOLD => {
+                write!(f, "adaptive:{k}")
+            }
+            Self::Adaptive { k, threshold } => write!(f, "adaptive:{k},{threshold}"),
         }
     }
 }
@@ -141,6 +188,18 @@ impl core::str::FromStr for Sampler {
             }
             Some(("random", n)) => {
                 Self::Random(n.trim().parse().map_err(|_| Error::BadSampleCount)?)
+            }
+            Some(("adaptive", rest)) => {
+                let (k, threshold) = match rest.split_once(',') {
+                    Some((k, t)) => (k, Some(t)),
+                    None => (rest, None),
+                };
+                let k = k.trim().parse().map_err(|_| Error::BadSampleCount)?;
+                let threshold = match threshold {
+                    Some(t) => t.trim().parse().map_err(|_| Error::BadThreshold)?,
+                    None => Self::ADAPTIVE_THRESHOLD,
+                };
+                Self::Adaptive { k, threshold }
             }
             Some(("offset", xy)) => {
                 let (x, y) = xy.split_once(',').ok_or(Error::UnknownSampler)?;
@@ -252,6 +311,14 @@ mod tests {
             (offset, "offset:0.25,0.1"),
             (Sampler::Stratified(3), "stratified:3"),
             (Sampler::Random(16), "random:16"),
+            (Sampler::adaptive(4), "adaptive:4"),
+            (
+                Sampler::Adaptive {
+                    k: 3,
+                    threshold: 0,
+                },
+                "adaptive:3,0",
+            ),
         ] {
             let mut shown = heapless::String::<32>::new();
             write!(shown, "{sampler}").unwrap();
@@ -261,6 +328,14 @@ mod tests {
         assert_eq!("center".parse(), Ok(Sampler::Centre));
         assert_eq!("random: 7".parse(), Ok(Sampler::Random(7)));
         assert_eq!("offset: 0.5 , 0".parse::<Sampler>().unwrap().count(), 1);
+        assert_eq!(
+            "adaptive: 5 , 255".parse(),
+            Ok(Sampler::Adaptive {
+                k: 5,
+                threshold: 255
+            })
+        );
+        assert_eq!(Sampler::adaptive(4).count(), 17);
     }
 
     #[test]
@@ -285,10 +360,21 @@ mod tests {
             "stratified:x",
             "random:0",
             "random:5000",
+            "adaptive:1",
+            "adaptive:65",
+            "adaptive:",
+            "adaptive:x,3",
         ] {
             assert_eq!(
                 text.parse::<Sampler>(),
                 Err(Error::BadSampleCount),
+                "{text:?}"
+            );
+        }
+        for text in ["adaptive:4,256", "adaptive:4,-1", "adaptive:4,", "adaptive:4,0.5"] {
+            assert_eq!(
+                text.parse::<Sampler>(),
+                Err(Error::BadThreshold),
                 "{text:?}"
             );
         }

@@ -67,6 +67,11 @@ impl RayCount {
 /// compiles to nothing), or a [`RayCount`] for the figures. Sealed: these are
 /// the two.
 pub trait RayCounter: sealed::Sealed {
+    /// Whether [`RayCounter::token`] records anything: only the adaptive
+    /// sampler's signature of a centre ray's tree does (every token is computed
+    /// under `if C::SIGNS`, so that the other counters compile it away).
+    #[doc(hidden)]
+    const SIGNS: bool = false;
     /// A camera ray was traced.
     #[doc(hidden)]
     fn primary(&mut self);
@@ -76,12 +81,21 @@ pub trait RayCounter: sealed::Sealed {
     /// A shadow ray was traced.
     #[doc(hidden)]
     fn shadow(&mut self);
+    /// What a ray met (see [`Signed`]).
+    #[doc(hidden)]
+    #[inline(always)]
+    fn token(&mut self, _token: u32) {}
+    /// The camera ray hit a textured surface.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn textured(&mut self) {}
 }
 
 mod sealed {
     pub trait Sealed {}
     impl Sealed for () {}
     impl Sealed for super::RayCount {}
+    impl<C: super::RayCounter> Sealed for super::Signed<'_, C> {}
 }
 
 impl RayCounter for () {
@@ -91,6 +105,78 @@ impl RayCounter for () {
     fn secondary(&mut self) {}
     #[inline(always)]
     fn shadow(&mut self) {}
+}
+
+/// A counter that also hashes what a camera ray met (the adaptive sampler's
+/// signature of a centre ray): the primitive it hit, or that it missed, and
+/// which lights are blocked from that hit; and whether the hit is textured.
+/// Rays are still counted by the wrapped counter.
+pub(crate) struct Signed<'c, C> {
+    pub(crate) count: &'c mut C,
+    pub(crate) hash: u32,
+    pub(crate) textured: bool,
+}
+
+impl<'c, C: RayCounter> Signed<'c, C> {
+    /// A new signature, counting into `count`.
+    #[inline(always)]
+    pub(crate) fn new(count: &'c mut C) -> Self {
+        Self {
+            count,
+            hash: 0x811c_9dc5,
+            textured: false,
+        }
+    }
+}
+
+impl<C: RayCounter> RayCounter for Signed<'_, C> {
+    const SIGNS: bool = true;
+    #[inline(always)]
+    fn primary(&mut self) {
+        self.count.primary();
+    }
+    #[inline(always)]
+    fn secondary(&mut self) {
+        self.count.secondary();
+    }
+    #[inline(always)]
+    fn shadow(&mut self) {
+        self.count.shadow();
+    }
+    #[inline(always)]
+    fn token(&mut self, token: u32) {
+        self.hash = crate::sample::mix(self.hash ^ token);
+    }
+    #[inline(always)]
+    fn textured(&mut self) {
+        self.textured = true;
+    }
+}
+
+/// Signature tokens: a camera ray that missed; its hit (kind in bits 24-25,
+/// index below); a light blocked from that hit (its index below). Only blocked
+/// lights count: a light behind the surface and an unblocked one give no
+/// token, so that the terminator of a lit sphere (where the light's colour
+/// fades out smoothly) is no edge, and a shadow's outline is.
+const MISS: u32 = u32::MAX;
+const HIT: u32 = 1 << 28;
+const SHADOW: u32 = 2 << 28;
+
+/// The token of a camera ray's nearest hit (`None`: a miss) into `count`'s
+/// signature.
+#[inline(always)]
+fn sign_hit<C: RayCounter>(count: &mut C, hit: Option<&Hit<'_>>) {
+    let Some(hit) = hit else {
+        count.token(MISS);
+        return;
+    };
+    let kind = match hit.geom {
+        Geom::Sphere(_) => 0,
+        Geom::Plane(_) => 1,
+        Geom::Triangle(_) => 2,
+        Geom::Box(_) => 3,
+    };
+    count.token(HIT | kind << 24 | (hit.index as u32 & 0x00ff_ffff));
 }
 
 impl RayCounter for RayCount {
@@ -242,11 +328,20 @@ impl<'a> SceneView<'a> {
             None => self.nearest(ray, t_max, Skip::NONE),
         };
         let Some(nearest) = nearest else {
+            if C::SIGNS {
+                sign_hit(count, None);
+            }
             return self.background;
         };
         let Some(hit) = self.hit(&nearest, ray, footprint) else {
             return Color::BLACK; // unreachable for a validated scene: no material
         };
+        if C::SIGNS {
+            sign_hit(count, Some(&hit));
+            if hit.material.texture().needs_uv() {
+                count.textured();
+            }
+        }
         // A hit that no light changes and that sends no ray is its ambient colour
         // (what `local_in` would give). Decided before the hit is rebuilt for the
         // code below, whose out-of-line calls take its address: the hit of this
@@ -260,7 +355,7 @@ impl<'a> SceneView<'a> {
             error: core::cell::Cell::new(None),
             ..hit
         };
-        let total = self.local_in(&hit, ray, picks.shadow.as_ref(), count);
+        let total = self.local_in(&hit, ray, picks.shadow.as_ref(), count, true);
         if max_depth > 0 && hit.material.sends_rays() {
             children(&hit, ray, 1.0, 0, first);
         }
@@ -293,7 +388,7 @@ impl<'a> SceneView<'a> {
             let Some(hit) = self.hit(&nearest, &p.ray, None) else {
                 continue; // unreachable for a validated scene: no material
             };
-            *total += self.local_in(&hit, &p.ray, None, count) * p.weight;
+            *total += self.local_in(&hit, &p.ray, None, count, false) * p.weight;
             if p.depth < max_depth && hit.material.sends_rays() {
                 let mut next = [None, None];
                 children(&hit, &p.ray, p.weight, p.depth, &mut next);
@@ -313,6 +408,7 @@ impl<'a> SceneView<'a> {
         ray: &Ray,
         shadow: Option<&ShadowLists<'_>>,
         count: &mut C,
+        sign: bool,
     ) -> Color {
         let m = hit.material;
         let mut c = hit.base * self.ambient * m.ambient();
@@ -355,6 +451,9 @@ impl<'a> SceneView<'a> {
                     None => self.occluded(&ray, dist, skip),
                 };
                 if blocked {
+                    if C::SIGNS && sign {
+                        count.token(SHADOW | i as u32);
+                    }
                     continue;
                 }
             }

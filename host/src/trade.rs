@@ -422,7 +422,7 @@ mod tests {
     #[test]
     fn grid_varies_one_factor_at_a_time_without_duplicates() {
         let g = grid(Builtin::ChapterReflect.settings());
-        assert_eq!(g.len(), 8 + 2 + 2);
+        assert_eq!(g.len(), 9 + 2 + 2);
         for (i, a) in g.iter().enumerate() {
             assert!(!g[i + 1..].contains(a));
         }

@@ -49,6 +49,7 @@ fn builtin_scenes_render_the_same_culled_or_not() {
             Sampler::Stratified(2),
             Sampler::Random(3),
             Sampler::Prefiltered,
+            Sampler::adaptive(2),
         ] {
             let settings = RenderSettings {
                 sampler,
@@ -187,7 +188,7 @@ fn recipe() -> impl Strategy<Value = Recipe> {
         ),
         prop::collection::vec(material(), 1..4),
         prop::collection::vec((v3(8.0), 1.0f32..60.0), 0..4),
-        0u8..4,
+        0u8..5,
         0u8..4,
     )
         .prop_map(
@@ -290,7 +291,8 @@ proptest! {
             0 => Sampler::Centre,
             1 => Sampler::Stratified(2),
             2 => Sampler::Random(2),
-            _ => Sampler::Prefiltered,
+            3 => Sampler::Prefiltered,
+            _ => Sampler::Adaptive { k: 2, threshold: 0 },
         };
         let settings = RenderSettings { sampler, max_depth: r.depth, seed: 5 };
         let frame = scene.frame(Viewport::new(40, 30), settings).unwrap();

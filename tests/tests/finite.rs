@@ -124,7 +124,7 @@ fn recipe() -> impl Strategy<Value = Recipe> {
         prop::collection::vec(material(), 1..4),
         prop::collection::vec((v3(), color(), amount(), 0u8..4), 0..4),
         0u8..=8,
-        0u8..3,
+        0u8..4,
     )
         .prop_map(
             |(
@@ -289,7 +289,8 @@ proptest! {
         let sampler = match r.sampler {
             0 => Sampler::Centre,
             1 => Sampler::Stratified(2),
-            _ => Sampler::Prefiltered,
+            2 => Sampler::Prefiltered,
+            _ => Sampler::Adaptive { k: 2, threshold: 0 },
         };
         let settings = RenderSettings { sampler, max_depth: r.depth, seed: 1 };
         let Ok(frame) = scene.frame(Viewport::new(20, 14), settings) else {

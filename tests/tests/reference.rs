@@ -43,6 +43,8 @@ fn antialiased_renders_agree_with_the_reference() {
     for (b, sampler) in [
         (Builtin::ChapterReflect, Sampler::Stratified(3)),
         (Builtin::Showcase, Sampler::Random(4)),
+        (Builtin::Showcase, Sampler::adaptive(3)),
+        (Builtin::Interference, Sampler::adaptive(3)),
     ] {
         let settings = RenderSettings {
             sampler,

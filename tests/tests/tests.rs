@@ -1,5 +1,6 @@
 //! Integration tests of tessera: one binary, one module per concern.
 
+mod adaptive;
 mod analytic;
 mod builtin_images;
 mod convergence;

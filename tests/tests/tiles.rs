@@ -22,7 +22,18 @@ fn tile_size_and_order_do_not_change_a_pixel() {
     // An odd size, so that edge tiles are partial for every tile size.
     let vp = Viewport::new(77, 53);
     for b in Builtin::ALL {
-        for sampler in [Sampler::Centre, Sampler::Stratified(2), Sampler::Random(3)] {
+        for sampler in [
+            Sampler::Centre,
+            Sampler::Stratified(2),
+            Sampler::Random(3),
+            // The apron's centre rays decide; threshold 0 refines at every
+            // colour step too.
+            Sampler::adaptive(3),
+            Sampler::Adaptive {
+                k: 2,
+                threshold: 0,
+            },
+        ] {
             let settings = RenderSettings {
                 sampler,
                 seed: 7,

@@ -98,7 +98,8 @@ struct Common {
     /// Image size in pixels, WxH [default: the scene file's, or 320x240]
     #[arg(long, value_parser = parse_size)]
     size: Option<(u16, u16)>,
-    /// Samples per pixel: corner, centre, prefiltered, offset:X,Y, stratified:K, random:N
+    /// Samples per pixel: corner, centre, prefiltered, offset:X,Y, stratified:K, random:N,
+    /// adaptive:K or adaptive:K,T (K x K samples only where a pixel needs them)
     #[arg(long)]
     sampler: Option<tessera::Sampler>,
     /// Reflection/refraction depth (0 to 8)

@@ -163,6 +163,16 @@ pub fn render(
         max_depth: settings.max_depth,
     };
     let (width, height) = (u32::from(viewport.width), u32::from(viewport.height));
+    if let tessera::Sampler::Adaptive { k, threshold } = settings.sampler {
+        return Ok(adaptive(
+            &tracer,
+            &camera,
+            (width, height),
+            settings,
+            k,
+            threshold,
+        ));
+    }
     let count = settings.sampler.count();
     let mut pixels = Vec::with_capacity((width * height) as usize);
     let mut signature = Vec::with_capacity(pixels.capacity());
@@ -194,6 +204,82 @@ pub fn render(
         pixels,
         signature,
     })
+}
+
+/// The adaptive sampler in `f64`: every pixel's prefiltered centre ray first,
+/// then, for each pixel whose centre differs from one of its four neighbours'
+/// (another camera-hit signature, or on untextured hits an 8-bit channel more
+/// than `threshold` apart), the `k x k` stratified samples instead.
+fn adaptive(
+    tracer: &Tracer<'_>,
+    camera: &RefCamera,
+    (width, height): (u32, u32),
+    settings: &tessera::RenderSettings,
+    k: u8,
+    threshold: u8,
+) -> RefImage {
+    let q = |v: f64| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    let mut centres = Vec::with_capacity((width * height) as usize);
+    for y in 0..height {
+        for x in 0..width {
+            let (px, py) = (f64::from(x), f64::from(y));
+            let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+                .map(|(dx, dy)| camera.ray(px + dx, py + dy).0);
+            let (ray, t_far) = camera.ray(px + 0.5, py + 0.5);
+            let mut sig = Signature::default();
+            let color = tracer.trace_camera_prefiltered(&ray, t_far, &corners, &mut sig);
+            let (probe, textured) = tracer.camera_probe(&ray, t_far);
+            let bytes = color.to_array().map(q);
+            centres.push((color, sig, probe, textured, bytes));
+        }
+    }
+    let at = |x: i64, y: i64| {
+        (x >= 0 && y >= 0 && x < i64::from(width) && y < i64::from(height))
+            .then(|| &centres[(y * i64::from(width) + x) as usize])
+    };
+    let stratified = tessera::Sampler::Stratified(k);
+    let mut pixels = Vec::with_capacity(centres.len());
+    let mut signature = Vec::with_capacity(centres.len());
+    for y in 0..height {
+        for x in 0..width {
+            let (xi, yi) = (i64::from(x), i64::from(y));
+            let (color, sig, probe, textured, bytes) =
+                centres[(yi * i64::from(width) + xi) as usize];
+            let refine = [(0, -1), (-1, 0), (1, 0), (0, 1)]
+                .into_iter()
+                .filter_map(|(dx, dy)| at(xi + dx, yi + dy))
+                .any(|n| {
+                    n.2 != probe
+                        || !textured
+                            && bytes
+                                .iter()
+                                .zip(&n.4)
+                                .any(|(a, b)| a.abs_diff(*b) > threshold)
+                });
+            if !refine {
+                pixels.push(color.to_array());
+                signature.push(sig.0);
+                continue;
+            }
+            let mut sig = Signature::default();
+            let mut sum = V3::ZERO;
+            let count = stratified.count();
+            for i in 0..count {
+                let (dx, dy) = stratified.offset(x, y, i, settings.seed);
+                let (ray, t_far) =
+                    camera.ray(f64::from(x) + f64::from(dx), f64::from(y) + f64::from(dy));
+                sum = sum + tracer.trace_camera(&ray, t_far, &mut sig);
+            }
+            pixels.push((sum * (1.0 / f64::from(count))).to_array());
+            signature.push(sig.0);
+        }
+    }
+    RefImage {
+        width,
+        height,
+        pixels,
+        signature,
+    }
 }
 
 #[cfg(test)]

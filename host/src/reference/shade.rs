@@ -170,6 +170,54 @@ impl Tracer<'_> {
         }
         c
     }
+
+    /// What the adaptive sampler compares of a camera ray besides its colour: a
+    /// hash of the primitive it hit (or that it missed) and of the outcome of
+    /// each shadow ray from that hit, and whether the hit is textured. The same
+    /// rule as the core's (its module `shade`, `Signed`), written from the
+    /// sampler's description: only the camera ray's own hit counts, and of its
+    /// lights only those blocked (a light behind the surface or unblocked gives
+    /// no token).
+    pub fn camera_probe(&self, ray: &Ray, t_max: f64) -> (u64, bool) {
+        let mut sig = Signature::default();
+        let Some((obj, hit)) = self.scene.nearest(ray, t_max) else {
+            sig.push(MISS);
+            return (sig.0, false);
+        };
+        sig.push(HIT | obj.kind << 32 | obj.index);
+        let m = &self.scene.materials[obj.material];
+        let textured = !matches!(m.texture, super::scene::Tex::Solid(_));
+        if m.kd <= 0.0 && m.ks <= 0.0 {
+            return (sig.0, textured);
+        }
+        let p = ray.at(hit.t);
+        let normal = obj.shape.normal(p, &hit);
+        let n = if normal.dot(ray.dir) > 0.0 {
+            -normal
+        } else {
+            normal
+        };
+        for (i, light) in self.scene.lights.iter().enumerate() {
+            let to_light = light.position - p;
+            let dist = to_light.length();
+            if dist.is_nan() || dist <= 0.0 {
+                continue;
+            }
+            let l = to_light * (1.0 / dist);
+            let cos = n.dot(l);
+            if cos.is_nan() || cos <= 0.0 {
+                continue;
+            }
+            let shadow = Ray {
+                origin: spawn(p, n, l),
+                dir: l,
+            };
+            if self.scene.blocked(&shadow, dist) {
+                sig.push(SHADOW | (i as u64) << 1 | 1);
+            }
+        }
+        (sig.0, textured)
+    }
 }
 
 /// The mirror and refracted rays of a hit, with their role token and weight, each
