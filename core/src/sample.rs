@@ -90,7 +90,7 @@ pub enum Sampler {
 impl Sampler {
     /// The colour difference (8-bit units) above which [`Sampler::Adaptive`]
     /// refines neighbouring pixels when the text form gives none (`adaptive:K`).
-    pub const ADAPTIVE_THRESHOLD: u8 = 16;
+    pub const ADAPTIVE_THRESHOLD: u8 = 64;
 
     /// Adaptive anti-aliasing with `k x k` samples where needed and the default
     /// threshold.

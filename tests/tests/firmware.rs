@@ -52,7 +52,8 @@ fn with(scene: Builtin, sampler: Sampler, seed: u32, width: u16, height: u16) ->
 fn firmware_pixels_equal_the_host_build_byte_for_byte() {
     let mut runs = Vec::new();
     for b in Builtin::ALL {
-        for sampler in [Centre, Stratified(2), Random(3)] {
+        let adaptive = Adaptive { k: 2, threshold: 8 };
+        for sampler in [Centre, Stratified(2), Random(3), adaptive] {
             runs.push(with(b, sampler, 7, 64, 64));
         }
     }
