@@ -312,13 +312,7 @@ mod tests {
             (Sampler::Stratified(3), "stratified:3"),
             (Sampler::Random(16), "random:16"),
             (Sampler::adaptive(4), "adaptive:4"),
-            (
-                Sampler::Adaptive {
-                    k: 3,
-                    threshold: 0,
-                },
-                "adaptive:3,0",
-            ),
+            (Sampler::Adaptive { k: 3, threshold: 0 }, "adaptive:3,0"),
         ] {
             let mut shown = heapless::String::<32>::new();
             write!(shown, "{sampler}").unwrap();
@@ -371,7 +365,12 @@ mod tests {
                 "{text:?}"
             );
         }
-        for text in ["adaptive:4,256", "adaptive:4,-1", "adaptive:4,", "adaptive:4,0.5"] {
+        for text in [
+            "adaptive:4,256",
+            "adaptive:4,-1",
+            "adaptive:4,",
+            "adaptive:4,0.5",
+        ] {
             assert_eq!(
                 text.parse::<Sampler>(),
                 Err(Error::BadThreshold),
