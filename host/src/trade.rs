@@ -27,9 +27,12 @@ pub struct Setting {
     pub tile: usize,
 }
 
-/// The settings measured for a scene: every sampler at the scene's depth and 16x16
-/// tiles, then depths 0, 1, 3 and tiles 8, 16, 32 with the scene's sampler (one
-/// factor at a time, so each row says what that one choice costs).
+/// The settings measured for a scene: every sampler at every depth (0, 1, 3 and
+/// the scene's own) with 16x16 tiles, the full product of the settings that change
+/// pixels; a scene whose own depth is 0 has no mirror or glass, and is measured at
+/// that depth only (its rays bounce off nothing: every depth is the same image).
+/// Then tiles 8 and 32 with the scene's sampler and depth (a tile size changes no
+/// pixel, only the cost).
 #[must_use]
 pub fn grid(base: RenderSettings) -> Vec<Setting> {
     let mut out: Vec<Setting> = Vec::new();
@@ -49,18 +52,18 @@ pub fn grid(base: RenderSettings) -> Vec<Setting> {
         Sampler::Random(16),
         Sampler::adaptive(4),
     ] {
-        add(Setting {
-            sampler,
-            depth: base.max_depth,
-            tile: 16,
-        });
-    }
-    for depth in [0, 1, 3] {
-        add(Setting {
-            sampler: base.sampler,
-            depth,
-            tile: 16,
-        });
+        let depths: &[u8] = if base.max_depth == 0 {
+            &[0]
+        } else {
+            &[0, 1, 3, base.max_depth]
+        };
+        for &depth in depths {
+            add(Setting {
+                sampler,
+                depth,
+                tile: 16,
+            });
+        }
     }
     for tile in [8, 16, 32] {
         add(Setting {
@@ -420,9 +423,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn grid_varies_one_factor_at_a_time_without_duplicates() {
+    fn grid_is_the_product_of_samplers_and_depths_without_duplicates() {
+        // Nine samplers at depths 0, 1 and 3 (the scene's own is 1), two more tiles.
         let g = grid(Builtin::ChapterReflect.settings());
-        assert_eq!(g.len(), 9 + 2 + 2);
+        assert_eq!(g.len(), 9 * 3 + 2);
+        // The showcase's own depth, 5, adds a fourth; a scene without bounces has one.
+        assert_eq!(grid(Builtin::Showcase.settings()).len(), 9 * 4 + 2);
+        assert_eq!(grid(Builtin::ChapterDirect.settings()).len(), 9 + 2);
         for (i, a) in g.iter().enumerate() {
             assert!(!g[i + 1..].contains(a));
         }
