@@ -156,9 +156,11 @@ fn how_measured(w: &mut String, chip: &ChipSummary) {
     );
     let _ = writeln!(
         w,
-        "- **Settings.** Every sampler at the scene's depth with 16x16 tiles, then \
-         depths 0, 1, 3 and tiles 8, 16, 32 with the scene's sampler (one factor at a \
-         time: `tessera_host::trade::grid`)."
+        "- **Settings.** Every sampler at every depth (0, 1, 3 and the scene's own) with \
+         16x16 tiles for the scenes with mirrors or glass; the scenes without (own depth \
+         0: every depth is the same image) at depth 0 only; then tiles 8 and 32 at the \
+         scene's sampler and depth (a tile size changes no pixel): \
+         `tessera_host::trade::grid`."
     );
     let _ = writeln!(
         w,
