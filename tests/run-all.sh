@@ -60,9 +60,12 @@ fi
 say "format"
 run cargo fmt --all -- --check
 
-say "clippy (exact and fast-math backends)"
+say "clippy (exact and fast-math backends, and each approximation alone)"
 run cargo lint
 run cargo lint-fast
+for feature in fast-rsqrt fast-recip fast-pow; do
+  run cargo clippy -p tessera --all-targets --features "$feature" -- -D warnings
+done
 
 say "rustdoc: no warnings (broken or private links, unclosed HTML tags)"
 run env RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
@@ -102,10 +105,12 @@ done
 say "tests"
 run cargo test-all
 
-# The same tests with the micromath backend: the core's own (math, texture
-# coordinates) and the host's (the f64 reference against the core, also where
-# fast-math approximates). Not tessera-tests, which has no fast-math feature and
-# holds the long runs (qemu, golden images).
-say "tests with the fast-math backend (core, host)"
-run cargo test -p tessera --features fast-math
+# The same tests with the approximations: the core's own (math: each
+# approximation's error bound) with each alone and all together (fast-math), and
+# the host's (the f64 reference against the core) with fast-math. Not
+# tessera-tests, which holds the long runs (qemu, golden images: exact images).
+say "tests with the approximations (core: each alone and fast-math; host: fast-math)"
+for feature in fast-rsqrt fast-recip fast-pow fast-math; do
+  run cargo test -p tessera --features "$feature"
+done
 run cargo test -p tessera-host --features fast-math

@@ -1,34 +1,53 @@
-//! The one math module: every square root, power and trigonometric call of the core.
+//! The one math module: every square root, power and trigonometric call of the core,
+//! and the approximations the cargo features trade accuracy for cycles with.
 //!
 //! Free functions, never method syntax: on the host `x.sqrt()` would silently resolve
 //! to `std` and the host would no longer compute what the chip computes.
 //!
-//! Backends:
-//! - default (**exact**): `libm`, except `sqrt` on Cortex-M4F, which uses the FPU's
-//!   `vsqrt.f32`. Both are correctly rounded (IEEE 754), so the host and the chip give
-//!   the same bits.
-//! - feature `fast-math`: `micromath` approximations of the per-pixel `powf`
-//!   (specular highlights of a non-integer shininess: an integer one is raised by
-//!   repeated squaring, [`powi`], with either backend), `atan2` and `acos` (sphere
-//!   texture coordinates): a trade to be measured, fewer instructions for a larger
-//!   error. `sqrt` stays exact:
-//!   micromath's is a single bit trick with 5% error, which breaks ray directions and
-//!   intersections rather than trading accuracy for speed; `tan` stays exact because
-//!   it runs once a frame.
+//! The default math is **exact**: `libm`, except `sqrt` on Cortex-M4F, which uses the
+//! FPU's `vsqrt.f32`. Both are correctly rounded (IEEE 754), so the host and the chip
+//! give the same bits. Each approximation is a cargo feature of its own, measured on
+//! its own (worst error over its input range: docs/math-report.md, from `cargo run -p
+//! tessera-tests --release --bin math-report`; cycles and image error: the trade
+//! report, docs/trade.md):
+//! - `fast-rsqrt`: [`rsqrt`] by a bit-level first guess and two Newton steps (relative
+//!   error below 2.6e-6) instead of `vsqrt.f32` and `vdiv.f32` (14 cycles each on the
+//!   Cortex-M4F), for the shading vectors of the light loop only (the light's
+//!   direction, distance and irradiance, the half vector): ray directions, which the
+//!   intersection tests take as unit vectors, stay exact.
+//! - `fast-recip`: a vector divided by a scalar (`Vec3 / s`) as one reciprocal and
+//!   three products, instead of three divisions (within 1.5 ulp per component instead
+//!   of 0.5).
+//! - `fast-pow`: [`powf`] of the highlights (`x` in `(0, 1]`: a non-integer shininess;
+//!   an integer one is raised by repeated squaring, [`powi`], in every build) by
+//!   polynomial `log2` and `exp2` ([`pow_unit`]: absolute error below 3e-5) instead of
+//!   libm's `powf`.
 //!
+//! `fast-math` is the three together (on the chip 0.94 to 0.98 times the exact
+//! build's estimated cycles, no mean FLIP moved by more than 3e-5: docs/trade.md).
+//! Measured and dropped (docs/math-report.md, the issue-12 note): one Newton step
+//! for `rsqrt` (3% fewer cycles than exact, but FLIP 0.0170 for 0.0118 on the
+//! default scene); `rsqrt` for every normalisation (ray directions and normals: the
+//! intersections' analytic tests fail); a reciprocal by Newton steps (more cycles
+//! than `vdiv.f32`); Schlick's rational highlight (another lobe, FLIP doubled);
+//! micromath's `powf`, `atan2` and `acos`, the old `fast-math` (0.987 to 1.000
+//! times the exact instructions on the chip: no built-in scene calls them per
+//! pixel; its `powf` 1.55 LSB off at shininess 100.5 where [`pow_unit`] is 0.005,
+//! its `acos` NaN for tiny negative arguments).
+//!
+//! `tan`, `atan2` and `acos` stay exact in every build: `tan` runs once a frame,
+//! `atan2` and `acos` only for textured spheres (none of the built-in scenes has one).
 //! Per-pixel paths use only `sqrt`, `powf`, `floor` and the polynomial
-//! [`cos_turns`]; `tan`, `atan2` and `acos` run once a frame or only for textured
-//! spheres (libm's `sinf`/`cosf` go through `f64`, which is software on an M4F).
+//! [`cos_turns`] (libm's `sinf`/`cosf` go through `f64`, which is software on an
+//! M4F).
 #![allow(clippy::disallowed_methods)] // the one home of libm calls (core/clippy.toml)
 
 /// Square root, correctly rounded with the exact backend.
 #[inline]
 #[must_use]
 pub fn sqrt(x: f32) -> f32 {
-    // Exact in every backend: micromath's square root is one bit trick with about
-    // 5% error, which breaks every normalisation and the intersection tests
-    // themselves (measured with `fast-math`: PSNR 21.6 dB, differences up to 244 LSB
-    // on the default scene), while the Cortex-M4F's `vsqrt.f32` is exact and cheap.
+    // Exact in every build: the intersection tests need exact roots, and the
+    // approximation (`fast-rsqrt`) is [`rsqrt`], for the shading vectors only.
     #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
     {
         vsqrt(x)
@@ -39,11 +58,17 @@ pub fn sqrt(x: f32) -> f32 {
     }
 }
 
-/// `x` raised to the power `y`.
+/// `x` raised to the power `y`: libm's `powf` (within an ulp); with `fast-pow`,
+/// [`pow_unit`] where `x` is in `(0, 1]` and `y` finite and not negative (the
+/// highlights' domain), libm's `powf` elsewhere.
 #[inline]
 #[must_use]
 pub fn powf(x: f32, y: f32) -> f32 {
-    backend::powf(x, y)
+    #[cfg(feature = "fast-pow")]
+    if (f32::MIN_POSITIVE..=1.0).contains(&x) && (0.0..=f32::MAX).contains(&y) {
+        return pow_unit(x, y);
+    }
+    libm::powf(x, y)
 }
 
 /// `x` raised to the integer power `n` by repeated squaring (right to left): at most
@@ -80,7 +105,7 @@ pub fn tan(x: f32) -> f32 {
 #[inline]
 #[must_use]
 pub fn atan2(y: f32, x: f32) -> f32 {
-    backend::atan2(y, x)
+    libm::atan2f(y, x)
 }
 
 /// Arc cosine in radians; the argument is clamped to `[-1, 1]` first, so rounding
@@ -88,7 +113,7 @@ pub fn atan2(y: f32, x: f32) -> f32 {
 #[inline]
 #[must_use]
 pub fn acos(x: f32) -> f32 {
-    backend::acos(x.clamp(-1.0, 1.0))
+    libm::acosf(x.clamp(-1.0, 1.0))
 }
 
 /// The larger of `a` and `b` by one comparison (if either is NaN, `b`). Not
@@ -209,50 +234,156 @@ pub fn sin_turns(x: f32) -> f32 {
     cos_turns(0.25 - r)
 }
 
-#[cfg(not(feature = "fast-math"))]
-mod backend {
-    #[inline]
-    pub fn powf(x: f32, y: f32) -> f32 {
-        libm::powf(x, y)
-    }
-    #[inline]
-    pub fn atan2(y: f32, x: f32) -> f32 {
-        libm::atan2f(y, x)
-    }
-    #[inline]
-    pub fn acos(x: f32) -> f32 {
-        libm::acosf(x)
+/// The reciprocal square root `1 / sqrt(x)`. With `fast-rsqrt`, [`rsqrt_fast`] for a
+/// positive normal `x` (relative error below 2.6e-6); otherwise, and for zero,
+/// subnormals, infinities, negative numbers and NaN in every build, `1 / sqrt(x)`
+/// (`inf` for 0, 0 for `inf`, NaN below 0).
+#[inline]
+#[must_use]
+#[cfg_attr(not(feature = "fast-rsqrt"), allow(dead_code))]
+pub fn rsqrt(x: f32) -> f32 {
+    if cfg!(feature = "fast-rsqrt") && is_positive_normal(x) {
+        rsqrt_fast(x)
+    } else {
+        1.0 / sqrt(x)
     }
 }
 
-#[cfg(feature = "fast-math")]
-mod backend {
-    use micromath::F32Ext;
-    /// `exp(y ln x)` with micromath's `exp` and `ln`, but with an exact reciprocal:
-    /// below 1, micromath's `ln` takes the logarithm of its bit-trick reciprocal
-    /// (`0x7f00_0000 - bits`), which maps `1 - e` to about `1 + 2e`, so `ln x` came
-    /// out twice too large near 1 and `powf(x, y)` was about `x^(2y)`: a highlight of
-    /// shininess 32.5 off by up to 61 LSB (issue 10). With `ln(1 / x)` the error is
-    /// that of micromath's polynomials (about 6e-5 in `ln`, times `y`): measured at
-    /// most 0.31 LSB for `y = 1.5`, 0.50 for 32.5, 1.55 for 100.5 (15 at 1000.5).
-    /// Below the smallest normal `1 / x` would overflow: micromath's own path (which
-    /// gives 0 there for `y >= 1`).
-    #[inline]
-    pub fn powf(x: f32, y: f32) -> f32 {
-        if (f32::MIN_POSITIVE..1.0).contains(&x) {
-            F32Ext::exp(-(y * F32Ext::ln(1.0 / x)))
-        } else {
-            F32Ext::powf(x, y)
-        }
+/// True for a positive, normal, finite `x` (one integer comparison).
+#[inline]
+#[must_use]
+#[cfg_attr(not(feature = "fast-rsqrt"), allow(dead_code))]
+pub fn is_positive_normal(x: f32) -> bool {
+    // Positive normals are the bit patterns 0x0080_0000..0x7f80_0000; the
+    // subtraction wraps everything else (zero, subnormals, the negative numbers)
+    // above, with the infinities and NaN.
+    x.to_bits().wrapping_sub(0x0080_0000) < 0x7f00_0000
+}
+
+/// The first guess of [`rsqrt_fast`] (Lomont's constant: halving the bits halves
+/// the exponent, the subtraction negates it; relative error within 3.5%).
+const RSQRT_MAGIC: u32 = 0x5f37_5a86;
+
+/// The bit-level first guess of `1 / sqrt(x)` for a positive normal `x`: relative
+/// error within 3.44% (exhaustive, `math-report`).
+#[inline]
+#[must_use]
+#[cfg_attr(not(feature = "fast-rsqrt"), allow(dead_code))]
+pub fn rsqrt_guess(x: f32) -> f32 {
+    f32::from_bits(RSQRT_MAGIC - (x.to_bits() >> 1))
+}
+
+/// One Newton step for `1 / sqrt(x)` from `y`, with `half = x / 2`:
+/// `y (3/2 - half y^2)`. A relative error `e` becomes about `-3 e^2 / 2` (always
+/// below: 3.4% gives 1.75e-3, which gives 4.7e-6).
+#[inline]
+#[must_use]
+#[cfg_attr(not(feature = "fast-rsqrt"), allow(dead_code))]
+pub fn rsqrt_step(half: f32, y: f32) -> f32 {
+    y * (1.5 - half * y * y)
+}
+
+/// The last Newton step of [`rsqrt_fast`] scaled by `1 + 2.36e-6`, which centres its
+/// one-sided error (-4.73e-6 to 0 becomes -2.4e-6 to +2.4e-6): the same
+/// instructions as [`rsqrt_step`] with other constants.
+const RSQRT_CENTRED: (f32, f32) = (1.500_003_5, 1.000_002_4);
+
+/// `1 / sqrt(x)` for a positive normal `x` (else meaningless: see [`rsqrt`]) without
+/// `vsqrt` or `vdiv`: the bit-level guess [`rsqrt_guess`], one Newton step, and a
+/// second one scaled to centre the error. Relative error below 2.6e-6, about 44
+/// ulp (exhaustive over `[1, 4)`, where the error pattern repeats: `math-report`).
+/// On the Cortex-M4F about 13 single-cycle instructions against 28 cycles for
+/// `vsqrt.f32` and `vdiv.f32`.
+#[inline]
+#[must_use]
+#[cfg_attr(not(feature = "fast-rsqrt"), allow(dead_code))]
+pub fn rsqrt_fast(x: f32) -> f32 {
+    let half = 0.5 * x;
+    let y = rsqrt_step(half, rsqrt_guess(x));
+    let (a, b) = RSQRT_CENTRED;
+    y * (a - b * (half * y * y))
+}
+
+/// The reciprocal `1 / x` by a bit-level first guess and `steps` Newton steps
+/// `r (2 - x r)` (each squares the relative error: 5.05%, then 2.55e-3, 6.65e-6,
+/// 1.5e-7), for a positive normal `x`. Not used by any build: on the Cortex-M4F
+/// three steps (nine single-cycle instructions and the guess) cost as much as the
+/// `vdiv.f32` they replace (14 cycles), so `fast-recip` divides once and
+/// multiplies instead. Kept for `math-report`, which measures it.
+#[must_use]
+#[allow(dead_code)]
+pub fn recip_newton(x: f32, steps: u32) -> f32 {
+    let mut r = f32::from_bits(0x7ef3_11c3_u32.wrapping_sub(x.to_bits()));
+    for _ in 0..steps {
+        r *= 2.0 - x * r;
     }
-    #[inline]
-    pub fn atan2(y: f32, x: f32) -> f32 {
-        F32Ext::atan2(y, x)
+    r
+}
+
+/// `log2(x)` for a positive normal `x`, in plain f32 arithmetic: `x = 2^e m` with
+/// `m` in `[sqrt(1/2), sqrt(2))` from the bits, then `e + u q(u)`, `u = m - 1`
+/// (exact), `q` a degree-4 polynomial (Chebyshev interpolation of `log2(1 + u) / u`,
+/// relative error 5.6e-5). The error is relative to `log2(x)` (below 5.7e-5), so
+/// that `log2` of numbers close to 1 keeps its digits.
+#[inline]
+#[must_use]
+#[cfg_attr(not(feature = "fast-pow"), allow(dead_code))]
+pub fn log2_unit(x: f32) -> f32 {
+    const SQRT_HALF: u32 = 0x3f35_04f3; // the bits of sqrt(1/2), rounded
+    let bits = x.to_bits();
+    // The exponent of x / sqrt(1/2), rounded down: an arithmetic shift of the
+    // offset bits (x / 2^e is then in [sqrt(1/2), sqrt(2))).
+    let e = (bits.wrapping_sub(SQRT_HALF) as i32) >> 23;
+    let m = f32::from_bits(bits.wrapping_sub((e as u32) << 23));
+    let u = m - 1.0;
+    let q = 1.442_640_5
+        + u * (-0.720_629_2 + u * (0.485_737_84 + u * (-0.389_675_22 + u * 0.250_287_85)));
+    e as f32 + u * q
+}
+
+/// `2^z` for `z` in `[-125, 0]` (0 below; meant for the highlights, where `z` is
+/// never positive): `z = n + f` with `n` the nearest integer, `2^f` by a degree-4
+/// polynomial on `[-1/2, 1/2]` (Chebyshev interpolation, relative error 3.5e-6),
+/// `2^n` added to the exponent bits.
+#[inline]
+#[must_use]
+#[cfg_attr(not(feature = "fast-pow"), allow(dead_code))]
+pub fn exp2_unit(z: f32) -> f32 {
+    // A NaN (never passed) gives 0 too.
+    if z.is_nan() || z < -125.0 {
+        return 0.0;
     }
-    #[inline]
-    pub fn acos(x: f32) -> f32 {
-        F32Ext::acos(x)
-    }
+    // Below 2^22 in magnitude, adding and subtracting 1.5 * 2^23 rounds to the
+    // nearest integer (see `cos_turns`); z - n is exact, in [-1/2, 1/2].
+    const ROUND: f32 = 12_582_912.0;
+    let n = (z + ROUND) - ROUND;
+    let f = z - n;
+    let p = 1.0 + f * (0.693_121_1 + f * (0.240_223_5 + f * (0.055_921_975 + f * 0.009_666_368)));
+    // p is in [0.70, 1.42] (exponent field 126 or 127) and n >= -125: the sum of the
+    // fields is a normal number's, never a carry into the sign.
+    f32::from_bits(p.to_bits().wrapping_add(((n as i32) << 23) as u32))
+}
+
+/// `x^y` for `x` in `(0, 1]` (positive normal) and a finite `y >= 0`, as
+/// `exp2(y log2(x))` with [`log2_unit`] and [`exp2_unit`]: about 40 single-cycle
+/// instructions on the Cortex-M4F, where libm's `powf` runs a few hundred.
+/// Absolute error below 3e-5 (0.008 of an 8-bit step; the relative error of the
+/// logarithm, times `|y log2 x|`, is largest where `x^y = 1/e`), measured over
+/// the highlights' domain by `math-report` and the unit test.
+#[inline]
+#[must_use]
+#[cfg_attr(not(feature = "fast-pow"), allow(dead_code))]
+pub fn pow_unit(x: f32, y: f32) -> f32 {
+    exp2_unit(y * log2_unit(x))
+}
+
+/// Schlick's rational stand-in for `x^n` (1994), `x / (n - n x + x)`: one
+/// division, but another curve (a wider lobe, off by up to 0.19 at `n = 48`).
+/// Not used by any build (the measurements in `math-report` say why).
+#[must_use]
+#[allow(dead_code)]
+pub fn pow_schlick(x: f32, n: f32) -> f32 {
+    x / (n - n * x + x)
 }
 
 /// The single audited `unsafe` spot of the core: the Cortex-M4F FPU square root.
@@ -377,14 +508,13 @@ mod tests {
 
     /// `powf` over the highlights' domain (`x` in `(0, 1]`, non-integer exponents:
     /// integer ones go through [`powi`]) against `f64`, as an absolute error (the
-    /// highlight is at most 1, so 1/255 is one 8-bit step). Exact backend: libm's
-    /// `powf` is within an ulp (measured 4.7e-8). fast-math: measured 6.08e-3 (1.55
-    /// LSB, at exponent 100.5; 1.97e-3 at 32.5); before the exact reciprocal in the
-    /// backend it was 0.247 (63 LSB): micromath's `ln` below 1 doubled the logarithm.
+    /// highlight is at most 1, so 1/255 is one 8-bit step). Exact: libm's `powf` is
+    /// within an ulp (measured 4.7e-8). `fast-pow` ([`pow_unit`]): see
+    /// [`pow_unit_is_within_its_bound`].
     #[test]
-    fn powf_is_within_the_backends_bound_on_highlights() {
-        let bound = if cfg!(feature = "fast-math") {
-            6.5e-3
+    fn powf_is_within_the_builds_bound_on_highlights() {
+        let bound = if cfg!(feature = "fast-pow") {
+            POW_UNIT_BOUND
         } else {
             1.2e-7
         };
@@ -407,6 +537,170 @@ mod tests {
         assert!(err <= bound, "powf({x}, {y}) off by {err:e} > {bound:e}");
         assert_eq!(powf(1.0, 32.5), 1.0);
         assert_eq!(powf(0.0, 32.5), 0.0);
+        // Outside the highlights' domain, libm's `powf` in every build.
+        assert_eq!(powf(2.0, 3.5), libm::powf(2.0, 3.5));
+        assert_eq!(powf(0.5, -1.5), libm::powf(0.5, -1.5));
+    }
+
+    /// [`pow_unit`]'s bound, from its analysis: the logarithm's relative error
+    /// `d_q` (5.7e-5) moves `y log2 x` by `|log2 v|` times it, so `v = x^y` by
+    /// `v |ln v| d_q <= d_q / e` (2.1e-5), plus the exponential's relative error
+    /// (3.5e-6) and the f32 roundings (a few 1e-7): 2.5e-5, rounded up.
+    const POW_UNIT_BOUND: f64 = 3e-5;
+
+    /// [`pow_unit`] against `f64` over `x` in `(0, 1]` (every 97th f32 down to
+    /// 2^-20, and a fine grid below 1) and exponents from 1 to 10000 (the
+    /// shininess range), integer ones included.
+    #[test]
+    fn pow_unit_is_within_its_bound() {
+        let mut worst = (0.0f64, 0.0f32, 0.0f32);
+        let xs = (0x3580_0000u32..=0x3f80_0000)
+            .step_by(97)
+            .map(f32::from_bits)
+            .chain((0..20_000).map(|i| 1.0 - i as f32 * 1e-6));
+        let ys = [
+            1.0f32, 1.5, 4.0, 7.25, 32.5, 48.0, 100.5, 300.0, 1000.5, 10_000.0,
+        ];
+        for x in xs {
+            for y in ys {
+                let exact = f64::from(x).powf(f64::from(y));
+                let err = (f64::from(pow_unit(x, y)) - exact).abs();
+                if err > worst.0 {
+                    worst = (err, x, y);
+                }
+            }
+        }
+        let (err, x, y) = worst;
+        assert!(
+            err <= POW_UNIT_BOUND,
+            "pow_unit({x}, {y}) off by {err:e} > {POW_UNIT_BOUND:e}"
+        );
+        assert_eq!(pow_unit(1.0, 300.0), 1.0);
+        assert_eq!(pow_unit(0.5, 0.0), 1.0);
+        // Far below 2^-125: 0, never a wrapped exponent.
+        assert_eq!(pow_unit(0.5, 200.0), 0.0);
+        assert_eq!(pow_unit(f32::MIN_POSITIVE, 2.0), 0.0);
+    }
+
+    /// [`log2_unit`] relative to `log2` in `f64` over every 31st positive normal
+    /// f32 (the polynomial's 5.6e-5 and a few roundings); exact at powers of two.
+    #[test]
+    fn log2_unit_is_within_its_relative_bound() {
+        let mut worst = 0.0f64;
+        for bits in (0x0080_0000u32..0x7f80_0000).step_by(31) {
+            let x = f32::from_bits(bits);
+            let exact = f64::from(x).log2();
+            if exact != 0.0 {
+                let rel = ((f64::from(log2_unit(x)) - exact) / exact).abs();
+                worst = worst.max(rel);
+            }
+        }
+        assert!(worst <= 5.7e-5, "log2_unit off by {worst:e} (relative)");
+        for e in -126..=127 {
+            assert_eq!(log2_unit(libm::ldexpf(1.0, e)), e as f32);
+        }
+    }
+
+    /// [`exp2_unit`] relative to `exp2` in `f64` on `[-125, 0]` (the polynomial's
+    /// 3.5e-6 and a few roundings), 0 below.
+    #[test]
+    fn exp2_unit_is_within_its_relative_bound() {
+        let mut worst = 0.0f64;
+        for i in 0..=1_250_000 {
+            let z = -(i as f32) * 1e-4;
+            let exact = f64::from(z).exp2();
+            worst = worst.max((f64::from(exp2_unit(z)) / exact - 1.0).abs());
+        }
+        assert!(worst <= 3.8e-6, "exp2_unit off by {worst:e} (relative)");
+        assert_eq!(exp2_unit(0.0), 1.0);
+        assert_eq!(exp2_unit(-125.5), 0.0);
+        assert_eq!(exp2_unit(f32::NEG_INFINITY), 0.0);
+        assert_eq!(exp2_unit(f32::NAN), 0.0);
+    }
+
+    /// [`rsqrt_fast`] relative to `1 / sqrt` in `f64` over every f32 of `[1, 4)`
+    /// (the error depends only on the mantissa and the exponent's parity, so this
+    /// is every positive normal f32), checked again on a sample of every binade.
+    /// The bound: the guess's 3.44% after two steps, `3/2 (3/2 e^2)^2` = 4.7e-6,
+    /// centred (2.4e-6), plus the roundings of the last step (a few 1e-7).
+    #[test]
+    fn rsqrt_fast_is_within_its_relative_bound() {
+        const BOUND: f64 = 2.6e-6;
+        let rel = |x: f32| f64::from(rsqrt_fast(x)) * f64::from(x).sqrt() - 1.0;
+        let mut worst = 0.0f64;
+        for bits in 0x3f80_0000u32..0x4080_0000 {
+            worst = worst.max(rel(f32::from_bits(bits)).abs());
+        }
+        assert!(worst <= BOUND, "rsqrt_fast off by {worst:e} (relative)");
+        for bits in (0x0080_0000u32..0x7f80_0000).step_by(4099) {
+            let x = f32::from_bits(bits);
+            assert!(rel(x).abs() <= BOUND, "rsqrt_fast({x:e})");
+        }
+        // The plain steps, as documented: 3.44%, 1.75e-3, 4.74e-6, all below.
+        let step = |x: f32, n: u32| (0..n).fold(rsqrt_guess(x), |y, _| rsqrt_step(0.5 * x, y));
+        for (n, bound) in [(0, 3.44e-2), (1, 1.76e-3), (2, 4.75e-6)] {
+            for bits in (0x3f80_0000u32..0x4080_0000).step_by(101) {
+                let x = f32::from_bits(bits);
+                let e = f64::from(step(x, n)) * f64::from(x).sqrt() - 1.0;
+                assert!(e.abs() <= bound, "{n} steps at {x}: {e:e}");
+            }
+        }
+    }
+
+    /// [`rsqrt`]: outside the positive normals, `1 / sqrt(x)` in every build.
+    #[test]
+    fn rsqrt_falls_back_to_the_exact_root() {
+        assert!(is_positive_normal(f32::MIN_POSITIVE) && is_positive_normal(f32::MAX));
+        for x in [
+            0.0,
+            -0.0,
+            1e-40,
+            -1.0,
+            f32::INFINITY,
+            f32::NAN,
+            -f32::MIN_POSITIVE,
+        ] {
+            assert!(!is_positive_normal(x), "{x}");
+            let (got, want) = (rsqrt(x), 1.0 / sqrt(x));
+            assert!(got == want || got.is_nan() && want.is_nan(), "{x}");
+        }
+        let bound = if cfg!(feature = "fast-rsqrt") {
+            2.6e-6
+        } else {
+            1.2e-7
+        };
+        for x in [1e-30f32, 0.25, 2.0, 3.0, 7e20] {
+            let e = f64::from(rsqrt(x)) * f64::from(x).sqrt() - 1.0;
+            assert!(e.abs() <= bound, "{x}: {e:e}");
+        }
+    }
+
+    /// [`recip_newton`]: each step squares the relative error (5.05% for the
+    /// guess), down to the roundings at three steps.
+    #[test]
+    fn recip_newton_squares_its_error() {
+        for (steps, bound) in [(0, 5.06e-2), (1, 2.56e-3), (2, 6.7e-6), (3, 1.5e-7)] {
+            for bits in (0x3f80_0000u32..0x4000_0000).step_by(37) {
+                let x = f32::from_bits(bits);
+                let e = f64::from(recip_newton(x, steps)) * f64::from(x) - 1.0;
+                assert!(e.abs() <= bound, "{steps} steps at {x}: {e:e}");
+            }
+        }
+    }
+
+    /// Schlick's form is another curve, not an approximation of `x^n`: equal at 0
+    /// and 1, off by 0.19 at `n = 48` (what `math-report` measures).
+    #[test]
+    fn schlick_differs_from_the_power() {
+        assert_eq!(pow_schlick(1.0, 48.0), 1.0);
+        assert_eq!(pow_schlick(0.0, 48.0), 0.0);
+        let worst = (1..1000)
+            .map(|i| {
+                let x = 1.0 - i as f32 * 1e-4;
+                (f64::from(pow_schlick(x, 48.0)) - f64::from(x).powi(48)).abs()
+            })
+            .fold(0.0, f64::max);
+        assert!((0.15..0.25).contains(&worst), "{worst}");
     }
 
     #[test]
@@ -430,11 +724,17 @@ mod tests {
     }
 
     #[test]
-    #[cfg(not(feature = "fast-math"))]
     fn sqrt_is_correctly_rounded() {
         // sqrt(2) rounded to nearest f32 and a perfect square.
         assert_eq!(sqrt(2.0), core::f32::consts::SQRT_2);
         assert_eq!(sqrt(6.25), 2.5);
+    }
+
+    /// `acos` clamps its argument: just outside `[-1, 1]` is the end's angle, never
+    /// NaN.
+    #[test]
+    fn acos_clamps_to_its_domain() {
         assert_eq!(acos(1.000_001), 0.0);
+        assert_eq!(acos(-1.000_001), acos(-1.0));
     }
 }

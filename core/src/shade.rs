@@ -419,10 +419,22 @@ impl<'a> SceneView<'a> {
         for (i, light) in self.lights.iter().enumerate() {
             let to_light = light.position() - hit.point;
             let dist2 = to_light.length_squared();
+            // `fast-rsqrt`: one reciprocal square root (`math::rsqrt`) gives the
+            // distance, the direction and the irradiance, instead of a `vsqrt`, three
+            // `vdiv` here and one in `irradiance` (a zero or infinite `dist2` makes
+            // `dist` NaN: skipped, as the exact path skips or darkens it).
+            #[cfg(feature = "fast-rsqrt")]
+            let inv = math::rsqrt(dist2);
+            #[cfg(feature = "fast-rsqrt")]
+            let dist = dist2 * inv;
+            #[cfg(not(feature = "fast-rsqrt"))]
             let dist = math::sqrt(dist2);
             if dist.is_nan() || dist <= 0.0 {
                 continue;
             }
+            #[cfg(feature = "fast-rsqrt")]
+            let l = to_light * inv;
+            #[cfg(not(feature = "fast-rsqrt"))]
             let l = to_light / dist;
             let cos = n.dot(l);
             if cos.is_nan() || cos <= 0.0 {
@@ -457,11 +469,28 @@ impl<'a> SceneView<'a> {
                     continue;
                 }
             }
+            // `intensity / dist2` as `intensity inv^2` over 1, capped the same way (the
+            // division by 1 compiles to nothing).
+            #[cfg(feature = "fast-rsqrt")]
+            let e = light.color() * irradiance(light.intensity() * (inv * inv), 1.0);
+            #[cfg(not(feature = "fast-rsqrt"))]
             let e = light.color() * irradiance(light.intensity(), dist2);
             let mut lit = hit.base * (m.diffuse() * cos);
             if m.specular() > 0.0 {
-                let h = (l - ray.dir).normalize_or(n);
-                let nh = n.dot(h);
+                // `fast-rsqrt`: `n.h` of the unnormalised half vector, scaled by its
+                // reciprocal length, at most 1 (the approximation may exceed it by
+                // 2.6e-6, which a power of 10000 would raise to 2.6%). Its length is
+                // at least `n.l > 0`: never zero.
+                #[cfg(feature = "fast-rsqrt")]
+                let nh = {
+                    let h = l - ray.dir;
+                    math::min(n.dot(h) * math::rsqrt(h.length_squared()), 1.0)
+                };
+                #[cfg(not(feature = "fast-rsqrt"))]
+                let nh = {
+                    let h = (l - ray.dir).normalize_or(n);
+                    n.dot(h)
+                };
                 if nh > 0.0 {
                     lit += Color::splat(m.specular() * m.highlight(nh));
                 }

@@ -156,18 +156,34 @@ impl Row {
 /// The backend name of the f64 reference's rows.
 pub const REFERENCE: &str = "f64-reference";
 
-/// The name of the backend this binary's core was built with, as far as this
-/// crate's features tell: `fast-math` with the feature `fast-math`, else `exact`.
-/// A binary built with other core features still says one of the two; the trade
-/// report, which builds one binary per backend of its list (a name and the cargo
-/// features it is built with), renames the core's rows it reads from each binary
-/// after that backend ([`Row::backend`]).
+/// The core's approximations this crate forwards (`--features`), in the order
+/// [`backend`] names them.
+const APPROXIMATIONS: [(&str, bool); 3] = [
+    ("fast-rsqrt", cfg!(feature = "fast-rsqrt")),
+    ("fast-recip", cfg!(feature = "fast-recip")),
+    ("fast-pow", cfg!(feature = "fast-pow")),
+];
+
+/// The name of the math this binary's core was built with, as far as this crate's
+/// features tell: `fast-math` with the feature `fast-math` (every approximation),
+/// else the approximations it was built with joined by `+` (`fast-rsqrt+fast-pow`),
+/// else `exact`. The trade report, which builds one binary per backend of its list
+/// (a name and the cargo features it is built with), renames the core's rows it
+/// reads from each binary after that backend ([`Row::backend`]).
 #[must_use]
-pub fn backend() -> &'static str {
+pub fn backend() -> String {
     if cfg!(feature = "fast-math") {
-        "fast-math"
+        return "fast-math".into();
+    }
+    let on: Vec<&str> = APPROXIMATIONS
+        .iter()
+        .filter(|(_, on)| *on)
+        .map(|(name, _)| *name)
+        .collect();
+    if on.is_empty() {
+        "exact".into()
     } else {
-        "exact"
+        on.join("+")
     }
 }
 
@@ -235,7 +251,7 @@ pub fn measure_scene(
             timed_renders(view, &frame, setting.tile, runs, pixels)
         })?;
         let (img, mut times) = timed?;
-        rows.push(row(b.name(), backend(), setting, &mut times, &img, truth)?);
+        rows.push(row(b.name(), &backend(), setting, &mut times, &img, truth)?);
         if reference {
             let start = Instant::now();
             let r = crate::reference::render(&desc, vp, &settings)?;

@@ -29,10 +29,7 @@ fn tile_size_and_order_do_not_change_a_pixel() {
             // The apron's centre rays decide; threshold 0 refines at every
             // colour step too.
             Sampler::adaptive(3),
-            Sampler::Adaptive {
-                k: 2,
-                threshold: 0,
-            },
+            Sampler::Adaptive { k: 2, threshold: 0 },
         ] {
             let settings = RenderSettings {
                 sampler,

@@ -36,10 +36,9 @@ pub fn run(args: &CompareArgs) -> Result<(), Error> {
     println!(
         "{}: core (f32, {}) vs reference (f64)",
         describe(&source, vp, &settings),
-        if cfg!(feature = "fast-math") {
-            "fast-math"
-        } else {
-            "exact math"
+        match tessera_host::trade::backend().as_str() {
+            "exact" => "exact math".to_string(),
+            other => other.to_string(),
         },
     );
     println!("{acc}");

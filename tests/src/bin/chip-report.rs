@@ -385,8 +385,9 @@ impl Measured {
         let _ = writeln!(w, "## Instructions per pixel\n");
         let _ = writeln!(
             w,
-            "`exact` is the default backend (libm, `vsqrt.f32`), `fast-math` the micromath \
-         approximations (`--features fast-math`); the last two columns compare the \
+            "`exact` is the default backend (libm, `vsqrt.f32`), `fast-math` every \
+         approximation of the core's math (`--features fast-math`: `fast-rsqrt`, \
+         `fast-recip`, `fast-pow`; each measured alone in [trade.md](trade.md)); the last two columns compare the \
          fast-math image with the exact one (largest channel difference in LSB, PSNR). \
          `est. cycles/px` is an **estimate** of Cortex-M4 cycles for the exact backend \
          from its instruction mix (Cortex-M4 TRM timings, taken branches 1 + P with \

@@ -66,6 +66,9 @@ impl Backend {
 /// binary and firmware image.
 pub const BACKENDS: &[Backend] = &[
     Backend::new("exact", &[]),
+    Backend::new("fast-rsqrt", &["fast-rsqrt"]),
+    Backend::new("fast-recip", &["fast-recip"]),
+    Backend::new("fast-pow", &["fast-pow"]),
     Backend::new("fast-math", &["fast-math"]),
 ];
 
