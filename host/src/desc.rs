@@ -79,6 +79,10 @@ pub struct SceneDesc {
     /// Axis-aligned boxes.
     #[serde(default, rename = "box")]
     pub boxes: Vec<BoxDesc>,
+    /// Triangle meshes read from OBJ files: their faces are triangles of the scene,
+    /// after the file's own `[[triangle]]`s.
+    #[serde(default, rename = "mesh")]
+    pub meshes: Vec<MeshDesc>,
 }
 
 /// The camera: `forward` or `look_at` (exactly one).
@@ -261,6 +265,36 @@ pub struct TriangleDesc {
     pub vertices: [[f64; 3]; 3],
     /// Material name.
     pub material: String,
+}
+
+/// A triangle's three vertices.
+pub type Face = [[f64; 3]; 3];
+
+/// A triangle mesh from a Wavefront OBJ file: each face (a polygon is split into a
+/// fan of triangles) becomes a triangle of the scene with the mesh's material,
+/// its vertices scaled by `scale` about the origin, then moved by `translate`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MeshDesc {
+    /// The OBJ file, relative to the scene file's folder (to the current folder for
+    /// a scene given as text).
+    pub obj: String,
+    /// Material name.
+    pub material: String,
+    /// Uniform scale (finite, `> 0`).
+    #[serde(default = "one")]
+    pub scale: f64,
+    /// Translation, after the scale.
+    #[serde(default)]
+    pub translate: [f64; 3],
+    /// The faces read from the file, scaled and moved: filled when the scene file
+    /// is loaded ([`crate::file`]), never written in it.
+    #[serde(skip)]
+    pub faces: Vec<Face>,
+    /// Faces of the file left out because their vertices are collinear once in
+    /// `f32` (zero area: no ray can hit them).
+    #[serde(skip)]
+    pub degenerate: usize,
 }
 
 /// An axis-aligned box.
@@ -479,7 +513,7 @@ impl SceneDesc {
             self.lights.len(),
             self.spheres.len(),
             self.planes.len(),
-            self.triangles.len(),
+            self.triangles.len() + self.meshes.iter().map(|m| m.faces.len()).sum::<usize>(),
             self.boxes.len(),
         ];
         for ((kind, capacity, list), len) in LISTS.into_iter().zip(lens) {
@@ -488,6 +522,9 @@ impl SceneDesc {
                 if kind == "material" {
                     item += &format!(" ({:?})", self.materials[capacity].name);
                 }
+                if kind == "triangle" && self.triangles.len() <= capacity {
+                    return Err(self.meshes_too_large(capacity));
+                }
                 return Err(DescError {
                     item,
                     message: too_many(list, capacity),
@@ -495,6 +532,43 @@ impl SceneDesc {
             }
         }
         Ok(())
+    }
+
+    /// The error for meshes whose faces do not fit in the triangle list: the first
+    /// mesh that overflows it, with the counts.
+    fn meshes_too_large(&self, capacity: usize) -> DescError {
+        let mut total = self.triangles.len();
+        for (i, m) in self.meshes.iter().enumerate() {
+            if total + m.faces.len() > capacity {
+                return DescError {
+                    item: format!("mesh {} ({:?})", i + 1, m.obj),
+                    message: format!(
+                        "{}: its {} faces come after {total} triangles",
+                        too_many(List::Triangles, capacity),
+                        m.faces.len()
+                    ),
+                };
+            }
+            total += m.faces.len();
+        }
+        DescError {
+            item: "mesh".into(),
+            message: too_many(List::Triangles, capacity),
+        }
+    }
+
+    /// Every triangle of the scene with its material's name: the `[[triangle]]`s,
+    /// then each mesh's faces (the order of the core's triangle list).
+    pub fn all_triangles(&self) -> impl Iterator<Item = (&[[f64; 3]; 3], &str)> {
+        let own = self
+            .triangles
+            .iter()
+            .map(|t| (&t.vertices, t.material.as_str()));
+        let meshes = self
+            .meshes
+            .iter()
+            .flat_map(|m| m.faces.iter().map(move |f| (f, m.material.as_str())));
+        own.chain(meshes)
     }
 
     /// The core scene (every value checked, capacities enforced).
@@ -536,10 +610,18 @@ impl SceneDesc {
         for (i, d) in self.triangles.iter().enumerate() {
             let item = Item(format!("triangle {}", i + 1));
             s.add_triangle(
-                core_triangle(&item, d)?,
+                core_triangle(&item, &d.vertices)?,
                 self.material_id(&item, &d.material)?,
             )
             .map_err(|e| item.refused(e))?;
+        }
+        for (i, m) in self.meshes.iter().enumerate() {
+            let material = self.material_id(&Item(format!("mesh {}", i + 1)), &m.material)?;
+            for (j, face) in m.faces.iter().enumerate() {
+                let item = Item(format!("mesh {} ({:?}) face {}", i + 1, m.obj, j + 1));
+                s.add_triangle(core_triangle(&item, face)?, material)
+                    .map_err(|e| item.refused(e))?;
+            }
         }
         for (i, d) in self.boxes.iter().enumerate() {
             let item = Item(format!("box {}", i + 1));
@@ -642,10 +724,21 @@ fn core_plane(item: &Item, d: &PlaneDesc) -> Result<Plane, DescError> {
     })
 }
 
-fn core_triangle(item: &Item, d: &TriangleDesc) -> Result<Triangle, DescError> {
-    let [a, b, c] = d.vertices;
+/// The core's triangle of `vertices`; refused as the core refuses it.
+pub fn core_triangle_of(vertices: &[[f64; 3]; 3]) -> Result<Triangle, tessera::Error> {
+    match vertices.map(|p| f3(p, "")) {
+        [Ok(pa), Ok(pb), Ok(pc)] => {
+            let [pa, pb, pc] = [pa, pb, pc].map(|[x, y, z]| Vec3::new(x, y, z));
+            Triangle::try_new(pa, pb, pc)
+        }
+        _ => Err(tessera::Error::NotFinite(Field::TriangleVertex)),
+    }
+}
+
+fn core_triangle(item: &Item, vertices: &[[f64; 3]; 3]) -> Result<Triangle, DescError> {
+    let [a, b, c] = *vertices;
     let shown = || format!("{}, {}, {}", show(&a), show(&b), show(&c));
-    match d.vertices.map(|p| f3(p, "")) {
+    match vertices.map(|p| f3(p, "")) {
         [Ok(pa), Ok(pb), Ok(pc)] => {
             let [pa, pb, pc] = [pa, pb, pc].map(|[x, y, z]| Vec3::new(x, y, z));
             Triangle::try_new(pa, pb, pc).map_err(|e| item.core(e, shown()))

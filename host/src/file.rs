@@ -18,11 +18,12 @@
 //! The built-in scenes exist as files too (`scenes/NAME.toml`, embedded); see
 //! [`builtin_desc`].
 
-use crate::desc::{DescError, LISTS, SceneDesc, escape_controls, num, too_many};
+use crate::desc::{DescError, LISTS, MAX_TRIANGLES, SceneDesc, escape_controls, num, too_many};
 use serde::Deserialize;
 use std::fmt;
 use std::io::Read;
 use std::path::Path;
+use tessera::List;
 use tessera::builtin::Builtin;
 use toml::de::{DeTable, DeValue};
 
@@ -119,8 +120,8 @@ pub fn load(path: &Path) -> Result<SceneDesc, FileError> {
 /// [`load`] with a size limit of `limit` bytes.
 fn load_limited(path: &Path, limit: usize) -> Result<SceneDesc, FileError> {
     let file = path.display().to_string();
-    match read_limited(path, limit) {
-        Ok(text) => parse_limited(&text, &file, limit),
+    match read_limited(path, limit, "scene file") {
+        Ok(text) => parse_limited(&text, &file, limit, path.parent().unwrap_or(Path::new(""))),
         Err(message) => Err(FileError {
             kind: ErrorKind::Read,
             file,
@@ -135,8 +136,8 @@ fn load_limited(path: &Path, limit: usize) -> Result<SceneDesc, FileError> {
 /// The text of the file at `path` if it is UTF-8 of at most `limit` bytes, else
 /// the message. Reads at most `limit + 1` bytes (a regular file whose size is
 /// known to be above the limit is not read at all).
-fn read_limited(path: &Path, limit: usize) -> Result<String, String> {
-    let cannot = |e: std::io::Error| format!("cannot read the scene file: {e}");
+pub(crate) fn read_limited(path: &Path, limit: usize, what: &str) -> Result<String, String> {
+    let cannot = |e: std::io::Error| format!("cannot read the {what}: {e}");
     let file = std::fs::File::open(path).map_err(cannot)?;
     let size = file
         .metadata()
@@ -144,7 +145,7 @@ fn read_limited(path: &Path, limit: usize) -> Result<String, String> {
         .filter(|m| m.is_file())
         .map(|m| m.len());
     if let Some(n) = size.filter(|&n| n > limit as u64) {
-        return Err(too_big(Some(n), limit));
+        return Err(too_big(Some(n), limit, what));
     }
     let mut bytes = Vec::new();
     file.take(limit as u64 + 1)
@@ -152,27 +153,25 @@ fn read_limited(path: &Path, limit: usize) -> Result<String, String> {
         .map_err(cannot)?;
     if bytes.len() > limit {
         // Grown since, or not a regular file (a pipe): the size is not known.
-        return Err(too_big(size.filter(|&n| n > limit as u64), limit));
+        return Err(too_big(size.filter(|&n| n > limit as u64), limit, what));
     }
     String::from_utf8(bytes).map_err(|e| {
         let at = e.utf8_error().valid_up_to();
         let text = std::str::from_utf8(&e.as_bytes()[..at]).unwrap_or_default();
         let (line, column) = line_col(text, at);
-        format!(
-            "cannot read the scene file: it is not UTF-8 text (invalid byte at {line}:{column})"
-        )
+        format!("cannot read the {what}: it is not UTF-8 text (invalid byte at {line}:{column})")
     })
 }
 
-/// The message for a scene file above the limit.
-fn too_big(size: Option<u64>, limit: usize) -> String {
+/// The message for a file (`what`: `scene file`, `OBJ file`) above the limit.
+fn too_big(size: Option<u64>, limit: usize, what: &str) -> String {
     let limit = format!(
         "the limit of {limit} bytes ({} MiB)",
         num(limit as f64 / 1_048_576.0)
     );
     match size {
-        Some(n) => format!("the scene file is {n} bytes, more than {limit}"),
-        None => format!("the scene file is larger than {limit}"),
+        Some(n) => format!("the {what} is {n} bytes, more than {limit}"),
+        None => format!("the {what} is larger than {limit}"),
     }
 }
 
@@ -181,12 +180,20 @@ fn too_big(size: Option<u64>, limit: usize) -> String {
 ///
 /// A text above [`MAX_FILE_BYTES`], or nesting too deep, or with too many items of
 /// a list, is refused by a pre-scan (see the module doc) before the TOML parser runs.
+///
+/// The OBJ files of its `[[mesh]]`es are read relative to the current folder
+/// ([`load`]: to the scene file's folder).
 pub fn parse(text: &str, name: &str) -> Result<SceneDesc, FileError> {
-    parse_limited(text, name, MAX_FILE_BYTES)
+    parse_limited(text, name, MAX_FILE_BYTES, Path::new(""))
 }
 
 /// [`parse`] with a size limit of `limit` bytes.
-fn parse_limited(text: &str, name: &str, limit: usize) -> Result<SceneDesc, FileError> {
+fn parse_limited(
+    text: &str,
+    name: &str,
+    limit: usize,
+    base: &Path,
+) -> Result<SceneDesc, FileError> {
     let fail = |kind, line, column, item, message| FileError {
         kind,
         file: name.to_string(),
@@ -196,7 +203,7 @@ fn parse_limited(text: &str, name: &str, limit: usize) -> Result<SceneDesc, File
         message,
     };
     if text.len() > limit {
-        let message = too_big(Some(text.len() as u64), limit);
+        let message = too_big(Some(text.len() as u64), limit, "scene file");
         return Err(fail(ErrorKind::Read, None, None, None, message));
     }
     prescan(text).map_err(|r| {
@@ -213,7 +220,32 @@ fn parse_limited(text: &str, name: &str, limit: usize) -> Result<SceneDesc, File
     // Parsed once: the spanned tables give the items' positions, then the scene.
     let root = DeTable::parse(text).map_err(toml_error)?;
     let places = Places::of(root.get_ref());
-    let desc = SceneDesc::deserialize(toml::de::Deserializer::from(root)).map_err(toml_error)?;
+    let mut desc =
+        SceneDesc::deserialize(toml::de::Deserializer::from(root)).map_err(toml_error)?;
+    // The meshes' faces, read until the triangle list is full: no more OBJ text
+    // than fits (and than `MAX_OBJ_BYTES`) is ever read.
+    let mut room = MAX_TRIANGLES.saturating_sub(desc.triangles.len());
+    let mut budget = crate::mesh::MAX_OBJ_BYTES;
+    for (i, mesh) in desc.meshes.iter_mut().enumerate() {
+        let refuse = |message| {
+            let item = format!("mesh {}", i + 1);
+            let line = places.start(&item).map(|b| line_col(text, b).0);
+            fail(ErrorKind::Invalid, line, None, Some(item), message)
+        };
+        let (faces, degenerate) = crate::mesh::read(mesh, base, &mut budget).map_err(refuse)?;
+        if faces.len() > room {
+            return Err(refuse(format!(
+                "{}: the {} faces of {} come after {} triangles",
+                too_many(List::Triangles, MAX_TRIANGLES),
+                faces.len(),
+                mesh.obj,
+                MAX_TRIANGLES - room
+            )));
+        }
+        room -= faces.len();
+        mesh.faces = faces;
+        mesh.degenerate = degenerate;
+    }
     check(&desc).map_err(|e| {
         let line = places.start(&e.item).map(|b| line_col(text, b).0);
         fail(ErrorKind::Invalid, line, None, Some(e.item), e.message)
@@ -521,6 +553,17 @@ pub fn warnings(desc: &SceneDesc) -> Vec<String> {
             fovy.to_degrees()
         ));
     }
+    for (i, m) in desc.meshes.iter().enumerate() {
+        if m.degenerate > 0 {
+            out.push(format!(
+                "mesh {} ({:?}): {} of its faces left out: their vertices are collinear \
+                 (zero area, nothing to hit)",
+                i + 1,
+                m.obj,
+                m.degenerate
+            ));
+        }
+    }
     let lit = desc
         .lights
         .iter()
@@ -528,7 +571,8 @@ pub fn warnings(desc: &SceneDesc) -> Vec<String> {
     let has_geometry = !(desc.spheres.is_empty()
         && desc.planes.is_empty()
         && desc.triangles.is_empty()
-        && desc.boxes.is_empty());
+        && desc.boxes.is_empty()
+        && desc.meshes.is_empty());
     if has_geometry && !lit && desc.ambient.iter().all(|&c| c <= 0.0) {
         out.push(
             "scene: nothing lights the surfaces (no light with intensity > 0 and \
@@ -1055,8 +1099,8 @@ color = [0.9, 0.1, 0.1]
     #[test]
     fn text_above_the_limit_is_refused_with_its_size() {
         let limit = 400;
-        assert!(parse_limited(&padded(limit), "t.toml", limit).is_ok());
-        let e = parse_limited(&padded(limit + 1), "t.toml", limit).unwrap_err();
+        assert!(parse_limited(&padded(limit), "t.toml", limit, Path::new("")).is_ok());
+        let e = parse_limited(&padded(limit + 1), "t.toml", limit, Path::new("")).unwrap_err();
         assert_eq!(e.kind, ErrorKind::Read);
         assert_eq!(
             e.to_string(),

@@ -32,6 +32,7 @@ pub mod desc;
 mod error;
 pub mod file;
 pub mod limits;
+pub mod mesh;
 pub mod output;
 pub mod png;
 pub mod reference;

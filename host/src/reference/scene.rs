@@ -246,11 +246,9 @@ impl RefScene {
             };
             add(1, i, shape, &p.material)?;
         }
-        for (i, t) in desc.triangles.iter().enumerate() {
-            let shape = Shape::Triangle {
-                p: t.vertices.map(v),
-            };
-            add(2, i, shape, &t.material)?;
+        for (i, (vertices, material)) in desc.all_triangles().enumerate() {
+            let shape = Shape::Triangle { p: vertices.map(v) };
+            add(2, i, shape, material)?;
         }
         for (i, b) in desc.boxes.iter().enumerate() {
             let shape = Shape::Box {

@@ -45,6 +45,7 @@ fn empty(camera: CameraDesc) -> SceneDesc {
         planes: Vec::new(),
         triangles: Vec::new(),
         boxes: Vec::new(),
+        meshes: Vec::new(),
     }
 }
 

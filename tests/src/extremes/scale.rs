@@ -41,6 +41,11 @@ pub fn scaled(desc: &SceneDesc, k: i32) -> SceneDesc {
     for x in &mut d.triangles {
         x.vertices = x.vertices.map(v);
     }
+    for m in &mut d.meshes {
+        for f in &mut m.faces {
+            *f = f.map(v);
+        }
+    }
     for x in &mut d.boxes {
         x.min = v(x.min);
         x.max = v(x.max);
@@ -53,6 +58,7 @@ pub fn scaled(desc: &SceneDesc, k: i32) -> SceneDesc {
         let on_planes = desc.planes.iter().any(|p| p.material == m.name);
         let elsewhere = desc.spheres.iter().any(|p| p.material == m.name)
             || desc.triangles.iter().any(|p| p.material == m.name)
+            || desc.meshes.iter().any(|p| p.material == m.name)
             || desc.boxes.iter().any(|p| p.material == m.name);
         let Some(t) = &mut m.texture else { continue };
         assert!(

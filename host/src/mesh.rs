@@ -1,0 +1,351 @@
+//! Triangle meshes from Wavefront OBJ files (`[[mesh]]` in a scene file): read with
+//! `tobj`, every face a triangle (polygons split into fans), scaled and moved.
+//!
+//! Only positions and faces are read: normals, texture coordinates, groups and
+//! materials of the file are ignored (the mesh has the scene's material). Faces
+//! whose vertices are collinear once in `f32` are left out and counted (no ray can
+//! hit a triangle of zero area, and the core refuses one); every other face is
+//! kept, so that a vertex out of range is refused with the face it belongs to.
+
+use crate::desc::{Face, MeshDesc, core_triangle_of, num};
+use std::io::{BufRead, Read};
+use std::path::Path;
+
+/// The most OBJ text a scene reads, in bytes, all its meshes together: 64 MiB.
+/// The host's 8,192 triangles take about 1 MiB of OBJ text (with normals and
+/// texture coordinates, 3); the bound keeps a wrong path (a disk image, a device)
+/// or a file naming one large OBJ many times from being read at length.
+pub const MAX_OBJ_BYTES: usize = 64 << 20;
+
+/// The faces of `mesh`'s OBJ file (its path relative to `base`), scaled and
+/// moved, and how many degenerate faces were left out. At most `*budget` bytes of
+/// OBJ text are read, and the file's size is taken from it. The error names the
+/// file, and the line where the OBJ text is wrong.
+pub fn read(
+    mesh: &MeshDesc,
+    base: &Path,
+    budget: &mut usize,
+) -> Result<(Vec<Face>, usize), String> {
+    let finite = mesh.translate.iter().all(|x| x.is_finite());
+    if !(mesh.scale.is_finite() && mesh.scale > 0.0) {
+        return Err(format!(
+            "mesh scale must be finite and > 0, got {}",
+            num(mesh.scale)
+        ));
+    }
+    if !finite {
+        return Err(format!(
+            "mesh translate must be finite, got [{}]",
+            mesh.translate.map(num).join(", ")
+        ));
+    }
+    let path = base.join(&mesh.obj);
+    let shown = path.display().to_string();
+    let text = crate::file::read_limited(&path, *budget, "OBJ file").map_err(|e| {
+        if *budget < MAX_OBJ_BYTES {
+            format!(
+                "{shown}: {e}: what is left of the {} MiB that the OBJ files of a scene \
+                 may take together",
+                MAX_OBJ_BYTES >> 20
+            )
+        } else {
+            format!("{shown}: {e}")
+        }
+    })?;
+    *budget -= text.len();
+    let mut reader = Consumed {
+        rest: text.as_bytes(),
+        at: 0,
+    };
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        ..Default::default()
+    };
+    // Materials (`mtllib`) are not read: the mesh takes the scene's.
+    let loaded = tobj::load_obj_buf(&mut reader, &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    });
+    let (models, _) = loaded.map_err(|e| {
+        // The line being parsed when tobj stopped: the last one consumed.
+        let done = text[..reader.at].trim_end_matches(['\n', '\r']);
+        let line = done.matches('\n').count() + 1;
+        format!("{shown}:{line}: not a valid OBJ file: {e}")
+    })?;
+    let (mut faces, mut degenerate) = (Vec::new(), 0);
+    for model in &models {
+        let m = &model.mesh;
+        let vertex = |i: u32| -> Option<[f64; 3]> {
+            let i = usize::try_from(i).ok()?.checked_mul(3)?;
+            let p = m.positions.get(i..i + 3)?;
+            Some([0, 1, 2].map(|k| p[k] * mesh.scale + mesh.translate[k]))
+        };
+        for (j, f) in m.indices.chunks(3).enumerate() {
+            let face = match f {
+                [a, b, c] => [vertex(*a), vertex(*b), vertex(*c)],
+                _ => [None; 3],
+            };
+            let [Some(a), Some(b), Some(c)] = face else {
+                return Err(format!(
+                    "{shown}: object {:?}, face {}: a vertex index beyond the file's {} vertices",
+                    model.name,
+                    j + 1,
+                    m.positions.len() / 3
+                ));
+            };
+            let face = [a, b, c];
+            if core_triangle_of(&face) == Err(tessera::Error::DegenerateTriangle) {
+                degenerate += 1;
+            } else {
+                faces.push(face);
+            }
+        }
+    }
+    if faces.is_empty() {
+        return Err(format!(
+            "{shown}: no face to render ({degenerate} degenerate faces left out)"
+        ));
+    }
+    Ok((faces, degenerate))
+}
+
+/// The OBJ text as tobj reads it, remembering how far it got.
+struct Consumed<'t> {
+    rest: &'t [u8],
+    /// Bytes consumed so far.
+    at: usize,
+}
+
+impl Read for Consumed<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.rest.len().min(buf.len());
+        buf[..n].copy_from_slice(&self.rest[..n]);
+        self.consume(n);
+        Ok(n)
+    }
+}
+
+impl BufRead for Consumed<'_> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        Ok(self.rest)
+    }
+
+    fn consume(&mut self, n: usize) {
+        let n = n.min(self.rest.len());
+        self.rest = &self.rest[n..];
+        self.at += n;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::file::{self, FileError};
+    use std::path::Path;
+
+    /// A scene with one material and `items` after it.
+    fn scene(items: &str) -> String {
+        format!(
+            "[camera]\nposition = [0, 0, 6]\nlook_at = [0, 0, 0]\nnear = 0.1\nfar = 100\n\n\
+             [[material]]\nname = \"m\"\n\n[[light]]\nposition = [3, 4, 5]\nintensity = 30\n\n{items}"
+        )
+    }
+
+    /// Loads `toml` written as `scene.toml` next to OBJ files `objs` (name, text).
+    fn load(toml: &str, objs: &[(&str, &str)]) -> Result<crate::desc::SceneDesc, FileError> {
+        let dir = tempfile::tempdir().unwrap();
+        for (name, text) in objs {
+            std::fs::write(dir.path().join(name), text).unwrap();
+        }
+        let path = dir.path().join("scene.toml");
+        std::fs::write(&path, toml).unwrap();
+        file::load(&path)
+    }
+
+    fn icosahedron() -> String {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/examples/icosahedron.obj");
+        std::fs::read_to_string(path).unwrap()
+    }
+
+    /// A mesh is its faces written as `[[triangle]]`s: the same core triangles in
+    /// the same order, hence the same pixels; scale then translate.
+    #[test]
+    fn a_mesh_is_the_triangles_of_its_faces() {
+        let obj = icosahedron();
+        let mesh = "[[mesh]]\nobj = \"ico.obj\"\nmaterial = \"m\"\nscale = 0.5\ntranslate = [1, -2, 0.25]\n";
+        let d = load(&scene(mesh), &[("ico.obj", &obj)]).unwrap();
+        assert_eq!(d.meshes[0].faces.len(), 20);
+        assert_eq!(d.meshes[0].degenerate, 0);
+        // The faces from the OBJ text by hand: `v` lines, then `f` lines.
+        let vs: Vec<[f64; 3]> = obj
+            .lines()
+            .filter_map(|l| l.strip_prefix("v "))
+            .map(|l| {
+                let x: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
+                [x[0] * 0.5 + 1.0, x[1] * 0.5 - 2.0, x[2] * 0.5 + 0.25]
+            })
+            .collect();
+        let mut triangles = String::new();
+        for f in obj.lines().filter_map(|l| l.strip_prefix("f ")) {
+            let p: Vec<String> = f
+                .split_whitespace()
+                .map(|i| {
+                    let v = vs[i.parse::<usize>().unwrap() - 1];
+                    format!("[{:?}, {:?}, {:?}]", v[0], v[1], v[2])
+                })
+                .collect();
+            triangles += &format!(
+                "[[triangle]]\nvertices = [{}]\nmaterial = \"m\"\n",
+                p.join(", ")
+            );
+        }
+        let written = file::parse(&scene(&triangles), "t.toml").unwrap();
+        let (a, b) = (d.to_core().unwrap(), written.to_core().unwrap());
+        let (ta, tb) = (a.view(), b.view());
+        assert_eq!(ta.triangles(), tb.triangles());
+        assert_eq!(ta.triangles().len(), 20);
+        let vp = tessera::Viewport::new(32, 24);
+        let render = |s: &crate::desc::HostScene| {
+            crate::render(&s.view(), s.camera(), vp, d.settings().unwrap(), 16).unwrap()
+        };
+        assert_eq!(render(&a), render(&b));
+    }
+
+    /// Polygons are split into fans; faces of zero area are left out, counted and
+    /// warned about.
+    #[test]
+    fn polygons_are_fans_and_flat_faces_are_left_out() {
+        let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 2 0\nf 1 2 3 4\nf 1 3 5\n";
+        let mesh = "[[mesh]]\nobj = \"q.obj\"\nmaterial = \"m\"\n";
+        let d = load(&scene(mesh), &[("q.obj", obj)]).unwrap();
+        assert_eq!(d.meshes[0].faces.len(), 2);
+        assert_eq!(d.meshes[0].degenerate, 1);
+        let w = file::warnings(&d);
+        assert!(
+            w.iter()
+                .any(|w| w.contains("mesh 1 (\"q.obj\"): 1 of its faces left out")),
+            "{w:?}"
+        );
+    }
+
+    /// Every problem names the scene file's line of the mesh, the OBJ file and,
+    /// for bad OBJ text, its line.
+    #[test]
+    fn bad_meshes_are_clear_errors() {
+        let mesh = |extra: &str| {
+            scene(&format!(
+                "# a comment\n[[mesh]]\nobj = \"x.obj\"\nmaterial = \"m\"\n{extra}"
+            ))
+        };
+        let line = mesh("").lines().position(|l| l == "[[mesh]]").unwrap() + 1;
+        type Case<'a> = (String, &'a [(&'a str, &'a str)], &'a str);
+        let cases: [Case; 7] = [
+            (mesh(""), &[], "x.obj: cannot read the OBJ file"),
+            (
+                mesh(""),
+                &[("x.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n")],
+                "x.obj:4: not a valid OBJ file",
+            ),
+            (
+                mesh(""),
+                &[("x.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n")],
+                "x.obj:3: not a valid OBJ file: face vertex index out of bounds",
+            ),
+            (
+                mesh(""),
+                &[("x.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")],
+                "no face to render (1 degenerate faces left out)",
+            ),
+            (
+                mesh("scale = 0\n"),
+                &[("x.obj", "v 0 0 0\n")],
+                "mesh scale must be finite and > 0, got 0",
+            ),
+            (
+                mesh("translate = [0, nan, 0]\n"),
+                &[("x.obj", "v 0 0 0\n")],
+                "mesh translate must be finite, got [0, NaN, 0]",
+            ),
+            (
+                mesh("scale = 1e39\n"),
+                &[("x.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")],
+                "face 1",
+            ),
+        ];
+        for (toml, objs, want) in cases {
+            let e = load(&toml, objs).unwrap_err();
+            let shown = e.to_string();
+            assert!(shown.contains(want), "{shown:?} lacks {want:?}");
+            assert!(shown.contains("mesh 1"), "{shown}");
+            assert_eq!(e.line, Some(line), "{shown}");
+        }
+    }
+
+    /// An unknown material and a mesh that overflows the triangle list are named.
+    #[test]
+    fn meshes_count_against_the_triangle_list() {
+        let unknown = "[[mesh]]\nobj = \"t.obj\"\nmaterial = \"nope\"\n";
+        let tri = ("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        let e = load(&scene(unknown), &[tri]).unwrap_err().to_string();
+        assert!(e.contains("mesh 1: unknown material \"nope\""), "{e}");
+        // 8,192 triangles fill the list; a mesh of 2 after 8,191 overflows it.
+        let mut obj = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+        obj += &"f 1 2 3\n".repeat(2);
+        let mesh = "[[mesh]]\nobj = \"big.obj\"\nmaterial = \"m\"\n";
+        let own = "[[triangle]]\nvertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\nmaterial = \"m\"\n"
+            .repeat(crate::desc::MAX_TRIANGLES - 1);
+        let e = load(&scene(&format!("{own}{mesh}")), &[("big.obj", &obj)])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(
+                "mesh 1: too many triangles: the scene holds at most 8192: the 2 faces \
+                 of big.obj come after 8191 triangles"
+            ),
+            "{e}"
+        );
+        // One triangle fewer of its own: exactly full.
+        let own = &own[own.find("\n[[triangle]]").unwrap() + 1..];
+        let fits = load(&scene(&format!("{own}{mesh}")), &[("big.obj", &obj)]);
+        assert!(fits.is_ok(), "{:?}", fits.err());
+    }
+
+    /// The OBJ text a scene reads is bounded, all meshes together; the budget
+    /// shrinks by each file read.
+    #[test]
+    fn obj_text_is_read_within_a_budget() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        std::fs::write(dir.path().join("t.obj"), text).unwrap();
+        let mesh = crate::desc::MeshDesc {
+            obj: "t.obj".into(),
+            material: "m".into(),
+            scale: 1.0,
+            translate: [0.0; 3],
+            faces: Vec::new(),
+            degenerate: 0,
+        };
+        let mut budget = 100;
+        assert!(super::read(&mesh, dir.path(), &mut budget).is_ok());
+        assert_eq!(budget, 100 - text.len());
+        let mut budget = 10;
+        let e = super::read(&mesh, dir.path(), &mut budget).unwrap_err();
+        assert!(
+            e.contains("more than the limit of 10 bytes")
+                && e.contains("what is left of the 64 MiB that the OBJ files of a scene may take"),
+            "{e}"
+        );
+    }
+
+    /// `parse` reads OBJ paths from the current folder, `load` from the scene
+    /// file's: the same scene text finds its mesh only next to its file.
+    #[test]
+    fn obj_paths_are_relative_to_the_scene_file() {
+        let text = scene("[[mesh]]\nobj = \"only-here-4f2a.obj\"\nmaterial = \"m\"\n");
+        let tri = ("only-here-4f2a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        assert!(load(&text, &[tri]).is_ok());
+        let e = file::parse(&text, "t.toml").unwrap_err().to_string();
+        assert!(
+            e.contains("only-here-4f2a.obj: cannot read the OBJ file"),
+            "{e}"
+        );
+    }
+}
