@@ -20,6 +20,10 @@
 //!   part (see [`shadow_meets`]): much tighter for a floor than a capsule. A plane
 //!   blocks only if the light and some other visible point lie on opposite sides.
 //!
+//! A scene whose triangles are searched through a BVH (`SceneView::with_bvh`)
+//! builds no lists: its rays all search the whole scene, the triangles through the
+//! BVH (module `bvh`).
+//!
 //! Reflected and refracted rays can go anywhere: they test every primitive, except
 //! the triangles when they miss the triangles' [`Hull`] (a box around them all). (A
 //! per-frame bound for spheres, planes and boxes did not pay on the built-in scenes:
@@ -194,6 +198,10 @@ impl TileLists<'_> {
         }
         for l in &mut self.shadow {
             l.clear();
+        }
+        // A scene searched through a BVH has no lists: every ray searches it.
+        if view.bvh.is_some() {
+            return Picks::default();
         }
         let Some(f) = Frustum::new(basis, x0, y0, x1, y1) else {
             return Picks::default();

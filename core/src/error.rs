@@ -90,6 +90,8 @@ pub enum List {
     Boxes,
     Materials,
     Lights,
+    /// The nodes of a [`crate::Bvh`].
+    BvhNodes,
 }
 
 impl List {
@@ -103,6 +105,7 @@ impl List {
             Self::Boxes => "boxes",
             Self::Materials => "materials",
             Self::Lights => "lights",
+            Self::BvhNodes => "BVH nodes",
         }
     }
 }
@@ -144,6 +147,9 @@ pub enum Error {
     },
     /// A triangle's three vertices are collinear (zero area).
     DegenerateTriangle,
+    /// A [`crate::Bvh`] given to a scene view was not built from that scene's
+    /// triangles (or not since they changed).
+    BvhMismatch,
     /// A box's min corner is above its max corner on some axis.
     InvertedBox,
     /// The recursion depth asked for is above [`crate::MAX_DEPTH`].
@@ -189,6 +195,9 @@ impl fmt::Display for Error {
                 list.name()
             ),
             Self::DegenerateTriangle => f.write_str("triangle vertices are collinear (zero area)"),
+            Self::BvhMismatch => {
+                f.write_str("the BVH was not built from this scene's triangles (build it again)")
+            }
             Self::InvertedBox => f.write_str("box min corner must be <= max corner on every axis"),
             Self::DepthTooLarge { depth } => write!(
                 f,

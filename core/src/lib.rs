@@ -46,6 +46,7 @@
 // The public API is the re-exports below (and the built-in scenes): the modules
 // are private, so what a firmware author sees in `tessera::` is what they use.
 pub mod builtin;
+mod bvh;
 mod camera;
 mod color;
 mod cull;
@@ -65,6 +66,7 @@ mod tile;
 mod trace;
 mod vec;
 
+pub use bvh::{Bvh, CROSSOVER as BVH_CROSSOVER};
 pub use camera::{Camera, CameraBasis, Viewport};
 pub use color::{Color, Rgb8};
 pub use display::{Rendering, draw_tile};

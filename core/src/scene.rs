@@ -296,6 +296,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             secondary: self.materials.iter().any(Material::sends_rays),
             tile_lists: crate::cull::lend::<S, P, T, B>,
             triangle_hull: crate::cull::Hull::new(self.triangle_bounds.0, self.triangle_bounds.1),
+            bvh: None,
         }
     }
 }
@@ -319,6 +320,8 @@ pub struct SceneView<'a> {
     pub(crate) tile_lists: crate::cull::Lender,
     /// The hull of the triangles (`None` for an empty list).
     pub(crate) triangle_hull: Option<crate::cull::Hull>,
+    /// The triangles' hierarchy, when it pays ([`SceneView::with_bvh`]).
+    pub(crate) bvh: Option<crate::bvh::BvhView<'a>>,
 }
 
 impl core::fmt::Debug for SceneView<'_> {
@@ -347,8 +350,62 @@ impl<'a> SceneView<'a> {
         Self {
             tile_lists: crate::cull::lend_none,
             triangle_hull: None,
+            bvh: None,
             ..*self
         }
+    }
+
+    /// The same view, its triangles found through `bvh` when there are at least
+    /// [`crate::bvh::CROSSOVER`] of them (below, the flat list costs less and the
+    /// view is returned as it is). The image is the same bytes either way.
+    ///
+    /// # Errors
+    /// [`Error::BvhMismatch`] when `bvh` was not built from these triangles.
+    pub fn with_bvh<const N: usize, const T: usize>(
+        &self,
+        bvh: &'a crate::Bvh<N, T>,
+    ) -> Result<Self, Error> {
+        if bvh.triangle_count() != self.triangles.len()
+            || bvh.key() != crate::bvh::key(self.triangles)
+        {
+            return Err(Error::BvhMismatch);
+        }
+        let pays = self.triangles.len() >= crate::bvh::CROSSOVER;
+        Ok(Self {
+            bvh: pays.then(|| bvh.view()),
+            ..*self
+        })
+    }
+
+    /// True when the triangles are found through a BVH ([`SceneView::with_bvh`]).
+    #[must_use]
+    pub fn uses_bvh(&self) -> bool {
+        self.bvh.is_some()
+    }
+
+    /// [`SceneView::with_bvh`] whatever the number of triangles (a test hook, with
+    /// the feature `testing`: the tests compare every scene with and without one).
+    ///
+    /// # Errors
+    /// As [`SceneView::with_bvh`].
+    #[cfg(feature = "testing")]
+    pub fn with_bvh_always<const N: usize, const T: usize>(
+        &self,
+        bvh: &'a crate::Bvh<N, T>,
+    ) -> Result<Self, Error> {
+        let v = self.with_bvh(bvh)?;
+        Ok(Self {
+            bvh: Some(bvh.view()),
+            ..v
+        })
+    }
+
+    /// The same view without its BVH: the flat lists (a test hook, with the feature
+    /// `testing`).
+    #[cfg(feature = "testing")]
+    #[must_use]
+    pub fn without_bvh(&self) -> Self {
+        Self { bvh: None, ..*self }
     }
 
     /// The spheres.

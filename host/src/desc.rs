@@ -29,6 +29,28 @@ pub const MAX_LIGHTS: usize = 64;
 pub type HostScene =
     Scene<MAX_SPHERES, MAX_PLANES, MAX_TRIANGLES, MAX_BOXES, MAX_MATERIALS, MAX_LIGHTS>;
 
+/// A BVH for the host scene's triangles (`2 T` nodes: always enough).
+pub type HostBvh = tessera::Bvh<{ 2 * MAX_TRIANGLES }, MAX_TRIANGLES>;
+
+/// Runs `f` with the view of `scene`, its triangles through a BVH when there are
+/// enough of them for it to pay ([`tessera::SceneView::with_bvh`]).
+pub fn with_view<R>(scene: &HostScene, f: impl FnOnce(&tessera::SceneView<'_>) -> R) -> R {
+    let view = scene.view();
+    if view.triangles().len() < tessera::BVH_CROSSOVER {
+        return f(&view);
+    }
+    let mut bvh = Box::new(HostBvh::new());
+    // Cannot fail: the capacities are the scene's, and 2 T nodes always suffice;
+    // if it did, the flat lists render the same image.
+    match bvh
+        .build(view.triangles())
+        .and_then(|()| view.with_bvh(&bvh))
+    {
+        Ok(v) => f(&v),
+        Err(_) => f(&view),
+    }
+}
+
 /// The lists of a scene file, by the name of their `[[...]]` sections, with their
 /// capacity and the core's name for them.
 pub const LISTS: [(&str, usize, List); 6] = [

@@ -1,8 +1,10 @@
-//! Case 3: watertightness of a non-planar fan and of a closed icosphere.
+//! Case 3: watertightness of a non-planar fan and of a closed icosphere, each
+//! triangle on its own and through a scene's BVH (`Bvh`: its grown node boxes and
+//! its traversal must lose no ray the triangles hit).
 
 use super::{INF, Rng, V3, V3Ext, exact_ray, ray_towards, show};
 use tessera::testing::Shape;
-use tessera::{Ray, Triangle, Vec3};
+use tessera::{Bvh, Camera, Color, Material, Ray, Scene, SceneView, Triangle, Vec3};
 
 /// Figures of one watertightness configuration.
 #[derive(Clone, Debug, Default)]
@@ -17,9 +19,33 @@ pub struct Watertight {
     pub leaks: usize,
 }
 
-fn leaks(mesh: &[Triangle], ray: &Ray) -> bool {
+/// The scene a mesh is put in to be searched through a BVH.
+type MeshScene = Scene<0, 0, 2048, 0, 1, 0>;
+/// Its BVH.
+type MeshBvh = Bvh<4096, 2048>;
+
+/// The mesh as the triangles of a scene, and their BVH.
+fn through_bvh(mesh: &[Triangle]) -> (Box<MeshScene>, Box<MeshBvh>) {
+    let cam =
+        Camera::look_at(Vec3::new(0.0, 0.0, 1.0), Vec3::ZERO, Vec3::Y, 0.1, 10.0).expect("camera");
+    let mut scene = Box::new(MeshScene::new(cam));
+    let m = scene
+        .add_material(Material::matte(Color::WHITE))
+        .expect("material");
+    for t in mesh {
+        scene.add_triangle(*t, m).expect("capacity");
+    }
+    let mut bvh = Box::new(MeshBvh::new());
+    bvh.build(scene.view().triangles()).expect("bvh");
+    (scene, bvh)
+}
+
+/// A leak: no triangle reports a hit, with `intersect` or `occluded` one by one,
+/// or with the scene's search through the BVH (`view`).
+fn leaks(mesh: &[Triangle], view: &SceneView<'_>, ray: &Ray) -> bool {
     !mesh.iter().any(|t| t.intersect(ray, INF).is_some())
         || !mesh.iter().any(|t| t.occluded(ray, INF))
+        || view.first_hit(ray, INF).is_none()
 }
 
 /// Case 3, fans: a non-planar fan of 7 triangles around `center` (ring radius about
@@ -51,6 +77,8 @@ pub fn fan(center: Vec3, radius: f64, rays_per_target: usize) -> Watertight {
             (b - a).cross(d - a).normalize()
         })
         .collect();
+    let (scene, bvh) = through_bvh(&mesh);
+    let view = scene.view().with_bvh_always(&bvh).expect("the mesh's BVH");
     let mut targets = vec![(c, normals.clone())];
     for (i, v) in ring.iter().enumerate() {
         let around = vec![normals[i], normals[(i + 6) % 7]];
@@ -76,7 +104,7 @@ pub fn fan(center: Vec3, radius: f64, rays_per_target: usize) -> Watertight {
                 continue;
             };
             out.rays += 1;
-            out.leaks += usize::from(leaks(&mesh, &ray));
+            out.leaks += usize::from(leaks(&mesh, &view, &ray));
         }
     }
     out
@@ -156,6 +184,8 @@ pub fn icosphere_leaks(center: Vec3, radius: f64, level: u32, random: usize) -> 
         .iter()
         .map(|&[a, b, d]| Triangle::try_new(verts[a], verts[b], verts[d]).expect("face"))
         .collect();
+    let (scene, bvh) = through_bvh(&mesh);
+    let view = scene.view().with_bvh_always(&bvh).expect("the mesh's BVH");
     let mut targets: Vec<V3> = verts.iter().map(|&p| V3::of(p)).collect();
     for &[a, b, d] in &faces {
         let (pa, pb, pd) = (V3::of(verts[a]), V3::of(verts[b]), V3::of(verts[d]));
@@ -185,7 +215,7 @@ pub fn icosphere_leaks(center: Vec3, radius: f64, level: u32, random: usize) -> 
             .chain((0..random).map(|_| exact_ray(o, rng.dir().f32())));
         for ray in rays {
             out.rays += 1;
-            out.leaks += usize::from(leaks(&mesh, &ray));
+            out.leaks += usize::from(leaks(&mesh, &view, &ray));
         }
     }
     out
