@@ -94,10 +94,11 @@ run cargo fw-core --features fast-math
 # calls an undefined symbol: the link fails ("undefined symbol:
 # tessera_nopanic__a_panic_is_reachable_from_the_render_path") if any panic is
 # reachable from the render path. Then one run under qemu: every render returned Ok.
-say "no panic reachable on the Cortex-M4F (tests/nopanic links), both backends"
-for backend in exact fast-math; do
+say "no panic reachable on the Cortex-M4F (tests/nopanic links): exact, fast-math, and with the BVH search linked"
+for backend in exact fast-math bvh; do
   features=()
   [ "$backend" = fast-math ] && features=(--features fast-math)
+  [ "$backend" = bvh ] && features=(--features bvh)
   run cargo build --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
   run cargo run -q --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
 done

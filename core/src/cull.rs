@@ -200,6 +200,7 @@ impl TileLists<'_> {
             l.clear();
         }
         // A scene searched through a BVH has no lists: every ray searches it.
+        #[cfg(feature = "bvh")]
         if view.bvh.is_some() {
             return Picks::default();
         }

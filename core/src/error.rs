@@ -90,7 +90,7 @@ pub enum List {
     Boxes,
     Materials,
     Lights,
-    /// The nodes of a [`crate::Bvh`].
+    /// The nodes of a bounding volume hierarchy (`Bvh`, feature `bvh`).
     BvhNodes,
 }
 
@@ -147,7 +147,7 @@ pub enum Error {
     },
     /// A triangle's three vertices are collinear (zero area).
     DegenerateTriangle,
-    /// A [`crate::Bvh`] given to a scene view was not built from that scene's
+    /// A `Bvh` (feature `bvh`) given to a scene view was not built from that scene's
     /// triangles (or not since they changed).
     BvhMismatch,
     /// A box's min corner is above its max corner on some axis.

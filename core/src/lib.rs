@@ -46,6 +46,7 @@
 // The public API is the re-exports below (and the built-in scenes): the modules
 // are private, so what a firmware author sees in `tessera::` is what they use.
 pub mod builtin;
+#[cfg(feature = "bvh")]
 mod bvh;
 mod camera;
 mod color;
@@ -66,6 +67,7 @@ mod tile;
 mod trace;
 mod vec;
 
+#[cfg(feature = "bvh")]
 pub use bvh::{Bvh, CROSSOVER as BVH_CROSSOVER};
 pub use camera::{Camera, CameraBasis, Viewport};
 pub use color::{Color, Rgb8};

@@ -296,6 +296,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             secondary: self.materials.iter().any(Material::sends_rays),
             tile_lists: crate::cull::lend::<S, P, T, B>,
             triangle_hull: crate::cull::Hull::new(self.triangle_bounds.0, self.triangle_bounds.1),
+            #[cfg(feature = "bvh")]
             bvh: None,
         }
     }
@@ -321,6 +322,7 @@ pub struct SceneView<'a> {
     /// The hull of the triangles (`None` for an empty list).
     pub(crate) triangle_hull: Option<crate::cull::Hull>,
     /// The triangles' hierarchy, when it pays ([`SceneView::with_bvh`]).
+    #[cfg(feature = "bvh")]
     pub(crate) bvh: Option<crate::bvh::BvhView<'a>>,
 }
 
@@ -350,6 +352,7 @@ impl<'a> SceneView<'a> {
         Self {
             tile_lists: crate::cull::lend_none,
             triangle_hull: None,
+            #[cfg(feature = "bvh")]
             bvh: None,
             ..*self
         }
@@ -361,6 +364,7 @@ impl<'a> SceneView<'a> {
     ///
     /// # Errors
     /// [`Error::BvhMismatch`] when `bvh` was not built from these triangles.
+    #[cfg(feature = "bvh")]
     pub fn with_bvh<const N: usize, const T: usize>(
         &self,
         bvh: &'a crate::Bvh<N, T>,
@@ -378,6 +382,7 @@ impl<'a> SceneView<'a> {
     }
 
     /// True when the triangles are found through a BVH ([`SceneView::with_bvh`]).
+    #[cfg(feature = "bvh")]
     #[must_use]
     pub fn uses_bvh(&self) -> bool {
         self.bvh.is_some()
@@ -388,6 +393,7 @@ impl<'a> SceneView<'a> {
     ///
     /// # Errors
     /// As [`SceneView::with_bvh`].
+    #[cfg(feature = "bvh")]
     #[cfg(feature = "testing")]
     pub fn with_bvh_always<const N: usize, const T: usize>(
         &self,
@@ -402,6 +408,7 @@ impl<'a> SceneView<'a> {
 
     /// The same view without its BVH: the flat lists (a test hook, with the feature
     /// `testing`).
+    #[cfg(feature = "bvh")]
     #[cfg(feature = "testing")]
     #[must_use]
     pub fn without_bvh(&self) -> Self {

@@ -20,9 +20,8 @@
 //! the searches skip it ([`Skip`]), which saves a test that could only answer "no"
 //! in exact arithmetic (and that rounding must never turn into a "yes").
 
-use crate::bvh::{BvhView, DEPTH};
 use crate::color::Color;
-use crate::cull::{Hull, MARGIN};
+use crate::cull::Hull;
 use crate::geometry::triangle::{Axes, Shear, with_axes};
 use crate::geometry::{Candidate, Geom, Locate, Surface, aabb_inverse};
 use crate::material::Material;
@@ -61,7 +60,7 @@ impl Skip {
 
     /// The index to skip in list `kind` (`usize::MAX`, never an index, if none).
     #[inline(always)]
-    fn index(self, kind: Kind) -> usize {
+    pub(crate) fn index(self, kind: Kind) -> usize {
         if self != Self::NONE && self.0 >> 30 == kind as u32 {
             (self.0 & ((1 << 30) - 1)) as usize
         } else {
@@ -244,60 +243,19 @@ impl SceneView<'_> {
     /// [`SceneView::nearest_in`] with their lists).
     #[inline(never)]
     pub(crate) fn nearest(&self, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
-        match self.bvh {
-            Some(bvh) => self.nearest_through(ray, t_max, &bvh, skip),
-            None => self.nearest_flat(ray, t_max, skip),
+        #[cfg(feature = "bvh")]
+        if let Some(bvh) = self.bvh {
+            return self.nearest_through(ray, t_max, &bvh, skip);
         }
+        self.nearest_flat(ray, t_max, skip)
     }
 
-    /// [`SceneView::nearest`] without a BVH, out of line on its own (as
-    /// [`SceneView::occluded_flat`]).
-    #[inline(never)]
-    fn nearest_flat(&self, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
+    /// [`SceneView::nearest`] without a BVH: out of line on its own with the
+    /// feature `bvh` (the searches through a BVH reuse it), inlined without.
+    #[cfg_attr(feature = "bvh", inline(never))]
+    #[cfg_attr(not(feature = "bvh"), inline(always))]
+    pub(crate) fn nearest_flat(&self, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
         self.nearest_in(ray, t_max, Every, skip)
-    }
-
-    /// The view without its triangles: what a scene with a BVH searches with the
-    /// flat functions (the same instantiations: a search of its own for the other
-    /// kinds made the compiler inline the flat searches differently, at 3% more
-    /// instructions on the chip for scenes without a BVH).
-    fn others(&self) -> Self {
-        SceneView {
-            triangles: &[],
-            triangle_hull: None,
-            bvh: None,
-            ..*self
-        }
-    }
-
-    /// [`SceneView::nearest`] of a scene with a BVH: the other kinds as the flat
-    /// search does, then the triangles through the BVH, with the flat search's
-    /// precedence at equal times (it visits spheres, planes, triangles, boxes, a
-    /// later kind replacing only a strictly nearer hit): a triangle at the time of
-    /// a box replaces it, at the time of a sphere or a plane does not.
-    #[inline(never)]
-    fn nearest_through(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        bvh: &BvhView<'_>,
-        skip: Skip,
-    ) -> Option<Nearest> {
-        let best = self.others().nearest_flat(ray, t_max, skip);
-        let (t, box_first) = match &best {
-            Some(n) => (n.hit.t, n.kind == Kind::Box),
-            None => (t_max, false),
-        };
-        let inv = aabb_inverse(ray.dir);
-        let mag = ray.origin.abs().max_element();
-        match bvh_nearest(bvh, self.triangles, ray, (inv, mag), skip, t, box_first) {
-            Some((index, hit)) => Some(Nearest {
-                kind: Kind::Triangle,
-                index,
-                hit,
-            }),
-            None => best,
-        }
     }
 
     /// The nearest hit of `ray` with `0 < t < t_max` among the candidates `src`,
@@ -372,28 +330,18 @@ impl SceneView<'_> {
     /// small.
     #[inline(never)]
     pub(crate) fn occluded(&self, ray: &Ray, t_max: f32, skip: Skip) -> bool {
-        match self.bvh {
-            Some(bvh) => self.occluded_through(ray, t_max, &bvh, skip),
-            None => self.occluded_flat(ray, t_max, skip),
+        #[cfg(feature = "bvh")]
+        if let Some(bvh) = self.bvh {
+            return self.occluded_through(ray, t_max, &bvh, skip);
         }
+        self.occluded_flat(ray, t_max, skip)
     }
 
-    /// [`SceneView::occluded`] without a BVH, out of line on its own.
-    #[inline(never)]
-    fn occluded_flat(&self, ray: &Ray, t_max: f32, skip: Skip) -> bool {
+    /// [`SceneView::occluded`] without a BVH (as [`SceneView::nearest_flat`]).
+    #[cfg_attr(feature = "bvh", inline(never))]
+    #[cfg_attr(not(feature = "bvh"), inline(always))]
+    pub(crate) fn occluded_flat(&self, ray: &Ray, t_max: f32, skip: Skip) -> bool {
         self.occluded_in(ray, t_max, Every, skip)
-    }
-
-    /// [`SceneView::occluded`] of a scene with a BVH (as
-    /// [`SceneView::nearest_through`]).
-    #[inline(never)]
-    fn occluded_through(&self, ray: &Ray, t_max: f32, bvh: &BvhView<'_>, skip: Skip) -> bool {
-        if self.others().occluded_flat(ray, t_max, skip) {
-            return true;
-        }
-        let inv = aabb_inverse(ray.dir);
-        let mag = ray.origin.abs().max_element();
-        bvh_any(bvh, self.triangles, ray, (inv, mag), skip, t_max)
     }
 
     /// [`SceneView::occluded`] among a tile's shadow lists for one light.
@@ -472,216 +420,6 @@ fn nearest_triangle<A: Axes, S: Candidates>(
         }
         false
     });
-}
-
-/// What the BVH traversal needs of a ray: its origin, its reciprocal direction and
-/// the clearance its nodes are grown by (see the module `bvh`).
-struct Probe {
-    origin: Vec3,
-    inv: Vec3,
-    clear: f32,
-}
-
-/// Calls `leaf(entries)` for the triangles (entries of `bvh.order`) of every leaf
-/// whose grown box the ray may pass through before `t_max()` (read again before
-/// each node: a search narrows it), nearer child first; stops when `leaf` returns
-/// true and returns it.
-#[inline(always)]
-fn bvh_walk(
-    bvh: &BvhView<'_>,
-    at: &Probe,
-    t_max: impl Fn() -> f32,
-    mut leaf: impl FnMut(&[u16]) -> bool,
-) -> bool {
-    let mut stack = [0u16; DEPTH];
-    let mut top = 0;
-    let mut node = 0usize;
-    // A node is visited at most once: a bounded loop (which also lets the compiler
-    // see that the search returns, and so treat its callers as before).
-    for _ in 0..bvh.nodes.len() {
-        if let Some(n) = bvh.nodes.get(node)
-            && n.may_hit(at.origin, at.inv, at.clear, t_max())
-        {
-            if n.count == 0 {
-                let first = n.first;
-                // The child on the side the ray comes from first (a negative
-                // direction has a negative reciprocal, -0 included).
-                let positive = match n.axis {
-                    0 => at.inv.x >= 0.0,
-                    1 => at.inv.y >= 0.0,
-                    _ => at.inv.z >= 0.0,
-                };
-                let (near, far) = if positive {
-                    (first, first.wrapping_add(1))
-                } else {
-                    (first.wrapping_add(1), first)
-                };
-                // The stack holds at most one far child per level above the
-                // current node, and the build keeps every node above depth
-                // `DEPTH`: it never fills. (If it did, only the far child would be
-                // searched: never reached, the arm only keeps the walk total.)
-                match stack.get_mut(top) {
-                    Some(slot) => {
-                        *slot = far;
-                        top += 1;
-                        node = usize::from(near);
-                    }
-                    None => node = usize::from(far),
-                }
-                continue;
-            }
-            let start = usize::from(n.first);
-            let entries = bvh
-                .order
-                .get(start..start + usize::from(n.count))
-                .unwrap_or(&[]);
-            if leaf(entries) {
-                return true;
-            }
-        }
-        if top == 0 {
-            return false;
-        }
-        top -= 1;
-        node = stack.get(top).map_or(usize::MAX, |&n| usize::from(n));
-    }
-    false
-}
-
-impl Probe {
-    /// The probe of `ray` (reciprocal direction `inv`, largest origin component
-    /// `mag`) for `bvh`.
-    fn new(bvh: &BvhView<'_>, ray: &Ray, inv: Vec3, mag: f32) -> Self {
-        Self {
-            origin: ray.origin,
-            inv,
-            clear: MARGIN * (mag + bvh.reach),
-        }
-    }
-}
-
-/// The nearest triangle hit nearer than `t` through the BVH (but `skip`): its
-/// index and candidate. Out of line, so that the flat searches compile as they
-/// did without a BVH.
-/// `box_first`: the hit at `t` is a box's, which a triangle at the same time
-/// replaces.
-#[inline(always)]
-fn bvh_nearest(
-    bvh: &BvhView<'_>,
-    list: &[Primitive<crate::geometry::Triangle>],
-    ray: &Ray,
-    (inv, mag): (Vec3, f32),
-    skip: Skip,
-    t: f32,
-    box_first: bool,
-) -> Option<(usize, Candidate)> {
-    let shear = Shear::new(ray);
-    let at = Probe::new(bvh, ray, inv, mag);
-    let sk = skip.index(Kind::Triangle);
-    let mut t = t;
-    let mut found = None;
-    let mut keep = |i, h: Candidate, t: &mut f32| {
-        *t = h.t;
-        found = Some((i, h));
-    };
-    with_axes!(shear.axes, A => bvh_nearest_in::<A>(bvh, list, &at, &shear, sk, box_first, &mut t, &mut keep), ());
-    found
-}
-
-/// True when a triangle but `skip` blocks `ray` before `t_max`, through the BVH
-/// (out of line, as [`bvh_nearest`]).
-#[inline(always)]
-fn bvh_any(
-    bvh: &BvhView<'_>,
-    list: &[Primitive<crate::geometry::Triangle>],
-    ray: &Ray,
-    (inv, mag): (Vec3, f32),
-    skip: Skip,
-    t_max: f32,
-) -> bool {
-    let shear = Shear::new(ray);
-    let at = Probe::new(bvh, ray, inv, mag);
-    let sk = skip.index(Kind::Triangle);
-    with_axes!(shear.axes, A => bvh_any_in::<A>(bvh, list, &at, &shear, sk, t_max), false)
-}
-
-/// The nearest triangle hit through the BVH, keeping the smallest `(t, index)`
-/// (the flat search's tie rule, see the module `bvh`): `keep` is called for each
-/// better hit, as in [`nearest_triangle`].
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn bvh_nearest_in<A: Axes>(
-    bvh: &BvhView<'_>,
-    list: &[Primitive<crate::geometry::Triangle>],
-    at: &Probe,
-    shear: &Shear,
-    skip: usize,
-    box_first: bool,
-    t: &mut f32,
-    keep: &mut impl FnMut(usize, Candidate, &mut f32),
-) {
-    // The index of the best triangle so far (`usize::MAX`: none; the best hit is
-    // then a box, which a triangle at the same time replaces, or a sphere or a
-    // plane, which it does not).
-    let mut best = usize::MAX;
-    let cell = core::cell::Cell::new(*t);
-    bvh_walk(
-        bvh,
-        at,
-        || cell.get(),
-        |entries| {
-            for &e in entries {
-                let i = usize::from(e);
-                if i == skip {
-                    continue;
-                }
-                let now = cell.get();
-                let tie = if best == usize::MAX {
-                    box_first
-                } else {
-                    i < best
-                };
-                let limit = if tie { now.next_up() } else { now };
-                if let Some(g) = list.get(i)
-                    && let Some(h) = g.geometry.hit_with::<A>(shear, limit)
-                {
-                    let mut nt = now;
-                    keep(i, h, &mut nt);
-                    cell.set(nt);
-                    best = i;
-                }
-            }
-            false
-        },
-    );
-    *t = cell.get();
-}
-
-/// True when a triangle other than `skip` blocks the ray before `t_max`, through
-/// the BVH.
-#[inline(always)]
-fn bvh_any_in<A: Axes>(
-    bvh: &BvhView<'_>,
-    list: &[Primitive<crate::geometry::Triangle>],
-    at: &Probe,
-    shear: &Shear,
-    skip: usize,
-    t_max: f32,
-) -> bool {
-    bvh_walk(
-        bvh,
-        at,
-        || t_max,
-        |entries| {
-            entries.iter().any(|&e| {
-                let i = usize::from(e);
-                i != skip
-                    && list
-                        .get(i)
-                        .is_some_and(|g| g.geometry.hit_with::<A>(shear, t_max).is_some())
-            })
-        },
-    )
 }
 
 /// The chapter's hit, resolved from the nearest [`Candidate`] (time `hit.t`): the

@@ -742,9 +742,9 @@ fn a_wrong_figure_fails() {
         ("needs 1,320 to", "needs 1,456 to", "1,456"),
         ("(1.3 to 1.9 KiB)", "(1.5 to 1.8 KiB)", "1.5"),
         (
-            "Flash 308,728 bytes (301.5 KiB",
-            "Flash 308,728 bytes (30.5 KiB",
-            "30.5",
+            "Flash 308,812 bytes (301.6 KiB",
+            "Flash 308,812 bytes (30.6 KiB",
+            "30.6",
         ),
         (
             "FLIP 0.044 on the default",
