@@ -56,6 +56,24 @@ pub const LEAF: usize = 4;
 /// [`SceneView::with_bvh`]: crate::SceneView::with_bvh
 pub const CROSSOVER: usize = 100;
 
+/// Node tests and searches through a BVH so far (feature `testing` only).
+#[cfg(feature = "testing")]
+static VISITS: (
+    core::sync::atomic::AtomicUsize,
+    core::sync::atomic::AtomicUsize,
+) = (
+    core::sync::atomic::AtomicUsize::new(0),
+    core::sync::atomic::AtomicUsize::new(0),
+);
+
+/// `(node tests, searches)` through BVHs since the program started (all threads).
+#[cfg(feature = "testing")]
+#[must_use]
+pub fn visits() -> (usize, usize) {
+    use core::sync::atomic::Ordering::Relaxed;
+    (VISITS.0.load(Relaxed), VISITS.1.load(Relaxed))
+}
+
 /// The largest index a node's `u16` fields hold, plus one.
 const INDEXABLE: usize = 1 << 16;
 
@@ -503,7 +521,11 @@ fn bvh_walk(
     let mut node = 0usize;
     // A node is visited at most once: a bounded loop (which also lets the compiler
     // see that the search returns, and so treat its callers as before).
+    #[cfg(feature = "testing")]
+    VISITS.1.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
     for _ in 0..bvh.nodes.len() {
+        #[cfg(feature = "testing")]
+        VISITS.0.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
         if let Some(n) = bvh.nodes.get(node)
             && n.may_hit(at.origin, at.inv, at.clear, t_max())
         {

@@ -90,6 +90,10 @@ pub use vec::Vec3;
 #[cfg(feature = "testing")]
 #[doc(hidden)]
 pub mod testing {
+    /// How many BVH nodes the searches have tested so far, and how many searches
+    /// went through a BVH (the BVH's cost per ray; counted only with this feature).
+    #[cfg(feature = "bvh")]
+    pub use crate::bvh::visits;
     pub use crate::geometry::{Candidate, Shape, Surface};
     pub use crate::ray::offset_origin;
     pub use crate::shade::refract;
