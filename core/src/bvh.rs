@@ -91,8 +91,10 @@ pub(crate) struct Node {
     pub(crate) axis: u16,
 }
 
-/// A bounding volume hierarchy over at most `T` triangles in at most `N` nodes
-/// (`2 T` is always enough; about `T / 2` usually is). Build it with
+/// A bounding volume hierarchy over at most `T` triangles (and 65,535) in at most
+/// `N` nodes (and 65,536): `2 T` nodes are always enough up to 32,767 triangles;
+/// beyond, a build that splits down to single triangles may need more than 65,536
+/// and fails (the view then keeps the flat lists). Build it with
 /// [`Bvh::build`] from the triangles of a scene, then give it to the scene's view
 /// with [`SceneView::with_bvh`](crate::SceneView::with_bvh).
 ///
@@ -217,11 +219,12 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
         if n == 0 {
             return Ok(());
         }
+        // A node's count is a u16: at most 65,535 triangles.
         let too_many = Error::CapacityExceeded {
             list: List::Triangles,
-            capacity: T.min(INDEXABLE),
+            capacity: T.min(INDEXABLE - 1),
         };
-        if n > T || n > INDEXABLE {
+        if n > T || n >= INDEXABLE {
             return Err(too_many);
         }
         for i in 0..n {
@@ -840,6 +843,18 @@ mod tests {
             })
         );
         assert_eq!(few.triangle_count(), 0);
+        // A node counts its triangles in a u16: 65,535 at most.
+        let many = std::vec![tri([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]); 65_536];
+        let mut huge: std::boxed::Box<Bvh<4, 70_000>> = std::boxed::Box::new(Bvh::new());
+        assert_eq!(
+            huge.build(&many),
+            Err(Error::CapacityExceeded {
+                list: List::Triangles,
+                capacity: 65_535
+            })
+        );
+        assert!(huge.build(&many[..65_535]).is_ok());
+        assert_eq!(huge.node_count(), 1);
         let same = std::vec![tri([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]); 9];
         let mut b: Bvh<20, 9> = Bvh::new();
         b.build(&same).unwrap();

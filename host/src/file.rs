@@ -232,16 +232,19 @@ fn parse_limited(
             let line = places.start(&item).map(|b| line_col(text, b).0);
             fail(ErrorKind::Invalid, line, None, Some(item), message)
         };
-        let (faces, degenerate) = crate::mesh::read(mesh, base, &mut budget).map_err(refuse)?;
-        if faces.len() > room {
-            return Err(refuse(format!(
-                "{}: the {} faces of {} come after {} triangles",
-                too_many(List::Triangles, MAX_TRIANGLES),
-                faces.len(),
-                mesh.obj,
-                MAX_TRIANGLES - room
-            )));
-        }
+        let (faces, degenerate) =
+            crate::mesh::read(mesh, base, &mut budget, room).map_err(|e| {
+                if e == crate::mesh::TOO_MANY {
+                    refuse(format!(
+                        "{}: the faces of {} come after {} triangles",
+                        too_many(List::Triangles, MAX_TRIANGLES),
+                        mesh.obj,
+                        MAX_TRIANGLES - room
+                    ))
+                } else {
+                    refuse(e)
+                }
+            })?;
         room -= faces.len();
         mesh.faces = faces;
         mesh.degenerate = degenerate;

@@ -11,20 +11,24 @@ use crate::desc::{Face, MeshDesc, core_triangle_of, num};
 use std::io::{BufRead, Read};
 use std::path::Path;
 
-/// The most OBJ text a scene reads, in bytes, all its meshes together: 64 MiB.
+/// The most OBJ text a scene reads, in bytes, all its meshes together: 16 MiB.
 /// The host's 8,192 triangles take about 1 MiB of OBJ text (with normals and
 /// texture coordinates, 3); the bound keeps a wrong path (a disk image, a device)
-/// or a file naming one large OBJ many times from being read at length.
-pub const MAX_OBJ_BYTES: usize = 64 << 20;
+/// or a file naming one large OBJ many times from being read at length, and the
+/// parser's memory (its index lists grow with the text: a face line of many
+/// vertices makes about one triangle every two bytes) near 100 MB.
+pub const MAX_OBJ_BYTES: usize = 16 << 20;
 
 /// The faces of `mesh`'s OBJ file (its path relative to `base`), scaled and
 /// moved, and how many degenerate faces were left out. At most `*budget` bytes of
-/// OBJ text are read, and the file's size is taken from it. The error names the
-/// file, and the line where the OBJ text is wrong.
+/// OBJ text are read, and the file's size is taken from it; more than `room` faces
+/// is an error as soon as the face past it is made. The error names the file, and
+/// the line where the OBJ text is wrong.
 pub fn read(
     mesh: &MeshDesc,
     base: &Path,
     budget: &mut usize,
+    room: usize,
 ) -> Result<(Vec<Face>, usize), String> {
     let finite = mesh.translate.iter().all(|x| x.is_finite());
     if !(mesh.scale.is_finite() && mesh.scale > 0.0) {
@@ -53,6 +57,19 @@ pub fn read(
         }
     })?;
     *budget -= text.len();
+    // Lines (`l`) and points (`p`) are no faces, but tobj reads them as faces:
+    // blanked (their line breaks kept, so that line numbers stay right).
+    let text: String = text
+        .split_inclusive('\n')
+        .map(|line| {
+            let word = line.split_whitespace().next().unwrap_or("");
+            if word == "l" || word == "p" {
+                &line[line.trim_end_matches(['\n', '\r']).len()..]
+            } else {
+                line
+            }
+        })
+        .collect();
     let mut reader = Consumed {
         rest: text.as_bytes(),
         at: 0,
@@ -66,9 +83,19 @@ pub fn read(
         Err(tobj::LoadError::OpenFileFailed)
     });
     let (models, _) = loaded.map_err(|e| {
-        // The line being parsed when tobj stopped: the last one consumed.
-        let done = text[..reader.at].trim_end_matches(['\n', '\r']);
-        let line = done.matches('\n').count() + 1;
+        // tobj checks face indices when an object ends (at `o`, `g`, `usemtl` or
+        // the end): the face at fault is found here; else the line being parsed
+        // when tobj stopped, the last one consumed.
+        let line = match e {
+            tobj::LoadError::FaceVertexOutOfBounds
+            | tobj::LoadError::FaceTexCoordOutOfBounds
+            | tobj::LoadError::FaceNormalOutOfBounds => first_bad_face(&text),
+            _ => None,
+        }
+        .unwrap_or_else(|| {
+            let done = text[..reader.at].trim_end_matches(['\n', '\r']);
+            done.matches('\n').count() + 1
+        });
         format!("{shown}:{line}: not a valid OBJ file: {e}")
     })?;
     let (mut faces, mut degenerate) = (Vec::new(), 0);
@@ -86,7 +113,8 @@ pub fn read(
             };
             let [Some(a), Some(b), Some(c)] = face else {
                 return Err(format!(
-                    "{shown}: object {:?}, face {}: a vertex index beyond the file's {} vertices",
+                    "{shown}: object {:?}, triangle {}: a vertex index beyond the object's \
+                     {} vertices",
                     model.name,
                     j + 1,
                     m.positions.len() / 3
@@ -95,6 +123,8 @@ pub fn read(
             let face = [a, b, c];
             if core_triangle_of(&face) == Err(tessera::Error::DegenerateTriangle) {
                 degenerate += 1;
+            } else if faces.len() == room {
+                return Err(TOO_MANY.to_string());
             } else {
                 faces.push(face);
             }
@@ -106,6 +136,42 @@ pub fn read(
         ));
     }
     Ok((faces, degenerate))
+}
+
+/// The error of [`read`] when the faces do not fit in `room`.
+pub const TOO_MANY: &str = "more faces than the triangle list has room for";
+
+/// The line of the first face (`f`) with a vertex, texture or normal index
+/// outside the elements defined before it (OBJ indices count from 1, or back
+/// from the last one when negative).
+fn first_bad_face(text: &str) -> Option<usize> {
+    let (mut v, mut vt, mut vn) = (0i64, 0i64, 0i64);
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => v += 1,
+            Some("vt") => vt += 1,
+            Some("vn") => vn += 1,
+            Some("f") => {
+                for w in words {
+                    for (k, part) in w.split('/').enumerate() {
+                        let count = [v, vt, vn].get(k).copied().unwrap_or(0);
+                        let ok = match part.parse::<i64>() {
+                            Ok(i) if i > 0 => i <= count,
+                            Ok(i) if i < 0 => i >= -count,
+                            Ok(_) => false,
+                            Err(_) => part.is_empty() && k > 0,
+                        };
+                        if !ok {
+                            return Some(n + 1);
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    None
 }
 
 /// The OBJ text as tobj reads it, remembering how far it got.
@@ -297,7 +363,7 @@ mod tests {
             .to_string();
         assert!(
             e.contains(
-                "mesh 1: too many triangles: the scene holds at most 8192: the 2 faces \
+                "mesh 1: too many triangles: the scene holds at most 8192: the faces \
                  of big.obj come after 8191 triangles"
             ),
             "{e}"
@@ -324,15 +390,75 @@ mod tests {
             degenerate: 0,
         };
         let mut budget = 100;
-        assert!(super::read(&mesh, dir.path(), &mut budget).is_ok());
+        assert!(super::read(&mesh, dir.path(), &mut budget, 10).is_ok());
         assert_eq!(budget, 100 - text.len());
         let mut budget = 10;
-        let e = super::read(&mesh, dir.path(), &mut budget).unwrap_err();
+        let e = super::read(&mesh, dir.path(), &mut budget, 10).unwrap_err();
         assert!(
             e.contains("more than the limit of 10 bytes")
-                && e.contains("what is left of the 64 MiB that the OBJ files of a scene may take"),
+                && e.contains("what is left of the 16 MiB that the OBJ files of a scene may take"),
             "{e}"
         );
+    }
+
+    /// OBJ lines (`l`) and points (`p`) are no faces (tobj would read them as
+    /// faces); the faces stop at the room left, at once.
+    #[test]
+    fn lines_and_points_are_not_faces_and_faces_stop_at_the_room_left() {
+        let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\nl 1 2 3\np 1 2 3\nf 1 2 3\nl 2 3 4\n";
+        let mesh = "[[mesh]]\nobj = \"l.obj\"\nmaterial = \"m\"\n";
+        let d = load(&scene(mesh), &[("l.obj", obj)]).unwrap();
+        assert_eq!(d.meshes[0].faces.len(), 1);
+        assert_eq!(d.meshes[0].degenerate, 0);
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("two.obj"),
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n",
+        )
+        .unwrap();
+        let two = crate::desc::MeshDesc {
+            obj: "two.obj".into(),
+            material: "m".into(),
+            scale: 1.0,
+            translate: [0.0; 3],
+            faces: Vec::new(),
+            degenerate: 0,
+        };
+        let mut budget = super::MAX_OBJ_BYTES;
+        assert_eq!(
+            super::read(&two, dir.path(), &mut budget, 2).map(|f| f.0.len()),
+            Ok(2)
+        );
+        assert_eq!(
+            super::read(&two, dir.path(), &mut budget, 1)
+                .err()
+                .as_deref(),
+            Some(super::TOO_MANY)
+        );
+    }
+
+    /// A face index out of range is reported at the face's line, though tobj finds
+    /// it only when the object ends; a hostile index does not panic.
+    #[test]
+    fn index_errors_name_the_face_line() {
+        let mesh = "[[mesh]]\nobj = \"x.obj\"\nmaterial = \"m\"\n";
+        for (obj, line) in [
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\ng a\nf 1 2 3\n", 4),
+            ("v 0 0 0\nv 1 0 0\nf 1 2 9\nv 0 1 0\nv 1 1 0\n# end\n", 3),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", 4),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/-9223372036854775807 2 3\n",
+                5,
+            ),
+        ] {
+            let e = load(&scene(mesh), &[("x.obj", obj)])
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(&format!("x.obj:{line}: not a valid OBJ file")),
+                "{obj:?}: {e}"
+            );
+        }
     }
 
     /// `parse` reads OBJ paths from the current folder, `load` from the scene
