@@ -845,7 +845,7 @@ mod tests {
         assert_eq!(few.triangle_count(), 0);
         // A node counts its triangles in a u16: 65,535 at most.
         let many = std::vec![tri([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]); 65_536];
-        let mut huge: std::boxed::Box<Bvh<4, 70_000>> = std::boxed::Box::new(Bvh::new());
+        let mut huge: std::boxed::Box<Bvh<4, 70_000>> = std::boxed::Box::default();
         assert_eq!(
             huge.build(&many),
             Err(Error::CapacityExceeded {
