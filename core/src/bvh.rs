@@ -47,11 +47,12 @@ pub const BINS: usize = 12;
 /// [`DEPTH`] allows, or whose triangles' centroids coincide, holds them all).
 pub const LEAF: usize = 4;
 /// The fewest triangles for which [`SceneView::with_bvh`] uses a BVH: below, the
-/// flat list (and the tiles' culling) costs less. Measured with callgrind on the
-/// host (an icosphere and parts of one on a floor, one light, 160x120): the BVH
-/// costs 1.63 times the flat search's instructions with 20 triangles, 1.22 with
-/// 60, 1.08 with 80, 1.01 with 100, 0.87 with 128, 0.48 with 320, 0.16 with
-/// 1,280 and 0.05 with 5,120.
+/// flat list (and the tiles' culling) costs less. Measured on the host by
+/// `cargo run -p tessera-tests --release --bin bvh-report` (an icosphere and parts
+/// of one on a floor, one light, 160x120, side by side): the BVH takes 1.74 times
+/// the flat search's time with 20 triangles, 1.12 with 80, 1.02 with 100, 0.91
+/// with 128, 0.51 with 320, 0.19 with 1,280 and 0.06 with 5,120; instruction
+/// counts under callgrind (its `--one` mode) give the same crossover.
 ///
 /// [`SceneView::with_bvh`]: crate::SceneView::with_bvh
 pub const CROSSOVER: usize = 100;
@@ -456,9 +457,7 @@ impl<'a> SceneView<'a> {
             Some(n) => (n.hit.t, n.kind == Kind::Box),
             None => (t_max, false),
         };
-        let inv = aabb_inverse(ray.dir);
-        let mag = ray.origin.abs().max_element();
-        match bvh_nearest(bvh, self.triangles, ray, (inv, mag), skip, t, box_first) {
+        match bvh_nearest(bvh, self.triangles, ray, skip, t, box_first) {
             Some((index, hit)) => Some(Nearest {
                 kind: Kind::Triangle,
                 index,
@@ -481,9 +480,7 @@ impl<'a> SceneView<'a> {
         if self.others().occluded_flat(ray, t_max, skip) {
             return true;
         }
-        let inv = aabb_inverse(ray.dir);
-        let mag = ray.origin.abs().max_element();
-        bvh_any(bvh, self.triangles, ray, (inv, mag), skip, t_max)
+        bvh_any(bvh, self.triangles, ray, skip, t_max)
     }
 
     /// The view without its triangles: what a scene with a BVH searches with the
@@ -508,16 +505,27 @@ struct Probe {
     clear: f32,
 }
 
-/// Calls `leaf(entries)` for the triangles (entries of `bvh.order`) of every leaf
-/// whose grown box the ray may pass through before `t_max()` (read again before
-/// each node: a search narrows it), nearer child first; stops when `leaf` returns
-/// true and returns it.
+impl Probe {
+    /// The probe of `ray` for `bvh`.
+    fn new(bvh: &BvhView<'_>, ray: &Ray) -> Self {
+        Self {
+            origin: ray.origin,
+            inv: aabb_inverse(ray.dir),
+            clear: MARGIN * (ray.origin.abs().max_element() + bvh.reach),
+        }
+    }
+}
+
+/// Calls `leaf(entries, t_max)` for the triangles (entries of `bvh.order`) of
+/// every leaf whose grown box the ray may pass through before `*t_max` (which
+/// `leaf` may narrow: a nearest-hit search), nearer child first; stops when
+/// `leaf` returns true and returns it.
 #[inline(always)]
 fn bvh_walk(
     bvh: &BvhView<'_>,
     at: &Probe,
-    t_max: impl Fn() -> f32,
-    mut leaf: impl FnMut(&[u16]) -> bool,
+    t_max: &mut f32,
+    mut leaf: impl FnMut(&[u16], &mut f32) -> bool,
 ) -> bool {
     let mut stack = [0u16; DEPTH];
     let mut top = 0;
@@ -530,7 +538,7 @@ fn bvh_walk(
         #[cfg(feature = "testing")]
         VISITS.0.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
         if let Some(n) = bvh.nodes.get(node)
-            && n.may_hit(at.origin, at.inv, at.clear, t_max())
+            && n.may_hit(at.origin, at.inv, at.clear, *t_max)
         {
             if n.count == 0 {
                 let first = n.first;
@@ -565,7 +573,7 @@ fn bvh_walk(
                 .order
                 .get(start..start + usize::from(n.count))
                 .unwrap_or(&[]);
-            if leaf(entries) {
+            if leaf(entries, t_max) {
                 return true;
             }
         }
@@ -578,140 +586,98 @@ fn bvh_walk(
     false
 }
 
-impl Probe {
-    /// The probe of `ray` (reciprocal direction `inv`, largest origin component
-    /// `mag`) for `bvh`.
-    fn new(bvh: &BvhView<'_>, ray: &Ray, inv: Vec3, mag: f32) -> Self {
-        Self {
-            origin: ray.origin,
-            inv,
-            clear: MARGIN * (mag + bvh.reach),
-        }
-    }
-}
-
 /// The nearest triangle hit nearer than `t` through the BVH (but `skip`): its
-/// index and candidate. Out of line, so that the flat searches compile as they
-/// did without a BVH.
-/// `box_first`: the hit at `t` is a box's, which a triangle at the same time
-/// replaces.
+/// index and candidate. `box_first`: the hit at `t` is a box's, which a triangle at
+/// the same time replaces.
 #[inline(always)]
 fn bvh_nearest(
     bvh: &BvhView<'_>,
-    list: &[Primitive<crate::geometry::Triangle>],
+    list: &[Primitive<Triangle>],
     ray: &Ray,
-    (inv, mag): (Vec3, f32),
     skip: Skip,
     t: f32,
     box_first: bool,
 ) -> Option<(usize, Candidate)> {
     let shear = Shear::new(ray);
-    let at = Probe::new(bvh, ray, inv, mag);
+    let at = Probe::new(bvh, ray);
     let sk = skip.index(Kind::Triangle);
-    let mut t = t;
-    let mut found = None;
-    let mut keep = |i, h: Candidate, t: &mut f32| {
-        *t = h.t;
-        found = Some((i, h));
-    };
-    with_axes!(shear.axes, A => bvh_nearest_in::<A>(bvh, list, &at, &shear, sk, box_first, &mut t, &mut keep), ());
-    found
+    with_axes!(shear.axes, A => bvh_nearest_in::<A>(bvh, list, &at, &shear, sk, t, box_first), None)
 }
 
-/// True when a triangle but `skip` blocks `ray` before `t_max`, through the BVH
-/// (out of line, as [`bvh_nearest`]).
+/// True when a triangle but `skip` blocks `ray` before `t_max`, through the BVH.
 #[inline(always)]
 fn bvh_any(
     bvh: &BvhView<'_>,
-    list: &[Primitive<crate::geometry::Triangle>],
+    list: &[Primitive<Triangle>],
     ray: &Ray,
-    (inv, mag): (Vec3, f32),
     skip: Skip,
     t_max: f32,
 ) -> bool {
     let shear = Shear::new(ray);
-    let at = Probe::new(bvh, ray, inv, mag);
+    let at = Probe::new(bvh, ray);
     let sk = skip.index(Kind::Triangle);
     with_axes!(shear.axes, A => bvh_any_in::<A>(bvh, list, &at, &shear, sk, t_max), false)
 }
 
-/// The nearest triangle hit through the BVH, keeping the smallest `(t, index)`
-/// (the flat search's tie rule, see the module `bvh`): `keep` is called for each
-/// better hit, as in [`nearest_triangle`].
+/// [`bvh_nearest`] in the ray frame with axes `A`: keeps the smallest
+/// `(t, index)` (the flat search's tie rule, see the module doc). With no triangle
+/// found yet, the hit at `t` is a box's (`box_first`: a triangle at the same time
+/// replaces it) or a sphere's or plane's (it does not).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn bvh_nearest_in<A: Axes>(
     bvh: &BvhView<'_>,
-    list: &[Primitive<crate::geometry::Triangle>],
+    list: &[Primitive<Triangle>],
     at: &Probe,
     shear: &Shear,
     skip: usize,
+    t: f32,
     box_first: bool,
-    t: &mut f32,
-    keep: &mut impl FnMut(usize, Candidate, &mut f32),
-) {
-    // The index of the best triangle so far (`usize::MAX`: none; the best hit is
-    // then a box, which a triangle at the same time replaces, or a sphere or a
-    // plane, which it does not).
-    let mut best = usize::MAX;
-    let cell = core::cell::Cell::new(*t);
-    bvh_walk(
-        bvh,
-        at,
-        || cell.get(),
-        |entries| {
-            for &e in entries {
-                let i = usize::from(e);
-                if i == skip {
-                    continue;
-                }
-                let now = cell.get();
-                let tie = if best == usize::MAX {
-                    box_first
-                } else {
-                    i < best
-                };
-                let limit = if tie { now.next_up() } else { now };
-                if let Some(g) = list.get(i)
-                    && let Some(h) = g.geometry.hit_with::<A>(shear, limit)
-                {
-                    let mut nt = now;
-                    keep(i, h, &mut nt);
-                    cell.set(nt);
-                    best = i;
-                }
+) -> Option<(usize, Candidate)> {
+    let mut found: Option<(usize, Candidate)> = None;
+    let mut t = t;
+    bvh_walk(bvh, at, &mut t, |entries, t| {
+        for &e in entries {
+            let i = usize::from(e);
+            if i == skip {
+                continue;
             }
-            false
-        },
-    );
-    *t = cell.get();
+            let tie = match found {
+                None => box_first,
+                Some((best, _)) => i < best,
+            };
+            let limit = if tie { t.next_up() } else { *t };
+            if let Some(g) = list.get(i)
+                && let Some(h) = g.geometry.hit_with::<A>(shear, limit)
+            {
+                *t = h.t;
+                found = Some((i, h));
+            }
+        }
+        false
+    });
+    found
 }
 
-/// True when a triangle other than `skip` blocks the ray before `t_max`, through
-/// the BVH.
+/// [`bvh_any`] in the ray frame with axes `A`.
 #[inline(always)]
 fn bvh_any_in<A: Axes>(
     bvh: &BvhView<'_>,
-    list: &[Primitive<crate::geometry::Triangle>],
+    list: &[Primitive<Triangle>],
     at: &Probe,
     shear: &Shear,
     skip: usize,
     t_max: f32,
 ) -> bool {
-    bvh_walk(
-        bvh,
-        at,
-        || t_max,
-        |entries| {
-            entries.iter().any(|&e| {
-                let i = usize::from(e);
-                i != skip
-                    && list
-                        .get(i)
-                        .is_some_and(|g| g.geometry.hit_with::<A>(shear, t_max).is_some())
-            })
-        },
-    )
+    let mut t = t_max;
+    bvh_walk(bvh, at, &mut t, |entries, _| {
+        entries.iter().any(|&e| {
+            let i = usize::from(e);
+            i != skip
+                && list
+                    .get(i)
+                    .is_some_and(|g| g.geometry.hit_with::<A>(shear, t_max).is_some())
+        })
+    })
 }
 
 #[cfg(test)]

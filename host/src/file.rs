@@ -23,7 +23,6 @@ use serde::Deserialize;
 use std::fmt;
 use std::io::Read;
 use std::path::Path;
-use tessera::List;
 use tessera::builtin::Builtin;
 use toml::de::{DeTable, DeValue};
 
@@ -233,18 +232,7 @@ fn parse_limited(
             fail(ErrorKind::Invalid, line, None, Some(item), message)
         };
         let (faces, degenerate) =
-            crate::mesh::read(mesh, base, &mut budget, room).map_err(|e| {
-                if e == crate::mesh::TOO_MANY {
-                    refuse(format!(
-                        "{}: the faces of {} come after {} triangles",
-                        too_many(List::Triangles, MAX_TRIANGLES),
-                        mesh.obj,
-                        MAX_TRIANGLES - room
-                    ))
-                } else {
-                    refuse(e)
-                }
-            })?;
+            crate::mesh::read(mesh, base, &mut budget, room).map_err(refuse)?;
         room -= faces.len();
         mesh.faces = faces;
         mesh.degenerate = degenerate;

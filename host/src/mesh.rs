@@ -7,9 +7,10 @@
 //! hit a triangle of zero area, and the core refuses one); every other face is
 //! kept, so that a vertex out of range is refused with the face it belongs to.
 
-use crate::desc::{Face, MeshDesc, core_triangle_of, num};
+use crate::desc::{Face, MAX_TRIANGLES, MeshDesc, core_triangle_of, num, too_many};
 use std::io::{BufRead, Read};
 use std::path::Path;
+use tessera::List;
 
 /// The most OBJ text a scene reads, in bytes, all its meshes together: 16 MiB.
 /// The host's 8,192 triangles take about 1 MiB of OBJ text (with normals and
@@ -22,7 +23,8 @@ pub const MAX_OBJ_BYTES: usize = 16 << 20;
 /// The faces of `mesh`'s OBJ file (its path relative to `base`), scaled and
 /// moved, and how many degenerate faces were left out. At most `*budget` bytes of
 /// OBJ text are read, and the file's size is taken from it; more than `room` faces
-/// is an error as soon as the face past it is made. The error names the file, and
+/// (the room left in the host's triangle list) is an error as soon as the face
+/// past it is made. The error names the file, and
 /// the line where the OBJ text is wrong.
 pub fn read(
     mesh: &MeshDesc,
@@ -124,7 +126,12 @@ pub fn read(
             if core_triangle_of(&face) == Err(tessera::Error::DegenerateTriangle) {
                 degenerate += 1;
             } else if faces.len() == room {
-                return Err(TOO_MANY.to_string());
+                return Err(format!(
+                    "{}: the faces of {} come after {} triangles",
+                    too_many(List::Triangles, MAX_TRIANGLES),
+                    mesh.obj,
+                    MAX_TRIANGLES.saturating_sub(room)
+                ));
             } else {
                 faces.push(face);
             }
@@ -137,9 +144,6 @@ pub fn read(
     }
     Ok((faces, degenerate))
 }
-
-/// The error of [`read`] when the faces do not fit in `room`.
-pub const TOO_MANY: &str = "more faces than the triangle list has room for";
 
 /// The line of the first face (`f`) with a vertex, texture or normal index
 /// outside the elements defined before it (OBJ indices count from 1, or back
@@ -224,6 +228,18 @@ mod tests {
         let path = dir.path().join("scene.toml");
         std::fs::write(&path, toml).unwrap();
         file::load(&path)
+    }
+
+    /// A mesh of `obj` as the file gives it: material `m`, no scale, no move.
+    fn unplaced(obj: &str) -> crate::desc::MeshDesc {
+        crate::desc::MeshDesc {
+            obj: obj.into(),
+            material: "m".into(),
+            scale: 1.0,
+            translate: [0.0; 3],
+            faces: Vec::new(),
+            degenerate: 0,
+        }
     }
 
     fn icosahedron() -> String {
@@ -381,14 +397,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
         std::fs::write(dir.path().join("t.obj"), text).unwrap();
-        let mesh = crate::desc::MeshDesc {
-            obj: "t.obj".into(),
-            material: "m".into(),
-            scale: 1.0,
-            translate: [0.0; 3],
-            faces: Vec::new(),
-            degenerate: 0,
-        };
+        let mesh = unplaced("t.obj");
         let mut budget = 100;
         assert!(super::read(&mesh, dir.path(), &mut budget, 10).is_ok());
         assert_eq!(budget, 100 - text.len());
@@ -416,14 +425,7 @@ mod tests {
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n",
         )
         .unwrap();
-        let two = crate::desc::MeshDesc {
-            obj: "two.obj".into(),
-            material: "m".into(),
-            scale: 1.0,
-            translate: [0.0; 3],
-            faces: Vec::new(),
-            degenerate: 0,
-        };
+        let two = unplaced("two.obj");
         let mut budget = super::MAX_OBJ_BYTES;
         assert_eq!(
             super::read(&two, dir.path(), &mut budget, 2).map(|f| f.0.len()),
@@ -433,7 +435,10 @@ mod tests {
             super::read(&two, dir.path(), &mut budget, 1)
                 .err()
                 .as_deref(),
-            Some(super::TOO_MANY)
+            Some(
+                "too many triangles: the scene holds at most 8192: the faces of two.obj \
+                 come after 8191 triangles"
+            )
         );
     }
 
