@@ -21,6 +21,17 @@ pub type ChapterScene = Scene<4, 1, 0, 0, 5, 1>;
 pub type InterferenceScene = Scene<0, 1, 0, 0, 1, 0>;
 /// The showcase: every geometry and material kind.
 pub type ShowcaseScene = Scene<3, 2, 4, 2, 8, 2>;
+/// The teapot's scene in RAM: the floor, two materials and two lights; its mesh
+/// and the mesh's BVH are baked data in flash ([`teapot`]).
+#[cfg(feature = "teapot")]
+pub type TeapotScene = Scene<0, 1, 0, 0, 2, 2>;
+
+/// The teapot's mesh and BVH, baked by the host (`tessera bake
+/// scenes/teapot.toml`; a test of the host checks that this file is what it bakes
+/// today).
+#[cfg(feature = "teapot")]
+#[rustfmt::skip]
+mod teapot_data;
 
 /// The built-in scenes, by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,22 +44,36 @@ pub enum Builtin {
     Interference,
     /// Every geometry and material kind.
     Showcase,
+    /// A smooth teapot of 1,088 faces on a checkered floor, two lights: its
+    /// mesh and BVH are baked `static` data (flash on a chip); feature `teapot`.
+    #[cfg(feature = "teapot")]
+    Teapot,
 }
 
 impl Builtin {
     /// Every built-in scene.
+    #[cfg(not(feature = "teapot"))]
     pub const ALL: [Self; 4] = [
         Self::ChapterDirect,
         Self::ChapterReflect,
         Self::Interference,
         Self::Showcase,
     ];
+    /// Every built-in scene.
+    #[cfg(feature = "teapot")]
+    pub const ALL: [Self; 5] = [
+        Self::ChapterDirect,
+        Self::ChapterReflect,
+        Self::Interference,
+        Self::Showcase,
+        Self::Teapot,
+    ];
 
     /// The default scene (the chapter's second picture).
     pub const DEFAULT: Self = Self::ChapterReflect;
 
     /// The scene's name (`chapter-direct`, `chapter-reflect`, `interference`,
-    /// `showcase`).
+    /// `showcase`, `teapot`).
     #[must_use]
     pub const fn name(self) -> &'static str {
         match self {
@@ -56,6 +81,8 @@ impl Builtin {
             Self::ChapterReflect => "chapter-reflect",
             Self::Interference => "interference",
             Self::Showcase => "showcase",
+            #[cfg(feature = "teapot")]
+            Self::Teapot => "teapot",
         }
     }
 
@@ -73,6 +100,8 @@ impl Builtin {
             Self::ChapterReflect => (Sampler::Centre, 1),
             Self::Interference => (Sampler::Centre, 0),
             Self::Showcase => (Sampler::Centre, 5),
+            #[cfg(feature = "teapot")]
+            Self::Teapot => (Sampler::Centre, 0),
         };
         RenderSettings {
             sampler,
@@ -104,6 +133,8 @@ impl Builtin {
             Self::ChapterReflect => hand(chapter_reflect()?, k, f),
             Self::Interference => hand(interference()?, k, f),
             Self::Showcase => hand(showcase()?, k, f),
+            #[cfg(feature = "teapot")]
+            Self::Teapot => hand_teapot(k, f),
         }
     }
 }
@@ -128,6 +159,104 @@ fn hand<
     #[cfg(not(feature = "testing"))]
     let _ = k;
     Ok(f(&scene.view(), scene.camera()))
+}
+
+/// `f` of the teapot scene's view (its baked mesh in flash, see
+/// [`SceneView::with_meshes`]) and camera; scaled by `2^k` (a test hook), the
+/// mesh's vertices are copied into RAM, scaled, and given a BVH built there.
+#[cfg(feature = "teapot")]
+fn hand_teapot<R>(k: i32, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Result<R, Error> {
+    let scene = teapot()?;
+    if k == 0 {
+        let view = scene.view().with_meshes(&teapot_data::MESHES)?;
+        return Ok(f(&view, scene.camera()));
+    }
+    #[cfg(feature = "testing")]
+    {
+        let [mesh] = &teapot_data::MESHES;
+        scaled_teapot(&scene, k, &teapot_data::MESH0_VERTICES, mesh, f)
+    }
+    #[cfg(not(feature = "testing"))]
+    Err(Error::BvhMismatch)
+}
+
+/// The teapot scaled by `2^k`, in RAM (a test hook: about 120 KiB of stack, in
+/// its own frame: never inlined, so that the unscaled scenes do not reserve it).
+/// `vertices` are `mesh`'s.
+#[cfg(all(feature = "teapot", feature = "testing"))]
+#[inline(never)]
+fn scaled_teapot<const V: usize, R>(
+    scene: &TeapotScene,
+    k: i32,
+    vertices: &[[f32; 3]; V],
+    mesh: &crate::Mesh<'_>,
+    f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
+) -> Result<R, Error> {
+    use crate::scene::Primitive;
+    let scene = scene.scaled_pow2(k)?;
+    let s = libm::ldexpf(1.0, k.clamp(-200, 200));
+    let moved = vertices.map(|[x, y, z]| [x * s, y * s, z * s]);
+    let at = |i: u16| {
+        let [x, y, z] = moved.get(usize::from(i)).copied().unwrap_or([0.0; 3]);
+        Vec3::new(x, y, z)
+    };
+    let mut triangles: heapless::Vec<Primitive<Triangle>, 2048> = heapless::Vec::new();
+    for &[a, b, c] in mesh.faces() {
+        let t = Primitive {
+            geometry: Triangle::try_new(at(a), at(b), at(c))?,
+            material: mesh.material(),
+        };
+        triangles.push(t).map_err(|_| Error::CapacityExceeded {
+            list: crate::List::Triangles,
+            capacity: 2048,
+        })?;
+    }
+    let mut bvh: crate::Bvh<4096, 2048> = crate::Bvh::new();
+    bvh.build(&triangles)?;
+    let scaled = [crate::Mesh::new(
+        &moved,
+        mesh.faces(),
+        mesh.normals(),
+        mesh.material(),
+        crate::BakedBvh::new(bvh.nodes(), bvh.order(), bvh.reach()),
+    )];
+    let view = scene.view().with_meshes(&scaled)?;
+    Ok(f(&view, scene.camera()))
+}
+
+/// The teapot's scene without its mesh: a checkered floor, the teapot's glazed
+/// red, a warm key light and a cool fill light.
+#[cfg(feature = "teapot")]
+pub fn teapot() -> Result<TeapotScene, Error> {
+    let cam = Camera::look_at(
+        Vec3::new(2.0, 1.6, 3.0),
+        Vec3::new(0.15, 0.45, 0.0),
+        Vec3::Y,
+        0.1,
+        100.0,
+    )?;
+    let mut s = TeapotScene::new(cam);
+    s.set_ambient(Color::splat(0.1))?;
+    s.set_background(Color::new(0.55, 0.7, 0.9))?;
+    let checker = Texture::Checker {
+        a: Color::splat(0.8),
+        b: Color::splat(0.25),
+        scale: 0.5,
+    };
+    let floor = s.add_material(Material::matte(Color::WHITE).with_texture(checker)?)?;
+    s.add_material(Material::matte(Color::new(0.8, 0.2, 0.12)).with_specular(0.5, 40.0)?)?;
+    s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y)?, floor)?;
+    s.add_light(PointLight::try_new(
+        Vec3::new(-2.0, 5.0, 3.0),
+        Color::new(1.0, 0.95, 0.9),
+        30.0,
+    )?)?;
+    s.add_light(PointLight::try_new(
+        Vec3::new(4.0, 3.0, -1.0),
+        Color::new(0.5, 0.6, 0.8),
+        10.0,
+    )?)?;
+    Ok(s)
 }
 
 /// The chapter's spheres; `mirror` gives the red sphere a slight and the green one a

@@ -33,6 +33,7 @@ use crate::cull::MARGIN;
 use crate::error::{Error, List};
 use crate::geometry::triangle::{Axes, Shear, with_axes};
 use crate::geometry::{Candidate, Triangle, aabb_inverse};
+use crate::mesh::{MAX_MESHES, Mesh};
 use crate::ray::Ray;
 use crate::scene::{Primitive, SceneView};
 use crate::trace::{Kind, Nearest, Skip};
@@ -46,6 +47,12 @@ pub const BINS: usize = 12;
 /// The most triangles a leaf holds when a split does not pay (a node deeper than
 /// [`DEPTH`] allows, or whose triangles' centroids coincide, holds them all).
 pub const LEAF: usize = 4;
+/// The cost of descending into a node's children, in triangle tests, for the
+/// surface-area heuristic: a node of at most [`LEAF`] triangles is split only when
+/// `TRAVERSAL A + n_1 A_1 + n_2 A_2 < n A` (areas `A` of the node and `A_i` of
+/// the children). 0 splits down to single triangles (2 n nodes); 1 keeps leaves
+/// of 2 to 4 where they cost no more, which halves the nodes (flash on a chip).
+pub const TRAVERSAL: f32 = 1.0;
 /// The fewest triangles for which [`SceneView::with_bvh`] uses a BVH: below, the
 /// flat list (and the tiles' culling) costs less. Measured on the host by
 /// `cargo run -p tessera-tests --release --bin bvh-report` (an icosphere and parts
@@ -78,9 +85,11 @@ pub fn visits() -> (usize, usize) {
 /// The largest index a node's `u16` fields hold, plus one.
 const INDEXABLE: usize = 1 << 16;
 
-/// A node: its triangles' bounds and what is below it.
+/// A node of a [`Bvh`]: its triangles' bounds and what is below it (32 bytes).
+/// Public for baked hierarchies ([`BakedBvh`]): generated code writes nodes with
+/// [`BvhNode::new`] from the [`BvhNode::parts`] of a built [`Bvh`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Node {
+pub struct BvhNode {
     pub(crate) min: Vec3,
     pub(crate) max: Vec3,
     /// An inner node: the index of its first child (the second is the next one);
@@ -118,7 +127,7 @@ pub(crate) struct Node {
 /// ```
 #[derive(Clone, Debug)]
 pub struct Bvh<const N: usize, const T: usize> {
-    nodes: Vec<Node, N>,
+    nodes: Vec<BvhNode, N>,
     /// The triangles' indices, each leaf's a contiguous range.
     order: Vec<u16, T>,
     /// `2 m + e` of the triangles' bounds (see the module doc).
@@ -130,7 +139,7 @@ pub struct Bvh<const N: usize, const T: usize> {
 /// What a scene view keeps of a [`Bvh`]: no capacities.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BvhView<'a> {
-    pub(crate) nodes: &'a [Node],
+    pub(crate) nodes: &'a [BvhNode],
     pub(crate) order: &'a [u16],
     pub(crate) reach: f32,
 }
@@ -235,8 +244,7 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
         let all = triangles
             .iter()
             .fold(EMPTY, |b, t| union(b, bounds(&t.geometry)));
-        let m = crate::math::max(all.0.abs().max_element(), all.1.abs().max_element());
-        self.reach = 2.0 * m + (all.1 - all.0).max_element();
+        self.reach = reach_of(all);
         self.key = key(triangles);
         self.push_node(triangles, 0, n)?;
         // The nodes still to split, with their depth.
@@ -291,7 +299,7 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
             return Err(full);
         }
         self.nodes
-            .push(Node {
+            .push(BvhNode {
                 min: b.0,
                 max: b.1,
                 first,
@@ -326,7 +334,7 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
         triangles: &[Primitive<Triangle>],
         start: usize,
         end: usize,
-        node: Node,
+        node: BvhNode,
     ) -> Option<(usize, usize)> {
         let count = end - start;
         if count <= 1 {
@@ -382,8 +390,8 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
             }
         }
         let (s, cost) = best?;
-        let leaf = count as f32 * half_area((node.min, node.max));
-        if count <= LEAF && cost >= leaf {
+        let area = half_area((node.min, node.max));
+        if count <= LEAF && cost + TRAVERSAL * area >= count as f32 * area {
             return None;
         }
         // Partition: the triangles of bins below `s` first.
@@ -426,9 +434,208 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
     pub(crate) fn key(&self) -> u32 {
         self.key
     }
+
+    /// The nodes, the root first (what a baker writes out: [`BakedBvh`]).
+    #[must_use]
+    pub fn nodes(&self) -> &[BvhNode] {
+        &self.nodes
+    }
+
+    /// The triangles' indices, each leaf's a contiguous range.
+    #[must_use]
+    pub fn order(&self) -> &[u16] {
+        &self.order
+    }
+
+    /// The reach of the triangles' bounds, `2 m + e` (see the module doc).
+    #[must_use]
+    pub fn reach(&self) -> f32 {
+        self.reach
+    }
 }
 
-impl Node {
+/// A hierarchy kept where it lies, in flash on a chip: the nodes, order and reach
+/// of a [`Bvh`] written out as `static` data by a baker (`tessera bake`), given
+/// to a view with its triangles by [`SceneView::with_baked`], which checks it.
+#[derive(Clone, Copy, Debug)]
+pub struct BakedBvh<'a> {
+    nodes: &'a [BvhNode],
+    order: &'a [u16],
+    reach: f32,
+}
+
+impl<'a> BakedBvh<'a> {
+    /// The hierarchy of these parts ([`Bvh::nodes`], [`Bvh::order`],
+    /// [`Bvh::reach`]); checked when a view takes it.
+    #[must_use]
+    pub const fn new(nodes: &'a [BvhNode], order: &'a [u16], reach: f32) -> Self {
+        Self {
+            nodes,
+            order,
+            reach,
+        }
+    }
+}
+
+impl<'a> BakedBvh<'a> {
+    /// What a view keeps of it.
+    pub(crate) fn view(&self) -> BvhView<'a> {
+        BvhView {
+            nodes: self.nodes,
+            order: self.order,
+            reach: self.reach,
+        }
+    }
+}
+
+/// The reach `2 m + e` of the bounds `all` (see the module doc).
+fn reach_of(all: (Vec3, Vec3)) -> f32 {
+    let m = crate::math::max(all.0.abs().max_element(), all.1.abs().max_element());
+    2.0 * m + (all.1 - all.0).max_element()
+}
+
+/// True when `inner` lies within `outer`.
+fn within(inner: (Vec3, Vec3), outer: (Vec3, Vec3)) -> bool {
+    outer.0.x <= inner.0.x
+        && outer.0.y <= inner.0.y
+        && outer.0.z <= inner.0.z
+        && inner.1.x <= outer.1.x
+        && inner.1.y <= outer.1.y
+        && inner.1.z <= outer.1.z
+}
+
+/// Checks baked `triangles` (each as its constructor makes it, its material one of
+/// `materials`) and their hierarchy: the reach of their bounds; every node within
+/// its parent (children after it), every leaf's triangles within it, leaves in
+/// depth-first order covering the order list once, which holds each triangle
+/// exactly once. Then every search through it finds what the flat list finds.
+/// Memory: a stack of [`DEPTH`] and a bitmap of 128 bytes; time: one pass over the
+/// nodes, and one over the order per 1,024 triangles.
+pub(crate) fn check_faces(
+    n: usize,
+    face: impl Fn(usize) -> Result<Primitive<Triangle>, Error>,
+    materials: usize,
+    bvh: &BakedBvh<'_>,
+) -> Result<(), Error> {
+    let bad = Error::BvhMismatch;
+    if bvh.order.len() != n || n >= INDEXABLE || bvh.nodes.len() > INDEXABLE {
+        return Err(bad);
+    }
+    let mut all = EMPTY;
+    for i in 0..n {
+        let t = face(i)?;
+        let [a, b, c] = t.geometry.vertices();
+        if Triangle::try_new(a, b, c)? != t.geometry {
+            return Err(bad);
+        }
+        let id = usize::from(t.material.0);
+        if id >= materials {
+            return Err(Error::MaterialOutOfRange {
+                id: t.material.0,
+                count: u16::try_from(materials).unwrap_or(u16::MAX),
+            });
+        }
+        all = union(all, bounds(&t.geometry));
+    }
+    if n == 0 {
+        return if bvh.nodes.is_empty() {
+            Ok(())
+        } else {
+            Err(bad)
+        };
+    }
+    if reach_of(all).to_bits() != bvh.reach.to_bits() {
+        return Err(bad);
+    }
+    // Each entry once: a window of 1,024 indices at a time.
+    for base in (0..n).step_by(1024) {
+        let mut seen = [0u32; 32];
+        for &e in bvh.order {
+            let i = usize::from(e);
+            if i >= n {
+                return Err(bad);
+            }
+            if let Some(k) = i.checked_sub(base).filter(|&k| k < 1024) {
+                let (word, bit) = (k / 32, 1u32 << (k % 32));
+                let w = seen.get_mut(word).ok_or(bad)?;
+                if *w & bit != 0 {
+                    return Err(bad);
+                }
+                *w |= bit;
+            }
+        }
+    }
+    // Depth first, first child first: the leaves' ranges follow each other.
+    let root = bvh.nodes.first().ok_or(bad)?;
+    if !within(all, (root.min, root.max)) {
+        return Err(bad);
+    }
+    let mut stack: Vec<(usize, usize), DEPTH> = Vec::new();
+    let _ = stack.push((0, 0));
+    let mut next = 0usize;
+    let mut visited = 0usize;
+    while let Some((i, depth)) = stack.pop() {
+        visited += 1;
+        let node = bvh.nodes.get(i).ok_or(bad)?;
+        let outer = (node.min, node.max);
+        let first = usize::from(node.first);
+        if node.count == 0 {
+            if first <= i || depth + 1 >= DEPTH || node.axis > 2 {
+                return Err(bad);
+            }
+            for c in [first, first + 1] {
+                let child = bvh.nodes.get(c).ok_or(bad)?;
+                if !within((child.min, child.max), outer) {
+                    return Err(bad);
+                }
+            }
+            stack.push((first + 1, depth + 1)).map_err(|_| bad)?;
+            stack.push((first, depth + 1)).map_err(|_| bad)?;
+        } else {
+            let end = first + usize::from(node.count);
+            if first != next {
+                return Err(bad);
+            }
+            for &e in bvh.order.get(first..end).ok_or(bad)? {
+                let t = face(usize::from(e))?;
+                if !within(bounds(&t.geometry), outer) {
+                    return Err(bad);
+                }
+            }
+            next = end;
+        }
+    }
+    if next != n || visited != bvh.nodes.len() {
+        return Err(bad);
+    }
+    Ok(())
+}
+
+impl BvhNode {
+    /// A node from its parts (as [`BvhNode::parts`] gives them): the bounds
+    /// `min`, `max` of its triangles; an inner node has `count` 0, its children at
+    /// `first` and `first + 1`, split on `axis` (0, 1 or 2); a leaf has `count`
+    /// triangles from entry `first` of the order. For generated code: a
+    /// hierarchy made of such nodes is checked when a view takes it
+    /// ([`SceneView::with_baked`]).
+    #[must_use]
+    pub const fn new(min: [f32; 3], max: [f32; 3], first: u16, count: u16, axis: u16) -> Self {
+        Self {
+            min: Vec3::new(min[0], min[1], min[2]),
+            max: Vec3::new(max[0], max[1], max[2]),
+            first,
+            count,
+            axis,
+        }
+    }
+
+    /// `(min, max, first, count, axis)`: the arguments of [`BvhNode::new`].
+    #[must_use]
+    pub fn parts(&self) -> ([f32; 3], [f32; 3], u16, u16, u16) {
+        let a = |v: Vec3| [v.x, v.y, v.z];
+        (a(self.min), a(self.max), self.first, self.count, self.axis)
+    }
+
     /// True unless the ray from `origin` (reciprocal direction `inv`) surely misses
     /// the node's box grown by `clear` before `t_max` (NaN anywhere: true).
     #[inline(always)]
@@ -439,48 +646,135 @@ impl Node {
 }
 
 impl<'a> SceneView<'a> {
+    /// The same view with baked triangles and their hierarchy, kept where they lie
+    /// (in flash: `static` data written by `tessera bake`), searched through the
+    /// hierarchy. The view's own scene must have no triangles; the baked ones
+    /// follow its other primitives and use its materials by index.
+    ///
+    /// Checked once here (time linear in the triangles; no memory beyond a
+    /// small bitmap): each triangle as [`Triangle::try_new`] makes it, each
+    /// material in range, and the hierarchy's structure and bounds (every leaf's
+    /// triangles within it, every node within its parent, each triangle in
+    /// exactly one leaf), so that every search finds what the flat list would.
+    ///
+    /// # Errors
+    /// [`Error::BvhMismatch`] when the scene has triangles of its own or the
+    /// hierarchy does not fit the triangles; [`Error::MaterialOutOfRange`];
+    /// the triangle's own error for a vertex [`Triangle::try_new`] refuses.
+    pub fn with_baked(
+        &self,
+        triangles: &'a [Primitive<Triangle>],
+        bvh: &BakedBvh<'a>,
+    ) -> Result<Self, Error> {
+        if !self.triangles.is_empty() {
+            return Err(Error::BvhMismatch);
+        }
+        let face = |i: usize| triangles.get(i).copied().ok_or(Error::BvhMismatch);
+        check_faces(triangles.len(), face, self.materials.len(), bvh)?;
+        let all = triangles
+            .iter()
+            .fold(EMPTY, |b, t| union(b, bounds(&t.geometry)));
+        Ok(Self {
+            triangles,
+            triangle_hull: crate::cull::Hull::new(all.0, all.1),
+            // A view with a BVH builds no tile lists: lend none (no stack).
+            tile_lists: crate::cull::lend_none,
+            bvh: (!triangles.is_empty()).then_some(bvh.view()),
+            ..*self
+        })
+    }
+
+    /// The same view with `meshes` (at most [`MAX_MESHES`]) among its primitives,
+    /// after every list: at equal times a mesh's face is found only where no
+    /// other primitive is, and among faces the mesh listed first, then the face
+    /// listed first, is. Each mesh is checked once here ([`Mesh::new`] says what),
+    /// in time linear in its faces.
+    ///
+    /// # Errors
+    /// [`Error::CapacityExceeded`] for [`List::Meshes`] beyond [`MAX_MESHES`];
+    /// [`Error::BvhMismatch`] when a mesh's faces, normals or hierarchy do not fit;
+    /// [`Error::MaterialOutOfRange`]; a face's own error ([`Triangle::try_new`]).
+    pub fn with_meshes(&self, meshes: &'a [Mesh<'a>]) -> Result<Self, Error> {
+        if meshes.len() > MAX_MESHES {
+            return Err(Error::CapacityExceeded {
+                list: List::Meshes,
+                capacity: MAX_MESHES,
+            });
+        }
+        for m in meshes {
+            m.check(self.materials.len())?;
+        }
+        Ok(Self {
+            meshes,
+            // A view with meshes builds no tile lists: lend none (no stack).
+            tile_lists: crate::cull::lend_none,
+            ..*self
+        })
+    }
+
     /// [`SceneView::nearest`] of a scene with a BVH: the other kinds as the flat
     /// search does, then the triangles through the BVH, with the flat search's
     /// precedence at equal times (it visits spheres, planes, triangles, boxes, a
     /// later kind replacing only a strictly nearer hit): a triangle at the time of
     /// a box replaces it, at the time of a sphere or a plane does not.
     #[inline(never)]
-    pub(crate) fn nearest_through(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        bvh: &BvhView<'_>,
-        skip: Skip,
-    ) -> Option<Nearest> {
-        let best = self.others().nearest_flat(ray, t_max, skip);
-        let (t, box_first) = match &best {
-            Some(n) => (n.hit.t, n.kind == Kind::Box),
-            None => (t_max, false),
-        };
-        match bvh_nearest(bvh, self.triangles, ray, skip, t, box_first) {
-            Some((index, hit)) => Some(Nearest {
-                kind: Kind::Triangle,
-                index,
-                hit,
-            }),
-            None => best,
+    pub(crate) fn nearest_through(&self, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
+        let mut best = self.others().nearest_flat(ray, t_max, skip);
+        if let Some(bvh) = &self.bvh {
+            let (t, box_first) = match &best {
+                Some(n) => (n.hit.t, n.kind == Kind::Box),
+                None => (t_max, false),
+            };
+            let sk = skip.index(Kind::Triangle);
+            if let Some((index, hit)) = bvh_nearest(bvh, self.triangles, ray, sk, t, box_first) {
+                best = Some(Nearest {
+                    kind: Kind::Triangle,
+                    index,
+                    hit,
+                });
+            }
         }
+        let sk = skip.index(Kind::Mesh);
+        for (m, mesh) in self.meshes.iter().enumerate() {
+            let t = best.as_ref().map_or(t_max, |n| n.hit.t);
+            // The face to skip, if it is one of this mesh's.
+            let face = if sk >> 16 == m {
+                sk & 0xffff
+            } else {
+                usize::MAX
+            };
+            if let Some((f, hit)) = bvh_nearest(&mesh.bvh(), mesh, ray, face, t, false) {
+                best = Some(Nearest {
+                    kind: Kind::Mesh,
+                    index: m << 16 | f,
+                    hit,
+                });
+            }
+        }
+        best
     }
 
     /// [`SceneView::occluded`] of a scene with a BVH (as
     /// [`SceneView::nearest_through`]).
     #[inline(never)]
-    pub(crate) fn occluded_through(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        bvh: &BvhView<'_>,
-        skip: Skip,
-    ) -> bool {
+    pub(crate) fn occluded_through(&self, ray: &Ray, t_max: f32, skip: Skip) -> bool {
         if self.others().occluded_flat(ray, t_max, skip) {
             return true;
         }
-        bvh_any(bvh, self.triangles, ray, skip, t_max)
+        if let Some(bvh) = &self.bvh
+            && bvh_any(bvh, self.triangles, ray, skip.index(Kind::Triangle), t_max)
+        {
+            return true;
+        }
+        let sk = skip.index(Kind::Mesh);
+        self.meshes.iter().enumerate().any(|(m, mesh)| {
+            let face = if sk >> 16 == m {
+                sk & 0xffff
+            } else {
+                usize::MAX
+            };
+            bvh_any(&mesh.bvh(), mesh, ray, face, t_max)
+        })
     }
 
     /// The view without its triangles: what a scene with a BVH searches with the
@@ -492,6 +786,7 @@ impl<'a> SceneView<'a> {
             triangles: &[],
             triangle_hull: None,
             bvh: None,
+            meshes: &[],
             ..*self
         }
     }
@@ -590,33 +885,51 @@ fn bvh_walk(
 /// index and candidate. `box_first`: the hit at `t` is a box's, which a triangle at
 /// the same time replaces.
 #[inline(always)]
-fn bvh_nearest(
+fn bvh_nearest<F: Faces + ?Sized>(
     bvh: &BvhView<'_>,
-    list: &[Primitive<Triangle>],
+    list: &F,
     ray: &Ray,
-    skip: Skip,
+    sk: usize,
     t: f32,
     box_first: bool,
 ) -> Option<(usize, Candidate)> {
     let shear = Shear::new(ray);
     let at = Probe::new(bvh, ray);
-    let sk = skip.index(Kind::Triangle);
-    with_axes!(shear.axes, A => bvh_nearest_in::<A>(bvh, list, &at, &shear, sk, t, box_first), None)
+    with_axes!(shear.axes, A => bvh_nearest_in::<A, F>(bvh, list, &at, &shear, sk, t, box_first), None)
+}
+
+/// Where a BVH's leaves find their triangles: the scene's list, or a mesh's faces.
+trait Faces {
+    /// The hit of triangle `i` nearer than `limit`, in the ray frame `shear`.
+    fn hit<A: Axes>(&self, i: usize, shear: &Shear, limit: f32) -> Option<Candidate>;
+}
+
+impl Faces for [Primitive<Triangle>] {
+    #[inline(always)]
+    fn hit<A: Axes>(&self, i: usize, shear: &Shear, limit: f32) -> Option<Candidate> {
+        self.get(i)?.geometry.hit_with::<A>(shear, limit)
+    }
+}
+
+impl Faces for Mesh<'_> {
+    #[inline(always)]
+    fn hit<A: Axes>(&self, i: usize, shear: &Shear, limit: f32) -> Option<Candidate> {
+        self.triangle(i)?.hit_with::<A>(shear, limit)
+    }
 }
 
 /// True when a triangle but `skip` blocks `ray` before `t_max`, through the BVH.
 #[inline(always)]
-fn bvh_any(
+fn bvh_any<F: Faces + ?Sized>(
     bvh: &BvhView<'_>,
-    list: &[Primitive<Triangle>],
+    list: &F,
     ray: &Ray,
-    skip: Skip,
+    sk: usize,
     t_max: f32,
 ) -> bool {
     let shear = Shear::new(ray);
     let at = Probe::new(bvh, ray);
-    let sk = skip.index(Kind::Triangle);
-    with_axes!(shear.axes, A => bvh_any_in::<A>(bvh, list, &at, &shear, sk, t_max), false)
+    with_axes!(shear.axes, A => bvh_any_in::<A, F>(bvh, list, &at, &shear, sk, t_max), false)
 }
 
 /// [`bvh_nearest`] in the ray frame with axes `A`: keeps the smallest
@@ -624,9 +937,9 @@ fn bvh_any(
 /// found yet, the hit at `t` is a box's (`box_first`: a triangle at the same time
 /// replaces it) or a sphere's or plane's (it does not).
 #[inline(always)]
-fn bvh_nearest_in<A: Axes>(
+fn bvh_nearest_in<A: Axes, F: Faces + ?Sized>(
     bvh: &BvhView<'_>,
-    list: &[Primitive<Triangle>],
+    list: &F,
     at: &Probe,
     shear: &Shear,
     skip: usize,
@@ -646,9 +959,7 @@ fn bvh_nearest_in<A: Axes>(
                 Some((best, _)) => i < best,
             };
             let limit = if tie { t.next_up() } else { *t };
-            if let Some(g) = list.get(i)
-                && let Some(h) = g.geometry.hit_with::<A>(shear, limit)
-            {
+            if let Some(h) = list.hit::<A>(i, shear, limit) {
                 *t = h.t;
                 found = Some((i, h));
             }
@@ -660,9 +971,9 @@ fn bvh_nearest_in<A: Axes>(
 
 /// [`bvh_any`] in the ray frame with axes `A`.
 #[inline(always)]
-fn bvh_any_in<A: Axes>(
+fn bvh_any_in<A: Axes, F: Faces + ?Sized>(
     bvh: &BvhView<'_>,
-    list: &[Primitive<Triangle>],
+    list: &F,
     at: &Probe,
     shear: &Shear,
     skip: usize,
@@ -672,10 +983,7 @@ fn bvh_any_in<A: Axes>(
     bvh_walk(bvh, at, &mut t, |entries, _| {
         entries.iter().any(|&e| {
             let i = usize::from(e);
-            i != skip
-                && list
-                    .get(i)
-                    .is_some_and(|g| g.geometry.hit_with::<A>(shear, t_max).is_some())
+            i != skip && list.hit::<A>(i, shear, t_max).is_some()
         })
     })
 }
@@ -826,5 +1134,179 @@ mod tests {
         b.build(&same).unwrap();
         assert_eq!(b.node_count(), 1);
         assert_eq!(b.view().nodes[0].count, 9);
+    }
+}
+
+#[cfg(test)]
+mod baked_tests {
+    use super::*;
+    use crate::material::MaterialId;
+    use crate::{Camera, Color, Material, Scene};
+
+    extern crate std;
+    use std::vec::Vec as StdVec;
+
+    /// `n x n` pairs of triangles tiling a wavy sheet, materials 0 and 1.
+    fn sheet(n: usize) -> StdVec<Primitive<Triangle>> {
+        let mut out = StdVec::new();
+        let z = |i: usize, j: usize| 0.3 * ((i * 7 + j * 3) % 5) as f32;
+        let p = |i: usize, j: usize| Vec3::new(i as f32, j as f32, z(i, j));
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b, c, d) = (p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1));
+                for (k, t) in [(a, b, c), (a, c, d)].into_iter().enumerate() {
+                    out.push(Primitive {
+                        geometry: Triangle::try_new(t.0, t.1, t.2).unwrap(),
+                        material: MaterialId(k as u16),
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    fn scene() -> Scene<0, 0, 0, 0, 2, 1> {
+        let cam = Camera::look_at(
+            Vec3::new(4.0, 5.0, 12.0),
+            Vec3::new(4.0, 4.0, 0.0),
+            Vec3::Y,
+            0.1,
+            100.0,
+        )
+        .unwrap();
+        let mut s = Scene::new(cam);
+        s.add_material(Material::matte(Color::new(0.9, 0.2, 0.1)))
+            .unwrap();
+        s.add_material(Material::matte(Color::new(0.1, 0.3, 0.9)))
+            .unwrap();
+        s.add_light(
+            crate::PointLight::try_new(Vec3::new(3.0, 2.0, 9.0), Color::WHITE, 40.0).unwrap(),
+        )
+        .unwrap();
+        s
+    }
+
+    /// A BVH baked from its parts renders what the same triangles render in a
+    /// scene with a BVH built at run time, and in a flat list.
+    #[test]
+    fn a_baked_bvh_renders_the_built_one() {
+        let tris = sheet(8);
+        let mut bvh: std::boxed::Box<Bvh<256, 128>> = std::boxed::Box::default();
+        bvh.build(&tris).unwrap();
+        let nodes: StdVec<BvhNode> = bvh
+            .nodes()
+            .iter()
+            .map(|n| {
+                let (a, b, f, c, x) = n.parts();
+                BvhNode::new(a, b, f, c, x)
+            })
+            .collect();
+        let baked = BakedBvh::new(&nodes, bvh.order(), bvh.reach());
+        let s = scene();
+        let view = s.view().with_baked(&tris, &baked).unwrap();
+        assert!(view.uses_bvh());
+        let mut flat: std::boxed::Box<Scene<0, 0, 128, 0, 2, 1>> =
+            std::boxed::Box::new(Scene::new(*s.camera()));
+        for m in s.view().materials() {
+            flat.add_material(*m).unwrap();
+        }
+        flat.add_light(s.view().lights()[0]).unwrap();
+        for t in &tris {
+            flat.add_triangle(t.geometry, t.material).unwrap();
+        }
+        let vp = crate::Viewport::new(40, 30);
+        let render = |v: &SceneView<'_>| {
+            let frame =
+                crate::Frame::try_new(s.camera(), vp, crate::RenderSettings::default()).unwrap();
+            let mut px = StdVec::new();
+            let (across, down) = frame.tile_grid(8);
+            for ty in 0..down {
+                for tx in 0..across {
+                    let mut tile = crate::Tile::<8>::new();
+                    let coord = crate::TileCoord::new(tx, ty);
+                    frame.render_tile(v, coord, &mut tile, &mut ()).unwrap();
+                    px.extend(tile.pixels().map(|p| (p.r, p.g, p.b)));
+                }
+            }
+            px
+        };
+        let baked_px = render(&view);
+        assert_eq!(baked_px, render(&flat.view()));
+        assert!(baked_px.iter().any(|&p| p.0 > 100) && baked_px.iter().any(|&p| p.2 > 100));
+    }
+
+    /// Every defect of baked data is refused: the scene's own triangles, a
+    /// triangle its constructor refuses or would make otherwise, a material out of
+    /// range, another reach, a child outside its parent, a triangle outside its
+    /// leaf, an order entry twice or out of range, a node no path reaches.
+    #[test]
+    fn defects_of_baked_data_are_refused() {
+        let tris = sheet(6);
+        let mut bvh: std::boxed::Box<Bvh<256, 128>> = std::boxed::Box::default();
+        bvh.build(&tris).unwrap();
+        let (nodes, order) = (bvh.nodes().to_vec(), bvh.order().to_vec());
+        let s = scene();
+        let check = |t: &[Primitive<Triangle>], n: &[BvhNode], o: &[u16], r: f32| {
+            s.view().with_baked(t, &BakedBvh::new(n, o, r)).err()
+        };
+        assert_eq!(check(&tris, &nodes, &order, bvh.reach()), None);
+        let bad = Some(Error::BvhMismatch);
+        // A scene with triangles of its own.
+        let mut own: Scene<0, 0, 1, 0, 2, 1> = Scene::new(*s.camera());
+        own.add_material(Material::matte(Color::WHITE)).unwrap();
+        own.add_triangle(tris[0].geometry, MaterialId(0)).unwrap();
+        let b = BakedBvh::new(&nodes, &order, bvh.reach());
+        assert_eq!(own.view().with_baked(&tris, &b).err(), bad);
+        // Triangles.
+        let mut t = tris.clone();
+        t[5].geometry = Triangle::baked([0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]);
+        assert_eq!(
+            check(&t, &nodes, &order, bvh.reach()),
+            Some(Error::DegenerateTriangle)
+        );
+        let mut t = tris.clone();
+        t[5].geometry = Triangle::baked([f32::NAN; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        assert!(check(&t, &nodes, &order, bvh.reach()).is_some());
+        let mut t = tris.clone();
+        t[3].material = MaterialId(2);
+        assert_eq!(
+            check(&t, &nodes, &order, bvh.reach()),
+            Some(Error::MaterialOutOfRange { id: 2, count: 2 })
+        );
+        // A triangle moved within the bounds of all (the same reach), out of its
+        // leaf.
+        let mut t = tris.clone();
+        let [a, b2, c] = t[9].geometry.vertices();
+        let by = Vec3::new(3.0, 0.0, 0.0);
+        t[9].geometry = Triangle::try_new(a + by, b2 + by, c + by).unwrap();
+        assert_eq!(check(&t, &nodes, &order, bvh.reach()), bad);
+        assert_eq!(check(&tris, &nodes, &order, bvh.reach().next_up()), bad);
+        // Nodes.
+        let root_child = usize::from(nodes[0].first);
+        let mut n = nodes.clone();
+        n[root_child].max.x += 100.0;
+        assert_eq!(check(&tris, &n, &order, bvh.reach()), bad);
+        let leaf = nodes.iter().position(|n| n.count > 1).unwrap();
+        let mut n = nodes.clone();
+        n[leaf].max = n[leaf].min;
+        assert_eq!(check(&tris, &n, &order, bvh.reach()), bad);
+        let mut n = nodes.clone();
+        n[leaf].count -= 1;
+        assert_eq!(check(&tris, &n, &order, bvh.reach()), bad);
+        let mut n = nodes.clone();
+        n.push(nodes[leaf]);
+        assert_eq!(check(&tris, &n, &order, bvh.reach()), bad);
+        let mut n = nodes.clone();
+        n[0].first = 0;
+        assert_eq!(check(&tris, &n, &order, bvh.reach()), bad);
+        // The order.
+        let mut o = order.clone();
+        o[1] = o[0];
+        assert_eq!(check(&tris, &nodes, &o, bvh.reach()), bad);
+        let mut o = order.clone();
+        o[1] = 1000;
+        assert_eq!(check(&tris, &nodes, &o, bvh.reach()), bad);
+        assert_eq!(check(&tris, &nodes, &order[1..], bvh.reach()), bad);
+        assert_eq!(check(&tris[..71], &nodes, &order, bvh.reach()), bad);
     }
 }

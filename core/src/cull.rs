@@ -178,7 +178,7 @@ pub(crate) fn lend<const S: usize, const P: usize, const T: usize, const B: usiz
 }
 
 /// Lends no lists: every primitive is a candidate (culling off).
-#[cfg(feature = "testing")]
+#[cfg(any(feature = "testing", feature = "bvh"))]
 pub(crate) fn lend_none(f: &mut WithLists<'_>) {
     f(None);
 }
@@ -201,7 +201,7 @@ impl TileLists<'_> {
         }
         // A scene searched through a BVH has no lists: every ray searches it.
         #[cfg(feature = "bvh")]
-        if view.bvh.is_some() {
+        if view.bvh.is_some() || !view.meshes.is_empty() {
             return Picks::default();
         }
         let Some(f) = Frustum::new(basis, x0, y0, x1, y1) else {

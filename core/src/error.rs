@@ -92,6 +92,8 @@ pub enum List {
     Lights,
     /// The nodes of a bounding volume hierarchy (`Bvh`, feature `bvh`).
     BvhNodes,
+    /// The meshes of a scene view (`SceneView::with_meshes`, feature `bvh`).
+    Meshes,
 }
 
 impl List {
@@ -106,6 +108,7 @@ impl List {
             Self::Materials => "materials",
             Self::Lights => "lights",
             Self::BvhNodes => "BVH nodes",
+            Self::Meshes => "meshes",
         }
     }
 }

@@ -57,6 +57,8 @@ mod geometry;
 mod light;
 mod material;
 mod math;
+#[cfg(feature = "bvh")]
+mod mesh;
 mod prefilter;
 mod ray;
 mod sample;
@@ -68,7 +70,7 @@ mod trace;
 mod vec;
 
 #[cfg(feature = "bvh")]
-pub use bvh::{Bvh, CROSSOVER as BVH_CROSSOVER};
+pub use bvh::{BakedBvh, Bvh, BvhNode, CROSSOVER as BVH_CROSSOVER};
 pub use camera::{Camera, CameraBasis, Viewport};
 pub use color::{Color, Rgb8};
 pub use display::{Rendering, draw_tile};
@@ -76,6 +78,8 @@ pub use error::{Error, Field, List, MAX_COLOR, MAX_DEPTH, MAX_EXTENT, MIN_LENGTH
 pub use geometry::{Aabb, Plane, Sphere, Triangle};
 pub use light::PointLight;
 pub use material::{Material, MaterialId};
+#[cfg(feature = "bvh")]
+pub use mesh::{MAX_MESHES, Mesh};
 pub use ray::Ray;
 pub use sample::{Sampler, SubPixel};
 pub use scene::{Primitive, Scene, SceneView};

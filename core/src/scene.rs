@@ -298,6 +298,8 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             triangle_hull: crate::cull::Hull::new(self.triangle_bounds.0, self.triangle_bounds.1),
             #[cfg(feature = "bvh")]
             bvh: None,
+            #[cfg(feature = "bvh")]
+            meshes: &[],
         }
     }
 }
@@ -324,6 +326,9 @@ pub struct SceneView<'a> {
     /// The triangles' hierarchy, when it pays ([`SceneView::with_bvh`]).
     #[cfg(feature = "bvh")]
     pub(crate) bvh: Option<crate::bvh::BvhView<'a>>,
+    /// The indexed meshes ([`SceneView::with_meshes`]), searched after every list.
+    #[cfg(feature = "bvh")]
+    pub(crate) meshes: &'a [crate::mesh::Mesh<'a>],
 }
 
 impl core::fmt::Debug for SceneView<'_> {
@@ -354,6 +359,8 @@ impl<'a> SceneView<'a> {
             triangle_hull: None,
             #[cfg(feature = "bvh")]
             bvh: None,
+            #[cfg(feature = "bvh")]
+            meshes: self.meshes,
             ..*self
         }
     }
@@ -434,6 +441,12 @@ impl<'a> SceneView<'a> {
     #[must_use]
     pub fn boxes(&self) -> &'a [Primitive<Aabb>] {
         self.boxes
+    }
+    /// The indexed meshes ([`SceneView::with_meshes`]).
+    #[cfg(feature = "bvh")]
+    #[must_use]
+    pub fn meshes(&self) -> &'a [crate::Mesh<'a>] {
+        self.meshes
     }
     /// The materials.
     #[must_use]

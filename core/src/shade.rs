@@ -170,13 +170,17 @@ fn sign_hit<C: RayCounter>(count: &mut C, hit: Option<&Hit<'_>>) {
         count.token(MISS);
         return;
     };
-    let kind = match hit.geom {
-        Geom::Sphere(_) => 0,
-        Geom::Plane(_) => 1,
-        Geom::Triangle(_) => 2,
-        Geom::Box(_) => 3,
+    let (kind, index) = match hit.geom {
+        Geom::Sphere(_) => (0, hit.index),
+        Geom::Plane(_) => (1, hit.index),
+        Geom::Triangle(_) => (2, hit.index),
+        Geom::Box(_) => (3, hit.index),
+        // A mesh is one object: its faces share a token (a smooth mesh has no
+        // edge between faces; a flat one's show as colour steps).
+        #[cfg(feature = "bvh")]
+        Geom::Mesh(..) => (4, hit.index >> 16),
     };
-    count.token(HIT | kind << 24 | (hit.index as u32 & 0x00ff_ffff));
+    count.token(HIT | kind << 24 | (index as u32 & 0x00ff_ffff));
 }
 
 impl RayCounter for RayCount {
@@ -400,9 +404,38 @@ impl<'a> SceneView<'a> {
     }
 
     /// Ambient + direct light at a hit (no secondary rays); the shadow rays test the
-    /// candidates of `shadow` (see [`Picks`]).
+    /// candidates of `shadow` (see [`Picks`]). A smooth mesh's hit takes
+    /// [`SceneView::local_smooth`], out of line, so that the other kinds' code is
+    /// what it is without meshes.
     #[inline(always)]
     fn local_in<C: RayCounter>(
+        &self,
+        hit: &Hit<'_>,
+        ray: &Ray,
+        shadow: Option<&ShadowLists<'_>>,
+        count: &mut C,
+        sign: bool,
+    ) -> Color {
+        self.local_with::<false, C>(hit, ray, shadow, count, sign)
+    }
+
+    /// [`SceneView::local_in`] at a hit of a smooth mesh.
+    #[cfg(feature = "bvh")]
+    #[inline(never)]
+    fn local_smooth<C: RayCounter>(
+        &self,
+        hit: &Hit<'_>,
+        ray: &Ray,
+        shadow: Option<&ShadowLists<'_>>,
+        count: &mut C,
+        sign: bool,
+    ) -> Color {
+        self.local_with::<true, C>(hit, ray, shadow, count, sign)
+    }
+
+    /// [`SceneView::local_in`]; `SMOOTH`: the hit is a smooth mesh's.
+    #[inline(always)]
+    fn local_with<const SMOOTH: bool, C: RayCounter>(
         &self,
         hit: &Hit<'_>,
         ray: &Ray,
@@ -415,7 +448,30 @@ impl<'a> SceneView<'a> {
         if !m.is_lit() {
             return c;
         }
+        #[cfg(feature = "bvh")]
+        if !SMOOTH
+            && let Geom::Mesh(mesh) = hit.geom
+            && !mesh.normals().is_empty()
+        {
+            return self.local_smooth(hit, ray, shadow, count, sign);
+        }
         let n = facing(hit.normal, ray.dir);
+        // The normal the light is weighed with: a smooth mesh's interpolated one
+        // (on `n`'s side); `n` itself places the shadow rays.
+        // and a smooth mesh's shadow rays leave from the curved surface its
+        // normals describe (`Mesh::lift`): `lift` is the move there.
+        #[cfg(feature = "bvh")]
+        let (ns, lift) = match hit.geom {
+            Geom::Mesh(mesh) if SMOOTH => {
+                let (f, b) = (hit.index & 0xffff, [hit.aux.x, hit.hit.b1, hit.hit.b2]);
+                let out = if n.dot(hit.normal) < 0.0 { -1.0 } else { 1.0 };
+                let ns = mesh.shading_normal(f, b, n);
+                (ns, mesh.lift(f, b, hit.point, out))
+            }
+            _ => (n, Vec3::ZERO),
+        };
+        #[cfg(not(feature = "bvh"))]
+        let ns = n;
         for (i, light) in self.lights.iter().enumerate() {
             let to_light = light.position() - hit.point;
             let dist2 = to_light.length_squared();
@@ -436,7 +492,7 @@ impl<'a> SceneView<'a> {
             let l = to_light * inv;
             #[cfg(not(feature = "fast-rsqrt"))]
             let l = to_light / dist;
-            let cos = n.dot(l);
+            let cos = ns.dot(l);
             if cos.is_nan() || cos <= 0.0 {
                 continue; // light behind the surface as seen from the ray
             }
@@ -456,6 +512,8 @@ impl<'a> SceneView<'a> {
             };
             if let Some(lists) = lists {
                 let origin = offset_origin(hit.point, hit.error(ray), n, l);
+                #[cfg(feature = "bvh")]
+                let origin = if SMOOTH { origin + lift } else { origin };
                 let ray = Ray::unit(origin, l);
                 let skip = hit.skip_for(l);
                 let blocked = match lists {
@@ -484,12 +542,12 @@ impl<'a> SceneView<'a> {
                 #[cfg(feature = "fast-rsqrt")]
                 let nh = {
                     let h = l - ray.dir;
-                    math::min(n.dot(h) * math::rsqrt(h.length_squared()), 1.0)
+                    math::min(ns.dot(h) * math::rsqrt(h.length_squared()), 1.0)
                 };
                 #[cfg(not(feature = "fast-rsqrt"))]
                 let nh = {
-                    let h = (l - ray.dir).normalize_or(n);
-                    n.dot(h)
+                    let h = (l - ray.dir).normalize_or(ns);
+                    ns.dot(h)
                 };
                 if nh > 0.0 {
                     lit += Color::splat(m.specular() * m.highlight(nh));

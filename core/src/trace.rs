@@ -22,6 +22,8 @@
 
 use crate::color::Color;
 use crate::cull::Hull;
+#[cfg(feature = "bvh")]
+use crate::geometry::Shape;
 use crate::geometry::triangle::{Axes, Shear, with_axes};
 use crate::geometry::{Candidate, Geom, Locate, Surface, aabb_inverse};
 use crate::material::Material;
@@ -30,17 +32,20 @@ use crate::ray::Ray;
 use crate::scene::{Primitive, SceneView};
 use crate::vec::Vec3;
 
-/// The four geometry kinds, in the order the searches visit their lists.
+/// The geometry kinds, in the order the searches visit their lists (the meshes,
+/// feature `bvh`, last).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Kind {
     Sphere = 0,
     Plane = 1,
     Triangle = 2,
     Box = 3,
+    #[cfg(feature = "bvh")]
+    Mesh = 4,
 }
 
 /// A primitive a ray must not test: the one it leaves (see the module doc). One
-/// word (the kind in the top two bits, the index below), so that a pending ray
+/// word (the kind in the top three bits, the index below), so that a pending ray
 /// stays small.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Skip(u32);
@@ -49,11 +54,11 @@ impl Skip {
     /// Nothing to skip (camera rays).
     pub(crate) const NONE: Self = Self(u32::MAX);
 
-    /// Skip primitive `index` of list `kind` (an index beyond 2^30 - 2 skips
+    /// Skip primitive `index` of list `kind` (an index beyond 2^29 - 2 skips
     /// nothing: the test is then merely not saved).
     pub(crate) fn new(kind: Kind, index: usize) -> Self {
         match u32::try_from(index) {
-            Ok(i) if i < (1 << 30) - 1 => Self((kind as u32) << 30 | i),
+            Ok(i) if i < (1 << 29) - 1 => Self((kind as u32) << 29 | i),
             _ => Self::NONE,
         }
     }
@@ -61,8 +66,8 @@ impl Skip {
     /// The index to skip in list `kind` (`usize::MAX`, never an index, if none).
     #[inline(always)]
     pub(crate) fn index(self, kind: Kind) -> usize {
-        if self != Self::NONE && self.0 >> 30 == kind as u32 {
-            (self.0 & ((1 << 30) - 1)) as usize
+        if self != Self::NONE && self.0 >> 29 == kind as u32 {
+            (self.0 & ((1 << 29) - 1)) as usize
         } else {
             usize::MAX
         }
@@ -244,8 +249,8 @@ impl SceneView<'_> {
     #[inline(never)]
     pub(crate) fn nearest(&self, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
         #[cfg(feature = "bvh")]
-        if let Some(bvh) = self.bvh {
-            return self.nearest_through(ray, t_max, &bvh, skip);
+        if self.bvh.is_some() || !self.meshes.is_empty() {
+            return self.nearest_through(ray, t_max, skip);
         }
         self.nearest_flat(ray, t_max, skip)
     }
@@ -331,8 +336,8 @@ impl SceneView<'_> {
     #[inline(never)]
     pub(crate) fn occluded(&self, ray: &Ray, t_max: f32, skip: Skip) -> bool {
         #[cfg(feature = "bvh")]
-        if let Some(bvh) = self.bvh {
-            return self.occluded_through(ray, t_max, &bvh, skip);
+        if self.bvh.is_some() || !self.meshes.is_empty() {
+            return self.occluded_through(ray, t_max, skip);
         }
         self.occluded_flat(ray, t_max, skip)
     }
@@ -460,7 +465,13 @@ impl Hit<'_> {
     /// [`Hit::error`] when not yet known.
     #[inline(never)]
     fn compute_error(&self, ray: &Ray) -> Vec3 {
-        let e = self.geom.error(ray, &self.hit, self.point, self.aux);
+        let e = match self.geom {
+            #[cfg(feature = "bvh")]
+            Geom::Mesh(m) => m.triangle(self.index & 0xffff).map_or(Vec3::ZERO, |t| {
+                t.error(ray, &self.hit, self.point, self.aux)
+            }),
+            g => g.error(ray, &self.hit, self.point, self.aux),
+        };
         self.error.set(Some(e));
         e
     }
@@ -475,6 +486,8 @@ impl Hit<'_> {
             Geom::Plane(_) => (Kind::Plane, true),
             Geom::Triangle(_) => (Kind::Triangle, true),
             Geom::Box(_) => (Kind::Box, false),
+            #[cfg(feature = "bvh")]
+            Geom::Mesh(..) => (Kind::Mesh, true),
         };
         if flat || w.dot(self.normal) > 0.0 {
             Skip::new(kind, self.index)
@@ -524,6 +537,49 @@ fn resolve<'a, G: Locate>(
     })
 }
 
+/// [`resolve`] for a face of a mesh (`n.index` is `mesh << 16 | face`): the
+/// face as a triangle, the mesh's material.
+#[cfg(feature = "bvh")]
+#[inline(always)]
+fn resolve_mesh<'a>(
+    view: &SceneView<'a>,
+    n: &Nearest,
+    ray: &Ray,
+    footprint: Option<&Footprint<'_>>,
+) -> Option<Hit<'a>> {
+    let mesh = view.meshes.get(n.index >> 16)?;
+    let face = u16::try_from(n.index & 0xffff).ok()?;
+    let tri = mesh.triangle(usize::from(face))?;
+    let material = view.materials.get(usize::from(mesh.material().0))?;
+    let (point, normal, aux) = tri.locate(ray, &n.hit);
+    let texture = material.texture();
+    let base = if texture.needs_uv() {
+        let surface = Surface {
+            point,
+            normal,
+            error: Vec3::ZERO,
+        };
+        let uv = tri.uv(&surface, &n.hit);
+        match footprint.and_then(|f| uv_box(&tri, f, uv)) {
+            Some((lo, hi)) => texture.eval_box(lo, hi),
+            None => texture.eval(uv),
+        }
+    } else {
+        texture.eval([0.0, 0.0])
+    };
+    Some(Hit {
+        point,
+        normal,
+        aux,
+        hit: n.hit,
+        geom: Geom::Mesh(mesh),
+        index: n.index,
+        material,
+        base,
+        error: core::cell::Cell::new(None),
+    })
+}
+
 impl<'a> SceneView<'a> {
     /// The [`Hit`] of `n` (inlined where it is called: `SceneView::primary`
     /// and `SceneView::bounce` each have their copy).
@@ -539,6 +595,8 @@ impl<'a> SceneView<'a> {
             Kind::Plane => resolve(self, self.planes, n, ray, footprint),
             Kind::Triangle => resolve(self, self.triangles, n, ray, footprint),
             Kind::Box => resolve(self, self.boxes, n, ray, footprint),
+            #[cfg(feature = "bvh")]
+            Kind::Mesh => resolve_mesh(self, n, ray, footprint),
         }
     }
 }
@@ -555,8 +613,11 @@ mod tests {
             assert_eq!(s.index(other), usize::MAX);
         }
         // Every kind and the largest index that fits.
-        let last = (1 << 30) - 2;
-        for kind in [Kind::Sphere, Kind::Plane, Kind::Triangle, Kind::Box] {
+        let last = (1 << 29) - 2;
+        let kinds = [Kind::Sphere, Kind::Plane, Kind::Triangle, Kind::Box];
+        #[cfg(feature = "bvh")]
+        let kinds = [kinds[0], kinds[1], kinds[2], kinds[3], Kind::Mesh];
+        for kind in kinds {
             assert_eq!(Skip::new(kind, 0).index(kind), 0);
             assert_eq!(Skip::new(kind, last).index(kind), last);
             // Beyond: nothing is skipped (the test is merely not saved).

@@ -26,29 +26,191 @@ pub const MAX_MATERIALS: usize = 256;
 pub const MAX_LIGHTS: usize = 64;
 
 /// The host's scene capacities: spheres, planes, triangles, boxes, materials, lights.
-pub type HostScene =
+pub type CoreScene =
     Scene<MAX_SPHERES, MAX_PLANES, MAX_TRIANGLES, MAX_BOXES, MAX_MATERIALS, MAX_LIGHTS>;
 
 /// A BVH for the host scene's triangles (`2 T` nodes: always enough).
 pub type HostBvh = tessera::Bvh<{ 2 * MAX_TRIANGLES }, MAX_TRIANGLES>;
 
-/// Runs `f` with the view of `scene`, its triangles through a BVH when there are
-/// enough of them for it to pay ([`tessera::SceneView::with_bvh`]).
-pub fn with_view<R>(scene: &HostScene, f: impl FnOnce(&tessera::SceneView<'_>) -> R) -> R {
-    let view = scene.view();
-    if view.triangles().len() < tessera::BVH_CROSSOVER {
-        return f(&view);
+/// A scene file's core scene: its lists ([`CoreScene`]) and its meshes, indexed
+/// (shared vertices, `u16` faces, vertex normals when smooth) with a BVH each.
+/// Render it through [`HostScene::with_view`].
+pub struct HostScene {
+    scene: Box<CoreScene>,
+    meshes: Vec<HostMesh>,
+}
+
+/// A mesh of a [`HostScene`]: what a [`tessera::Mesh`] of it borrows.
+#[derive(Clone, Copy)]
+pub struct MeshParts<'a> {
+    /// The distinct vertices.
+    pub vertices: &'a [[f32; 3]],
+    /// The faces.
+    pub faces: &'a [[u16; 3]],
+    /// The vertex normals (empty: flat).
+    pub normals: &'a [[f32; 3]],
+    /// The material.
+    pub material: MaterialId,
+    /// The BVH over the faces.
+    pub bvh: &'a HostBvh,
+}
+
+/// A mesh's data, which a [`tessera::Mesh`] borrows.
+struct HostMesh {
+    vertices: Vec<[f32; 3]>,
+    faces: Vec<[u16; 3]>,
+    normals: Vec<[f32; 3]>,
+    material: MaterialId,
+    bvh: Box<HostBvh>,
+}
+
+impl fmt::Debug for HostScene {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("HostScene")
+            .field("scene", &self.scene)
+            .field("meshes", &self.meshes.len())
+            .finish()
     }
-    let mut bvh = Box::new(HostBvh::new());
-    // Cannot fail: the capacities are the scene's, and 2 T nodes always suffice;
-    // if it did, the flat lists render the same image.
-    match bvh
-        .build(view.triangles())
-        .and_then(|()| view.with_bvh(&bvh))
-    {
-        Ok(v) => f(&v),
-        Err(_) => f(&view),
+}
+
+impl HostScene {
+    /// The camera.
+    #[must_use]
+    pub fn camera(&self) -> &Camera {
+        self.scene.camera()
     }
+
+    /// The lists (spheres, planes, triangles, boxes, materials, lights), without
+    /// the meshes.
+    #[must_use]
+    pub fn lists(&self) -> &CoreScene {
+        &self.scene
+    }
+
+    /// How many meshes.
+    #[must_use]
+    pub fn mesh_count(&self) -> usize {
+        self.meshes.len()
+    }
+
+    /// Each mesh's data.
+    pub fn mesh_parts(&self) -> impl Iterator<Item = MeshParts<'_>> {
+        self.meshes.iter().map(|m| MeshParts {
+            vertices: &m.vertices,
+            faces: &m.faces,
+            normals: &m.normals,
+            material: m.material,
+            bvh: &m.bvh,
+        })
+    }
+
+    /// Runs `f` with the scene's view: its meshes, and its triangles through a
+    /// BVH when there are enough of them for it to pay
+    /// ([`tessera::SceneView::with_bvh`]).
+    pub fn with_view<R>(&self, f: impl FnOnce(&tessera::SceneView<'_>) -> R) -> R {
+        let meshes: Vec<tessera::Mesh<'_>> = self
+            .meshes
+            .iter()
+            .map(|m| {
+                let bvh = tessera::BakedBvh::new(m.bvh.nodes(), m.bvh.order(), m.bvh.reach());
+                tessera::Mesh::new(&m.vertices, &m.faces, &m.normals, m.material, bvh)
+            })
+            .collect();
+        let view = self.scene.view();
+        // Checked when the scene was made: cannot fail (if it did, the meshes
+        // would be missing from the image, which every test would see).
+        let view = if meshes.is_empty() {
+            view
+        } else {
+            view.with_meshes(&meshes).unwrap_or(view)
+        };
+        if view.triangles().len() < tessera::BVH_CROSSOVER {
+            return f(&view);
+        }
+        let mut bvh = Box::new(HostBvh::new());
+        // Cannot fail: the capacities are the scene's, and 2 T nodes always
+        // suffice; if it did, the flat lists render the same image.
+        match bvh
+            .build(view.triangles())
+            .and_then(|()| view.with_bvh(&bvh))
+        {
+            Ok(v) => f(&v),
+            Err(_) => f(&view),
+        }
+    }
+}
+
+/// A mesh welded: its distinct vertices (in the order they first appear), its
+/// faces as indices into them, and, for a smooth mesh, each vertex's normal (the
+/// normalised sum of its faces' `(p1 - p0) x (p2 - p0)`, so weighted by area).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Welded {
+    /// The distinct vertices.
+    pub positions: Vec<[f64; 3]>,
+    /// The faces.
+    pub faces: Vec<[usize; 3]>,
+    /// One unit normal per vertex (smooth), or none (flat).
+    pub normals: Vec<[f64; 3]>,
+}
+
+impl MeshDesc {
+    /// The faces welded where their vertices are the same numbers (see
+    /// [`Welded`]).
+    #[must_use]
+    pub fn welded(&self) -> Welded {
+        let mut index: std::collections::HashMap<[u64; 3], usize> = Default::default();
+        let mut positions = Vec::new();
+        let faces: Vec<[usize; 3]> = self
+            .faces
+            .iter()
+            .map(|f| {
+                f.map(|p| {
+                    *index.entry(p.map(f64::to_bits)).or_insert_with(|| {
+                        positions.push(p);
+                        positions.len() - 1
+                    })
+                })
+            })
+            .collect();
+        let normals = if self.smooth {
+            let mut sum = vec![[0.0f64; 3]; positions.len()];
+            for (f, p) in faces.iter().zip(&self.faces) {
+                let (a, b) = (sub(p[1], p[0]), sub(p[2], p[0]));
+                let n = [
+                    a[1] * b[2] - a[2] * b[1],
+                    a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0],
+                ];
+                for &i in f {
+                    sum[i] = [sum[i][0] + n[0], sum[i][1] + n[1], sum[i][2] + n[2]];
+                }
+            }
+            sum.into_iter()
+                .map(|n| {
+                    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+                    // Faces cancelling out at a vertex (never on a closed surface
+                    // seen from outside): the vertex keeps an up normal, which the
+                    // shading turns to the face's side.
+                    if len > 0.0 && len.is_finite() {
+                        n.map(|x| x / len)
+                    } else {
+                        [0.0, 1.0, 0.0]
+                    }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Welded {
+            positions,
+            faces,
+            normals,
+        }
+    }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 /// The lists of a scene file, by the name of their `[[...]]` sections, with their
@@ -309,6 +471,11 @@ pub struct MeshDesc {
     /// Translation, after the scale.
     #[serde(default)]
     pub translate: [f64; 3],
+    /// Smooth shading: the light is weighed with the vertex normals interpolated
+    /// across each face (computed from the faces, weighted by area); flat
+    /// otherwise.
+    #[serde(default)]
+    pub smooth: bool,
     /// The faces read from the file, scaled and moved: filled when the scene file
     /// is loaded ([`crate::file`]), never written in it.
     #[serde(skip)]
@@ -579,24 +746,10 @@ impl SceneDesc {
         }
     }
 
-    /// Every triangle of the scene with its material's name: the `[[triangle]]`s,
-    /// then each mesh's faces (the order of the core's triangle list).
-    pub fn all_triangles(&self) -> impl Iterator<Item = (&[[f64; 3]; 3], &str)> {
-        let own = self
-            .triangles
-            .iter()
-            .map(|t| (&t.vertices, t.material.as_str()));
-        let meshes = self
-            .meshes
-            .iter()
-            .flat_map(|m| m.faces.iter().map(move |f| (f, m.material.as_str())));
-        own.chain(meshes)
-    }
-
     /// The core scene (every value checked, capacities enforced).
-    pub fn to_core(&self) -> Result<Box<HostScene>, DescError> {
+    pub fn to_core(&self) -> Result<HostScene, DescError> {
         self.check_counts()?;
-        let mut s = Box::new(HostScene::new(self.core_camera()?));
+        let mut s = Box::new(CoreScene::new(self.core_camera()?));
         let item = Item::new("ambient");
         s.set_ambient(item.c3(self.ambient, Field::AmbientLight)?)
             .map_err(|e| item.core(e, show(&self.ambient)))?;
@@ -637,20 +790,64 @@ impl SceneDesc {
             )
             .map_err(|e| item.refused(e))?;
         }
-        for (i, m) in self.meshes.iter().enumerate() {
-            let material = self.material_id(&Item(format!("mesh {}", i + 1)), &m.material)?;
-            for (j, face) in m.faces.iter().enumerate() {
-                let item = Item(format!("mesh {} ({:?}) face {}", i + 1, m.obj, j + 1));
-                s.add_triangle(core_triangle(&item, face)?, material)
-                    .map_err(|e| item.refused(e))?;
-            }
-        }
         for (i, d) in self.boxes.iter().enumerate() {
             let item = Item(format!("box {}", i + 1));
             s.add_box(core_box(&item, d)?, self.material_id(&item, &d.material)?)
                 .map_err(|e| item.refused(e))?;
         }
-        Ok(s)
+        if self.meshes.len() > tessera::MAX_MESHES {
+            let item = Item(format!("mesh {}", tessera::MAX_MESHES + 1));
+            return Err(item.fail(too_many(List::Meshes, tessera::MAX_MESHES)));
+        }
+        let mut meshes = Vec::with_capacity(self.meshes.len());
+        for (i, m) in self.meshes.iter().enumerate() {
+            let item = Item(format!("mesh {} ({:?})", i + 1, m.obj));
+            meshes.push(self.core_mesh(&item, m)?);
+        }
+        let scene = HostScene { scene: s, meshes };
+        // The meshes' own checks (the view's): every fault was caught above.
+        scene.with_view(|v| {
+            if v.meshes().len() == scene.meshes.len() {
+                Ok(())
+            } else {
+                Err(Item::new("mesh").fail("its faces or BVH do not fit".into()))
+            }
+        })?;
+        Ok(scene)
+    }
+
+    /// The core data of mesh `m`: welded, in `f32`, with its BVH.
+    fn core_mesh(&self, item: &Item, m: &MeshDesc) -> Result<HostMesh, DescError> {
+        let material = self.material_id(item, &m.material)?;
+        let w = m.welded();
+        // As `core_triangle` rounds them (a vertex it refuses fails its face).
+        let f32s = |p: &[f64; 3]| p.map(|x| to_f32(x).unwrap_or(f32::NAN));
+        let vertices: Vec<[f32; 3]> = w.positions.iter().map(f32s).collect();
+        let normals: Vec<[f32; 3]> = w.normals.iter().map(f32s).collect();
+        let too_many = || item.fail(format!("more than {} vertices", u16::MAX));
+        let mut faces = Vec::with_capacity(w.faces.len());
+        let mut triangles = Vec::with_capacity(w.faces.len());
+        for (j, f) in w.faces.iter().enumerate() {
+            let face = f.map(|i| u16::try_from(i).map_err(|_| too_many()));
+            let [a, b, c] = face;
+            faces.push([a?, b?, c?]);
+            let face_item = Item(format!("{} face {}", item.0, j + 1));
+            let t = core_triangle(&face_item, &f.map(|i| w.positions[i]))?;
+            triangles.push(tessera::Primitive {
+                geometry: t,
+                material,
+            });
+        }
+        let mut bvh = Box::new(HostBvh::new());
+        bvh.build(&triangles)
+            .map_err(|e| item.fail(format!("its BVH cannot be built: {e}")))?;
+        Ok(HostMesh {
+            vertices,
+            faces,
+            normals,
+            material,
+            bvh,
+        })
     }
 
     /// The id of the material called `name`, which `item` uses.

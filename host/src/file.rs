@@ -658,6 +658,7 @@ pub fn builtin_source(b: Builtin) -> &'static str {
         Builtin::ChapterReflect => include_str!("../../scenes/chapter-reflect.toml"),
         Builtin::Interference => include_str!("../../scenes/interference.toml"),
         Builtin::Showcase => include_str!("../../scenes/showcase.toml"),
+        Builtin::Teapot => include_str!("../../scenes/teapot.toml"),
     }
 }
 
@@ -697,14 +698,8 @@ mod tests {
     /// Renders a description at `vp` with its own settings and tile size.
     fn render_desc(d: &SceneDesc, vp: Viewport) -> image::RgbImage {
         let s = d.to_core().unwrap();
-        crate::render(
-            &s.view(),
-            s.camera(),
-            vp,
-            d.settings().unwrap(),
-            d.render.tile,
-        )
-        .unwrap()
+        s.with_view(|v| crate::render(v, s.camera(), vp, d.settings().unwrap(), d.render.tile))
+            .unwrap()
     }
 
     #[test]
@@ -735,7 +730,9 @@ mod tests {
             let d = builtin_desc(b);
             let s = d.to_core().unwrap();
             let vp = Viewport::new(96, 72);
-            let from_file = crate::render(&s.view(), s.camera(), vp, b.settings(), 16).unwrap();
+            let from_file = s
+                .with_view(|v| crate::render(v, s.camera(), vp, b.settings(), 16))
+                .unwrap();
             let core = b
                 .with_scene(|view, cam| crate::render(view, cam, vp, b.settings(), 16))
                 .unwrap()
@@ -751,18 +748,28 @@ mod tests {
         for b in Builtin::ALL {
             let d = builtin_desc(b);
             let s = d.to_core().unwrap();
-            let (file, cam) = (s.view(), *s.camera());
-            b.with_scene(|core, core_cam| {
-                let n = b.name();
-                assert_eq!(&cam, core_cam, "{n}: camera");
-                assert_eq!(file.ambient(), core.ambient(), "{n}: ambient");
-                assert_eq!(file.background(), core.background(), "{n}: background");
-                assert_eq!(file.materials(), core.materials(), "{n}: materials");
-                assert_eq!(file.lights(), core.lights(), "{n}: lights");
-                assert_eq!(file.spheres(), core.spheres(), "{n}: spheres");
-                assert_eq!(file.planes(), core.planes(), "{n}: planes");
-                assert_eq!(file.triangles(), core.triangles(), "{n}: triangles");
-                assert_eq!(file.boxes(), core.boxes(), "{n}: boxes");
+            let cam = *s.camera();
+            s.with_view(|file| {
+                b.with_scene(|core, core_cam| {
+                    let n = b.name();
+                    assert_eq!(&cam, core_cam, "{n}: camera");
+                    assert_eq!(file.ambient(), core.ambient(), "{n}: ambient");
+                    assert_eq!(file.background(), core.background(), "{n}: background");
+                    assert_eq!(file.materials(), core.materials(), "{n}: materials");
+                    assert_eq!(file.lights(), core.lights(), "{n}: lights");
+                    assert_eq!(file.spheres(), core.spheres(), "{n}: spheres");
+                    assert_eq!(file.planes(), core.planes(), "{n}: planes");
+                    assert_eq!(file.triangles(), core.triangles(), "{n}: triangles");
+                    assert_eq!(file.boxes(), core.boxes(), "{n}: boxes");
+                    let (fm, cm) = (file.meshes(), core.meshes());
+                    assert_eq!(fm.len(), cm.len(), "{n}: meshes");
+                    for (f, c) in fm.iter().zip(cm) {
+                        assert_eq!(f.vertices(), c.vertices(), "{n}: mesh vertices");
+                        assert_eq!(f.faces(), c.faces(), "{n}: mesh faces");
+                        assert_eq!(f.normals(), c.normals(), "{n}: mesh normals");
+                        assert_eq!(f.material(), c.material(), "{n}: mesh material");
+                    }
+                })
             })
             .unwrap();
         }

@@ -27,6 +27,7 @@ macro_rules! with_tile_size {
     };
 }
 
+pub mod bake;
 pub mod compare;
 pub mod desc;
 mod error;
@@ -37,6 +38,7 @@ pub mod output;
 pub mod png;
 pub mod reference;
 pub mod simulate;
+pub mod teapot;
 pub mod trade;
 
 pub use error::{HostError, TempStep};

@@ -20,6 +20,10 @@ use tessera::List;
 /// vertices makes about one triangle every two bytes) near 100 MB.
 pub const MAX_OBJ_BYTES: usize = 16 << 20;
 
+/// The `obj` of a mesh that is tessera's own teapot ([`crate::teapot`], at its
+/// default tessellation) rather than a file: no file is needed.
+pub const BUILTIN_TEAPOT: &str = "builtin:teapot";
+
 /// The faces of `mesh`'s OBJ file (its path relative to `base`), scaled and
 /// moved, and how many degenerate faces were left out. At most `*budget` bytes of
 /// OBJ text are read, and the file's size is taken from it; more than `room` faces
@@ -45,20 +49,26 @@ pub fn read(
             mesh.translate.map(num).join(", ")
         ));
     }
-    let path = base.join(&mesh.obj);
-    let shown = path.display().to_string();
-    let text = crate::file::read_limited(&path, *budget, "OBJ file").map_err(|e| {
-        if *budget < MAX_OBJ_BYTES {
-            format!(
-                "{shown}: {e}: what is left of the {} MiB that the OBJ files of a scene \
-                 may take together",
-                MAX_OBJ_BYTES >> 20
-            )
-        } else {
-            format!("{shown}: {e}")
-        }
-    })?;
-    *budget -= text.len();
+    let (shown, text) = if mesh.obj == BUILTIN_TEAPOT {
+        let obj = crate::teapot::teapot(crate::teapot::SEGMENTS).to_obj();
+        (BUILTIN_TEAPOT.to_string(), obj)
+    } else {
+        let path = base.join(&mesh.obj);
+        let shown = path.display().to_string();
+        let text = crate::file::read_limited(&path, *budget, "OBJ file").map_err(|e| {
+            if *budget < MAX_OBJ_BYTES {
+                format!(
+                    "{shown}: {e}: what is left of the {} MiB that the OBJ files of a scene \
+                     may take together",
+                    MAX_OBJ_BYTES >> 20
+                )
+            } else {
+                format!("{shown}: {e}")
+            }
+        })?;
+        (shown, text)
+    };
+    *budget = budget.saturating_sub(text.len());
     // Lines (`l`) and points (`p`) are no faces, but tobj reads them as faces:
     // blanked (their line breaks kept, so that line numbers stay right).
     let text: String = text
@@ -237,6 +247,7 @@ mod tests {
             material: "m".into(),
             scale: 1.0,
             translate: [0.0; 3],
+            smooth: false,
             faces: Vec::new(),
             degenerate: 0,
         }
@@ -281,12 +292,25 @@ mod tests {
         }
         let written = file::parse(&scene(&triangles), "t.toml").unwrap();
         let (a, b) = (d.to_core().unwrap(), written.to_core().unwrap());
-        let (ta, tb) = (a.view(), b.view());
-        assert_eq!(ta.triangles(), tb.triangles());
-        assert_eq!(ta.triangles().len(), 20);
+        let (mesh, list) = (a.mesh_parts().next().unwrap(), b.lists().view());
+        assert_eq!(mesh.faces.len(), 20);
+        let faces: Vec<tessera::Triangle> = mesh
+            .faces
+            .iter()
+            .map(|f| {
+                let [p, q, r] = f.map(|i| {
+                    let [x, y, z] = mesh.vertices[usize::from(i)];
+                    tessera::Vec3::new(x, y, z)
+                });
+                tessera::Triangle::try_new(p, q, r).unwrap()
+            })
+            .collect();
+        let listed: Vec<tessera::Triangle> = list.triangles().iter().map(|t| t.geometry).collect();
+        assert_eq!(faces, listed);
         let vp = tessera::Viewport::new(32, 24);
         let render = |s: &crate::desc::HostScene| {
-            crate::render(&s.view(), s.camera(), vp, d.settings().unwrap(), 16).unwrap()
+            s.with_view(|v| crate::render(v, s.camera(), vp, d.settings().unwrap(), 16))
+                .unwrap()
         };
         assert_eq!(render(&a), render(&b));
     }
@@ -367,7 +391,10 @@ mod tests {
         let unknown = "[[mesh]]\nobj = \"t.obj\"\nmaterial = \"nope\"\n";
         let tri = ("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
         let e = load(&scene(unknown), &[tri]).unwrap_err().to_string();
-        assert!(e.contains("mesh 1: unknown material \"nope\""), "{e}");
+        assert!(
+            e.contains("mesh 1 (\"t.obj\"): unknown material \"nope\""),
+            "{e}"
+        );
         // 8,192 triangles fill the list; a mesh of 2 after 8,191 overflows it.
         let mut obj = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");
         obj += &"f 1 2 3\n".repeat(2);

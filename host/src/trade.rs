@@ -393,7 +393,7 @@ pub fn interference_study(
                 max_depth: 0,
                 seed: 5,
             };
-            let img = crate::render(&scene.view(), scene.camera(), vp, settings, 16)?;
+            let img = scene.with_view(|v| crate::render(v, scene.camera(), vp, settings, 16))?;
             let (rmse, amplitude, row_std) = row_stats(&img, Some(&truth), fp);
             out.push(FringeResult {
                 footprint: fp,

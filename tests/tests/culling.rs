@@ -110,8 +110,11 @@ fn scene_files_render_the_same_culled_or_not() {
         let desc = tessera_host::file::load(path).unwrap();
         let scene = desc.to_core().unwrap();
         let settings = desc.settings().unwrap();
-        let frame = scene.frame(Viewport::new(64, 48), settings).unwrap();
-        same_culled_or_not(&scene.view(), &frame, &path.display().to_string());
+        let frame = scene
+            .lists()
+            .frame(Viewport::new(64, 48), settings)
+            .unwrap();
+        scene.with_view(|v| same_culled_or_not(v, &frame, &path.display().to_string()));
     }
 }
 

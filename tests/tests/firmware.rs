@@ -194,7 +194,10 @@ fn instruction_counts_stay_within_the_baseline() {
 #[test]
 fn extreme_scales_render_the_same_bits_on_the_chip() {
     let mut runs = Vec::new();
-    for b in Builtin::ALL {
+    // The teapot scaled is a copy of its mesh and a BVH built in RAM (about 120
+    // KiB of stack, more than this chip has): the host checks it (the extremes
+    // battery's scales and the culling tests).
+    for b in Builtin::ALL.into_iter().filter(|&b| b != Builtin::Teapot) {
         // The interference screen's near distance (0.01) reaches the smallest
         // supported length (2^-52) first: its range starts at k = -45.
         let low = if b == Builtin::Interference { -45 } else { -48 };

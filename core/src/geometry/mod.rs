@@ -129,6 +129,10 @@ pub(crate) enum Geom<'a> {
     Plane(&'a Plane),
     Triangle(&'a Triangle),
     Box(&'a Aabb),
+    /// A face of a mesh (feature `bvh`); which face, the hit's index says
+    /// (`mesh << 16 | face`), so that a `Geom` stays a tag and a pointer.
+    #[cfg(feature = "bvh")]
+    Mesh(&'a crate::mesh::Mesh<'a>),
 }
 
 impl Geom<'_> {
@@ -140,6 +144,9 @@ impl Geom<'_> {
             Self::Plane(g) => g.error(ray, hit, point, aux),
             Self::Triangle(g) => g.error(ray, hit, point, aux),
             Self::Box(g) => g.error(ray, hit, point, aux),
+            #[cfg(feature = "bvh")]
+            // The face's own bound: `Hit::compute_error` calls `Mesh::error`.
+            Self::Mesh(_) => Vec3::ZERO,
         }
     }
 }

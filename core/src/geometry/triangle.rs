@@ -177,6 +177,20 @@ impl Triangle {
         }
     }
 
+    /// A triangle of baked data (`static` tables written by `tessera bake`), not
+    /// checked here, in a `const` context: a view checks every baked triangle
+    /// against [`Triangle::try_new`] when it takes them
+    /// ([`crate::SceneView::with_baked`], feature `bvh`), and no other function
+    /// takes a triangle made this way without a scene's checks.
+    #[must_use]
+    pub const fn baked(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3]) -> Self {
+        Self {
+            p0: Vec3::new(p0[0], p0[1], p0[2]),
+            p1: Vec3::new(p1[0], p1[1], p1[2]),
+            p2: Vec3::new(p2[0], p2[1], p2[2]),
+        }
+    }
+
     /// The vertices `[p0, p1, p2]`.
     #[must_use]
     pub fn vertices(&self) -> [Vec3; 3] {

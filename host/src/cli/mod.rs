@@ -2,6 +2,7 @@
 //! per command (`render`, `compare`, `simulate`, `trade`; `scenes` is one loop).
 //! Every command returns the one [`Error`] type.
 
+mod bake;
 mod compare;
 mod error;
 mod render;
@@ -66,6 +67,10 @@ enum Command {
     /// setting (tab-separated), host ns/pixel on one thread and accuracy against a
     /// converged f64 reference.
     Trade(trade::TradeArgs),
+    /// Write a scene's triangles and their BVH as Rust `static` data for a firmware
+    /// (flash, not RAM): give them to the firmware's view of the rest of the scene
+    /// with `SceneView::with_baked`.
+    Bake(bake::BakeArgs),
     /// List the built-in scenes.
     Scenes,
 }
@@ -79,6 +84,7 @@ impl Cli {
             Some(Command::Compare(a)) => compare::run(&a),
             Some(Command::Simulate(a)) => simulate::run(&a),
             Some(Command::Trade(a)) => trade::run(&a),
+            Some(Command::Bake(a)) => bake::run(&a),
             Some(Command::Scenes) => {
                 for b in Builtin::ALL {
                     println!("{}", b.name());

@@ -106,7 +106,7 @@ impl Source {
             Self::Builtin(b) => b.with_scene(f)?,
             Self::File(_, d) => {
                 let s = d.to_core().map_err(|e| self.error(e))?;
-                tessera_host::desc::with_view(&s, |view| f(view, s.camera()))
+                s.with_view(|view| f(view, s.camera()))
             }
         }
     }

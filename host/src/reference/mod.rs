@@ -151,10 +151,12 @@ pub fn render(
     settings: &tessera::RenderSettings,
 ) -> Result<RefImage, DescError> {
     let core = desc.to_core()?;
-    core.frame(viewport, *settings).map_err(|e| DescError {
-        item: "render".into(),
-        message: e.to_string(),
-    })?;
+    core.lists()
+        .frame(viewport, *settings)
+        .map_err(|e| DescError {
+            item: "render".into(),
+            message: e.to_string(),
+        })?;
     drop(core);
     let camera = RefCamera::new(&desc.camera, viewport)?;
     let scene = RefScene::from_desc(desc)?;

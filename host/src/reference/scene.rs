@@ -142,8 +142,9 @@ pub struct Light {
     pub power: V3,
 }
 
-/// A primitive: shape, kind (0 sphere, 1 plane, 2 triangle, 3 box), index in its
-/// kind's list, material index.
+/// A primitive: shape, kind (0 sphere, 1 plane, 2 triangle, 3 box, 4 a mesh's
+/// face), index in its kind's list (a mesh's faces: the mesh's), material index,
+/// and a smooth mesh's vertex normals.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Object {
     /// The shape.
@@ -154,6 +155,48 @@ pub struct Object {
     pub index: u64,
     /// Index in [`RefScene::materials`].
     pub material: usize,
+    /// A face of a smooth mesh: its vertices' unit normals.
+    pub normals: Option<[V3; 3]>,
+}
+
+impl Object {
+    /// Where a smooth mesh's shadow rays leave, as a move from the hit `p`: the
+    /// point lifted above each vertex's tangent plane, weighted by the
+    /// barycentrics (Hanika, "Hacking the shadow terminator", Ray Tracing Gems II
+    /// ch. 4); `side` -1 when the ray sees the face from behind its normals.
+    /// Zero otherwise.
+    #[must_use]
+    pub fn lift(&self, p: V3, hit: &Hit, side: f64) -> V3 {
+        let (Some(normals), Shape::Triangle { p: vertices }) = (self.normals, self.shape) else {
+            return V3::new(0.0, 0.0, 0.0);
+        };
+        let w = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
+        let mut lift = V3::new(0.0, 0.0, 0.0);
+        for i in 0..3 {
+            let n = normals[i] * side;
+            let below = (p - vertices[i]).dot(n).min(0.0);
+            lift = lift - n * (below * w[i]);
+        }
+        lift
+    }
+
+    /// The normal the light is weighed with, given `n`, the surface normal turned
+    /// to the ray: a smooth mesh's vertex normals interpolated at the hit's
+    /// barycentrics, turned to `n`'s side; `n` itself otherwise.
+    #[must_use]
+    pub fn shading(&self, n: V3, hit: &Hit) -> V3 {
+        let Some([a, b, c]) = self.normals else {
+            return n;
+        };
+        let s = (a * (1.0 - hit.b1 - hit.b2) + b * hit.b1 + c * hit.b2).normalize();
+        if !s.is_finite() {
+            n
+        } else if s.dot(n) < 0.0 {
+            -s
+        } else {
+            s
+        }
+    }
 }
 
 /// The scene in `f64`: every primitive in one list, spheres, planes, triangles,
@@ -229,6 +272,7 @@ impl RefScene {
                 kind,
                 index: index as u64,
                 material,
+                normals: None,
             });
             Ok::<(), DescError>(())
         };
@@ -246,9 +290,11 @@ impl RefScene {
             };
             add(1, i, shape, &p.material)?;
         }
-        for (i, (vertices, material)) in desc.all_triangles().enumerate() {
-            let shape = Shape::Triangle { p: vertices.map(v) };
-            add(2, i, shape, material)?;
+        for (i, t) in desc.triangles.iter().enumerate() {
+            let shape = Shape::Triangle {
+                p: t.vertices.map(v),
+            };
+            add(2, i, shape, &t.material)?;
         }
         for (i, b) in desc.boxes.iter().enumerate() {
             let shape = Shape::Box {
@@ -256,6 +302,26 @@ impl RefScene {
                 max: v(b.max),
             };
             add(3, i, shape, &b.material)?;
+        }
+        // The meshes, after every list (as the core searches them), a face at a
+        // time; a smooth one's normals welded as the host welds them.
+        for (i, m) in desc.meshes.iter().enumerate() {
+            let w = m.welded();
+            let material = desc.material_index(&m.material).ok_or_else(|| DescError {
+                item: format!("mesh {}", i + 1),
+                message: format!("unknown material {:?}", m.material),
+            })?;
+            for f in &w.faces {
+                objects.push(Object {
+                    shape: Shape::Triangle {
+                        p: f.map(|k| v(w.positions[k])),
+                    },
+                    kind: 4,
+                    index: i as u64,
+                    material,
+                    normals: (!w.normals.is_empty()).then(|| f.map(|k| v(w.normals[k]))),
+                });
+            }
         }
         Ok(Self {
             ambient: v(desc.ambient),

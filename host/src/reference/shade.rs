@@ -2,8 +2,8 @@
 //! light with shadow rays, then mirror and refracted rays (Snell, Schlick, total
 //! internal reflection), and the per-pixel signature of what the rays met.
 
-use super::geometry::Ray;
-use super::scene::{Mat, RefScene};
+use super::geometry::{Hit, Ray};
+use super::scene::{Mat, Object, RefScene};
 use super::vec::V3;
 
 /// An FNV-1a hash of the identities met along a pixel's rays.
@@ -114,7 +114,7 @@ impl Tracer<'_> {
         if let Some(parity) = m.texture.checker_parity(uv) {
             sig.push(TEXEL | parity);
         }
-        let mut c = self.local(m, base, p, normal, ray, sig);
+        let mut c = self.local(m, base, p, (normal, obj, &hit), ray, sig);
         if depth < self.max_depth {
             for (role, child, w) in secondary(m, p, normal, ray).into_iter().flatten() {
                 sig.push(role);
@@ -124,8 +124,18 @@ impl Tracer<'_> {
         c
     }
 
-    /// Ambient plus direct light from every light not in shadow.
-    fn local(&self, m: &Mat, base: V3, p: V3, normal: V3, ray: &Ray, sig: &mut Signature) -> V3 {
+    /// Ambient plus direct light from every light not in shadow. `normal`: the
+    /// surface's, and the object and hit that give the shading normal (a smooth
+    /// mesh's, [`Object::shading`]).
+    fn local(
+        &self,
+        m: &Mat,
+        base: V3,
+        p: V3,
+        (normal, obj, hit): (V3, &Object, &Hit),
+        ray: &Ray,
+        sig: &mut Signature,
+    ) -> V3 {
         let mut c = base.times(self.scene.ambient) * m.ka;
         if m.kd <= 0.0 && m.ks <= 0.0 {
             return c;
@@ -135,6 +145,9 @@ impl Tracer<'_> {
         } else {
             normal
         };
+        let ns = obj.shading(n, hit);
+        let side = if n.dot(normal) < 0.0 { -1.0 } else { 1.0 };
+        let from = p + obj.lift(p, hit, side);
         for (i, light) in self.scene.lights.iter().enumerate() {
             let to_light = light.position - p;
             let dist = to_light.length();
@@ -142,12 +155,12 @@ impl Tracer<'_> {
                 continue;
             }
             let l = to_light * (1.0 / dist);
-            let cos = n.dot(l);
+            let cos = ns.dot(l);
             if cos.is_nan() || cos <= 0.0 {
                 continue;
             }
             let shadow = Ray {
-                origin: spawn(p, n, l),
+                origin: spawn(from, n, l),
                 dir: l,
             };
             let blocked = self.scene.blocked(&shadow, dist);
@@ -159,8 +172,8 @@ impl Tracer<'_> {
             let mut lit = base * (m.kd * cos);
             if m.ks > 0.0 {
                 let h = (l - ray.dir).normalize();
-                let h = if h.is_finite() { h } else { n };
-                let nh = n.dot(h);
+                let h = if h.is_finite() { h } else { ns };
+                let nh = ns.dot(h);
                 if nh > 0.0 {
                     let s = m.ks * nh.powf(m.shininess);
                     lit = lit + V3::new(s, s, s);
@@ -197,6 +210,9 @@ impl Tracer<'_> {
         } else {
             normal
         };
+        let ns = obj.shading(n, &hit);
+        let side = if n.dot(normal) < 0.0 { -1.0 } else { 1.0 };
+        let from = p + obj.lift(p, &hit, side);
         for (i, light) in self.scene.lights.iter().enumerate() {
             let to_light = light.position - p;
             let dist = to_light.length();
@@ -204,12 +220,12 @@ impl Tracer<'_> {
                 continue;
             }
             let l = to_light * (1.0 / dist);
-            let cos = n.dot(l);
+            let cos = ns.dot(l);
             if cos.is_nan() || cos <= 0.0 {
                 continue;
             }
             let shadow = Ray {
-                origin: spawn(p, n, l),
+                origin: spawn(from, n, l),
                 dir: l,
             };
             if self.scene.blocked(&shadow, dist) {

@@ -277,7 +277,9 @@ fn against_the_core(d: &SceneDesc) -> Vec<(RefImage, [f64; 3], f64)> {
             };
             let reference = render(d, vp, &settings).unwrap();
             assert_eq!(reference.non_finite(), 0);
-            let core = crate::render(&scene.view(), scene.camera(), vp, settings, 16).unwrap();
+            let core = scene
+                .with_view(|v| crate::render(v, scene.camera(), vp, settings, 16))
+                .unwrap();
             let (within, pixels_1) = agreement(&reference.to_rgb8(), &core);
             println!(
                 "{sampler:?}: pixels within 0/1/2 LSB: {:.4} / {:.4} / {:.4}",

@@ -92,13 +92,14 @@ pub fn render_desc(desc: &SceneDesc, vp: Viewport) -> Result<Rendered, String> {
     let settings = desc.settings().map_err(|e| e.to_string())?;
     let scene = desc.to_core().map_err(|e| e.to_string())?;
     let frame = Frame::try_new(scene.camera(), vp, settings).map_err(|e| e.to_string())?;
-    let view = scene.view();
     let mut non_finite = 0;
-    let image = RgbImage::from_fn(u32::from(vp.width), u32::from(vp.height), |x, y| {
-        let c = frame.pixel_color(&view, x, y, &mut ());
-        non_finite += usize::from(!c.is_finite());
-        let p = c.to_rgb8();
-        image::Rgb([p.r, p.g, p.b])
+    let image = scene.with_view(|view| {
+        RgbImage::from_fn(u32::from(vp.width), u32::from(vp.height), |x, y| {
+            let c = frame.pixel_color(view, x, y, &mut ());
+            non_finite += usize::from(!c.is_finite());
+            let p = c.to_rgb8();
+            image::Rgb([p.r, p.g, p.b])
+        })
     });
     Ok(Rendered { image, non_finite })
 }
@@ -173,7 +174,7 @@ pub fn validated_range(desc: &SceneDesc) -> (i32, i32) {
     let ok = |k: i32| {
         let d = scaled(desc, k);
         match (d.to_core(), d.settings()) {
-            (Ok(scene), Ok(settings)) => scene.frame(SCALE_VIEWPORT, settings).is_ok(),
+            (Ok(scene), Ok(settings)) => scene.lists().frame(SCALE_VIEWPORT, settings).is_ok(),
             _ => false,
         }
     };

@@ -95,7 +95,7 @@ pub(super) fn svg(entries: &[Entry], cost: Cost) -> Result<String, String> {
         let area = area
             .titled(&cost.title(), ("sans-serif", 22))
             .map_err(|e| err(&e))?;
-        for (area, b) in area.split_evenly((2, 2)).iter().zip(Builtin::ALL) {
+        for (area, b) in area.split_evenly((2, 2)).iter().zip(super::SCENES) {
             let rows: Vec<&Entry> = of_scene(entries, b.name())
                 .into_iter()
                 .filter(|e| cost.of(e).is_some())

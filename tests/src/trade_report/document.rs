@@ -8,7 +8,6 @@ use super::{BACKENDS, CHIP_SCENES, CHIP_SIZE, COMMAND, FOOTPRINTS, FRINGE_SIZE, 
 use crate::firmware;
 use crate::thousands_rounded as thousands;
 use std::fmt::Write as _;
-use tessera::builtin::Builtin;
 use tessera_host::trade::FringeResult;
 
 /// The whole document, section after section.
@@ -175,7 +174,7 @@ fn how_measured(w: &mut String, chip: &ChipSummary) {
 /// One table per scene: every setting and backend.
 fn results(w: &mut String, entries: &[Entry]) {
     let _ = writeln!(w, "## Results\n");
-    for b in Builtin::ALL {
+    for b in super::SCENES {
         let _ = writeln!(w, "### {} (scene settings: {})\n", b.name(), short_base(b));
         let _ = writeln!(
             w,

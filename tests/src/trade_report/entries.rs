@@ -69,7 +69,7 @@ pub(super) fn in_grid_order(
 ) -> Result<Vec<Entry>, String> {
     let mut entries: Vec<Entry> = Vec::new();
     let backends: Vec<&str> = names.iter().copied().chain([REFERENCE]).collect();
-    for b in Builtin::ALL {
+    for b in super::SCENES {
         for s in trade::grid(b.settings()) {
             for backend in &backends {
                 if let Some(r) = rows
@@ -118,7 +118,7 @@ pub(super) fn pareto(points: &[(f64, f64)]) -> Vec<bool> {
 /// FLIP over every row, and the chip's estimated cycles against mean FLIP over
 /// the rows measured on the chip.
 fn mark_fronts(entries: &mut [Entry]) {
-    for b in Builtin::ALL {
+    for b in super::SCENES {
         let host: Vec<usize> = (0..entries.len())
             .filter(|&i| entries[i].row.scene == b.name() && entries[i].row.backend != REFERENCE)
             .collect();

@@ -67,7 +67,7 @@ pub(super) fn all() -> Result<Measured, String> {
 /// of the machine's speed during the run hits every backend alike.
 fn host_rows(bins: &[PathBuf]) -> Result<Vec<Row>, String> {
     let mut rows = Vec::new();
-    for b in Builtin::ALL {
+    for b in super::SCENES {
         for (i, (backend, bin)) in BACKENDS.iter().zip(bins).enumerate() {
             let t = Instant::now();
             eprintln!("host: {} with the {} build...", b.name(), backend.name);
@@ -472,7 +472,7 @@ mod tests {
     #[test]
     fn the_chip_runs_cover_every_scene_s_grid() {
         let runs = chip_runs();
-        for b in Builtin::ALL {
+        for b in crate::trade_report::SCENES {
             let grid = trade::grid(b.settings());
             let mine: Vec<Setting> = runs.iter().filter(|r| r.scene == b).map(setting).collect();
             assert_eq!(mine, grid, "{}", b.name());

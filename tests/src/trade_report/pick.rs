@@ -68,7 +68,7 @@ fn fronts(entries: &[Entry], cost: Cost) -> Result<Fronts, String> {
     let mut on_front: Vec<String> = Vec::new();
     let mut approx_on: Vec<(&'static str, usize)> = approximations().map(|b| (b.name, 0)).collect();
     let (mut approx_noise, mut all_on) = (0, 0);
-    for b in Builtin::ALL {
+    for b in super::SCENES {
         let mut links: Vec<(String, f64)> = Vec::new();
         let front = of_scene(entries, b.name())
             .into_iter()
@@ -145,7 +145,7 @@ fn the_front(p: &mut String, entries: &[Entry]) -> Result<(), String> {
         all_on,
     } = fronts(entries, Cost::Host)?;
     let mut never: Vec<String> = Vec::new();
-    for b in Builtin::ALL {
+    for b in super::SCENES {
         for s in trade::grid(b.settings()) {
             let n = s.sampler.to_string();
             if !on_front.contains(&n) && !never.contains(&n) {
@@ -229,7 +229,7 @@ type Textured<'a> = Vec<(Builtin, &'a Entry, &'a Entry)>;
 fn prefilter_effect(entries: &[Entry]) -> Result<(Vec<&'static str>, Textured<'_>), String> {
     let mut no_texture = Vec::new();
     let mut textured = Vec::new();
-    for b in Builtin::ALL {
+    for b in super::SCENES {
         let bd = b.settings().max_depth;
         let (c, pf) = (
             find(entries, b.name(), EXACT, "centre", bd, 16)?,
@@ -326,7 +326,7 @@ fn approximation(p: &mut String, entries: &[Entry], backend: &str) -> Result<(),
     let mut cycles = ratios(entries, backend, Entry::cycles);
     let (median, rmin, rmax) = spread(&mut cycles);
     let settings = cycles.len();
-    let scenes: Vec<&str> = Builtin::ALL
+    let scenes: Vec<&str> = super::SCENES
         .iter()
         .map(|b| b.name())
         .filter(|s| {
@@ -414,7 +414,7 @@ fn adaptive(p: &mut String, entries: &[Entry]) -> Result<(), String> {
          against stratified 4x4, exact math, at each scene's depth:"
     );
     let (mut held, mut missed) = (Vec::new(), Vec::new());
-    for b in Builtin::ALL {
+    for b in super::SCENES {
         let (s, d) = (b.name(), b.settings().max_depth);
         let a = find(entries, s, EXACT, "adaptive:4", d, 16)?;
         let st = find(entries, s, EXACT, "stratified:4", d, 16)?;

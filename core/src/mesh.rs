@@ -1,0 +1,409 @@
+//! Indexed triangle meshes: shared vertices, faces of three `u16` vertex indices,
+//! optional per-vertex normals (smooth shading), one material, and a BVH over the
+//! faces. Everything is borrowed, so a mesh can lie where it is, in flash on a chip
+//! (`static` data written by `tessera bake`), or in a host's vectors.
+//!
+//! A face is the [`Triangle`] of its three vertices, tested by the same watertight
+//! test as the triangle list, so a mesh gives the image of its faces as
+//! triangles (with flat normals); with normals, the shading normal is the
+//! vertex normals interpolated by the hit's barycentrics, turned to the side of
+//! the face's own normal (which still places the secondary rays and decides which
+//! side of the surface a ray leaves from).
+//!
+//! Memory: 12 bytes a vertex (24 with its normal), 6 a face, 32 a BVH node and 2
+//! a face for the BVH's order; a triangle of the flat list takes 40 bytes.
+
+use crate::bvh::{BakedBvh, BvhView};
+use crate::error::Error;
+use crate::geometry::Triangle;
+use crate::material::MaterialId;
+use crate::scene::Primitive;
+use crate::vec::Vec3;
+
+/// The most meshes a scene view takes ([`crate::SceneView::with_meshes`]): a hit
+/// names its mesh and face in one index, `mesh << 16 | face`.
+pub const MAX_MESHES: usize = 16;
+
+/// An indexed triangle mesh (see the module doc). Build with [`Mesh::new`] (a
+/// `const fn`, for baked data) and give it to a view with
+/// [`crate::SceneView::with_meshes`], which checks it.
+#[derive(Clone, Copy, Debug)]
+pub struct Mesh<'a> {
+    vertices: &'a [[f32; 3]],
+    faces: &'a [[u16; 3]],
+    normals: &'a [[f32; 3]],
+    material: MaterialId,
+    bvh: BakedBvh<'a>,
+}
+
+impl<'a> Mesh<'a> {
+    /// A mesh of `faces` (three indices into `vertices` each), shaded smooth with
+    /// `normals` (one per vertex) or flat (`normals` empty), of `material`, its
+    /// faces found through `bvh` (built over the faces' triangles in face order,
+    /// [`crate::Bvh::build`]). Checked when a view takes it.
+    #[must_use]
+    pub const fn new(
+        vertices: &'a [[f32; 3]],
+        faces: &'a [[u16; 3]],
+        normals: &'a [[f32; 3]],
+        material: MaterialId,
+        bvh: BakedBvh<'a>,
+    ) -> Self {
+        Self {
+            vertices,
+            faces,
+            normals,
+            material,
+            bvh,
+        }
+    }
+
+    /// The vertices.
+    #[must_use]
+    pub fn vertices(&self) -> &'a [[f32; 3]] {
+        self.vertices
+    }
+
+    /// The faces.
+    #[must_use]
+    pub fn faces(&self) -> &'a [[u16; 3]] {
+        self.faces
+    }
+
+    /// The vertex normals (empty: flat shading).
+    #[must_use]
+    pub fn normals(&self) -> &'a [[f32; 3]] {
+        self.normals
+    }
+
+    /// The material.
+    #[must_use]
+    pub fn material(&self) -> MaterialId {
+        self.material
+    }
+
+    /// The triangle of face `f`.
+    #[inline(always)]
+    pub(crate) fn triangle(&self, f: usize) -> Option<Triangle> {
+        let [a, b, c] = *self.faces.get(f)?;
+        let v = |i: u16| self.vertices.get(usize::from(i)).copied();
+        Some(Triangle::baked(v(a)?, v(b)?, v(c)?))
+    }
+
+    /// The face as a primitive of the mesh's material.
+    #[inline(always)]
+    pub(crate) fn primitive(&self, f: usize) -> Option<Primitive<Triangle>> {
+        Some(Primitive {
+            geometry: self.triangle(f)?,
+            material: self.material,
+        })
+    }
+
+    /// The hierarchy's view.
+    #[inline(always)]
+    pub(crate) fn bvh(&self) -> BvhView<'a> {
+        self.bvh.view()
+    }
+
+    /// The shading normal of face `f` at barycentrics `b` (weights of its three
+    /// vertices), turned to the side of `n`, the face's normal as the shading
+    /// uses it; `n` itself for a flat mesh (or a sum that does not normalise).
+    pub(crate) fn shading_normal(&self, f: usize, b: [f32; 3], n: Vec3) -> Vec3 {
+        let Some(&[i, j, k]) = self.faces.get(f) else {
+            return n;
+        };
+        let at = |i: u16| {
+            self.normals
+                .get(usize::from(i))
+                .map(|&[x, y, z]| Vec3::new(x, y, z))
+        };
+        let (Some(a), Some(bn), Some(c)) = (at(i), at(j), at(k)) else {
+            return n;
+        };
+        let s = (a * b[0] + bn * b[1] + c * b[2]).normalize_or(n);
+        if s.dot(n) < 0.0 { -s } else { s }
+    }
+
+    /// Where a shadow ray leaves face `f` of a smooth mesh, as a move from the hit
+    /// point `p` (barycentrics `b`; `out` is -1 when the ray sees the face from
+    /// behind its normals, else 1): the point lifted to the curved surface the
+    /// vertex normals describe (Hanika, "Hacking the shadow terminator", Ray
+    /// Tracing Gems II, ch. 4). Without it a light that the shading normal faces
+    /// but the flat face does not is blocked by the face's own neighbours: dark
+    /// facets along the terminator. Zero for a flat mesh.
+    pub(crate) fn lift(&self, f: usize, b: [f32; 3], p: Vec3, out: f32) -> Vec3 {
+        let Some(&face) = self.faces.get(f) else {
+            return Vec3::ZERO;
+        };
+        // p' = sum w_i (p - min(0, (p - v_i) . n_i) n_i), so with sum w_i = 1 the
+        // move is the weighted sum of the lifts above each vertex's tangent plane.
+        let mut lift = Vec3::ZERO;
+        for (i, w) in face.into_iter().zip(b) {
+            let k = usize::from(i);
+            let (Some(&[x, y, z]), Some(&[nx, ny, nz])) =
+                (self.vertices.get(k), self.normals.get(k))
+            else {
+                return Vec3::ZERO;
+            };
+            let n = Vec3::new(nx, ny, nz) * out;
+            let below = crate::math::min((p - Vec3::new(x, y, z)).dot(n), 0.0);
+            lift = lift - n * (below * w);
+        }
+        if lift.x.is_finite() && lift.y.is_finite() && lift.z.is_finite() {
+            lift
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// Checks the mesh for a scene of `materials` materials: its faces (each
+    /// vertex index in range, each triangle as [`Triangle::try_new`] makes it), its
+    /// normals (none, or one per vertex, each finite and non-zero), its material
+    /// and its hierarchy (as for baked triangles).
+    pub(crate) fn check(&self, materials: usize) -> Result<(), Error> {
+        if self.faces.len() >= 1 << 16 {
+            return Err(Error::BvhMismatch);
+        }
+        if !self.normals.is_empty() {
+            if self.normals.len() != self.vertices.len() {
+                return Err(Error::BvhMismatch);
+            }
+            for &[x, y, z] in self.normals {
+                Vec3::new(x, y, z)
+                    .try_normalize()
+                    .ok_or(Error::BvhMismatch)?;
+            }
+        }
+        crate::bvh::check_faces(
+            self.faces.len(),
+            |f| self.primitive(f).ok_or(Error::BvhMismatch),
+            materials,
+            &self.bvh,
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Bvh, BvhNode, Camera, Color, Frame, Material, PointLight, Scene, SceneView};
+    use crate::{RenderSettings, Sphere, Tile, TileCoord, Viewport};
+
+    extern crate std;
+    use std::vec::Vec as StdVec;
+
+    /// Vertices, faces, normals.
+    type Parts = (StdVec<[f32; 3]>, StdVec<[u16; 3]>, StdVec<[f32; 3]>);
+
+    /// A UV sphere of radius 1 at the origin: `rings x sectors` quads, its
+    /// vertices, faces and exact unit normals.
+    fn uv_sphere(rings: u16, sectors: u16) -> Parts {
+        let mut v = StdVec::new();
+        for i in 0..=rings {
+            let th = core::f32::consts::PI * f32::from(i) / f32::from(rings);
+            for j in 0..sectors {
+                let ph = 2.0 * core::f32::consts::PI * f32::from(j) / f32::from(sectors);
+                v.push([
+                    libm::sinf(th) * libm::cosf(ph),
+                    libm::cosf(th),
+                    libm::sinf(th) * libm::sinf(ph),
+                ]);
+            }
+        }
+        let at = |i: u16, j: u16| i * sectors + j % sectors;
+        let mut f = StdVec::new();
+        for i in 0..rings {
+            for j in 0..sectors {
+                let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+                if i > 0 {
+                    f.push([a, b, c]);
+                }
+                if i + 1 < rings {
+                    f.push([a, c, d]);
+                }
+            }
+        }
+        let n = v.iter().map(|p| {
+            let q = Vec3::new(p[0], p[1], p[2]).normalize_or(Vec3::Y);
+            [q.x, q.y, q.z]
+        });
+        let n = n.collect();
+        (v, f, n)
+    }
+
+    fn camera() -> Camera {
+        Camera::look_at(Vec3::new(0.0, 0.4, 3.2), Vec3::ZERO, Vec3::Y, 0.1, 100.0).unwrap()
+    }
+
+    /// A scene of one red material (shiny) and one light; `sphere`: with the
+    /// analytic unit sphere.
+    fn scene(sphere: bool) -> Scene<1, 0, 0, 0, 1, 1> {
+        let mut s = Scene::new(camera());
+        s.set_ambient(Color::splat(0.05)).unwrap();
+        let m = s
+            .add_material(
+                Material::matte(Color::new(0.9, 0.3, 0.2))
+                    .with_specular(0.4, 30.0)
+                    .unwrap(),
+            )
+            .unwrap();
+        s.add_light(PointLight::try_new(Vec3::new(-2.0, 3.0, 4.0), Color::WHITE, 30.0).unwrap())
+            .unwrap();
+        if sphere {
+            s.add_sphere(Sphere::try_new(Vec3::ZERO, 1.0).unwrap(), m)
+                .unwrap();
+        }
+        s
+    }
+
+    fn render(v: &SceneView<'_>) -> StdVec<[u8; 3]> {
+        let vp = Viewport::new(48, 40);
+        let frame = Frame::try_new(&camera(), vp, RenderSettings::default()).unwrap();
+        let (across, down) = frame.tile_grid(8);
+        let mut px = std::vec![[0u8; 3]; 48 * 40];
+        for ty in 0..down {
+            for tx in 0..across {
+                let mut tile = Tile::<8>::new();
+                frame
+                    .render_tile(v, TileCoord::new(tx, ty), &mut tile, &mut ())
+                    .unwrap();
+                for (k, p) in tile.pixels().enumerate() {
+                    let (x, y) = (usize::from(tx) * 8 + k % 8, usize::from(ty) * 8 + k / 8);
+                    if x < 48 && y < 40 {
+                        px[y * 48 + x] = [p.r, p.g, p.b];
+                    }
+                }
+            }
+        }
+        px
+    }
+
+    fn mean_diff(a: &[[u8; 3]], b: &[[u8; 3]]) -> f64 {
+        let sum: u64 = a
+            .iter()
+            .zip(b)
+            .flat_map(|(p, q)| p.iter().zip(q).map(|(x, y)| u64::from(x.abs_diff(*y))))
+            .sum();
+        sum as f64 / (a.len() * 3) as f64
+    }
+
+    /// The hierarchy of the faces, as baked data would hold it.
+    fn bvh_of(v: &[[f32; 3]], f: &[[u16; 3]]) -> (StdVec<BvhNode>, StdVec<u16>, f32) {
+        let tris: StdVec<Primitive<Triangle>> = f
+            .iter()
+            .map(|&[a, b, c]| Primitive {
+                geometry: Triangle::baked(v[usize::from(a)], v[usize::from(b)], v[usize::from(c)]),
+                material: MaterialId(0),
+            })
+            .collect();
+        let mut bvh: std::boxed::Box<Bvh<4096, 2048>> = std::boxed::Box::default();
+        bvh.build(&tris).unwrap();
+        (bvh.nodes().to_vec(), bvh.order().to_vec(), bvh.reach())
+    }
+
+    /// A flat mesh renders its faces exactly as the same triangles in the list
+    /// (through a BVH or not); smooth normals bring the image of a 12 x 24 sphere
+    /// closer to the analytic sphere's, at the same silhouette.
+    #[test]
+    fn a_mesh_renders_its_faces_and_smooth_normals_round_it() {
+        let (v, f, n) = uv_sphere(12, 24);
+        let (nodes, order, reach) = bvh_of(&v, &f);
+        let bvh = BakedBvh::new(&nodes, &order, reach);
+        let flat = [Mesh::new(&v, &f, &[], MaterialId(0), bvh)];
+        let smooth = [Mesh::new(&v, &f, &n, MaterialId(0), bvh)];
+        let s = scene(false);
+        let flat_px = render(&s.view().with_meshes(&flat).unwrap());
+        let smooth_px = render(&s.view().with_meshes(&smooth).unwrap());
+        // The same faces as triangles of the list.
+        let mut list: std::boxed::Box<Scene<0, 0, 600, 0, 1, 1>> =
+            std::boxed::Box::new(Scene::new(camera()));
+        list.set_ambient(Color::splat(0.05)).unwrap();
+        list.add_material(s.view().materials()[0]).unwrap();
+        list.add_light(s.view().lights()[0]).unwrap();
+        for &[a, b, c] in &f {
+            let p = |i: u16| {
+                let q = v[usize::from(i)];
+                Vec3::new(q[0], q[1], q[2])
+            };
+            list.add_triangle(Triangle::try_new(p(a), p(b), p(c)).unwrap(), MaterialId(0))
+                .unwrap();
+        }
+        assert_eq!(flat_px, render(&list.view()));
+        let sphere = render(&scene(true).view());
+        let (d_flat, d_smooth) = (mean_diff(&flat_px, &sphere), mean_diff(&smooth_px, &sphere));
+        assert!(d_smooth < 0.5 * d_flat, "smooth {d_smooth}, flat {d_flat}");
+        // The silhouette is the faces': where the flat mesh shows the background,
+        // so does the smooth one.
+        for (p, q) in flat_px.iter().zip(&smooth_px) {
+            assert_eq!(*p == [0, 0, 0], *q == [0, 0, 0]);
+        }
+    }
+
+    /// Meshes that do not fit are refused: too many, a vertex index or a
+    /// material out of range, normals not one per vertex or zero, a hierarchy of
+    /// other faces.
+    #[test]
+    fn defective_meshes_are_refused() {
+        let (v, f, n) = uv_sphere(4, 6);
+        let (nodes, order, reach) = bvh_of(&v, &f);
+        let bvh = BakedBvh::new(&nodes, &order, reach);
+        let s = scene(false);
+        let ok = Mesh::new(&v, &f, &n, MaterialId(0), bvh);
+        assert!(s.view().with_meshes(&[ok]).is_ok());
+        let many = [ok; MAX_MESHES + 1];
+        assert_eq!(
+            s.view().with_meshes(&many).err(),
+            Some(Error::CapacityExceeded {
+                list: crate::List::Meshes,
+                capacity: MAX_MESHES
+            })
+        );
+        assert!(s.view().with_meshes(&many[..MAX_MESHES]).is_ok());
+        let bad = Some(Error::BvhMismatch);
+        let mut g = f.clone();
+        g[3][1] = 999;
+        assert_eq!(
+            s.view()
+                .with_meshes(&[Mesh::new(&v, &g, &n, MaterialId(0), bvh)])
+                .err(),
+            bad
+        );
+        assert_eq!(
+            s.view()
+                .with_meshes(&[Mesh::new(&v, &f, &n, MaterialId(1), bvh)])
+                .err(),
+            Some(Error::MaterialOutOfRange { id: 1, count: 1 })
+        );
+        assert_eq!(
+            s.view()
+                .with_meshes(&[Mesh::new(&v, &f, &n[1..], MaterialId(0), bvh)])
+                .err(),
+            bad
+        );
+        let mut zero = n.clone();
+        zero[2] = [0.0; 3];
+        assert_eq!(
+            s.view()
+                .with_meshes(&[Mesh::new(&v, &f, &zero, MaterialId(0), bvh)])
+                .err(),
+            bad
+        );
+        let mut nan = n.clone();
+        nan[2] = [f32::NAN, 0.0, 1.0];
+        assert_eq!(
+            s.view()
+                .with_meshes(&[Mesh::new(&v, &f, &nan, MaterialId(0), bvh)])
+                .err(),
+            bad
+        );
+        // Faces swapped: the hierarchy's leaves no longer hold their faces.
+        let mut h = f.clone();
+        h.swap(0, f.len() - 1);
+        assert_eq!(
+            s.view()
+                .with_meshes(&[Mesh::new(&v, &h, &n, MaterialId(0), bvh)])
+                .err(),
+            bad
+        );
+    }
+}

@@ -1,0 +1,35 @@
+//! `tessera bake`: a scene's triangles and their BVH as Rust `static` data for a
+//! firmware (see the host library's `bake` module).
+
+use super::{Error, Source};
+use clap::Args;
+use std::io::Write as _;
+use std::path::PathBuf;
+use tessera_host::output::{self, Pending};
+
+#[derive(Args)]
+pub struct BakeArgs {
+    /// A built-in scene name (see `tessera scenes`) or a .toml scene file with
+    /// triangles or meshes
+    scene: String,
+    /// Output Rust file (a symbolic link is followed)
+    #[arg(short, long)]
+    output: PathBuf,
+    /// The name the firmware gives the core crate (`crate` inside the core itself)
+    #[arg(long = "crate", default_value = "tessera")]
+    krate: String,
+}
+
+pub fn run(args: &BakeArgs) -> Result<(), Error> {
+    let source = Source::open(Some(&args.scene))?;
+    let target = source.target(&args.output)?;
+    let text = tessera_host::bake::scene_source(&source.desc(), source.name(), &args.krate)
+        .map_err(|e| source.error(e))?;
+    let mut file = Pending::create(target)?;
+    if let Err(e) = file.write_all(text.as_bytes()) {
+        return Err(file.error(tessera_host::HostError::Write(e)).into());
+    }
+    output::commit(vec![file])?;
+    println!("wrote {}", args.output.display());
+    Ok(())
+}
