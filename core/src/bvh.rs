@@ -56,10 +56,11 @@ pub const TRAVERSAL: f32 = 1.0;
 /// The fewest triangles for which [`SceneView::with_bvh`] uses a BVH: below, the
 /// flat list (and the tiles' culling) costs less. Measured on the host by
 /// `cargo run -p tessera-tests --release --bin bvh-report` (an icosphere and parts
-/// of one on a floor, one light, 160x120, side by side): the BVH takes 1.74 times
-/// the flat search's time with 20 triangles, 1.12 with 80, 1.02 with 100, 0.91
-/// with 128, 0.51 with 320, 0.19 with 1,280 and 0.06 with 5,120; instruction
-/// counts under callgrind (its `--one` mode) give the same crossover.
+/// of one on a floor, one light, 160x120, side by side): the BVH takes 1.84 times
+/// the flat search's time with 20 triangles, 1.14 with 80, 1.06 with 100, 0.92
+/// with 128, 0.51 with 320, 0.19 with 1,280 and 0.06 with 5,120 (with
+/// `TRAVERSAL` 0, before: 1.74, 1.12, 1.02, 0.91, 0.51, 0.19, 0.06);
+/// instruction counts under callgrind (its `--one` mode) give the same crossover.
 ///
 /// [`SceneView::with_bvh`]: crate::SceneView::with_bvh
 pub const CROSSOVER: usize = 100;
