@@ -17,6 +17,9 @@
 //! valgrind --tool=callgrind --callgrind-out-file=/dev/null \
 //!     target/release/bvh-report --one 1280 bvh 160
 //! ```
+//!
+//! and the built-in teapot the same way: `--teapot flat|bvh|none WIDTH` (its faces
+//! in the flat triangle list, or as built in: smooth, through its BVH).
 
 use std::time::Instant;
 use tessera::{
@@ -136,6 +139,9 @@ fn main() -> Result<(), String> {
     if args.first().map(String::as_str) == Some("--one") {
         return one(&args[1..]);
     }
+    if args.first().map(String::as_str) == Some("--teapot") {
+        return teapot_one(&args[1..]);
+    }
     let width = 160;
     println!("# Where a BVH pays\n");
     println!(
@@ -210,6 +216,31 @@ fn teapot_list(view: &SceneView<'_>, cam: &Camera) -> Result<Box<TeapotList>, St
         s.add_triangle(t, mesh.material()).map_err(e)?;
     }
     Ok(s)
+}
+
+/// `--teapot flat|bvh|none WIDTH`: one render of the built-in teapot with its faces
+/// in the flat list or as built in (through its BVH), for callgrind.
+fn teapot_one(args: &[String]) -> Result<(), String> {
+    let usage = || "usage: bvh-report [--teapot flat|bvh|none WIDTH]".to_string();
+    let [mode, width] = args else {
+        return Err(usage());
+    };
+    let width: u16 = width.parse().map_err(|_| usage())?;
+    let b = tessera::builtin::Builtin::Teapot;
+    let vp = Viewport::new(width, width * 3 / 4);
+    b.with_scene(|view, cam| -> Result<(), String> {
+        let frame = Frame::try_new(cam, vp, b.settings()).map_err(|e| e.to_string())?;
+        let list = teapot_list(view, cam)?;
+        let img = match mode.as_str() {
+            "flat" => render(&list.view(), &frame),
+            "bvh" => render(view, &frame),
+            "none" => return Ok(()),
+            _ => return Err(usage()),
+        };
+        println!("{}x{}", img.width(), img.height());
+        Ok(())
+    })
+    .map_err(|e| e.to_string())?
 }
 
 /// The built-in teapot at 800x600 (centre, its own depth 0, one thread): its
