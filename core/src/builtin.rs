@@ -33,6 +33,20 @@ pub type TeapotScene = Scene<0, 1, 0, 0, 2, 2>;
 #[rustfmt::skip]
 mod teapot_data;
 
+/// The teapot's mesh (baked `static` data: flash on a chip), to give to a view of
+/// [`teapot`] with [`SceneView::with_meshes`]:
+///
+/// ```
+/// # fn main() -> Result<(), tessera::Error> {
+/// let scene = tessera::builtin::teapot()?;
+/// let view = scene.view().with_meshes(&tessera::builtin::TEAPOT_MESHES)?;
+/// assert_eq!(view.meshes()[0].faces().len(), 1088);
+/// # Ok(())
+/// # }
+/// ```
+#[cfg(feature = "teapot")]
+pub static TEAPOT_MESHES: &[crate::Mesh<'static>] = &teapot_data::MESHES;
+
 /// The built-in scenes, by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Builtin {
@@ -168,7 +182,7 @@ fn hand<
 fn hand_teapot<R>(k: i32, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Result<R, Error> {
     let scene = teapot()?;
     if k == 0 {
-        let view = scene.view().with_meshes(&teapot_data::MESHES)?;
+        let view = scene.view().with_meshes(TEAPOT_MESHES)?;
         return Ok(f(&view, scene.camera()));
     }
     #[cfg(feature = "testing")]

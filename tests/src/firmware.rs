@@ -329,6 +329,33 @@ pub fn run_with(elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, St
     parse_output(&stdout, runs, &dir.0).map_err(fail)
 }
 
+/// Runs an ELF that needs no run list (the teapot alone, `tessera-teapot`) and
+/// returns its standard output; a qemu failure, a timeout or an `error:`/`panic:`/
+/// `hard fault` line is an `Err` with qemu's output.
+pub fn run_alone(elf: &Path) -> Result<String, String> {
+    let dir = TempDir::new()?;
+    let status = wait_for_qemu(start_qemu(&dir.0, elf, &[])?);
+    let read = |name: &str| std::fs::read_to_string(dir.0.join(name)).unwrap_or_default();
+    let (stdout, stderr) = (read("qemu.stdout"), read("qemu.stderr"));
+    let fail = |why: String| {
+        format!(
+            "firmware run of {} failed: {why}\n--- qemu stdout\n{stdout}--- qemu stderr\n{stderr}",
+            elf.display()
+        )
+    };
+    let status = status.map_err(&fail)?;
+    if !status.success() {
+        return Err(fail(format!("qemu exited with {status}")));
+    }
+    if let Some(l) = stdout
+        .lines()
+        .find(|l| l.starts_with("error:") || l.starts_with("panic:") || l.starts_with("hard fault"))
+    {
+        return Err(fail(l.to_string()));
+    }
+    Ok(stdout)
+}
+
 /// Writes the run list of `runs` to [`RUNS_FILE`] in `dir` and returns it; an error
 /// if it is longer than the firmware reads.
 fn write_run_list(dir: &Path, runs: &[Run]) -> Result<String, String> {

@@ -226,3 +226,62 @@ fn extreme_scales_render_the_same_bits_on_the_chip() {
         );
     }
 }
+
+/// The teapot alone (`tests/firmware/src/teapot.rs`, a firmware as a user would
+/// write it: the scene's lists on the stack, the mesh and BVH in flash, one 16x16
+/// tile buffer) renders the host's pixels and needs at most 8 KiB of RAM beyond its
+/// tile buffer: statics (from the ELF) plus the peak stack of the whole program.
+#[test]
+fn the_teapot_alone_needs_under_8_kib_beyond_its_tile() {
+    let exact = elf();
+    let alone = exact.with_file_name("tessera-teapot");
+    let out = firmware::run_alone(&alone).unwrap_or_else(|e| panic!("{e}"));
+    let field = |name: &str| -> String {
+        out.split_whitespace()
+            .find_map(|w| w.strip_prefix(name))
+            .unwrap_or_else(|| panic!("no {name} in {out:?}"))
+            .to_string()
+    };
+    let stack: u64 = field("stack=").parse().unwrap();
+    let checksum = u32::from_str_radix(&field("checksum="), 16).unwrap();
+    // The host build of the core, the same tiles in the same order.
+    let b = Builtin::Teapot;
+    let want = b
+        .with_scene(|view, cam| {
+            let frame = tessera::Frame::try_new(cam, Viewport::new(64, 64), b.settings()).unwrap();
+            let (across, down) = frame.tile_grid(16);
+            let mut tile = tessera::Tile::<16>::new();
+            let mut hash = 0x811c_9dc5_u32;
+            for ty in 0..down {
+                for tx in 0..across {
+                    let coord = tessera::TileCoord::new(tx, ty);
+                    frame.render_tile(view, coord, &mut tile, &mut ()).unwrap();
+                    for p in tile.pixels() {
+                        for byte in [p.r, p.g, p.b] {
+                            hash = (hash ^ u32::from(byte)).wrapping_mul(0x0100_0193);
+                        }
+                    }
+                }
+            }
+            hash
+        })
+        .unwrap();
+    assert_eq!(
+        checksum, want,
+        "the teapot alone: chip pixels differ from the host"
+    );
+    let sizes = firmware::sections(&alone).unwrap();
+    let tile = size_of::<tessera::Tile<16>>() as u64;
+    let statics = sizes.ram() - tile;
+    println!(
+        "teapot alone: flash {} bytes, statics {} bytes beyond the {tile}-byte tile, stack \
+         peak {stack} bytes: {} bytes of RAM beyond the tile",
+        sizes.flash(),
+        statics,
+        statics + stack
+    );
+    assert!(
+        statics + stack <= 8 * 1024,
+        "the teapot alone needs {statics} + {stack} bytes beyond its tile, more than 8 KiB"
+    );
+}
