@@ -201,7 +201,7 @@ impl TileLists<'_> {
         }
         // A scene searched through a BVH has no lists: every ray searches it.
         #[cfg(feature = "bvh")]
-        if view.bvh.is_some() || !view.meshes.is_empty() {
+        if view.through() {
             return Picks::default();
         }
         let Some(f) = Frustum::new(basis, x0, y0, x1, y1) else {

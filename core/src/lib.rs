@@ -70,7 +70,10 @@ mod trace;
 mod vec;
 
 #[cfg(feature = "bvh")]
-pub use bvh::{BakedBvh, Bvh, BvhNode, CROSSOVER as BVH_CROSSOVER};
+pub use bvh::{
+    BakedBvh, Bounded, Bvh, BvhNode, CROSSOVER as BVH_CROSSOVER,
+    SPHERE_CROSSOVER as BVH_SPHERE_CROSSOVER,
+};
 pub use camera::{Camera, CameraBasis, Viewport};
 pub use color::{Color, Rgb8};
 pub use display::{Rendering, draw_tile};

@@ -339,6 +339,65 @@ mod tests {
         }
     }
 
+    /// A mesh among other primitives: the triangle list (without a BVH of its
+    /// own), a sphere, found as when the mesh's faces are triangles of the list
+    /// (a mesh once hid the list's triangles from every search).
+    #[test]
+    fn a_mesh_keeps_the_other_primitives() {
+        let (v, f, _) = uv_sphere(8, 12);
+        let (nodes, order, reach) = bvh_of(&v, &f);
+        let mesh = [Mesh::new(
+            &v,
+            &f,
+            &[],
+            MaterialId(0),
+            BakedBvh::new(&nodes, &order, reach),
+        )];
+        let cam = camera();
+        let tri = Triangle::try_new(
+            Vec3::new(-1.6, -1.0, 0.5),
+            Vec3::new(1.6, -1.0, 0.5),
+            Vec3::new(0.0, -0.2, 1.5),
+        )
+        .unwrap();
+        let ball = Sphere::try_new(Vec3::new(1.1, 0.9, 0.3), 0.4).unwrap();
+        let mut with: std::boxed::Box<Scene<1, 0, 600, 0, 1, 1>> =
+            std::boxed::Box::new(Scene::new(cam));
+        let mut list: std::boxed::Box<Scene<1, 0, 600, 0, 1, 1>> =
+            std::boxed::Box::new(Scene::new(cam));
+        for s in [&mut with, &mut list] {
+            s.set_ambient(Color::splat(0.05)).unwrap();
+            s.add_material(Material::matte(Color::new(0.9, 0.3, 0.2)))
+                .unwrap();
+            s.add_light(
+                PointLight::try_new(Vec3::new(-2.0, 3.0, 4.0), Color::WHITE, 30.0).unwrap(),
+            )
+            .unwrap();
+            s.add_sphere(ball, MaterialId(0)).unwrap();
+            s.add_triangle(tri, MaterialId(0)).unwrap();
+        }
+        for &[a, b, c] in &f {
+            let p = |i: u16| {
+                let q = v[usize::from(i)];
+                Vec3::new(q[0], q[1], q[2])
+            };
+            list.add_triangle(Triangle::try_new(p(a), p(b), p(c)).unwrap(), MaterialId(0))
+                .unwrap();
+        }
+        let meshed = render(&with.view().with_meshes(&mesh).unwrap());
+        assert_eq!(meshed, render(&list.view()));
+        // The triangle and the sphere are in the picture.
+        let only_mesh = render(&scene(false).view().with_meshes(&mesh).unwrap());
+        assert!(
+            meshed
+                .iter()
+                .zip(&only_mesh)
+                .filter(|(a, b)| a != b)
+                .count()
+                > 50
+        );
+    }
+
     /// Meshes that do not fit are refused: too many, a vertex index or a
     /// material out of range, normals not one per vertex or zero, a hierarchy of
     /// other faces.

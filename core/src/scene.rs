@@ -299,6 +299,8 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             #[cfg(feature = "bvh")]
             bvh: None,
             #[cfg(feature = "bvh")]
+            sphere_bvh: None,
+            #[cfg(feature = "bvh")]
             meshes: &[],
         }
     }
@@ -326,6 +328,9 @@ pub struct SceneView<'a> {
     /// The triangles' hierarchy, when it pays ([`SceneView::with_bvh`]).
     #[cfg(feature = "bvh")]
     pub(crate) bvh: Option<crate::bvh::BvhView<'a>>,
+    /// The spheres' hierarchy, when it pays ([`SceneView::with_sphere_bvh`]).
+    #[cfg(feature = "bvh")]
+    pub(crate) sphere_bvh: Option<crate::bvh::BvhView<'a>>,
     /// The indexed meshes ([`SceneView::with_meshes`]), searched after every list.
     #[cfg(feature = "bvh")]
     pub(crate) meshes: &'a [crate::mesh::Mesh<'a>],
@@ -359,6 +364,8 @@ impl<'a> SceneView<'a> {
             triangle_hull: None,
             #[cfg(feature = "bvh")]
             bvh: None,
+            #[cfg(feature = "bvh")]
+            sphere_bvh: None,
             #[cfg(feature = "bvh")]
             meshes: self.meshes,
             ..*self
@@ -395,6 +402,14 @@ impl<'a> SceneView<'a> {
         self.bvh.is_some()
     }
 
+    /// True when the spheres are found through a BVH
+    /// ([`SceneView::with_sphere_bvh`]).
+    #[cfg(feature = "bvh")]
+    #[must_use]
+    pub fn uses_sphere_bvh(&self) -> bool {
+        self.sphere_bvh.is_some()
+    }
+
     /// [`SceneView::with_bvh`] whatever the number of triangles (a test hook, with
     /// the feature `testing`: the tests compare every scene with and without one).
     ///
@@ -419,7 +434,60 @@ impl<'a> SceneView<'a> {
     #[cfg(feature = "testing")]
     #[must_use]
     pub fn without_bvh(&self) -> Self {
-        Self { bvh: None, ..*self }
+        Self {
+            bvh: None,
+            sphere_bvh: None,
+            ..*self
+        }
+    }
+
+    /// The same view, its spheres found through `bvh` when there are at least
+    /// [`crate::bvh::SPHERE_CROSSOVER`] of them (below, the view is returned as
+    /// it is). The image is the same bytes either way.
+    ///
+    /// # Errors
+    /// [`Error::BvhMismatch`] when `bvh` was not built from these spheres.
+    #[cfg(feature = "bvh")]
+    pub fn with_sphere_bvh<const N: usize, const T: usize>(
+        &self,
+        bvh: &'a crate::Bvh<N, T>,
+    ) -> Result<Self, Error> {
+        if bvh.triangle_count() != self.spheres.len() || bvh.key() != crate::bvh::key(self.spheres)
+        {
+            return Err(Error::BvhMismatch);
+        }
+        let pays = self.spheres.len() >= crate::bvh::SPHERE_CROSSOVER;
+        Ok(Self {
+            sphere_bvh: pays.then(|| bvh.view()),
+            ..*self
+        })
+    }
+
+    /// [`SceneView::with_sphere_bvh`] whatever the number of spheres (a test hook,
+    /// with the feature `testing`).
+    ///
+    /// # Errors
+    /// As [`SceneView::with_sphere_bvh`].
+    #[cfg(feature = "bvh")]
+    #[cfg(feature = "testing")]
+    pub fn with_sphere_bvh_always<const N: usize, const T: usize>(
+        &self,
+        bvh: &'a crate::Bvh<N, T>,
+    ) -> Result<Self, Error> {
+        let v = self.with_sphere_bvh(bvh)?;
+        Ok(Self {
+            sphere_bvh: Some(bvh.view()),
+            ..v
+        })
+    }
+
+    /// True when something is searched through a hierarchy (triangles, spheres,
+    /// meshes): the searches take [`SceneView::nearest_through`]'s way and the
+    /// tiles build no lists.
+    #[cfg(feature = "bvh")]
+    #[inline(always)]
+    pub(crate) fn through(&self) -> bool {
+        self.bvh.is_some() || self.sphere_bvh.is_some() || !self.meshes.is_empty()
     }
 
     /// The spheres.

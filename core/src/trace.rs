@@ -249,7 +249,7 @@ impl SceneView<'_> {
     #[inline(never)]
     pub(crate) fn nearest(&self, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
         #[cfg(feature = "bvh")]
-        if self.bvh.is_some() || !self.meshes.is_empty() {
+        if self.through() {
             return self.nearest_through(ray, t_max, skip);
         }
         self.nearest_flat(ray, t_max, skip)
@@ -336,7 +336,7 @@ impl SceneView<'_> {
     #[inline(never)]
     pub(crate) fn occluded(&self, ray: &Ray, t_max: f32, skip: Skip) -> bool {
         #[cfg(feature = "bvh")]
-        if self.bvh.is_some() || !self.meshes.is_empty() {
+        if self.through() {
             return self.occluded_through(ray, t_max, skip);
         }
         self.occluded_flat(ray, t_max, skip)

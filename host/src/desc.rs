@@ -32,6 +32,9 @@ pub type CoreScene =
 /// A BVH for the host scene's triangles (`2 T` nodes: always enough).
 pub type HostBvh = tessera::Bvh<{ 2 * MAX_TRIANGLES }, MAX_TRIANGLES>;
 
+/// A BVH for the host scene's spheres.
+pub type HostSphereBvh = tessera::Bvh<{ 2 * MAX_SPHERES }, MAX_SPHERES>;
+
 /// A scene file's core scene: its lists ([`CoreScene`]) and its meshes, indexed
 /// (shared vertices, `u16` faces, vertex normals when smooth) with a BVH each.
 /// Render it through [`HostScene::with_view`].
@@ -123,6 +126,16 @@ impl HostScene {
             view
         } else {
             view.with_meshes(&meshes).unwrap_or(view)
+        };
+        let mut spheres = Box::new(HostSphereBvh::new());
+        let view = if view.spheres().len() < tessera::BVH_SPHERE_CROSSOVER {
+            view
+        } else {
+            // As below: cannot fail, and the flat list renders the same image.
+            match spheres.build(view.spheres()) {
+                Ok(()) => view.with_sphere_bvh(&spheres).unwrap_or(view),
+                Err(_) => view,
+            }
         };
         if view.triangles().len() < tessera::BVH_CROSSOVER {
             return f(&view);

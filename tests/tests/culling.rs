@@ -35,6 +35,25 @@ fn same_culled_or_not(view: &SceneView<'_>, frame: &Frame, what: &str) -> RgbIma
             render_tiles::<32>(view, frame, None).unwrap(),
         ),
     ];
+    if !view.spheres().is_empty() {
+        let mut bvh = Box::new(TestBvh::new());
+        bvh.build(view.spheres()).unwrap();
+        let with = view.without_bvh().with_sphere_bvh_always(&bvh).unwrap();
+        assert!(with.uses_sphere_bvh());
+        renders.push((
+            "sphere BVH, tiles of 16",
+            render_tiles::<16>(&with, frame, None).unwrap(),
+        ));
+        if !view.triangles().is_empty() {
+            let mut tris = Box::new(TestBvh::new());
+            tris.build(view.triangles()).unwrap();
+            let both = with.with_bvh_always(&tris).unwrap();
+            renders.push((
+                "sphere and triangle BVHs, tiles of 8",
+                render_tiles::<8>(&both, frame, None).unwrap(),
+            ));
+        }
+    }
     if !view.triangles().is_empty() {
         let mut bvh = Box::new(TestBvh::new());
         bvh.build(view.triangles()).unwrap();

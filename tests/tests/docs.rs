@@ -740,11 +740,11 @@ fn a_wrong_figure_fails() {
         ("| 446 |", "| 437 |", "437"),
         ("within 2.66 ulp", "within 2.5 ulp", "2.5"),
         ("needs 1,360 to", "needs 1,456 to", "1,456"),
-        ("(1.3 to 1.9 KiB)", "(1.5 to 1.8 KiB)", "1.5"),
+        ("(1.3 to 2.0 KiB)", "(1.5 to 2.0 KiB)", "1.5"),
         (
-            "Flash 444,628 bytes (434.2 KiB",
-            "Flash 444,628 bytes (43.2 KiB",
-            "43.2",
+            "Flash 447,444 bytes (437.0 KiB",
+            "Flash 447,444 bytes (43.7 KiB",
+            "43.7",
         ),
         (
             "FLIP 0.044 on the default",

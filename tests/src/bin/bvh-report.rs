@@ -186,7 +186,95 @@ fn main() -> Result<(), String> {
             (n1 - n0) as f64 / (s1 - s0).max(1) as f64
         );
     }
+    spheres()?;
     teapot()
+}
+
+type BallScene = Scene<1024, 1, 0, 0, 2, 1>;
+type BallBvh = Bvh<2048, 1024>;
+
+/// `n` small spheres on a square grid on a floor, one light.
+fn balls(n: usize) -> Box<BallScene> {
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 5.0, 9.0),
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::Y,
+        0.1,
+        100.0,
+    )
+    .expect("camera");
+    let mut s = Box::new(BallScene::new(cam));
+    s.set_ambient(Color::splat(0.1)).expect("ambient");
+    let floor = s
+        .add_material(Material::matte(Color::splat(0.7)))
+        .expect("material");
+    let red = s
+        .add_material(Material::matte(Color::new(0.8, 0.2, 0.1)))
+        .expect("material");
+    s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y).expect("plane"), floor)
+        .expect("plane");
+    let side = (n as f64).sqrt().ceil() as usize;
+    let step = 8.0 / side as f32;
+    for i in 0..n {
+        let (x, z) = ((i % side) as f32, (i / side) as f32);
+        let c = Vec3::new(-4.0 + (x + 0.5) * step, 0.4 * step, -4.0 + (z + 0.5) * step);
+        let ball = tessera::Sphere::try_new(c, 0.4 * step).expect("sphere");
+        s.add_sphere(ball, red).expect("sphere");
+    }
+    s.add_light(PointLight::try_new(Vec3::new(2.0, 8.0, 4.0), Color::WHITE, 60.0).expect("light"))
+        .expect("light");
+    s
+}
+
+/// Where a BVH over spheres pays: the same side-by-side measurement.
+fn spheres() -> Result<(), String> {
+    let width: u16 = 160;
+    let px = f64::from(width) * f64::from(width * 3 / 4);
+    println!(
+        "\n## Spheres\n\nN spheres on a grid on a floor, one light, centre, depth 3, \
+         {width}x{}, one thread; median of {RUNS} renders each, flat and BVH alternating.\n",
+        width * 3 / 4
+    );
+    println!("| spheres | flat ns/px | BVH ns/px | BVH / flat | node tests per search |");
+    println!("|---|---|---|---|---|");
+    for n in [8, 16, 32, 64, 128, 256, 1024] {
+        let s = balls(n);
+        let settings = RenderSettings {
+            sampler: Sampler::Centre,
+            max_depth: 3,
+            seed: 1,
+        };
+        let f = Frame::try_new(s.camera(), Viewport::new(width, width * 3 / 4), settings)
+            .map_err(|e| e.to_string())?;
+        let mut bvh = Box::new(BallBvh::new());
+        bvh.build(s.view().spheres()).map_err(|e| e.to_string())?;
+        let flat_view = s.view();
+        let bvh_view = s
+            .view()
+            .with_sphere_bvh_always(&bvh)
+            .map_err(|e| e.to_string())?;
+        if render(&flat_view, &f) != render(&bvh_view, &f) {
+            return Err(format!("{n} spheres: the BVH changed the image"));
+        }
+        let (mut flat, mut with) = (Vec::new(), Vec::new());
+        let (n0, s0) = tessera::testing::visits();
+        for _ in 0..RUNS {
+            let t = Instant::now();
+            render(&flat_view, &f);
+            flat.push(t.elapsed().as_nanos() as f64 / px);
+            let t = Instant::now();
+            render(&bvh_view, &f);
+            with.push(t.elapsed().as_nanos() as f64 / px);
+        }
+        let (n1, s1) = tessera::testing::visits();
+        let (flat, with) = (median(flat), median(with));
+        println!(
+            "| {n} | {flat:.0} | {with:.0} | {:.2} | {:.1} |",
+            with / flat,
+            (n1 - n0) as f64 / (s1 - s0).max(1) as f64
+        );
+    }
+    Ok(())
 }
 
 type TeapotList = Scene<0, 1, 2048, 0, 2, 2>;
