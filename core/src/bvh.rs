@@ -720,7 +720,8 @@ impl<'a> SceneView<'a> {
             tile_lists: crate::cull::lend_none,
             bvh: (!triangles.is_empty()).then_some(bvh.view()),
             ..*self
-        })
+        }
+        .settled())
     }
 
     /// The same view with `meshes` (at most [`MAX_MESHES`]) among its primitives,
@@ -748,7 +749,8 @@ impl<'a> SceneView<'a> {
             // A view with meshes builds no tile lists: lend none (no stack).
             tile_lists: crate::cull::lend_none,
             ..*self
-        })
+        }
+        .settled())
     }
 
     /// [`SceneView::nearest`] of a scene with a BVH: the other kinds as the flat
@@ -853,6 +855,7 @@ impl<'a> SceneView<'a> {
             },
             bvh: None,
             meshes: &[],
+            through: false,
             ..*self
         }
     }

@@ -302,6 +302,8 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             sphere_bvh: None,
             #[cfg(feature = "bvh")]
             meshes: &[],
+            #[cfg(feature = "bvh")]
+            through: false,
         }
     }
 }
@@ -334,6 +336,10 @@ pub struct SceneView<'a> {
     /// The indexed meshes ([`SceneView::with_meshes`]), searched after every list.
     #[cfg(feature = "bvh")]
     pub(crate) meshes: &'a [crate::mesh::Mesh<'a>],
+    /// Something is searched through a hierarchy: [`SceneView::through`], one
+    /// flag for the searches' dispatch ([`SceneView::settled`] keeps it right).
+    #[cfg(feature = "bvh")]
+    pub(crate) through: bool,
 }
 
 impl core::fmt::Debug for SceneView<'_> {
@@ -370,6 +376,7 @@ impl<'a> SceneView<'a> {
             meshes: self.meshes,
             ..*self
         }
+        .settled()
     }
 
     /// The same view, its triangles found through `bvh` when there are at least
@@ -392,7 +399,8 @@ impl<'a> SceneView<'a> {
         Ok(Self {
             bvh: pays.then(|| bvh.view()),
             ..*self
-        })
+        }
+        .settled())
     }
 
     /// True when the triangles are found through a BVH ([`SceneView::with_bvh`]).
@@ -425,7 +433,8 @@ impl<'a> SceneView<'a> {
         Ok(Self {
             bvh: Some(bvh.view()),
             ..v
-        })
+        }
+        .settled())
     }
 
     /// The same view without its BVH: the flat lists (a test hook, with the feature
@@ -439,6 +448,7 @@ impl<'a> SceneView<'a> {
             sphere_bvh: None,
             ..*self
         }
+        .settled()
     }
 
     /// The same view, its spheres found through `bvh` when there are at least
@@ -460,7 +470,8 @@ impl<'a> SceneView<'a> {
         Ok(Self {
             sphere_bvh: pays.then(|| bvh.view()),
             ..*self
-        })
+        }
+        .settled())
     }
 
     /// [`SceneView::with_sphere_bvh`] whatever the number of spheres (a test hook,
@@ -478,7 +489,8 @@ impl<'a> SceneView<'a> {
         Ok(Self {
             sphere_bvh: Some(bvh.view()),
             ..v
-        })
+        }
+        .settled())
     }
 
     /// True when something is searched through a hierarchy (triangles, spheres,
@@ -487,7 +499,21 @@ impl<'a> SceneView<'a> {
     #[cfg(feature = "bvh")]
     #[inline(always)]
     pub(crate) fn through(&self) -> bool {
-        self.bvh.is_some() || self.sphere_bvh.is_some() || !self.meshes.is_empty()
+        self.through
+    }
+
+    /// The view with its `through` flag set from what it holds (feature `bvh`;
+    /// the view itself without).
+    #[cfg(any(feature = "bvh", feature = "testing"))]
+    pub(crate) fn settled(self) -> Self {
+        #[cfg(feature = "bvh")]
+        let settled = Self {
+            through: self.bvh.is_some() || self.sphere_bvh.is_some() || !self.meshes.is_empty(),
+            ..self
+        };
+        #[cfg(not(feature = "bvh"))]
+        let settled = self;
+        settled
     }
 
     /// The spheres.
