@@ -6,13 +6,15 @@
 //! whole tile per window. There is no framebuffer: the RAM is one tile buffer plus
 //! the renderer's stack. Errors of the display are returned, never swallowed.
 
+use crate::color::Rgb8;
+use crate::dither::Dither;
 use crate::scene::SceneView;
 use crate::tile::{Frame, Tile, TileCoord};
 use core::marker::PhantomData;
 use embedded_graphics_core::Drawable;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{OriginDimensions, Point, Size};
-use embedded_graphics_core::pixelcolor::{PixelColor, Rgb888};
+use embedded_graphics_core::pixelcolor::{Gray8, PixelColor, Rgb555, Rgb565, Rgb888};
 use embedded_graphics_core::primitives::Rectangle;
 
 /// Sends a rendered tile to `display` with one `fill_contiguous` over the tile's
@@ -121,6 +123,135 @@ impl<C: PixelColor + From<Rgb888>, const N: usize> Drawable for Rendering<'_, C,
             }
         }
         Ok(())
+    }
+}
+
+/// A panel colour that a tile's 8-bit pixel becomes through a [`Dither`]: 5-6-5,
+/// 5-5-5, 8-bit grey (dithered) and 8-8-8 (as it is).
+pub trait PanelPixel: PixelColor {
+    /// The colour of the tile pixel `p` at the frame's pixel `(x, y)`.
+    fn from_tile_pixel(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self;
+}
+
+impl PanelPixel for Rgb565 {
+    #[inline]
+    fn from_tile_pixel(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
+        let (r, g, b) = dither.rgb565(p, x, y);
+        Self::new(r, g, b)
+    }
+}
+
+impl PanelPixel for Rgb555 {
+    #[inline]
+    fn from_tile_pixel(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
+        let (r, g, b) = dither.rgb555(p, x, y);
+        Self::new(r, g, b)
+    }
+}
+
+impl PanelPixel for Gray8 {
+    #[inline]
+    fn from_tile_pixel(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
+        Self::new(dither.gray8(p, x, y))
+    }
+}
+
+impl PanelPixel for Rgb888 {
+    #[inline]
+    fn from_tile_pixel(p: Rgb8, _: u32, _: u32, _: Dither) -> Self {
+        Self::new(p.r, p.g, p.b)
+    }
+}
+
+/// [`draw_tile`] for a panel of fewer bits: each pixel dithered ([`Dither`]) at
+/// its position in the frame, so that the pattern is the same for every tile size
+/// and order.
+pub fn draw_tile_dithered<D, const N: usize>(
+    tile: &Tile<N>,
+    display: &mut D,
+    dither: Dither,
+) -> Result<(), D::Error>
+where
+    D: DrawTarget,
+    D::Color: PanelPixel,
+{
+    let (x0, y0) = tile.origin();
+    let area = Rectangle::new(
+        Point::new(
+            i32::try_from(x0).unwrap_or(i32::MAX),
+            i32::try_from(y0).unwrap_or(i32::MAX),
+        ),
+        Size::new(u32::from(tile.width()), u32::from(tile.height())),
+    );
+    let w = usize::from(tile.width()).max(1);
+    display.fill_contiguous(
+        &area,
+        tile.pixels().enumerate().map(|(i, p)| {
+            let (dx, dy) = ((i % w) as u32, (i / w) as u32);
+            D::Color::from_tile_pixel(p, x0.wrapping_add(dx), y0.wrapping_add(dy), dither)
+        }),
+    )
+}
+
+/// A frame as a [`Drawable`] on a panel of fewer bits, dithered:
+/// [`Frame::drawable_dithered`].
+#[derive(Clone, Copy, Debug)]
+pub struct DitheredRendering<'a, C, const N: usize> {
+    rendering: Rendering<'a, C, N>,
+    dither: Dither,
+}
+
+impl Frame {
+    /// [`Frame::drawable`] for a panel colour of fewer bits than the tiles'
+    /// (`Rgb565`, `Rgb555`, `Gray8`), each pixel dithered by `dither` at its
+    /// position in the frame ([`draw_tile_dithered`]).
+    #[must_use]
+    pub fn drawable_dithered<'a, C, const N: usize>(
+        &'a self,
+        scene: &SceneView<'a>,
+        dither: Dither,
+    ) -> DitheredRendering<'a, C, N> {
+        DitheredRendering {
+            rendering: Rendering {
+                frame: self,
+                scene: *scene,
+                color: PhantomData,
+            },
+            dither,
+        }
+    }
+}
+
+impl<C: PanelPixel, const N: usize> Drawable for DitheredRendering<'_, C, N> {
+    type Color = C;
+    type Output = ();
+
+    /// As [`Rendering`]'s `draw`, each tile sent dithered.
+    fn draw<D>(&self, target: &mut D) -> Result<(), D::Error>
+    where
+        D: DrawTarget<Color = C>,
+    {
+        let r = &self.rendering;
+        let mut tile = Tile::<N>::new();
+        let (across, down) = r.frame.tile_grid(N);
+        for ty in 0..down {
+            for tx in 0..across {
+                let coord = TileCoord::new(tx, ty);
+                if r.frame
+                    .render_tile(&r.scene, coord, &mut tile, &mut ())
+                    .is_ok()
+                {
+                    draw_tile_dithered(&tile, target, self.dither)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<C, const N: usize> OriginDimensions for DitheredRendering<'_, C, N> {
+    fn size(&self) -> Size {
+        self.rendering.size()
     }
 }
 

@@ -52,6 +52,7 @@ mod camera;
 mod color;
 mod cull;
 mod display;
+mod dither;
 mod error;
 mod geometry;
 mod light;
@@ -76,7 +77,8 @@ pub use bvh::{
 };
 pub use camera::{Camera, CameraBasis, Viewport};
 pub use color::{Color, Rgb8};
-pub use display::{Rendering, draw_tile};
+pub use display::{DitheredRendering, PanelPixel, Rendering, draw_tile, draw_tile_dithered};
+pub use dither::{Dither, UnknownDither};
 pub use error::{Error, Field, List, MAX_COLOR, MAX_DEPTH, MAX_EXTENT, MIN_LENGTH};
 pub use geometry::{Aabb, Plane, Sphere, Triangle};
 pub use light::PointLight;

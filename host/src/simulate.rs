@@ -10,7 +10,7 @@ use image::RgbImage;
 use std::fmt;
 use std::io::Write;
 use std::str::FromStr;
-use tessera::{Camera, Frame, SceneView, Vec3};
+use tessera::{Camera, Dither, Frame, PanelPixel, SceneView, Vec3};
 
 /// The colour type of the simulated panel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -55,42 +55,53 @@ impl fmt::Display for PanelColor {
 /// Draws `frame` onto a simulated panel of colour type `C` as the embedded-graphics
 /// drawable [`tessera::Frame::drawable`] (tiles of N x N, one `fill_contiguous`
 /// each) and returns what the panel shows, as 8-bit RGB.
-fn panel<C, const N: usize>(scene: &SceneView<'_>, frame: &Frame) -> Result<RgbImage, HostError>
+fn panel<C, const N: usize>(
+    scene: &SceneView<'_>,
+    frame: &Frame,
+    dither: Option<Dither>,
+) -> Result<RgbImage, HostError>
 where
-    C: PixelColor + From<Rgb888> + Into<Rgb888>,
+    C: PixelColor + From<Rgb888> + Into<Rgb888> + PanelPixel,
 {
     let vp = frame.viewport();
     let size = Size::new(u32::from(vp.width), u32::from(vp.height));
     let mut display =
         SimulatorDisplay::<C>::with_default_color(size, C::from(Rgb888::new(0, 0, 0)));
-    let Ok(()) = frame.drawable::<C, N>(scene).draw(&mut display);
+    let Ok(()) = match dither {
+        None => frame.drawable::<C, N>(scene).draw(&mut display),
+        Some(d) => frame.drawable_dithered::<C, N>(scene, d).draw(&mut display),
+    };
     let out = display.to_rgb_output_image(&OutputSettings::default());
     let buf = out.as_image_buffer();
     RgbImage::from_raw(buf.width(), buf.height(), buf.as_raw().to_vec())
         .ok_or_else(|| HostError::Encode("simulator image has an unexpected size".into()))
 }
 
-/// What a panel of colour type `color` shows for `frame`, drawn in 16x16 tiles.
+/// What a panel of colour type `color` shows for `frame`, drawn in 16x16 tiles with
+/// `embedded-graphics`' own conversion from `Rgb888` (the nearest level).
 pub fn simulate(
     scene: &SceneView<'_>,
     frame: &Frame,
     color: PanelColor,
 ) -> Result<RgbImage, HostError> {
-    simulate_tiled(scene, frame, color, 16)
+    simulate_tiled(scene, frame, color, 16, None)
 }
 
-/// [`simulate`] with tiles of `tile` pixels (8, 16 or 32).
+/// [`simulate`] with tiles of `tile` pixels (8, 16 or 32), each pixel converted to
+/// the panel's colour with `dither` (`None`: `embedded-graphics`' own conversion;
+/// see [`tessera::Dither`]).
 pub fn simulate_tiled(
     scene: &SceneView<'_>,
     frame: &Frame,
     color: PanelColor,
     tile: usize,
+    dither: Option<Dither>,
 ) -> Result<RgbImage, HostError> {
     with_tile_size!(tile, |N| match color {
-        PanelColor::Rgb565 => panel::<Rgb565, N>(scene, frame),
-        PanelColor::Rgb555 => panel::<Rgb555, N>(scene, frame),
-        PanelColor::Rgb888 => panel::<Rgb888, N>(scene, frame),
-        PanelColor::Gray8 => panel::<Gray8, N>(scene, frame),
+        PanelColor::Rgb565 => panel::<Rgb565, N>(scene, frame, dither),
+        PanelColor::Rgb555 => panel::<Rgb555, N>(scene, frame, dither),
+        PanelColor::Rgb888 => panel::<Rgb888, N>(scene, frame, dither),
+        PanelColor::Gray8 => panel::<Gray8, N>(scene, frame, dither),
     })
 }
 
@@ -252,5 +263,36 @@ mod tests {
         let g = gif(&frames, 50).unwrap();
         assert_eq!(&g[..6], b"GIF89a");
         let _ = RenderSettings::default();
+    }
+
+    /// A dithered panel is a function of the frame's pixels and their positions
+    /// only: the same for tiles of 8, 16 and 32 (the pattern follows the absolute
+    /// position); `none` is embedded-graphics' own conversion; dithering brings
+    /// every built-in scene closer to its 8-bit image (mean FLIP).
+    #[test]
+    fn dithering_is_the_same_for_every_tile_size_and_closer_to_8_bits() {
+        for b in Builtin::ALL {
+            b.with_scene(|view, cam| {
+                let frame = Frame::try_new(cam, Viewport::new(72, 56), b.settings()).unwrap();
+                let full = crate::render_tiles::<16>(view, &frame, None).unwrap();
+                for color in [PanelColor::Rgb565, PanelColor::Rgb555, PanelColor::Gray8] {
+                    for d in Dither::ALL {
+                        let at = |t| simulate_tiled(view, &frame, color, t, Some(d)).unwrap();
+                        let p16 = at(16);
+                        assert!(p16 == at(8) && p16 == at(32), "{} {color} {d}", b.name());
+                    }
+                }
+                let own = simulate_tiled(view, &frame, PanelColor::Rgb565, 16, None).unwrap();
+                let near = simulate_tiled(view, &frame, PanelColor::Rgb565, 16, Some(Dither::None));
+                assert!(near.unwrap() == own, "{}", b.name());
+                let flip = |d| {
+                    let p = simulate_tiled(view, &frame, PanelColor::Rgb565, 16, Some(d));
+                    crate::compare::mean_flip(&full, &p.unwrap()).unwrap()
+                };
+                let (n, b4) = (flip(Dither::None), flip(Dither::Bayer4));
+                assert!(b4 < n, "{}: bayer4 {b4} none {n}", b.name());
+            })
+            .unwrap();
+        }
     }
 }

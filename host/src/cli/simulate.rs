@@ -18,6 +18,11 @@ pub struct SimulateArgs {
     /// The panel's colour type: rgb565, rgb555, rgb888 or gray8
     #[arg(long, default_value = "rgb565")]
     color: PanelColor,
+    /// How the tiles' 8-bit channels become the panel's fewer bits: none (the
+    /// nearest level, as embedded-graphics converts), bayer4 or bayer8 (ordered
+    /// dithering by the pixel's position in the frame)
+    #[arg(long, default_value = "bayer4", value_parser = parse_dither)]
+    dither: tessera::Dither,
     /// Output: a PNG, or with --orbit an animated GIF (.gif) or numbered PNG frames
     /// (NAME-000.png, ...) [default: simulator.png, or simulator-orbit.gif]
     #[arg(short, long)]
@@ -32,6 +37,12 @@ pub struct SimulateArgs {
     /// Also show the frame(s) in an SDL window (build with --features sdl)
     #[arg(long)]
     window: bool,
+}
+
+/// `--dither`: a [`tessera::Dither`].
+fn parse_dither(s: &str) -> Result<tessera::Dither, String> {
+    s.parse()
+        .map_err(|_| format!("expected none, bayer4 or bayer8, got {s:?}"))
 }
 
 /// Where `simulate` writes, checked: one animated GIF, or one PNG per frame.
@@ -142,7 +153,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         );
         let frames = cameras.iter().map(|cam| {
             let frame = Frame::try_new(cam, vp, settings)?;
-            let img = sim::simulate_tiled(view, &frame, args.color, tile)?;
+            let img = sim::simulate_tiled(view, &frame, args.color, tile, Some(args.dither))?;
             bar.inc(1);
             Ok(img)
         });
@@ -157,9 +168,10 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let secs = start.elapsed().as_secs_f64();
     output::commit(files)?;
     println!(
-        "{}, {count} frame(s) on an {} panel: {secs:.3} s",
+        "{}, {count} frame(s) on an {} panel, dither {}: {secs:.3} s",
         describe(&source, vp, &settings),
         args.color,
+        args.dither,
     );
     println!("wrote {written}");
     if args.window {
