@@ -160,8 +160,19 @@ impl<const N: usize, const T: usize> Default for Bvh<N, T> {
     }
 }
 
-/// A shape a BVH holds: triangles and spheres.
-pub trait Bounded: Copy {
+/// Keeps [`Bounded`] to the core's shapes: a BVH's searches trust its bounds.
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for crate::geometry::Triangle {}
+    impl Sealed for crate::geometry::Sphere {}
+}
+
+/// A shape a BVH holds: triangles and spheres (sealed: the searches trust the
+/// bounds).
+pub trait Bounded: Copy + sealed::Sealed {
+    /// Which kind, mixed into a BVH's key: a BVH of spheres is never taken for
+    /// one of triangles with the same numbers.
+    const KIND: u32;
     /// Its exact bounds.
     fn bounds(&self) -> (Vec3, Vec3);
     /// The numbers that define it (hashed into a BVH's key).
@@ -169,6 +180,7 @@ pub trait Bounded: Copy {
 }
 
 impl Bounded for Triangle {
+    const KIND: u32 = 2;
     fn bounds(&self) -> (Vec3, Vec3) {
         let [a, b, c] = self.vertices();
         (a.min(b).min(c), a.max(b).max(c))
@@ -180,6 +192,7 @@ impl Bounded for Triangle {
 }
 
 impl Bounded for Sphere {
+    const KIND: u32 = 0;
     fn bounds(&self) -> (Vec3, Vec3) {
         let r = Vec3::splat(self.radius());
         (self.center() - r, self.center() + r)
@@ -221,7 +234,7 @@ fn along(v: Vec3, axis: usize) -> f32 {
 
 /// FNV-1a over the bits of every shape's numbers, in list order.
 pub(crate) fn key<G: Bounded>(list: &[Primitive<G>]) -> u32 {
-    let mut h = 0x811c_9dc5_u32;
+    let mut h = (0x811c_9dc5_u32 ^ G::KIND).wrapping_mul(0x0100_0193);
     for t in list {
         for x in t.geometry.words() {
             for byte in x.to_bits().to_le_bytes() {
@@ -732,9 +745,13 @@ impl<'a> SceneView<'a> {
     ///
     /// # Errors
     /// [`Error::CapacityExceeded`] for [`List::Meshes`] beyond [`MAX_MESHES`];
-    /// [`Error::BvhMismatch`] when a mesh's faces, normals or hierarchy do not fit;
+    /// [`Error::BadMesh`] when a mesh's faces, normals or hierarchy do not fit, or
+    /// the view has meshes already;
     /// [`Error::MaterialOutOfRange`]; a face's own error ([`Triangle::try_new`]).
     pub fn with_meshes(&self, meshes: &'a [Mesh<'a>]) -> Result<Self, Error> {
+        if !self.meshes.is_empty() {
+            return Err(Error::BadMesh);
+        }
         if meshes.len() > MAX_MESHES {
             return Err(Error::CapacityExceeded {
                 list: List::Meshes,

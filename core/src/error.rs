@@ -153,6 +153,10 @@ pub enum Error {
     /// A `Bvh` (feature `bvh`) given to a scene view was not built from that scene's
     /// triangles (or not since they changed).
     BvhMismatch,
+    /// A mesh (`Mesh`, feature `bvh`) does not hold together: a face's vertex index
+    /// out of range, normals that are not one unit vector per vertex, 65,536 faces
+    /// or more, a hierarchy of other faces, or a view that has meshes already.
+    BadMesh,
     /// A box's min corner is above its max corner on some axis.
     InvertedBox,
     /// The recursion depth asked for is above [`crate::MAX_DEPTH`].
@@ -198,6 +202,11 @@ impl fmt::Display for Error {
                 list.name()
             ),
             Self::DegenerateTriangle => f.write_str("triangle vertices are collinear (zero area)"),
+            Self::BadMesh => f.write_str(
+                "a mesh does not hold together (a vertex index out of range, normals not one \
+                 unit vector per vertex, 65,536 faces or more, a BVH of other faces, or \
+                 meshes given twice)",
+            ),
             Self::BvhMismatch => {
                 f.write_str("the BVH was not built from this scene's triangles (build it again)")
             }

@@ -135,6 +135,13 @@ impl<'a> Mesh<'a> {
         let Some(&face) = self.faces.get(f) else {
             return Vec3::ZERO;
         };
+        // The face's own normal: each vertex normal is taken on its side (normals
+        // against the winding would otherwise lift nothing).
+        let Some(tri) = self.triangle(f) else {
+            return Vec3::ZERO;
+        };
+        let [a, b1, c] = tri.vertices();
+        let g = (b1 - a).cross(c - a);
         // p' = sum w_i (p - min(0, (p - v_i) . n_i) n_i), so with sum w_i = 1 the
         // move is the weighted sum of the lifts above each vertex's tangent plane.
         let mut lift = Vec3::ZERO;
@@ -145,7 +152,8 @@ impl<'a> Mesh<'a> {
             else {
                 return Vec3::ZERO;
             };
-            let n = Vec3::new(nx, ny, nz) * out;
+            let n = Vec3::new(nx, ny, nz);
+            let n = if n.dot(g) < 0.0 { -n } else { n } * out;
             let below = crate::math::min((p - Vec3::new(x, y, z)).dot(n), 0.0);
             lift = lift - n * (below * w);
         }
@@ -158,25 +166,26 @@ impl<'a> Mesh<'a> {
 
     /// Checks the mesh for a scene of `materials` materials: its faces (each
     /// vertex index in range, each triangle as [`Triangle::try_new`] makes it), its
-    /// normals (none, or one per vertex, each finite and non-zero), its material
-    /// and its hierarchy (as for baked triangles).
+    /// normals (none, or one unit vector per vertex, to 1e-3), its material and its
+    /// hierarchy (as for baked triangles).
     pub(crate) fn check(&self, materials: usize) -> Result<(), Error> {
         if self.faces.len() >= 1 << 16 {
-            return Err(Error::BvhMismatch);
+            return Err(Error::BadMesh);
         }
         if !self.normals.is_empty() {
             if self.normals.len() != self.vertices.len() {
-                return Err(Error::BvhMismatch);
+                return Err(Error::BadMesh);
             }
             for &[x, y, z] in self.normals {
-                Vec3::new(x, y, z)
-                    .try_normalize()
-                    .ok_or(Error::BvhMismatch)?;
+                let len2 = Vec3::new(x, y, z).length_squared();
+                if !(len2 - 1.0).abs().le(&2e-3) {
+                    return Err(Error::BadMesh);
+                }
             }
         }
         crate::bvh::check_faces(
             self.faces.len(),
-            |f| self.primitive(f).ok_or(Error::BvhMismatch),
+            |f| self.primitive(f).ok_or(Error::BadMesh),
             materials,
             &self.bvh,
         )
@@ -329,6 +338,11 @@ mod tests {
                 .unwrap();
         }
         assert_eq!(flat_px, render(&list.view()));
+        // Normals against the winding shade and lift the same (each is taken on
+        // the side of its face's own normal).
+        let inward: StdVec<[f32; 3]> = n.iter().map(|m| m.map(|x| -x)).collect();
+        let inward = [Mesh::new(&v, &f, &inward, MaterialId(0), bvh)];
+        assert_eq!(smooth_px, render(&s.view().with_meshes(&inward).unwrap()));
         let sphere = render(&scene(true).view());
         let (d_flat, d_smooth) = (mean_diff(&flat_px, &sphere), mean_diff(&smooth_px, &sphere));
         assert!(d_smooth < 0.5 * d_flat, "smooth {d_smooth}, flat {d_flat}");
@@ -418,7 +432,7 @@ mod tests {
             })
         );
         assert!(s.view().with_meshes(&many[..MAX_MESHES]).is_ok());
-        let bad = Some(Error::BvhMismatch);
+        let bad = Some(Error::BadMesh);
         let mut g = f.clone();
         g[3][1] = 999;
         assert_eq!(
@@ -439,22 +453,25 @@ mod tests {
                 .err(),
             bad
         );
-        let mut zero = n.clone();
-        zero[2] = [0.0; 3];
-        assert_eq!(
-            s.view()
-                .with_meshes(&[Mesh::new(&v, &f, &zero, MaterialId(0), bvh)])
-                .err(),
-            bad
-        );
-        let mut nan = n.clone();
-        nan[2] = [f32::NAN, 0.0, 1.0];
-        assert_eq!(
-            s.view()
-                .with_meshes(&[Mesh::new(&v, &f, &nan, MaterialId(0), bvh)])
-                .err(),
-            bad
-        );
+        for wrong in [
+            [0.0; 3],
+            [f32::NAN, 0.0, 1.0],
+            [0.0, 0.0, 1.01],
+            [0.0, 0.5, 0.0],
+        ] {
+            let mut m = n.clone();
+            m[2] = wrong;
+            assert_eq!(
+                s.view()
+                    .with_meshes(&[Mesh::new(&v, &f, &m, MaterialId(0), bvh)])
+                    .err(),
+                bad
+            );
+        }
+        // Meshes given twice.
+        let once = [ok];
+        let v1 = s.view().with_meshes(&once).unwrap();
+        assert_eq!(v1.with_meshes(&once).err(), bad);
         // Faces swapped: the hierarchy's leaves no longer hold their faces.
         let mut h = f.clone();
         h.swap(0, f.len() - 1);
@@ -462,7 +479,7 @@ mod tests {
             s.view()
                 .with_meshes(&[Mesh::new(&v, &h, &n, MaterialId(0), bvh)])
                 .err(),
-            bad
+            Some(Error::BvhMismatch)
         );
     }
 }

@@ -457,9 +457,9 @@ impl<'a> SceneView<'a> {
         }
         let n = facing(hit.normal, ray.dir);
         // The normal the light is weighed with: a smooth mesh's interpolated one
-        // (on `n`'s side); `n` itself places the shadow rays.
-        // and a smooth mesh's shadow rays leave from the curved surface its
-        // normals describe (`Mesh::lift`): `lift` is the move there.
+        // (on `n`'s side); `n` itself places the shadow rays, which for a smooth
+        // mesh leave from the curved surface its normals describe (`Mesh::lift`:
+        // `lift` is the move there).
         #[cfg(feature = "bvh")]
         let (ns, lift) = match hit.geom {
             Geom::Mesh(mesh) if SMOOTH => {

@@ -171,14 +171,20 @@ impl MeshDesc {
     /// [`Welded`]).
     #[must_use]
     pub fn welded(&self) -> Welded {
-        let mut index: std::collections::HashMap<[u64; 3], usize> = Default::default();
+        // Welded by the f32 numbers the core gets (-0 as 0): vertices that differ
+        // in f64 but not once rounded are one vertex, so a smooth mesh has no seam.
+        let mut index: std::collections::HashMap<[u32; 3], usize> = Default::default();
         let mut positions = Vec::new();
+        let same = |x: f64| {
+            let y = x as f32;
+            if y == 0.0 { 0 } else { y.to_bits() }
+        };
         let faces: Vec<[usize; 3]> = self
             .faces
             .iter()
             .map(|f| {
                 f.map(|p| {
-                    *index.entry(p.map(f64::to_bits)).or_insert_with(|| {
+                    *index.entry(p.map(same)).or_insert_with(|| {
                         positions.push(p);
                         positions.len() - 1
                     })
@@ -819,13 +825,20 @@ impl SceneDesc {
         }
         let scene = HostScene { scene: s, meshes };
         // The meshes' own checks (the view's): every fault was caught above.
-        scene.with_view(|v| {
-            if v.meshes().len() == scene.meshes.len() {
-                Ok(())
-            } else {
-                Err(Item::new("mesh").fail("its faces or BVH do not fit".into()))
-            }
-        })?;
+        // Each mesh's own checks (the view's), named by its item: every fault
+        // should have been caught above.
+        for (i, (m, d)) in scene.mesh_parts().zip(&self.meshes).enumerate() {
+            let bvh = tessera::BakedBvh::new(m.bvh.nodes(), m.bvh.order(), m.bvh.reach());
+            let mesh = [tessera::Mesh::new(
+                m.vertices, m.faces, m.normals, m.material, bvh,
+            )];
+            let item = Item(format!("mesh {} ({:?})", i + 1, d.obj));
+            scene
+                .scene
+                .view()
+                .with_meshes(&mesh)
+                .map_err(|e| item.fail(e.to_string()))?;
+        }
         Ok(scene)
     }
 
@@ -837,7 +850,7 @@ impl SceneDesc {
         let f32s = |p: &[f64; 3]| p.map(|x| to_f32(x).unwrap_or(f32::NAN));
         let vertices: Vec<[f32; 3]> = w.positions.iter().map(f32s).collect();
         let normals: Vec<[f32; 3]> = w.normals.iter().map(f32s).collect();
-        let too_many = || item.fail(format!("more than {} vertices", u16::MAX));
+        let too_many = || item.fail(format!("more than {} vertices", 1 << 16));
         let mut faces = Vec::with_capacity(w.faces.len());
         let mut triangles = Vec::with_capacity(w.faces.len());
         for (j, f) in w.faces.iter().enumerate() {

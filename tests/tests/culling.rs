@@ -422,3 +422,55 @@ fn coincident(plane_point: Vec3) {
     // The copies are seen (the background is black).
     assert!(flat.pixels().filter(|p| p.0 != [0, 0, 0]).count() > 1000);
 }
+
+/// The same for spheres through their BVH: coincident copies of spheres (each copy
+/// its own colour) scattered through a list of 300, seen head-on and through a
+/// mirror: the earliest copy is kept, as the flat search keeps it (a mutated tie
+/// rule in the sphere BVH's search changes hundreds of pixels here).
+#[test]
+fn ties_between_spheres_keep_the_earliest_through_the_bvh() {
+    type TieScene = Scene<300, 1, 0, 0, 8, 1>;
+    let cam = Camera::look_at(Vec3::new(0.0, 0.0, 12.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0).unwrap();
+    let mut s = Box::new(TieScene::new(cam));
+    let colours: Vec<_> = (0..7)
+        .map(|k| {
+            let c = Color::new(0.1 + 0.12 * k as f32, 0.9 - 0.1 * k as f32, 0.5);
+            s.add_material(Material::matte(c)).unwrap()
+        })
+        .collect();
+    let mirror = s
+        .add_material(
+            Material::matte(Color::splat(0.2))
+                .with_reflectivity(0.8)
+                .unwrap(),
+        )
+        .unwrap();
+    s.add_light(PointLight::try_new(Vec3::new(2.0, 5.0, 10.0), Color::WHITE, 60.0).unwrap())
+        .unwrap();
+    s.add_plane(
+        Plane::try_new(Vec3::new(0.0, -6.0, 0.0), Vec3::Y).unwrap(),
+        mirror,
+    )
+    .unwrap();
+    let mut items = Vec::new();
+    for i in 0..100u32 {
+        let (x, y) = ((i % 10) as f32 - 4.5, (i / 10) as f32 - 4.5);
+        let copies = 1 + (i % 3);
+        for c in 0..copies {
+            items.push(((i * 37 + c * 101) % 997, x, y, (i + c) as usize % 7));
+        }
+    }
+    items.sort_by_key(|it| it.0);
+    for &(_, x, y, m) in &items {
+        let ball = tessera::Sphere::try_new(Vec3::new(x, y, 0.0), 0.45).unwrap();
+        s.add_sphere(ball, colours[m]).unwrap();
+    }
+    let settings = RenderSettings {
+        sampler: Sampler::Centre,
+        max_depth: 2,
+        seed: 1,
+    };
+    let frame = s.frame(Viewport::new(96, 72), settings).unwrap();
+    let flat = same_culled_or_not(&s.view(), &frame, "coincident spheres");
+    assert!(flat.pixels().filter(|p| p.0 != [0, 0, 0]).count() > 1000);
+}

@@ -15,9 +15,27 @@ pub struct BakeArgs {
     /// Output Rust file (a symbolic link is followed)
     #[arg(short, long)]
     output: PathBuf,
-    /// The name the firmware gives the core crate (`crate` inside the core itself)
-    #[arg(long = "crate", default_value = "tessera")]
+    /// The name the firmware gives the core crate (`crate` inside the core itself):
+    /// a Rust path, identifiers joined by `::`
+    #[arg(long = "crate", default_value = "tessera", value_parser = parse_path)]
     krate: String,
+}
+
+/// `--crate`: a Rust path (`tessera`, `crate`, `my_deps::tessera`).
+fn parse_path(s: &str) -> Result<String, String> {
+    let ident = |w: &str| {
+        let mut c = w.chars();
+        c.next()
+            .is_some_and(|f| f == '_' || f.is_ascii_alphabetic())
+            && c.all(|x| x == '_' || x.is_ascii_alphanumeric())
+    };
+    if s.split("::").all(ident) {
+        Ok(s.to_string())
+    } else {
+        Err(format!(
+            "expected a Rust path (identifiers joined by ::), got {s:?}"
+        ))
+    }
 }
 
 pub fn run(args: &BakeArgs) -> Result<(), Error> {

@@ -67,9 +67,10 @@ enum Command {
     /// setting (tab-separated), host ns/pixel on one thread and accuracy against a
     /// converged f64 reference.
     Trade(trade::TradeArgs),
-    /// Write a scene's triangles and their BVH as Rust `static` data for a firmware
-    /// (flash, not RAM): give them to the firmware's view of the rest of the scene
-    /// with `SceneView::with_baked`.
+    /// Write a scene's triangles and meshes with their BVHs as Rust `static` data for
+    /// a firmware (flash, not RAM): give them to the firmware's view of the rest of
+    /// the scene with `SceneView::with_baked` (TRIANGLES, BVH) and
+    /// `SceneView::with_meshes` (MESHES).
     Bake(bake::BakeArgs),
     /// List the built-in scenes.
     Scenes,

@@ -171,9 +171,15 @@ impl Object {
             return V3::new(0.0, 0.0, 0.0);
         };
         let w = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
+        // Each vertex normal on the side of the face's own normal.
+        let g = (vertices[1] - vertices[0]).cross(vertices[2] - vertices[0]);
         let mut lift = V3::new(0.0, 0.0, 0.0);
         for i in 0..3 {
-            let n = normals[i] * side;
+            let n = if normals[i].dot(g) < 0.0 {
+                -normals[i]
+            } else {
+                normals[i]
+            } * side;
             let below = (p - vertices[i]).dot(n).min(0.0);
             lift = lift - n * (below * w[i]);
         }
