@@ -278,10 +278,27 @@ fn simulate_saves_what_a_240x240_rgb565_panel_shows() {
         })
         .unwrap()
         .unwrap();
-    for (s, h) in shown.pixels().zip(host.pixels()) {
+    // Dithered by default (bayer4 at each pixel's position).
+    for ((x, y, s), h) in shown.enumerate_pixels().zip(host.pixels()) {
+        let p = tessera::Rgb8::new(h[0], h[1], h[2]);
+        let (r, g, b) = tessera::Dither::Bayer4.rgb565(p, x, y);
+        let want: Rgb888 = Rgb565::new(r, g, b).into();
+        assert_eq!(s.0, [want.r(), want.g(), want.b()], "({x}, {y})");
+    }
+    // `--dither none`: embedded-graphics' own conversion, the nearest level.
+    let out = bin()
+        .current_dir(&dir)
+        .args(["simulate", "--dither", "none", "-o", "near.png"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let near = image::open(dir.join("near.png")).unwrap().to_rgb8();
+    for (s, h) in near.pixels().zip(host.pixels()) {
         let want: Rgb888 = Rgb565::from(Rgb888::new(h[0], h[1], h[2])).into();
         assert_eq!(s.0, [want.r(), want.g(), want.b()]);
     }
+    let e = fails(&dir, &["simulate", "--dither", "floyd", "-o", "f.png"]);
+    assert!(e.contains("bayer4"), "{e}");
     // An orbit as an animated GIF.
     let out = bin()
         .current_dir(&dir)
