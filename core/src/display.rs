@@ -9,7 +9,7 @@
 use crate::color::Rgb8;
 use crate::dither::Dither;
 use crate::scene::SceneView;
-use crate::tile::{Frame, Tile, TileCoord};
+use crate::tile::{Frame, Tile, TileCoord, TilePixel};
 use core::marker::PhantomData;
 use embedded_graphics_core::Drawable;
 use embedded_graphics_core::draw_target::DrawTarget;
@@ -126,41 +126,60 @@ impl<C: PixelColor + From<Rgb888>, const N: usize> Drawable for Rendering<'_, C,
     }
 }
 
-/// A panel colour that a tile's 8-bit pixel becomes through a [`Dither`]: 5-6-5,
-/// 5-5-5, 8-bit grey (dithered) and 8-8-8 (as it is).
-pub trait PanelPixel: PixelColor {
-    /// The colour of the tile pixel `p` at the frame's pixel `(x, y)`.
-    fn from_tile_pixel(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self;
-}
-
-impl PanelPixel for Rgb565 {
+impl TilePixel for Rgb565 {
+    const BLACK: Self = Self::new(0, 0, 0);
     #[inline]
-    fn from_tile_pixel(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
+    fn from_rgb8(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
         let (r, g, b) = dither.rgb565(p, x, y);
         Self::new(r, g, b)
     }
 }
 
-impl PanelPixel for Rgb555 {
+impl TilePixel for Rgb555 {
+    const BLACK: Self = Self::new(0, 0, 0);
     #[inline]
-    fn from_tile_pixel(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
+    fn from_rgb8(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
         let (r, g, b) = dither.rgb555(p, x, y);
         Self::new(r, g, b)
     }
 }
 
-impl PanelPixel for Gray8 {
+impl TilePixel for Gray8 {
+    const BLACK: Self = Self::new(0);
     #[inline]
-    fn from_tile_pixel(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
+    fn from_rgb8(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
         Self::new(dither.gray8(p, x, y))
     }
 }
 
-impl PanelPixel for Rgb888 {
+impl TilePixel for Rgb888 {
+    const BLACK: Self = Self::new(0, 0, 0);
     #[inline]
-    fn from_tile_pixel(p: Rgb8, _: u32, _: u32, _: Dither) -> Self {
+    fn from_rgb8(p: Rgb8, _: u32, _: u32, _: Dither) -> Self {
         Self::new(p.r, p.g, p.b)
     }
+}
+
+/// Sends a tile already in the display's colour (`Tile<N, Rgb565>`, rendered with
+/// the frame's [`Dither`]) with one `fill_contiguous` over its rectangle: no
+/// conversion on the way.
+pub fn draw_panel_tile<D, const N: usize>(
+    tile: &Tile<N, D::Color>,
+    display: &mut D,
+) -> Result<(), D::Error>
+where
+    D: DrawTarget,
+    D::Color: TilePixel,
+{
+    let (x0, y0) = tile.origin();
+    let area = Rectangle::new(
+        Point::new(
+            i32::try_from(x0).unwrap_or(i32::MAX),
+            i32::try_from(y0).unwrap_or(i32::MAX),
+        ),
+        Size::new(u32::from(tile.width()), u32::from(tile.height())),
+    );
+    display.fill_contiguous(&area, tile.pixels())
 }
 
 /// [`draw_tile`] for a panel of fewer bits: each pixel dithered ([`Dither`]) at
@@ -173,7 +192,7 @@ pub fn draw_tile_dithered<D, const N: usize>(
 ) -> Result<(), D::Error>
 where
     D: DrawTarget,
-    D::Color: PanelPixel,
+    D::Color: TilePixel,
 {
     let (x0, y0) = tile.origin();
     let area = Rectangle::new(
@@ -188,7 +207,7 @@ where
         &area,
         tile.pixels().enumerate().map(|(i, p)| {
             let (dx, dy) = ((i % w) as u32, (i / w) as u32);
-            D::Color::from_tile_pixel(p, x0.wrapping_add(dx), y0.wrapping_add(dy), dither)
+            D::Color::from_rgb8(p, x0.wrapping_add(dx), y0.wrapping_add(dy), dither)
         }),
     )
 }
@@ -203,8 +222,9 @@ pub struct DitheredRendering<'a, C, const N: usize> {
 
 impl Frame {
     /// [`Frame::drawable`] for a panel colour of fewer bits than the tiles'
-    /// (`Rgb565`, `Rgb555`, `Gray8`), each pixel dithered by `dither` at its
-    /// position in the frame ([`draw_tile_dithered`]).
+    /// (`Rgb565`, `Rgb555`, `Gray8`): each tile rendered into a buffer of the
+    /// panel's colour, each pixel dithered by `dither` at its position in the frame
+    /// (the same pixels as [`draw_tile_dithered`] of an 8-bit tile).
     #[must_use]
     pub fn drawable_dithered<'a, C, const N: usize>(
         &'a self,
@@ -222,26 +242,29 @@ impl Frame {
     }
 }
 
-impl<C: PanelPixel, const N: usize> Drawable for DitheredRendering<'_, C, N> {
+impl<C: TilePixel + PixelColor, const N: usize> Drawable for DitheredRendering<'_, C, N> {
     type Color = C;
     type Output = ();
 
-    /// As [`Rendering`]'s `draw`, each tile sent dithered.
+    /// As [`Rendering`]'s `draw`, each tile rendered straight into a buffer of the
+    /// panel's colour (`N x N` of `C`: 512 bytes for 16x16 `Rgb565`) with the
+    /// dithering, and sent as it is ([`draw_panel_tile`]).
     fn draw<D>(&self, target: &mut D) -> Result<(), D::Error>
     where
         D: DrawTarget<Color = C>,
     {
         let r = &self.rendering;
-        let mut tile = Tile::<N>::new();
-        let (across, down) = r.frame.tile_grid(N);
+        let frame = r.frame.with_dither(self.dither);
+        let mut tile = Tile::<N, C>::blank();
+        let (across, down) = frame.tile_grid(N);
         for ty in 0..down {
             for tx in 0..across {
                 let coord = TileCoord::new(tx, ty);
-                if r.frame
+                if frame
                     .render_tile(&r.scene, coord, &mut tile, &mut ())
                     .is_ok()
                 {
-                    draw_tile_dithered(&tile, target, self.dither)?;
+                    draw_panel_tile(&tile, target)?;
                 }
             }
         }
@@ -347,5 +370,69 @@ mod tests {
         let r = frame.drawable::<_, 16>(&scene.view()).draw(&mut d);
         assert_eq!(r, Err("bus error"));
         assert_eq!(d.fills.len(), 2);
+    }
+
+    /// A tile rendered in a panel's colour is the 8-bit tile dithered pixel by
+    /// pixel at its frame position (every built-in scene, every sampler kind, the
+    /// adaptive one included, tiles of 8 and 16), and takes 2 bytes a pixel.
+    #[test]
+    fn panel_tiles_are_the_8_bit_tiles_dithered() {
+        use crate::builtin::Builtin;
+        use crate::sample::Sampler;
+        use embedded_graphics_core::pixelcolor::{Gray8, Rgb555};
+        assert_eq!(core::mem::size_of::<Tile<8, Rgb565>>(), 136);
+        assert_eq!(core::mem::size_of::<Tile<16, Rgb565>>(), 520);
+        assert_eq!(core::mem::size_of::<Tile<16>>(), 776);
+        assert_eq!(core::mem::size_of::<Tile<16, Gray8>>(), 264);
+        fn check<P: TilePixel + PartialEq + core::fmt::Debug, const N: usize>(
+            view: &SceneView<'_>,
+            frame: &Frame,
+            dither: Dither,
+        ) {
+            let frame = frame.with_dither(dither);
+            let (across, down) = frame.tile_grid(N);
+            for ty in 0..down {
+                for tx in 0..across {
+                    let c = TileCoord::new(tx, ty);
+                    let mut rgb = Tile::<N>::new();
+                    let mut panel = Tile::<N, P>::blank();
+                    frame.render_tile(view, c, &mut rgb, &mut ()).unwrap();
+                    frame.render_tile(view, c, &mut panel, &mut ()).unwrap();
+                    let (x0, y0) = rgb.origin();
+                    for y in 0..usize::from(rgb.height()) {
+                        for x in 0..usize::from(rgb.width()) {
+                            let want = P::from_rgb8(
+                                rgb.pixel(x, y).unwrap(),
+                                x0 + x as u32,
+                                y0 + y as u32,
+                                dither,
+                            );
+                            assert_eq!(panel.pixel(x, y), Some(want));
+                        }
+                    }
+                }
+            }
+        }
+        for b in Builtin::ALL {
+            for sampler in [
+                Sampler::Centre,
+                Sampler::Stratified(2),
+                Sampler::Adaptive { k: 2, threshold: 8 },
+            ] {
+                b.with_scene(|view, cam| {
+                    let settings = RenderSettings {
+                        sampler,
+                        ..b.settings()
+                    };
+                    let frame =
+                        Frame::try_new(cam, crate::Viewport::new(37, 29), settings).unwrap();
+                    check::<Rgb565, 16>(view, &frame, Dither::Bayer4);
+                    check::<Rgb565, 8>(view, &frame, Dither::Bayer8);
+                    check::<Rgb555, 16>(view, &frame, Dither::None);
+                    check::<Gray8, 8>(view, &frame, Dither::Bayer4);
+                })
+                .unwrap();
+            }
+        }
     }
 }

@@ -77,7 +77,7 @@ pub use bvh::{
 };
 pub use camera::{Camera, CameraBasis, Viewport};
 pub use color::{Color, Rgb8};
-pub use display::{DitheredRendering, PanelPixel, Rendering, draw_tile, draw_tile_dithered};
+pub use display::{DitheredRendering, Rendering, draw_panel_tile, draw_tile, draw_tile_dithered};
 pub use dither::{Dither, UnknownDither};
 pub use error::{Error, Field, List, MAX_COLOR, MAX_DEPTH, MAX_EXTENT, MIN_LENGTH};
 pub use geometry::{Aabb, Plane, Sphere, Triangle};
@@ -90,7 +90,7 @@ pub use sample::{Sampler, SubPixel};
 pub use scene::{Primitive, Scene, SceneView};
 pub use shade::{RayCount, RayCounter};
 pub use texture::Texture;
-pub use tile::{Frame, RenderSettings, Tile, TileCoord};
+pub use tile::{Frame, RenderSettings, Tile, TileCoord, TilePixel};
 pub use vec::Vec3;
 
 /// Internals that the test crates check on their own (the extremes battery, the

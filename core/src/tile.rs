@@ -20,6 +20,7 @@
 use crate::camera::{Camera, CameraBasis, Viewport};
 use crate::color::{Color, Rgb8};
 use crate::cull::TileLists;
+use crate::dither::Dither;
 use crate::error::Error;
 use crate::error::MAX_DEPTH;
 use crate::prefilter::Footprint;
@@ -85,11 +86,31 @@ impl TileCoord {
 /// bottom edges of a frame may be partial: [`Tile::width`] and [`Tile::height`] say
 /// how much of the buffer holds pixels; the rest is black.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Tile<const N: usize> {
+pub struct Tile<const N: usize, P = Rgb8> {
     coord: TileCoord,
     width: u16,
     height: u16,
-    pixels: [[Rgb8; N]; N],
+    pixels: [[P; N]; N],
+}
+
+/// A pixel a [`Tile`] holds: the 8-bit [`Rgb8`] (3 bytes), or a panel's own colour
+/// (`embedded-graphics`' `Rgb565` and `Rgb555`, 2 bytes; `Gray8`, 1; `Rgb888`, 3),
+/// made from the 8-bit pixel at its position in the frame with the frame's
+/// [`Dither`] ([`Frame::with_dither`]), so a tile is filled straight in the
+/// display's format: a 16x16 `Rgb565` tile is 520 bytes instead of 776.
+pub trait TilePixel: Copy {
+    /// The colour of the buffer beyond the frame's edge.
+    const BLACK: Self;
+    /// The pixel of the 8-bit colour `p` at the frame's pixel `(x, y)`.
+    fn from_rgb8(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self;
+}
+
+impl TilePixel for Rgb8 {
+    const BLACK: Self = Self::new(0, 0, 0);
+    #[inline(always)]
+    fn from_rgb8(p: Rgb8, _: u32, _: u32, _: Dither) -> Self {
+        p
+    }
 }
 
 impl<const N: usize> Default for Tile<N> {
@@ -99,16 +120,25 @@ impl<const N: usize> Default for Tile<N> {
 }
 
 impl<const N: usize> Tile<N> {
-    /// An empty (black, 0 x 0) tile buffer. `N` must be 1 to 256: any other size
-    /// fails to compile.
+    /// An empty (black, 0 x 0) tile buffer of 8-bit pixels. `N` must be 1 to 256:
+    /// any other size fails to compile.
     #[must_use]
     pub const fn new() -> Self {
+        Self::blank()
+    }
+}
+
+impl<const N: usize, P: TilePixel> Tile<N, P> {
+    /// An empty (black, 0 x 0) tile buffer of pixels `P`:
+    /// `Tile::<16, Rgb565>::blank()` (512 bytes of pixels). `N` must be 1 to 256.
+    #[must_use]
+    pub const fn blank() -> Self {
         const { assert!(N >= 1 && N <= 256, "tile size must be 1 to 256") };
         Self {
             coord: TileCoord::new(0, 0),
             width: 0,
             height: 0,
-            pixels: [[Rgb8::new(0, 0, 0); N]; N],
+            pixels: [[P::BLACK; N]; N],
         }
     }
 
@@ -137,7 +167,7 @@ impl<const N: usize> Tile<N> {
     }
     /// Pixel `(x, y)` of the tile, if it holds one.
     #[must_use]
-    pub fn pixel(&self, x: usize, y: usize) -> Option<Rgb8> {
+    pub fn pixel(&self, x: usize, y: usize) -> Option<P> {
         if x < usize::from(self.width) && y < usize::from(self.height) {
             self.pixels.get(y)?.get(x).copied()
         } else {
@@ -145,7 +175,7 @@ impl<const N: usize> Tile<N> {
         }
     }
     /// The rows that hold pixels, each `width` long, top to bottom.
-    pub fn rows(&self) -> impl Iterator<Item = &[Rgb8]> {
+    pub fn rows(&self) -> impl Iterator<Item = &[P]> {
         let w = usize::from(self.width);
         self.pixels
             .iter()
@@ -153,7 +183,7 @@ impl<const N: usize> Tile<N> {
             .map(move |r| r.get(..w).unwrap_or(&[]))
     }
     /// The pixels row by row (what `fill_contiguous` wants).
-    pub fn pixels(&self) -> impl Iterator<Item = Rgb8> + '_ {
+    pub fn pixels(&self) -> impl Iterator<Item = P> + '_ {
         self.rows().flat_map(|r| r.iter().copied())
     }
 }
@@ -174,6 +204,8 @@ pub struct Frame {
     /// The sub-pixel offset of a single-sample sampler (`None` for the stratified
     /// and random ones): decided once, not per pixel.
     single: Option<(f32, f32)>,
+    /// How a tile of a panel's colour ([`TilePixel`]) gets its pixels.
+    dither: Dither,
 }
 
 impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: usize, const L: usize>
@@ -216,7 +248,22 @@ impl Frame {
                 Sampler::Stratified(_) | Sampler::Random(_) | Sampler::Adaptive { .. } => None,
             },
             adaptive,
+            dither: Dither::Bayer4,
         })
+    }
+
+    /// The same frame, its tiles of a panel's colour (`Tile<N, Rgb565>`, ...)
+    /// filled with `dither` (default [`Dither::Bayer4`]; tiles of [`Rgb8`] are not
+    /// dithered).
+    #[must_use]
+    pub const fn with_dither(self, dither: Dither) -> Self {
+        Self { dither, ..self }
+    }
+
+    /// How tiles of a panel's colour are filled ([`Frame::with_dither`]).
+    #[must_use]
+    pub fn dither(&self) -> Dither {
+        self.dither
     }
 
     /// The camera basis.
@@ -408,12 +455,12 @@ impl Frame {
     /// without bounces) does not add to the stack of the other.
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
-    fn fill<const N: usize, C: RayCounter, const BOUNCES: bool>(
+    fn fill<const N: usize, C: RayCounter, const BOUNCES: bool, P: TilePixel>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
         depth: u8,
-        tile: &mut Tile<N>,
+        tile: &mut Tile<N, P>,
         (x0, y0, tw, th): (u32, u32, usize, usize),
         background: Option<Rgb8>,
         count: &mut C,
@@ -424,7 +471,8 @@ impl Frame {
                 continue;
             };
             for (i, px) in live.iter_mut().enumerate() {
-                *px = match background {
+                let (x, y) = (x0 + i as u32, y0 + j as u32);
+                let rgb = match background {
                     Some(b) => {
                         for _ in 0..self.background_rays() {
                             count.primary();
@@ -432,18 +480,12 @@ impl Frame {
                         b
                     }
                     None => self
-                        .pixel::<C, BOUNCES>(
-                            scene,
-                            picks,
-                            depth,
-                            x0 + i as u32,
-                            y0 + j as u32,
-                            count,
-                        )
+                        .pixel::<C, BOUNCES>(scene, picks, depth, x, y, count)
                         .to_rgb8(),
                 };
+                *px = P::from_rgb8(rgb, x, y, self.dither);
             }
-            rest.fill(Rgb8::default());
+            rest.fill(P::BLACK);
         }
     }
 
@@ -455,12 +497,12 @@ impl Frame {
     /// kept ([`Window`]), not the tile's.
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
-    fn fill_adaptive<const N: usize, C: RayCounter, const BOUNCES: bool>(
+    fn fill_adaptive<const N: usize, C: RayCounter, const BOUNCES: bool, P: TilePixel>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
         depth: u8,
-        tile: &mut Tile<N>,
+        tile: &mut Tile<N, P>,
         (x0, y0, tw, th): (u32, u32, usize, usize),
         threshold: u8,
         count: &mut C,
@@ -506,14 +548,15 @@ impl Frame {
                         refine |= own.differs(n, threshold);
                     }
                 }
-                *px = if refine {
+                let rgb = if refine {
                     self.pixel::<C, BOUNCES>(scene, picks, depth, x as u32, y as u32, count)
                         .to_rgb8()
                 } else {
                     own.color
                 };
+                *px = P::from_rgb8(rgb, x as u32, y as u32, self.dither);
             }
-            rest.fill(Rgb8::default());
+            rest.fill(P::BLACK);
         }
     }
 
@@ -550,11 +593,11 @@ impl Frame {
     ///
     /// Returns [`Error::TileOutOfFrame`] (and leaves `tile` untouched) when the tile
     /// lies entirely outside the frame.
-    pub fn render_tile<const N: usize, C: RayCounter>(
+    pub fn render_tile<const N: usize, C: RayCounter, P: TilePixel>(
         &self,
         scene: &SceneView<'_>,
         coord: TileCoord,
-        tile: &mut Tile<N>,
+        tile: &mut Tile<N, P>,
         count: &mut C,
     ) -> Result<(), Error> {
         self.render_tile_with(scene, coord, tile, count)
@@ -562,11 +605,11 @@ impl Frame {
 
     /// The tile loop: the tile's candidate lists first ([`crate::cull`]), then
     /// every pixel, or the background at once when no primitive reaches the tile.
-    fn render_tile_with<const N: usize, C: RayCounter>(
+    fn render_tile_with<const N: usize, C: RayCounter, P: TilePixel>(
         &self,
         scene: &SceneView<'_>,
         coord: TileCoord,
-        tile: &mut Tile<N>,
+        tile: &mut Tile<N, P>,
         count: &mut C,
     ) -> Result<(), Error> {
         let vp = self.viewport();
@@ -603,18 +646,18 @@ impl Frame {
             let area = (x0, y0, tw, th);
             if let (Some(threshold), None) = (self.adaptive, background) {
                 if depth > 0 {
-                    self.fill_adaptive::<N, C, true>(
+                    self.fill_adaptive::<N, C, true, P>(
                         scene, &picks, depth, tile, area, threshold, count,
                     );
                 } else {
-                    self.fill_adaptive::<N, C, false>(
+                    self.fill_adaptive::<N, C, false, P>(
                         scene, &picks, 0, tile, area, threshold, count,
                     );
                 }
             } else if depth > 0 {
-                self.fill::<N, C, true>(scene, &picks, depth, tile, area, background, count);
+                self.fill::<N, C, true, P>(scene, &picks, depth, tile, area, background, count);
             } else {
-                self.fill::<N, C, false>(scene, &picks, 0, tile, area, background, count);
+                self.fill::<N, C, false, P>(scene, &picks, 0, tile, area, background, count);
             }
         };
         (scene.tile_lists)(&mut body);

@@ -10,7 +10,7 @@ use image::RgbImage;
 use std::fmt;
 use std::io::Write;
 use std::str::FromStr;
-use tessera::{Camera, Dither, Frame, PanelPixel, SceneView, Vec3};
+use tessera::{Camera, Dither, Frame, SceneView, TilePixel, Vec3};
 
 /// The colour type of the simulated panel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -61,7 +61,7 @@ fn panel<C, const N: usize>(
     dither: Option<Dither>,
 ) -> Result<RgbImage, HostError>
 where
-    C: PixelColor + From<Rgb888> + Into<Rgb888> + PanelPixel,
+    C: PixelColor + From<Rgb888> + Into<Rgb888> + TilePixel,
 {
     let vp = frame.viewport();
     let size = Size::new(u32::from(vp.width), u32::from(vp.height));

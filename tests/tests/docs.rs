@@ -742,8 +742,8 @@ fn a_wrong_figure_fails() {
         ("needs 1,360 to", "needs 1,456 to", "1,456"),
         ("(1.3 to 2.0 KiB)", "(1.5 to 2.0 KiB)", "1.5"),
         (
-            "Flash 447,816 bytes (437.3 KiB",
-            "Flash 447,816 bytes (43.7 KiB",
+            "Flash 447,824 bytes (437.3 KiB",
+            "Flash 447,824 bytes (43.7 KiB",
             "43.7",
         ),
         (
