@@ -295,6 +295,47 @@ impl Frame {
         )
     }
 
+    /// The quick preview of block `(bx, by)` of `block x block` pixels: one ray,
+    /// through the centre of the pixel at the block's middle (clamped to the frame),
+    /// with the frame's depth; every primitive is a candidate. A firmware draws a
+    /// first picture of the frame this way (`block` 4: a sixteenth of the camera
+    /// rays) before it renders the tiles ([`Frame::drawable_progressive`]).
+    pub fn preview_color<C: RayCounter>(
+        &self,
+        scene: &SceneView<'_>,
+        (bx, by): (u32, u32),
+        block: u32,
+        count: &mut C,
+    ) -> Color {
+        let vp = self.viewport();
+        let at = |b: u32, size: u16| {
+            b.saturating_mul(block)
+                .saturating_add(block / 2)
+                .min(u32::from(size).saturating_sub(1))
+        };
+        let centre = Self {
+            samples: 1,
+            inv_count: 1.0,
+            stratum: 1.0,
+            adaptive: None,
+            single: Some((0.5, 0.5)),
+            settings: RenderSettings {
+                sampler: Sampler::Centre,
+                ..self.settings
+            },
+            ..*self
+        };
+        let depth = scene.depth(self.settings.max_depth);
+        centre.pixel::<_, true>(
+            scene,
+            &Picks::default(),
+            depth,
+            at(bx, vp.width),
+            at(by, vp.height),
+            count,
+        )
+    }
+
     /// The linear colour of pixel `(x, y)`: the mean of its samples, the rays cast
     /// added to `count` (`&mut ()` not to count). Every primitive is a candidate (no
     /// tile, no culling): the same colour as [`Frame::render_tile`] gives, which the

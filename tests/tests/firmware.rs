@@ -284,4 +284,17 @@ fn the_teapot_alone_needs_under_8_kib_beyond_its_tile() {
         statics + stack <= 8 * 1024,
         "the teapot alone needs {statics} + {stack} bytes beyond its tile, more than 8 KiB"
     );
+    // The progressive first picture: one ray per 4x4 block, about a sixteenth of
+    // the tiles' work.
+    let preview: u64 = field("preview=").parse().unwrap();
+    let render: u64 = field("render=").parse().unwrap();
+    println!(
+        "teapot alone, 64x64: first picture (one ray per 4x4 block) {preview} \
+         instructions, the tiles {render} ({:.1} %)",
+        100.0 * preview as f64 / render as f64
+    );
+    assert!(
+        preview > 0 && preview * 10 < render,
+        "{preview} vs {render}"
+    );
 }

@@ -3,11 +3,14 @@
 //! (`tessera::builtin::TEAPOT_MESHES`), one 16x16 tile buffer in `.bss`. It renders
 //! 64x64 tile after tile and prints
 //!
-//! `teapot pixels=<n> checksum=<fnv-1a of the RGB bytes, row-major> stack=<bytes>`
+//! `teapot pixels=<n> checksum=<fnv-1a of the RGB bytes, row-major> stack=<bytes>
+//! preview=<instructions> render=<instructions>`
 //!
 //! where `stack` is the peak stack of the whole program from the top of RAM (painted
 //! before rendering), so that the host can state the RAM it takes beyond the tile
-//! buffer: its statics (from the ELF) plus this stack.
+//! buffer: its statics (from the ELF) plus this stack; `preview` the instructions
+//! (SysTick under `-icount shift=0`, 40 a tick) of a progressive first picture (one
+//! ray per 4x4 block, `Frame::preview_color`) and `render` those of the tiles.
 #![no_std]
 #![no_main]
 
@@ -15,6 +18,11 @@
 #[path = "stack.rs"]
 #[allow(dead_code)]
 mod stack;
+
+// SysTick instruction counting, as the test image's.
+#[path = "clock.rs"]
+#[allow(dead_code)]
+mod clock;
 
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
@@ -28,17 +36,21 @@ const N: usize = 16;
 
 #[entry]
 fn main() -> ! {
-    let status = match cortex_m::singleton!(: Tile<N> = Tile::new()) {
-        Some(tile) => {
+    let peripherals = cortex_m::Peripherals::take();
+    let status = match (cortex_m::singleton!(: Tile<N> = Tile::new()), peripherals) {
+        (Some(tile), Some(p)) => {
+            clock::start(p.SYST);
             stack::paint();
             let drawn = draw(tile);
             match (drawn, stack::lowest()) {
-                (Ok(sum), Some(lowest)) => {
+                (Ok((sum, preview, render)), Some(lowest)) => {
                     hprintln!(
-                        "teapot pixels={} checksum={:08x} stack={}",
+                        "teapot pixels={} checksum={:08x} stack={} preview={} render={}",
                         u32::from(SIZE) * u32::from(SIZE),
                         sum,
-                        stack::top() - lowest
+                        stack::top() - lowest,
+                        preview * 40,
+                        render * 40
                     );
                     EXIT_SUCCESS
                 }
@@ -52,7 +64,7 @@ fn main() -> ! {
                 }
             }
         }
-        None => EXIT_FAILURE,
+        _ => EXIT_FAILURE,
     };
     debug::exit(status);
     loop {
@@ -60,11 +72,13 @@ fn main() -> ! {
     }
 }
 
-/// Renders the teapot into `tile`, tile after tile (row-major); returns the FNV-1a
-/// hash of every tile's pixels in that order, each tile's row-major (the order the
-/// tiles reach a display: no frame buffer to hash the image's rows).
+/// A progressive first picture (one ray per 4x4 block), then the teapot into
+/// `tile`, tile after tile (row-major); returns the FNV-1a hash of every tile's
+/// pixels in that order, each tile's row-major (the order the tiles reach a
+/// display: no frame buffer to hash the image's rows), and the SysTick ticks of
+/// the preview and of the tiles.
 #[inline(never)]
-fn draw(tile: &mut Tile<N>) -> Result<u32, tessera::Error> {
+fn draw(tile: &mut Tile<N>) -> Result<(u32, u64, u64), tessera::Error> {
     let scene = builtin::teapot()?;
     let view = scene.view().with_meshes(builtin::TEAPOT_MESHES)?;
     let frame = Frame::try_new(
@@ -72,6 +86,18 @@ fn draw(tile: &mut Tile<N>) -> Result<u32, tessera::Error> {
         Viewport::new(SIZE, SIZE),
         Builtin::Teapot.settings(),
     )?;
+    let t0 = clock::now();
+    let mut blocks = 0u32;
+    for by in 0..u32::from(SIZE).div_ceil(4) {
+        for bx in 0..u32::from(SIZE).div_ceil(4) {
+            let c = frame.preview_color(&view, (bx, by), 4, &mut ()).to_rgb8();
+            // Kept (a display would get it): the work cannot be optimised away.
+            blocks = blocks.wrapping_add(u32::from(c.r) + u32::from(c.g) + u32::from(c.b));
+        }
+    }
+    let preview = clock::now() - t0;
+    core::hint::black_box(blocks);
+    let t0 = clock::now();
     let (across, down) = frame.tile_grid(N);
     let mut hash = 0x811c_9dc5_u32;
     for ty in 0..down {
@@ -84,7 +110,7 @@ fn draw(tile: &mut Tile<N>) -> Result<u32, tessera::Error> {
             }
         }
     }
-    Ok(hash)
+    Ok((hash, preview, clock::now() - t0))
 }
 
 #[exception]
