@@ -17,6 +17,18 @@ use embedded_graphics_core::geometry::{OriginDimensions, Point, Size};
 use embedded_graphics_core::pixelcolor::{Gray8, PixelColor, Rgb555, Rgb565, Rgb888};
 use embedded_graphics_core::primitives::Rectangle;
 
+/// The rectangle of `w x h` pixels at `(x, y)` of the frame (coordinates beyond
+/// `i32` clamp, for a display to clip).
+fn rectangle(x: u32, y: u32, w: u32, h: u32) -> Rectangle {
+    Rectangle::new(
+        Point::new(
+            i32::try_from(x).unwrap_or(i32::MAX),
+            i32::try_from(y).unwrap_or(i32::MAX),
+        ),
+        Size::new(w, h),
+    )
+}
+
 /// Sends a rendered tile to `display` with one `fill_contiguous` over the tile's
 /// rectangle (its valid part: edge tiles may be partial). For a firmware that
 /// renders and sends the tiles itself, e.g. from a static tile buffer or in an
@@ -27,13 +39,7 @@ where
     D::Color: From<Rgb888>,
 {
     let (x0, y0) = tile.origin();
-    let area = Rectangle::new(
-        Point::new(
-            i32::try_from(x0).unwrap_or(i32::MAX),
-            i32::try_from(y0).unwrap_or(i32::MAX),
-        ),
-        Size::new(u32::from(tile.width()), u32::from(tile.height())),
-    );
+    let area = rectangle(x0, y0, u32::from(tile.width()), u32::from(tile.height()));
     display.fill_contiguous(
         &area,
         tile.pixels()
@@ -172,13 +178,7 @@ where
     D::Color: TilePixel,
 {
     let (x0, y0) = tile.origin();
-    let area = Rectangle::new(
-        Point::new(
-            i32::try_from(x0).unwrap_or(i32::MAX),
-            i32::try_from(y0).unwrap_or(i32::MAX),
-        ),
-        Size::new(u32::from(tile.width()), u32::from(tile.height())),
-    );
+    let area = rectangle(x0, y0, u32::from(tile.width()), u32::from(tile.height()));
     display.fill_contiguous(&area, tile.pixels())
 }
 
@@ -195,13 +195,7 @@ where
     D::Color: TilePixel,
 {
     let (x0, y0) = tile.origin();
-    let area = Rectangle::new(
-        Point::new(
-            i32::try_from(x0).unwrap_or(i32::MAX),
-            i32::try_from(y0).unwrap_or(i32::MAX),
-        ),
-        Size::new(u32::from(tile.width()), u32::from(tile.height())),
-    );
+    let area = rectangle(x0, y0, u32::from(tile.width()), u32::from(tile.height()));
     let w = usize::from(tile.width()).max(1);
     display.fill_contiguous(
         &area,
@@ -325,13 +319,7 @@ impl Frame {
                 let c = self.preview_color(scene, (bx, by), block, &mut ());
                 let (x, y) = (bx * block, by * block);
                 let color = D::Color::from_rgb8(c.to_rgb8(), x, y, dither);
-                let area = Rectangle::new(
-                    Point::new(
-                        i32::try_from(x).unwrap_or(i32::MAX),
-                        i32::try_from(y).unwrap_or(i32::MAX),
-                    ),
-                    Size::new(block.min(w - x), block.min(h - y)),
-                );
+                let area = rectangle(x, y, block.min(w - x), block.min(h - y));
                 target.fill_solid(&area, color)?;
             }
         }

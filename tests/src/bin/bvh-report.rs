@@ -279,8 +279,9 @@ fn spheres() -> Result<(), String> {
 
 type TeapotList = Scene<0, 1, 2048, 0, 2, 2>;
 
-/// The built-in teapot's scene with its faces as a triangle list.
-fn teapot_list(view: &SceneView<'_>, cam: &Camera) -> Result<Box<TeapotList>, String> {
+/// The built-in teapot's scene with its faces as a triangle list (`faces`), or
+/// without them.
+fn teapot_list(view: &SceneView<'_>, cam: &Camera, faces: bool) -> Result<Box<TeapotList>, String> {
     let e = |e: tessera::Error| e.to_string();
     let mut s = Box::new(TeapotList::new(*cam));
     s.set_ambient(view.ambient()).map_err(e)?;
@@ -293,6 +294,9 @@ fn teapot_list(view: &SceneView<'_>, cam: &Camera) -> Result<Box<TeapotList>, St
     }
     for p in view.planes() {
         s.add_plane(p.geometry, p.material).map_err(e)?;
+    }
+    if !faces {
+        return Ok(s);
     }
     let mesh = view.meshes().first().ok_or("the teapot has no mesh")?;
     let v = |i: u16| {
@@ -318,7 +322,7 @@ fn teapot_one(args: &[String]) -> Result<(), String> {
     let vp = Viewport::new(width, width * 3 / 4);
     b.with_scene(|view, cam| -> Result<(), String> {
         let frame = Frame::try_new(cam, vp, b.settings()).map_err(|e| e.to_string())?;
-        let list = teapot_list(view, cam)?;
+        let list = teapot_list(view, cam, true)?;
         let img = match mode.as_str() {
             "flat" => render(&list.view(), &frame),
             "bvh" => render(view, &frame),
@@ -340,7 +344,7 @@ fn teapot() -> Result<(), String> {
     let px = 800.0 * 600.0;
     b.with_scene(|view, cam| -> Result<(), String> {
         let frame = Frame::try_new(cam, vp, b.settings()).map_err(|e| e.to_string())?;
-        let list = teapot_list(view, cam)?;
+        let list = teapot_list(view, cam, true)?;
         let mut bvh = Box::new(Bvh::<4096, 2048>::new());
         bvh.build(list.view().triangles())
             .map_err(|e| e.to_string())?;
@@ -353,23 +357,7 @@ fn teapot() -> Result<(), String> {
             tessera::BakedBvh::new(bvh.nodes(), bvh.order(), bvh.reach()),
         )];
         let lists = list.view();
-        let no_triangles = Box::new({
-            let mut s = TeapotList::new(*cam);
-            s.set_ambient(view.ambient()).map_err(|e| e.to_string())?;
-            s.set_background(view.background())
-                .map_err(|e| e.to_string())?;
-            for m in view.materials() {
-                s.add_material(*m).map_err(|e| e.to_string())?;
-            }
-            for l in view.lights() {
-                s.add_light(*l).map_err(|e| e.to_string())?;
-            }
-            for p in view.planes() {
-                s.add_plane(p.geometry, p.material)
-                    .map_err(|e| e.to_string())?;
-            }
-            s
-        });
+        let no_triangles = teapot_list(view, cam, false)?;
         let flat_meshed = no_triangles
             .view()
             .with_meshes(&flat_mesh)
