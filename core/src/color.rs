@@ -115,6 +115,65 @@ const SRGB_THRESHOLDS: [u32; 255] = [
     0x3f7167d2, 0x3f739e4d, 0x3f75d7cc, 0x3f781451, 0x3f7a53dd, 0x3f7c9671, 0x3f7edc0e,
 ];
 
+/// How a pixel's linear colour becomes its 8 bits ([`crate::RenderSettings`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Encoding {
+    /// The linear value itself, rounded ([`Color::to_rgb8`]).
+    #[default]
+    Linear,
+    /// sRGB, what monitors and TFT panels expect ([`Color::to_srgb8`]).
+    Srgb,
+}
+
+impl Encoding {
+    /// `linear` or `srgb`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Linear => "linear",
+            Self::Srgb => "srgb",
+        }
+    }
+
+    /// `c` in 8 bits.
+    #[inline(always)]
+    #[must_use]
+    pub fn encode(self, c: Color) -> Rgb8 {
+        match self {
+            Self::Linear => c.to_rgb8(),
+            Self::Srgb => c.to_srgb8(),
+        }
+    }
+}
+
+impl core::fmt::Display for Encoding {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An encoding name that is not `linear` or `srgb`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct UnknownEncoding;
+
+impl core::fmt::Display for UnknownEncoding {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("expected an encoding: linear or srgb")
+    }
+}
+
+impl core::error::Error for UnknownEncoding {}
+
+impl core::str::FromStr for Encoding {
+    type Err = UnknownEncoding;
+    fn from_str(s: &str) -> Result<Self, UnknownEncoding> {
+        [Self::Linear, Self::Srgb]
+            .into_iter()
+            .find(|e| e.name().eq_ignore_ascii_case(s.trim()))
+            .ok_or(UnknownEncoding)
+    }
+}
+
 /// The correctly rounded 8-bit sRGB code of the linear value `v` (0 below 0 and
 /// for NaN, 255 from 1 on).
 #[inline]

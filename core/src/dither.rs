@@ -141,6 +141,8 @@ impl fmt::Display for UnknownDither {
     }
 }
 
+impl core::error::Error for UnknownDither {}
+
 impl FromStr for Dither {
     type Err = UnknownDither;
     fn from_str(s: &str) -> Result<Self, UnknownDither> {

@@ -76,7 +76,7 @@ pub use bvh::{
     SPHERE_CROSSOVER as BVH_SPHERE_CROSSOVER,
 };
 pub use camera::{Camera, CameraBasis, Viewport};
-pub use color::{Color, Rgb8};
+pub use color::{Color, Encoding, Rgb8, UnknownEncoding};
 pub use display::{DitheredRendering, Rendering, draw_panel_tile, draw_tile, draw_tile_dithered};
 pub use dither::{Dither, UnknownDither};
 pub use error::{Error, Field, List, MAX_COLOR, MAX_DEPTH, MAX_EXTENT, MIN_LENGTH};

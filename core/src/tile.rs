@@ -18,7 +18,7 @@
 //! stack (`MAX_DEPTH + 1` rays) included.
 
 use crate::camera::{Camera, CameraBasis, Viewport};
-use crate::color::{Color, Rgb8};
+use crate::color::{Color, Encoding, Rgb8};
 use crate::cull::TileLists;
 use crate::dither::Dither;
 use crate::error::Error;
@@ -38,15 +38,18 @@ pub struct RenderSettings {
     pub max_depth: u8,
     /// Seed of the random samplers.
     pub seed: u32,
+    /// How the pixels' linear colours become 8 bits (default linear).
+    pub encoding: Encoding,
 }
 
 impl Default for RenderSettings {
-    /// Pixel centres, 3 bounces, seed 0.
+    /// Pixel centres, 3 bounces, seed 0, linear.
     fn default() -> Self {
         Self {
             sampler: Sampler::Centre,
             max_depth: 3,
             seed: 0,
+            encoding: Encoding::Linear,
         }
     }
 }
@@ -339,7 +342,8 @@ impl Frame {
     /// The linear colour of pixel `(x, y)`: the mean of its samples, the rays cast
     /// added to `count` (`&mut ()` not to count). Every primitive is a candidate (no
     /// tile, no culling): the same colour as [`Frame::render_tile`] gives, which the
-    /// tests check; `.to_rgb8()` is the tile's pixel.
+    /// tests check; its [`Encoding::encode`] with the settings' encoding is the
+    /// tile's pixel.
     pub fn pixel_color<C: RayCounter>(
         &self,
         scene: &SceneView<'_>,
@@ -361,7 +365,8 @@ impl Frame {
             let (nx, ny) = (x.wrapping_add_signed(dx), y.wrapping_add_signed(dy));
             if nx < u32::from(vp.width) && ny < u32::from(vp.height) {
                 let n = self.centre::<_, true>(scene, &picks, depth, nx, ny, count);
-                refine |= own.probe().differs(n.probe(), threshold);
+                let e = self.settings.encoding;
+                refine |= own.probe(e).differs(n.probe(e), threshold);
             }
         }
         if refine {
@@ -496,7 +501,7 @@ impl Frame {
     /// without bounces) does not add to the stack of the other.
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
-    fn fill<const N: usize, C: RayCounter, const BOUNCES: bool, P: TilePixel>(
+    fn fill<const N: usize, C: RayCounter, const BOUNCES: bool, P: TilePixel, const SRGB: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
@@ -520,9 +525,9 @@ impl Frame {
                         }
                         b
                     }
-                    None => self
-                        .pixel::<C, BOUNCES>(scene, picks, depth, x, y, count)
-                        .to_rgb8(),
+                    None => {
+                        encode::<SRGB>(self.pixel::<C, BOUNCES>(scene, picks, depth, x, y, count))
+                    }
                 };
                 *px = P::from_rgb8(rgb, x, y, self.dither);
             }
@@ -563,7 +568,7 @@ impl Frame {
                 if (0..w).contains(&x) {
                     let c =
                         self.centre::<C, BOUNCES>(scene, picks, depth, x as u32, y as u32, count);
-                    window.set(r, i, c.probe());
+                    window.set(r, i, c.probe(self.settings.encoding));
                 }
             }
         };
@@ -590,8 +595,9 @@ impl Frame {
                     }
                 }
                 let rgb = if refine {
-                    self.pixel::<C, BOUNCES>(scene, picks, depth, x as u32, y as u32, count)
-                        .to_rgb8()
+                    self.settings.encoding.encode(
+                        self.pixel::<C, BOUNCES>(scene, picks, depth, x as u32, y as u32, count),
+                    )
                 } else {
                     own.color
                 };
@@ -618,13 +624,13 @@ impl Frame {
     fn background_pixel(&self, scene: &SceneView<'_>) -> Rgb8 {
         if self.adaptive.is_some() {
             // Every centre ray misses alike: no pixel is refined.
-            return scene.background.to_rgb8();
+            return self.settings.encoding.encode(scene.background);
         }
         let mut sum = Color::BLACK;
         for _ in 0..self.samples {
             sum += scene.background;
         }
-        (sum * self.inv_count).to_rgb8()
+        self.settings.encoding.encode(sum * self.inv_count)
     }
 
     /// Renders tile `coord` into `tile`, adding the rays cast to `count` (`&mut ()`
@@ -685,25 +691,44 @@ impl Frame {
             // bookkeeping per sample where no ray is reflected or refracted).
             let depth = scene.depth(self.settings.max_depth);
             let area = (x0, y0, tw, th);
-            if let (Some(threshold), None) = (self.adaptive, background) {
+            // And each loop twice more: linear and sRGB (the encoding decided once
+            // a tile, not per pixel).
+            let srgb = self.settings.encoding == Encoding::Srgb;
+            let (b, p) = (background, &picks);
+            // The adaptive loop decides the encoding per pixel (its pixels cost
+            // far more than the branch).
+            if let (Some(t), None) = (self.adaptive, background) {
                 if depth > 0 {
-                    self.fill_adaptive::<N, C, true, P>(
-                        scene, &picks, depth, tile, area, threshold, count,
-                    );
+                    self.fill_adaptive::<N, C, true, P>(scene, p, depth, tile, area, t, count);
                 } else {
-                    self.fill_adaptive::<N, C, false, P>(
-                        scene, &picks, 0, tile, area, threshold, count,
-                    );
+                    self.fill_adaptive::<N, C, false, P>(scene, p, 0, tile, area, t, count);
                 }
-            } else if depth > 0 {
-                self.fill::<N, C, true, P>(scene, &picks, depth, tile, area, background, count);
             } else {
-                self.fill::<N, C, false, P>(scene, &picks, 0, tile, area, background, count);
+                match (depth > 0, srgb) {
+                    (true, false) => {
+                        self.fill::<N, C, true, P, false>(scene, p, depth, tile, area, b, count);
+                    }
+                    (false, false) => {
+                        self.fill::<N, C, false, P, false>(scene, p, 0, tile, area, b, count);
+                    }
+                    (true, true) => {
+                        self.fill::<N, C, true, P, true>(scene, p, depth, tile, area, b, count);
+                    }
+                    (false, true) => {
+                        self.fill::<N, C, false, P, true>(scene, p, 0, tile, area, b, count);
+                    }
+                }
             }
         };
         (scene.tile_lists)(&mut body);
         Ok(())
     }
+}
+
+/// `c` in 8 bits, sRGB-encoded or linear (a tile loop's constant).
+#[inline(always)]
+fn encode<const SRGB: bool>(c: Color) -> Rgb8 {
+    if SRGB { c.to_srgb8() } else { c.to_rgb8() }
 }
 
 /// The neighbours a pixel is compared with, as `(dx, dy)`: above, left, right,
@@ -724,9 +749,9 @@ struct Centre {
 impl Centre {
     /// What the decision needs of it.
     #[inline(always)]
-    fn probe(&self) -> Probe {
+    fn probe(&self, encoding: Encoding) -> Probe {
         Probe {
-            color: self.color.to_rgb8(),
+            color: encoding.encode(self.color),
             sig: self.sig,
             textured: self.textured,
         }

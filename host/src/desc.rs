@@ -333,6 +333,8 @@ pub struct RenderDesc {
     pub seed: u32,
     /// Tile size: 8, 16 or 32.
     pub tile: usize,
+    /// How the pixels become 8 bits: `linear` (the default) or `srgb`.
+    pub encoding: String,
 }
 
 impl Default for RenderDesc {
@@ -344,6 +346,7 @@ impl Default for RenderDesc {
             depth: 3,
             seed: 0,
             tile: 16,
+            encoding: "linear".into(),
         }
     }
 }
@@ -658,6 +661,10 @@ impl SceneDesc {
             sampler: self.sampler()?,
             max_depth: self.render.depth,
             seed: self.render.seed,
+            encoding: self.render.encoding.parse().map_err(|e| DescError {
+                item: "render".into(),
+                message: format!("encoding {:?}: {e}", self.render.encoding),
+            })?,
         };
         s.validate().map_err(|e| err("render".into(), e, None))?;
         if !tessera_tile_ok(self.render.tile) {

@@ -194,6 +194,7 @@ pub fn converged(desc: &SceneDesc, vp: Viewport) -> Result<RgbImage, HostError> 
         sampler: Sampler::Stratified(16),
         max_depth: MAX_DEPTH,
         seed: 0x5eed,
+        encoding: tessera::Encoding::Linear,
     };
     Ok(crate::reference::render(desc, vp, &settings)?.to_rgb8())
 }
@@ -245,6 +246,7 @@ pub fn measure_scene(
             sampler: setting.sampler,
             max_depth: setting.depth,
             seed: 1,
+            encoding: tessera::Encoding::Linear,
         };
         let timed = b.with_scene(|view, cam| {
             let frame = Frame::try_new(cam, vp, settings)?;
@@ -371,6 +373,7 @@ pub fn interference_study(
             sampler: Sampler::Prefiltered,
             max_depth: 0,
             seed: 0,
+            encoding: tessera::Encoding::Linear,
         };
         let truth = crate::reference::render(&desc, vp, &truth_settings)?.to_rgb8();
         let (_, amp, std) = row_stats(&truth, None, fp);
@@ -392,6 +395,7 @@ pub fn interference_study(
                 sampler,
                 max_depth: 0,
                 seed: 5,
+                encoding: tessera::Encoding::Linear,
             };
             let img = scene.with_view(|v| crate::render(v, scene.camera(), vp, settings, 16))?;
             let (rmse, amplitude, row_std) = row_stats(&img, Some(&truth), fp);

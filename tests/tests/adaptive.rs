@@ -66,6 +66,7 @@ fn render(sampler: Sampler) -> RgbImage {
         sampler,
         max_depth: 0,
         seed: 3,
+        encoding: tessera::Encoding::Linear,
     };
     let frame = s.frame(Viewport::new(W, H), settings).unwrap();
     render_tiles::<16>(&s.view(), &frame, None).unwrap()
@@ -155,6 +156,7 @@ fn traces_the_tiles_and_their_apron_once_then_only_the_refined_samples() {
         sampler: Sampler::Adaptive { k, threshold: 255 },
         max_depth: 0,
         seed: 3,
+        encoding: tessera::Encoding::Linear,
     };
     let frame = s.frame(Viewport::new(W, H), settings).unwrap();
     let (across, down) = frame.tile_grid(tile);
@@ -196,6 +198,7 @@ fn frame_pixels_match_the_tiles() {
                     sampler,
                     max_depth: 0,
                     seed: 3,
+                    encoding: tessera::Encoding::Linear,
                 },
             )
             .unwrap();

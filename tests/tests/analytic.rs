@@ -21,6 +21,7 @@ fn camera_inside_a_lit_diffuse_sphere_sees_one_known_value() {
                 sampler,
                 max_depth: 2,
                 seed: 1,
+                encoding: tessera::Encoding::Linear,
             };
             let img = tessera_host::render(
                 &scene.view(),

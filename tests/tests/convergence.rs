@@ -103,6 +103,7 @@ fn stratified_converges_faster_than_random_on_edges() {
                     sampler,
                     max_depth: 0,
                     seed,
+                    encoding: tessera::Encoding::Linear,
                 },
             )
             .unwrap()

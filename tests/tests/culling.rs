@@ -341,7 +341,7 @@ proptest! {
             3 => Sampler::Prefiltered,
             _ => Sampler::Adaptive { k: 2, threshold: 0 },
         };
-        let settings = RenderSettings { sampler, max_depth: r.depth, seed: 5 };
+        let settings = RenderSettings { sampler, max_depth: r.depth, seed: 5, encoding: tessera::Encoding::Linear };
         let frame = scene.frame(Viewport::new(40, 30), settings).unwrap();
         same_culled_or_not(&scene.view(), &frame, &format!("{r:?}"));
     }
@@ -411,6 +411,7 @@ fn coincident(plane_point: Vec3) {
         sampler: Sampler::Centre,
         max_depth: 2,
         seed: 1,
+        encoding: tessera::Encoding::Linear,
     };
     let frame = s.frame(Viewport::new(96, 72), settings).unwrap();
     let view = s.view();
@@ -469,6 +470,7 @@ fn ties_between_spheres_keep_the_earliest_through_the_bvh() {
         sampler: Sampler::Centre,
         max_depth: 2,
         seed: 1,
+        encoding: tessera::Encoding::Linear,
     };
     let frame = s.frame(Viewport::new(96, 72), settings).unwrap();
     let flat = same_culled_or_not(&s.view(), &frame, "coincident spheres");

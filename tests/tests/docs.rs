@@ -742,9 +742,9 @@ fn a_wrong_figure_fails() {
         ("needs 1,360 to", "needs 1,456 to", "1,456"),
         ("(1.3 to 2.0 KiB)", "(1.5 to 2.0 KiB)", "1.5"),
         (
-            "Flash 447,824 bytes (437.3 KiB",
-            "Flash 447,824 bytes (43.7 KiB",
-            "43.7",
+            "Flash 492,420 bytes (480.9 KiB",
+            "Flash 492,420 bytes (48.9 KiB",
+            "48.9",
         ),
         (
             "FLIP 0.044 on the default",

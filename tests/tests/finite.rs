@@ -292,7 +292,7 @@ proptest! {
             2 => Sampler::Prefiltered,
             _ => Sampler::Adaptive { k: 2, threshold: 0 },
         };
-        let settings = RenderSettings { sampler, max_depth: r.depth, seed: 1 };
+        let settings = RenderSettings { sampler, max_depth: r.depth, seed: 1, encoding: tessera::Encoding::Linear };
         let Ok(frame) = scene.frame(Viewport::new(20, 14), settings) else {
             return Ok(());
         };

@@ -107,6 +107,7 @@ fn deepest_recursion_through_glass_stays_finite() {
         max_depth: tessera::MAX_DEPTH,
         sampler: tessera::Sampler::Stratified(2),
         seed: 3,
+        encoding: tessera::Encoding::Linear,
     };
     let c = count(Builtin::Showcase, settings);
     assert!(c.secondary > c.primary, "{c:?}");

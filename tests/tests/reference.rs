@@ -55,3 +55,43 @@ fn antialiased_renders_agree_with_the_reference() {
         assert!(acc.meets_bar(), "{} {sampler:?}:\n{acc}", b.name());
     }
 }
+
+/// sRGB-encoded renders against the reference encoded the same way in f64, on
+/// every built-in scene with centre sampling and on two adaptive ones (whose rule
+/// compares the encoded centre pixels): the same bar. And the tiles' pixels are
+/// `Frame::pixel_color` encoded by `Color::to_srgb8`.
+#[test]
+fn srgb_renders_agree_with_the_reference() {
+    let vp = Viewport::new(160, 120);
+    let mut cases: Vec<(Builtin, Sampler)> = Builtin::ALL
+        .into_iter()
+        .map(|b| (b, b.settings().sampler))
+        .collect();
+    cases.push((Builtin::Showcase, Sampler::adaptive(3)));
+    cases.push((Builtin::ChapterDirect, Sampler::adaptive(2)));
+    for (b, sampler) in cases {
+        let settings = RenderSettings {
+            sampler,
+            seed: 5,
+            encoding: tessera::Encoding::Srgb,
+            ..b.settings()
+        };
+        let acc = accuracy(b, settings, vp);
+        assert!(acc.meets_bar(), "{} {sampler:?} srgb:\n{acc}", b.name());
+        b.with_scene(|view, cam| {
+            let frame = Frame::try_new(cam, vp, settings).unwrap();
+            let img = tessera_host::render_tiles::<16>(view, &frame, None).unwrap();
+            let linear = RenderSettings {
+                encoding: tessera::Encoding::Linear,
+                ..settings
+            };
+            let lin = tessera_host::render(view, cam, vp, linear, 16).unwrap();
+            assert!(img != lin, "{}: srgb changed nothing", b.name());
+            for (x, y, p) in img.enumerate_pixels().step_by(7) {
+                let c = frame.pixel_color(view, x, y, &mut ()).to_srgb8();
+                assert_eq!(p.0, [c.r, c.g, c.b], "{} ({x}, {y})", b.name());
+            }
+        })
+        .unwrap();
+    }
+}

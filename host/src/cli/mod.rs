@@ -115,6 +115,10 @@ struct Common {
     /// Seed of the random samplers
     #[arg(long)]
     seed: Option<u32>,
+    /// How the pixels become 8 bits: linear (the value itself) or srgb (what
+    /// displays expect) [default: the scene file's, or linear]
+    #[arg(long)]
+    encoding: Option<tessera::Encoding>,
     /// Tile size: 8, 16 or 32
     #[arg(long, value_parser = parse_tile)]
     tile: Option<usize>,

@@ -89,6 +89,7 @@ impl Source {
         s.sampler = c.sampler.unwrap_or(s.sampler);
         s.max_depth = c.depth.unwrap_or(s.max_depth);
         s.seed = c.seed.unwrap_or(s.seed);
+        s.encoding = c.encoding.unwrap_or(s.encoding);
         if let Some((w, h)) = c.size {
             vp = Viewport::new(w, h);
         }

@@ -37,14 +37,32 @@ pub struct RefImage {
     pub pixels: Vec<[f64; 3]>,
     /// Hash of the primitives and shadow outcomes met by each pixel's rays.
     pub signature: Vec<u64>,
+    /// How [`RefImage::to_rgb8`] makes the 8 bits (the settings').
+    pub encoding: tessera::Encoding,
+}
+
+/// The 8 bits of the linear value `v` in `encoding`, in `f64`: clamped to
+/// `[0, 1]` (NaN gives 0), then `v` (linear) or the sRGB curve of IEC 61966-2-1
+/// (srgb) times 255, plus 0.5, truncated: the correctly rounded code the core's
+/// `Color::to_rgb8` and `Color::to_srgb8` give from `f32`.
+#[must_use]
+pub fn encode8(v: f64, encoding: tessera::Encoding) -> u8 {
+    let v = v.clamp(0.0, 1.0);
+    let e = match encoding {
+        tessera::Encoding::Linear => v,
+        tessera::Encoding::Srgb if v <= 0.003_130_8 => 12.92 * v,
+        tessera::Encoding::Srgb => 1.055 * v.powf(1.0 / 2.4) - 0.055,
+    };
+    (e * 255.0 + 0.5) as u8
 }
 
 impl RefImage {
-    /// The 8-bit image, quantised as the core's `Color::to_rgb8`: clamp to
-    /// `[0, 1]`, times 255, plus 0.5, truncate; NaN gives 0.
+    /// The 8-bit image in its encoding ([`encode8`]: as the core's
+    /// `Color::to_rgb8` for linear: clamp to `[0, 1]`, times 255, plus 0.5,
+    /// truncate; NaN gives 0).
     #[must_use]
     pub fn to_rgb8(&self) -> image::RgbImage {
-        let q = |v: f64| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        let q = |v: f64| encode8(v, self.encoding);
         image::RgbImage::from_fn(self.width, self.height, |x, y| {
             let p = self.pixels[(y * self.width + x) as usize];
             image::Rgb([q(p[0]), q(p[1]), q(p[2])])
@@ -205,6 +223,7 @@ pub fn render(
         height,
         pixels,
         signature,
+        encoding: settings.encoding,
     })
 }
 
@@ -220,7 +239,7 @@ fn adaptive(
     k: u8,
     threshold: u8,
 ) -> RefImage {
-    let q = |v: f64| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    let q = |v: f64| encode8(v, settings.encoding);
     let mut centres = Vec::with_capacity((width * height) as usize);
     for y in 0..height {
         for x in 0..width {
@@ -281,6 +300,7 @@ fn adaptive(
         height,
         pixels,
         signature,
+        encoding: settings.encoding,
     }
 }
 

@@ -76,6 +76,7 @@ fn inside_a_lit_sphere_every_pixel_is_kd_color_i_over_r2() {
             sampler: Sampler::Stratified(2),
             max_depth: 2,
             seed: 9,
+            encoding: tessera::Encoding::Linear,
         };
         let img = render(&d, Viewport::new(24, 16), &settings).unwrap();
         let e = intensity / (r * r);
@@ -127,11 +128,30 @@ fn quantisation_and_non_finite() {
             [f64::INFINITY, 0.0, 0.0],
         ],
         signature: vec![0; 3],
+        encoding: tessera::Encoding::Linear,
     };
     let rgb = img.to_rgb8();
     assert_eq!(rgb.get_pixel(0, 0).0, [128, 0, 255]);
     assert_eq!(rgb.get_pixel(1, 0).0, [0, 1, 0]);
     assert_eq!(rgb.get_pixel(2, 0).0, [255, 0, 0]);
+    // sRGB: the same curve as the core's table, in f64 (0.5 linear is 188).
+    let srgb = RefImage {
+        encoding: tessera::Encoding::Srgb,
+        ..img.clone()
+    }
+    .to_rgb8();
+    assert_eq!(srgb.get_pixel(0, 0).0, [188, 0, 255]);
+    assert_eq!(srgb.get_pixel(1, 0).0, [0, 13, 6]);
+    assert_eq!(srgb.get_pixel(2, 0).0, [255, 0, 0]);
+    for k in 0..=1000 {
+        let v = k as f32 / 1000.0;
+        let core = tessera::Color::splat(v).to_srgb8().r;
+        assert_eq!(
+            super::encode8(f64::from(v), tessera::Encoding::Srgb),
+            core,
+            "{v}"
+        );
+    }
     assert_eq!(img.non_finite(), 2);
 }
 
@@ -274,6 +294,7 @@ fn against_the_core(d: &SceneDesc) -> Vec<(RefImage, [f64; 3], f64)> {
                 sampler,
                 max_depth: 4,
                 seed,
+                encoding: tessera::Encoding::Linear,
             };
             let reference = render(d, vp, &settings).unwrap();
             assert_eq!(reference.non_finite(), 0);

@@ -41,6 +41,7 @@ impl Run {
             sampler: self.sampler,
             max_depth: self.depth,
             seed: self.seed,
+            encoding: tessera::Encoding::Linear,
         }
     }
 }

@@ -146,6 +146,7 @@ fn render_all() -> Result<(), Failure> {
             sampler: sampler(j.sampler, j.count, j.offset)?,
             max_depth: j.depth,
             seed: j.seed,
+            encoding: tessera::Encoding::Linear,
         };
         let viewport = Viewport::new(j.width, j.height);
         lit |= match j.tile {

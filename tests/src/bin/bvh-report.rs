@@ -91,6 +91,7 @@ fn frame(s: &MeshScene, width: u16) -> Frame {
         sampler: Sampler::Centre,
         max_depth: 3,
         seed: 1,
+        encoding: tessera::Encoding::Linear,
     };
     Frame::try_new(s.camera(), Viewport::new(width, width * 3 / 4), settings).expect("frame")
 }
@@ -243,6 +244,7 @@ fn spheres() -> Result<(), String> {
             sampler: Sampler::Centre,
             max_depth: 3,
             seed: 1,
+            encoding: tessera::Encoding::Linear,
         };
         let f = Frame::try_new(s.camera(), Viewport::new(width, width * 3 / 4), settings)
             .map_err(|e| e.to_string())?;

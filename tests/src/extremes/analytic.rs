@@ -35,6 +35,7 @@ pub fn analytic(r: f32) -> Analytic {
             sampler,
             max_depth: 2,
             seed: 1,
+            encoding: tessera::Encoding::Linear,
         };
         let Ok(frame) = scene.frame(Viewport::new(40, 30), settings) else {
             out.worst_lsb = -1;
