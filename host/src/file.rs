@@ -1022,6 +1022,16 @@ color = [0.9, 0.1, 0.1]
             msg(&text),
             "t.toml:11: render: tile must be 8, 16 or 32, got 12"
         );
+        let text = format!("{HEAD}\n[render]\nencoding = \"gamma\"\n");
+        assert_eq!(
+            msg(&text),
+            "t.toml:11: render: encoding \"gamma\": expected an encoding: linear or srgb"
+        );
+        let text = format!("{HEAD}\n[render]\nencoding = \"SRGB\"\n");
+        assert_eq!(
+            desc(&text).settings().unwrap().encoding,
+            tessera::Encoding::Srgb
+        );
         let text = format!("{HEAD}\n[render]\nwidth = 0\n");
         assert_eq!(
             msg(&text),

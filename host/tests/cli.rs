@@ -35,6 +35,49 @@ fn no_arguments_renders_the_default_scene_and_says_where() {
     assert_eq!(img.as_raw(), want.as_raw());
 }
 
+/// `--encoding srgb`: the library's render with sRGB-encoded pixels, brighter
+/// than the linear one; a wrong name is a usage error naming the choices.
+#[test]
+fn encoding_srgb_writes_the_librarys_srgb_render() {
+    let dir = scratch("encoding");
+    let out = bin()
+        .current_dir(&dir)
+        .args([
+            "render",
+            "--encoding",
+            "srgb",
+            "--size",
+            "64x48",
+            "-o",
+            "s.png",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "stderr: {}", text(&out.stderr));
+    let img = image::open(dir.join("s.png")).unwrap().to_rgb8();
+    let b = tessera::builtin::Builtin::DEFAULT;
+    let render = |encoding| {
+        b.with_scene(|v, c| {
+            let settings = tessera::RenderSettings {
+                encoding,
+                ..b.settings()
+            };
+            tessera_host::render(v, c, tessera::Viewport::new(64, 48), settings, 16)
+        })
+        .unwrap()
+        .unwrap()
+    };
+    let (srgb, linear) = (
+        render(tessera::Encoding::Srgb),
+        render(tessera::Encoding::Linear),
+    );
+    assert_eq!(img.as_raw(), srgb.as_raw());
+    let sum = |i: &image::RgbImage| i.as_raw().iter().map(|&x| u64::from(x)).sum::<u64>();
+    assert!(sum(&srgb) > sum(&linear));
+    let e = fails(&dir, &["render", "--encoding", "gamma", "-o", "g.png"]);
+    assert!(e.contains("linear or srgb"), "{e}");
+}
+
 #[test]
 fn one_thread_and_many_threads_write_the_same_bytes() {
     let dir = scratch("threads");
