@@ -465,13 +465,9 @@ impl Hit<'_> {
     /// [`Hit::error`] when not yet known.
     #[inline(never)]
     fn compute_error(&self, ray: &Ray) -> Vec3 {
-        let e = match self.geom {
-            #[cfg(feature = "bvh")]
-            Geom::Mesh(m) => m.triangle(self.index & 0xffff).map_or(Vec3::ZERO, |t| {
-                t.error(ray, &self.hit, self.point, self.aux)
-            }),
-            g => g.error(ray, &self.hit, self.point, self.aux),
-        };
+        let e = self
+            .geom
+            .error(self.index, ray, &self.hit, self.point, self.aux);
         self.error.set(Some(e));
         e
     }

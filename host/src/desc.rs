@@ -58,6 +58,15 @@ pub struct MeshParts<'a> {
     pub bvh: &'a HostBvh,
 }
 
+impl<'a> MeshParts<'a> {
+    /// The core's mesh of these parts.
+    #[must_use]
+    pub fn mesh(&self) -> tessera::Mesh<'a> {
+        let bvh = tessera::BakedBvh::new(self.bvh.nodes(), self.bvh.order(), self.bvh.reach());
+        tessera::Mesh::new(self.vertices, self.faces, self.normals, self.material, bvh)
+    }
+}
+
 /// A mesh's data, which a [`tessera::Mesh`] borrows.
 struct HostMesh {
     vertices: Vec<[f32; 3]>,
@@ -111,14 +120,7 @@ impl HostScene {
     /// BVH when there are enough of them for it to pay
     /// ([`tessera::SceneView::with_bvh`]).
     pub fn with_view<R>(&self, f: impl FnOnce(&tessera::SceneView<'_>) -> R) -> R {
-        let meshes: Vec<tessera::Mesh<'_>> = self
-            .meshes
-            .iter()
-            .map(|m| {
-                let bvh = tessera::BakedBvh::new(m.bvh.nodes(), m.bvh.order(), m.bvh.reach());
-                tessera::Mesh::new(&m.vertices, &m.faces, &m.normals, m.material, bvh)
-            })
-            .collect();
+        let meshes: Vec<tessera::Mesh<'_>> = self.mesh_parts().map(|m| m.mesh()).collect();
         let view = self.scene.view();
         // Checked when the scene was made: cannot fail (if it did, the meshes
         // would be missing from the image, which every test would see).
@@ -127,15 +129,17 @@ impl HostScene {
         } else {
             view.with_meshes(&meshes).unwrap_or(view)
         };
-        let mut spheres = Box::new(HostSphereBvh::new());
-        let view = if view.spheres().len() < tessera::BVH_SPHERE_CROSSOVER {
-            view
-        } else {
-            // As below: cannot fail, and the flat list renders the same image.
-            match spheres.build(view.spheres()) {
-                Ok(()) => view.with_sphere_bvh(&spheres).unwrap_or(view),
-                Err(_) => view,
-            }
+        // Built only where it pays; as below, it cannot fail, and the flat list
+        // renders the same image.
+        let spheres = (view.spheres().len() >= tessera::BVH_SPHERE_CROSSOVER)
+            .then(|| {
+                let mut b = Box::new(HostSphereBvh::new());
+                b.build(view.spheres()).ok().map(|()| b)
+            })
+            .flatten();
+        let view = match &spheres {
+            Some(b) => view.with_sphere_bvh(b).unwrap_or(view),
+            None => view,
         };
         if view.triangles().len() < tessera::BVH_CROSSOVER {
             return f(&view);
@@ -831,14 +835,10 @@ impl SceneDesc {
             meshes.push(self.core_mesh(&item, m)?);
         }
         let scene = HostScene { scene: s, meshes };
-        // The meshes' own checks (the view's): every fault was caught above.
         // Each mesh's own checks (the view's), named by its item: every fault
         // should have been caught above.
         for (i, (m, d)) in scene.mesh_parts().zip(&self.meshes).enumerate() {
-            let bvh = tessera::BakedBvh::new(m.bvh.nodes(), m.bvh.order(), m.bvh.reach());
-            let mesh = [tessera::Mesh::new(
-                m.vertices, m.faces, m.normals, m.material, bvh,
-            )];
+            let mesh = [m.mesh()];
             let item = Item(format!("mesh {} ({:?})", i + 1, d.obj));
             scene
                 .scene

@@ -307,25 +307,7 @@ pub fn run(elf: &Path, runs: &[Run]) -> Result<Output, String> {
 pub fn run_with(elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, String> {
     let dir = TempDir::new()?;
     let list = write_run_list(&dir.0, runs)?;
-    let status = wait_for_qemu(start_qemu(&dir.0, elf, extra)?);
-    let read = |name: &str| std::fs::read_to_string(dir.0.join(name)).unwrap_or_default();
-    let (stdout, stderr) = (read("qemu.stdout"), read("qemu.stderr"));
-    let fail = |why: String| {
-        format!(
-            "firmware run of {} failed: {why}\n--- run list\n{list}--- qemu stdout\n{stdout}--- qemu stderr\n{stderr}",
-            elf.display()
-        )
-    };
-    let status = status.map_err(&fail)?;
-    if !status.success() {
-        return Err(fail(format!("qemu exited with {status}")));
-    }
-    if let Some(l) = stdout
-        .lines()
-        .find(|l| l.starts_with("error:") || l.starts_with("panic:") || l.starts_with("hard fault"))
-    {
-        return Err(fail(l.to_string()));
-    }
+    let (stdout, fail) = qemu(&dir.0, elf, extra, Some(&list))?;
     parse_output(&stdout, runs, &dir.0).map_err(fail)
 }
 
@@ -334,13 +316,27 @@ pub fn run_with(elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, St
 /// `hard fault` line is an `Err` with qemu's output.
 pub fn run_alone(elf: &Path) -> Result<String, String> {
     let dir = TempDir::new()?;
-    let status = wait_for_qemu(start_qemu(&dir.0, elf, &[])?);
-    let read = |name: &str| std::fs::read_to_string(dir.0.join(name)).unwrap_or_default();
+    Ok(qemu(&dir.0, elf, &[], None)?.0)
+}
+
+/// Runs qemu on `elf` in `dir` (`extra` arguments before `-kernel`) to its end and
+/// returns its standard output, with the way to report a later failure (qemu's
+/// outputs and the run list `list`, if any, appended); a qemu failure, a timeout
+/// or an `error:`/`panic:`/`hard fault` line is an `Err` so reported.
+fn qemu(
+    dir: &Path,
+    elf: &Path,
+    extra: &[String],
+    list: Option<&str>,
+) -> Result<(String, impl Fn(String) -> String), String> {
+    let status = wait_for_qemu(start_qemu(dir, elf, extra)?);
+    let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap_or_default();
     let (stdout, stderr) = (read("qemu.stdout"), read("qemu.stderr"));
-    let fail = |why: String| {
+    let list = list.map_or_else(String::new, |l| format!("--- run list\n{l}"));
+    let (out, elf) = (stdout.clone(), elf.display().to_string());
+    let fail = move |why: String| {
         format!(
-            "firmware run of {} failed: {why}\n--- qemu stdout\n{stdout}--- qemu stderr\n{stderr}",
-            elf.display()
+            "firmware run of {elf} failed: {why}\n{list}--- qemu stdout\n{out}--- qemu stderr\n{stderr}"
         )
     };
     let status = status.map_err(&fail)?;
@@ -353,7 +349,7 @@ pub fn run_alone(elf: &Path) -> Result<String, String> {
     {
         return Err(fail(l.to_string()));
     }
-    Ok(stdout)
+    Ok((stdout, fail))
 }
 
 /// Writes the run list of `runs` to [`RUNS_FILE`] in `dir` and returns it; an error

@@ -356,72 +356,8 @@ proptest! {
 fn ties_between_triangles_keep_the_earliest_through_the_bvh() {
     // The mirror below the grid, then a plane through the grid itself: a triangle
     // hit at the plane's time must not replace it (the plane comes first).
-    for plane in [Vec3::new(0.0, -4.0, 0.0), Vec3::ZERO] {
-        coincident(plane);
-    }
-}
-
-fn coincident(plane_point: Vec3) {
-    type TieScene = Scene<0, 1, 300, 0, 8, 1>;
-    let cam = Camera::look_at(Vec3::new(0.0, 0.0, 12.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0).unwrap();
-    let mut s = Box::new(TieScene::new(cam));
-    let colours: Vec<_> = (0..7)
-        .map(|k| {
-            let c = Color::new(0.1 + 0.12 * k as f32, 0.9 - 0.1 * k as f32, 0.5);
-            s.add_material(Material::matte(c)).unwrap()
-        })
-        .collect();
-    let mirror = s
-        .add_material(
-            Material::matte(Color::splat(0.2))
-                .with_reflectivity(0.8)
-                .unwrap(),
-        )
-        .unwrap();
-    s.add_light(PointLight::try_new(Vec3::new(2.0, 5.0, 10.0), Color::WHITE, 60.0).unwrap())
-        .unwrap();
-    let normal = if plane_point == Vec3::ZERO {
-        Vec3::Z
-    } else {
-        Vec3::Y
-    };
-    s.add_plane(Plane::try_new(plane_point, normal).unwrap(), mirror)
-        .unwrap();
-    // A 10 x 10 grid of small triangles; every list position of a copy is decided
-    // by a fixed scramble, so copies of one triangle lie far apart in the list.
-    let mut items = Vec::new();
-    for i in 0..100u32 {
-        let (x, y) = ((i % 10) as f32 - 5.0, (i / 10) as f32 - 5.0);
-        let copies = 1 + (i % 3);
-        for c in 0..copies {
-            items.push(((i * 37 + c * 101) % 997, x, y, (i + c) as usize % 7));
-        }
-    }
-    items.sort_by_key(|it| it.0);
-    for &(_, x, y, m) in &items {
-        let t = Triangle::try_new(
-            Vec3::new(x, y, 0.0),
-            Vec3::new(x + 0.9, y, 0.0),
-            Vec3::new(x, y + 0.9, 0.0),
-        )
-        .unwrap();
-        s.add_triangle(t, colours[m]).unwrap();
-    }
-    let settings = RenderSettings {
-        sampler: Sampler::Centre,
-        max_depth: 2,
-        seed: 1,
-        encoding: tessera::Encoding::Linear,
-    };
-    let frame = s.frame(Viewport::new(96, 72), settings).unwrap();
-    let view = s.view();
-    let flat = same_culled_or_not(
-        &view,
-        &frame,
-        &format!("coincident triangles, plane at {plane_point:?}"),
-    );
-    // The copies are seen (the background is black).
-    assert!(flat.pixels().filter(|p| p.0 != [0, 0, 0]).count() > 1000);
+    coincident(Copies::Triangles, Vec3::new(0.0, -4.0, 0.0), Vec3::Y);
+    coincident(Copies::Triangles, Vec3::ZERO, Vec3::Z);
 }
 
 /// The same for spheres through their BVH: coincident copies of spheres (each copy
@@ -430,7 +366,23 @@ fn coincident(plane_point: Vec3) {
 /// rule in the sphere BVH's search changes hundreds of pixels here).
 #[test]
 fn ties_between_spheres_keep_the_earliest_through_the_bvh() {
-    type TieScene = Scene<300, 1, 0, 0, 8, 1>;
+    coincident(Copies::Spheres, Vec3::new(0.0, -6.0, 0.0), Vec3::Y);
+}
+
+/// What [`coincident`] scatters copies of.
+#[derive(Clone, Copy, Debug)]
+enum Copies {
+    Triangles,
+    Spheres,
+}
+
+/// A 10 x 10 grid of small shapes, some in two or three coincident copies of
+/// different colours, over a mirror plane through `plane_point` with `normal`;
+/// every list position of a copy is decided by a fixed scramble, so copies of
+/// one shape lie far apart in the list. Rendered culled or not, with and without
+/// BVHs ([`same_culled_or_not`]): the same bytes.
+fn coincident(copies: Copies, plane_point: Vec3, normal: Vec3) {
+    type TieScene = Scene<300, 1, 300, 0, 8, 1>;
     let cam = Camera::look_at(Vec3::new(0.0, 0.0, 12.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0).unwrap();
     let mut s = Box::new(TieScene::new(cam));
     let colours: Vec<_> = (0..7)
@@ -448,23 +400,37 @@ fn ties_between_spheres_keep_the_earliest_through_the_bvh() {
         .unwrap();
     s.add_light(PointLight::try_new(Vec3::new(2.0, 5.0, 10.0), Color::WHITE, 60.0).unwrap())
         .unwrap();
-    s.add_plane(
-        Plane::try_new(Vec3::new(0.0, -6.0, 0.0), Vec3::Y).unwrap(),
-        mirror,
-    )
-    .unwrap();
+    s.add_plane(Plane::try_new(plane_point, normal).unwrap(), mirror)
+        .unwrap();
+    // Triangles from the grid point, spheres centred in its cell.
+    let corner = match copies {
+        Copies::Triangles => -5.0,
+        Copies::Spheres => -4.5,
+    };
     let mut items = Vec::new();
     for i in 0..100u32 {
-        let (x, y) = ((i % 10) as f32 - 4.5, (i / 10) as f32 - 4.5);
-        let copies = 1 + (i % 3);
-        for c in 0..copies {
+        let (x, y) = ((i % 10) as f32 + corner, (i / 10) as f32 + corner);
+        for c in 0..1 + (i % 3) {
             items.push(((i * 37 + c * 101) % 997, x, y, (i + c) as usize % 7));
         }
     }
     items.sort_by_key(|it| it.0);
     for &(_, x, y, m) in &items {
-        let ball = tessera::Sphere::try_new(Vec3::new(x, y, 0.0), 0.45).unwrap();
-        s.add_sphere(ball, colours[m]).unwrap();
+        match copies {
+            Copies::Triangles => {
+                let t = Triangle::try_new(
+                    Vec3::new(x, y, 0.0),
+                    Vec3::new(x + 0.9, y, 0.0),
+                    Vec3::new(x, y + 0.9, 0.0),
+                )
+                .unwrap();
+                s.add_triangle(t, colours[m]).unwrap();
+            }
+            Copies::Spheres => {
+                let ball = tessera::Sphere::try_new(Vec3::new(x, y, 0.0), 0.45).unwrap();
+                s.add_sphere(ball, colours[m]).unwrap();
+            }
+        }
     }
     let settings = RenderSettings {
         sampler: Sampler::Centre,
@@ -473,6 +439,8 @@ fn ties_between_spheres_keep_the_earliest_through_the_bvh() {
         encoding: tessera::Encoding::Linear,
     };
     let frame = s.frame(Viewport::new(96, 72), settings).unwrap();
-    let flat = same_culled_or_not(&s.view(), &frame, "coincident spheres");
+    let what = format!("coincident {copies:?}, plane at {plane_point:?}");
+    let flat = same_culled_or_not(&s.view(), &frame, &what);
+    // The copies are seen (the background is black).
     assert!(flat.pixels().filter(|p| p.0 != [0, 0, 0]).count() > 1000);
 }

@@ -136,17 +136,26 @@ pub(crate) enum Geom<'a> {
 }
 
 impl Geom<'_> {
-    /// [`Locate::error`] of whichever kind it is.
+    /// [`Locate::error`] of whichever kind it is; `index` is the hit's (a mesh's
+    /// face is the triangle of face `index & 0xffff`).
     #[inline(always)]
-    pub(crate) fn error(self, ray: &Ray, hit: &Candidate, point: Vec3, aux: Vec3) -> Vec3 {
+    pub(crate) fn error(
+        self,
+        #[cfg_attr(not(feature = "bvh"), allow(unused_variables))] index: usize,
+        ray: &Ray,
+        hit: &Candidate,
+        point: Vec3,
+        aux: Vec3,
+    ) -> Vec3 {
         match self {
             Self::Sphere(g) => g.error(ray, hit, point, aux),
             Self::Plane(g) => g.error(ray, hit, point, aux),
             Self::Triangle(g) => g.error(ray, hit, point, aux),
             Self::Box(g) => g.error(ray, hit, point, aux),
             #[cfg(feature = "bvh")]
-            // The face's own bound: `Hit::compute_error` calls `Mesh::error`.
-            Self::Mesh(_) => Vec3::ZERO,
+            Self::Mesh(m) => m
+                .triangle(index & 0xffff)
+                .map_or(Vec3::ZERO, |t| t.error(ray, hit, point, aux)),
         }
     }
 }

@@ -100,6 +100,34 @@ fn render(view: &SceneView<'_>, frame: &Frame) -> image::RgbImage {
     tessera_host::render_tiles::<16>(view, frame, None).expect("render")
 }
 
+/// `frame` rendered through `flat` and through `bvh`, which must give the same
+/// image (`Err` otherwise), [`RUNS`] times each alternating: the median ns per
+/// pixel of each and the BVH's node tests per search.
+fn side_by_side(
+    flat: &SceneView<'_>,
+    bvh: &SceneView<'_>,
+    frame: &Frame,
+) -> Result<(f64, f64, f64), ()> {
+    if render(flat, frame) != render(bvh, frame) {
+        return Err(());
+    }
+    let vp = frame.viewport();
+    let px = f64::from(vp.width) * f64::from(vp.height);
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let (n0, s0) = tessera::testing::visits();
+    for _ in 0..RUNS {
+        let t = Instant::now();
+        render(flat, frame);
+        a.push(t.elapsed().as_nanos() as f64 / px);
+        let t = Instant::now();
+        render(bvh, frame);
+        b.push(t.elapsed().as_nanos() as f64 / px);
+    }
+    let (n1, s1) = tessera::testing::visits();
+    let tests = (n1 - n0) as f64 / (s1 - s0).max(1) as f64;
+    Ok((median(a), median(b), tests))
+}
+
 /// The median of `xs`.
 fn median(mut xs: Vec<f64>) -> f64 {
     xs.sort_by(f64::total_cmp);
@@ -157,7 +185,6 @@ fn main() -> Result<(), String> {
         "| triangles | flat ns/px | BVH ns/px | BVH / flat | BVH nodes | node tests per search |"
     );
     println!("|---|---|---|---|---|---|");
-    let px = f64::from(width) * f64::from(width * 3 / 4);
     for (level, n) in SIZES {
         let s = scene(level, n);
         let f = frame(&s, width);
@@ -165,26 +192,12 @@ fn main() -> Result<(), String> {
         bvh.build(s.view().triangles()).map_err(|e| e.to_string())?;
         let flat_view = s.view();
         let bvh_view = s.view().with_bvh_always(&bvh).map_err(|e| e.to_string())?;
-        if render(&flat_view, &f) != render(&bvh_view, &f) {
-            return Err(format!("{n} triangles: the BVH changed the image"));
-        }
-        let (mut flat, mut with) = (Vec::new(), Vec::new());
-        let (n0, s0) = tessera::testing::visits();
-        for _ in 0..RUNS {
-            let t = Instant::now();
-            render(&flat_view, &f);
-            flat.push(t.elapsed().as_nanos() as f64 / px);
-            let t = Instant::now();
-            render(&bvh_view, &f);
-            with.push(t.elapsed().as_nanos() as f64 / px);
-        }
-        let (n1, s1) = tessera::testing::visits();
-        let (flat, with) = (median(flat), median(with));
+        let (flat, with, tests) = side_by_side(&flat_view, &bvh_view, &f)
+            .map_err(|()| format!("{n} triangles: the BVH changed the image"))?;
         println!(
-            "| {n} | {flat:.0} | {with:.0} | {:.2} | {} | {:.1} |",
+            "| {n} | {flat:.0} | {with:.0} | {:.2} | {} | {tests:.1} |",
             with / flat,
             bvh.node_count(),
-            (n1 - n0) as f64 / (s1 - s0).max(1) as f64
         );
     }
     spheres()?;
@@ -230,7 +243,6 @@ fn balls(n: usize) -> Box<BallScene> {
 /// Where a BVH over spheres pays: the same side-by-side measurement.
 fn spheres() -> Result<(), String> {
     let width: u16 = 160;
-    let px = f64::from(width) * f64::from(width * 3 / 4);
     println!(
         "\n## Spheres\n\nN spheres on a grid on a floor, one light, centre, depth 3, \
          {width}x{}, one thread; median of {RUNS} renders each, flat and BVH alternating.\n",
@@ -255,25 +267,11 @@ fn spheres() -> Result<(), String> {
             .view()
             .with_sphere_bvh_always(&bvh)
             .map_err(|e| e.to_string())?;
-        if render(&flat_view, &f) != render(&bvh_view, &f) {
-            return Err(format!("{n} spheres: the BVH changed the image"));
-        }
-        let (mut flat, mut with) = (Vec::new(), Vec::new());
-        let (n0, s0) = tessera::testing::visits();
-        for _ in 0..RUNS {
-            let t = Instant::now();
-            render(&flat_view, &f);
-            flat.push(t.elapsed().as_nanos() as f64 / px);
-            let t = Instant::now();
-            render(&bvh_view, &f);
-            with.push(t.elapsed().as_nanos() as f64 / px);
-        }
-        let (n1, s1) = tessera::testing::visits();
-        let (flat, with) = (median(flat), median(with));
+        let (flat, with, tests) = side_by_side(&flat_view, &bvh_view, &f)
+            .map_err(|()| format!("{n} spheres: the BVH changed the image"))?;
         println!(
-            "| {n} | {flat:.0} | {with:.0} | {:.2} | {:.1} |",
-            with / flat,
-            (n1 - n0) as f64 / (s1 - s0).max(1) as f64
+            "| {n} | {flat:.0} | {with:.0} | {:.2} | {tests:.1} |",
+            with / flat
         );
     }
     Ok(())
