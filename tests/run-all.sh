@@ -81,6 +81,13 @@ run cargo fmt --manifest-path tests/firmware/Cargo.toml -- --check
 run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
 run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
 
+# The board example (an STM32F411 Black Pill and an ST7789 panel): its own
+# workspace; the test `board::...` in `cargo test-all` links it and checks the
+# sizes its README states.
+say "board example (examples/blackpill-st7789): format and clippy"
+run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
+run cargo clippy --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+
 say "no-panic proof (tests/nopanic): format and clippy, both backends"
 run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check
 run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings

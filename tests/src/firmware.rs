@@ -149,16 +149,37 @@ pub fn image_name(features: &[&str]) -> Result<String, String> {
 /// Cargo runs from the repository root so that the root `.cargo/config.toml`
 /// (linker script) applies.
 pub fn build(features: &[&str]) -> Result<PathBuf, String> {
-    let root = repo_root();
     let backend = image_name(features)?;
     let target_dir = firmware_dir().join("target").join(&backend);
+    let what = format!("the firmware ({backend})");
+    build_elf(
+        &firmware_dir().join("Cargo.toml"),
+        &target_dir,
+        features,
+        "tessera-fw",
+        &what,
+    )
+}
+
+/// Builds the binaries of the firmware crate `manifest` (release, for [`TARGET`],
+/// the crate's `features`) into `target_dir` and returns the path of the ELF of
+/// `bin`; `what` names it in errors. Cargo runs from the repository root so that
+/// the root `.cargo/config.toml` (linker script) applies.
+pub fn build_elf(
+    manifest: &Path,
+    target_dir: &Path,
+    features: &[&str],
+    bin: &str,
+    what: &str,
+) -> Result<PathBuf, String> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut cmd = Command::new(cargo);
-    cmd.current_dir(&root)
-        .args(["build", "--release", "--target", TARGET, "--manifest-path"])
-        .arg(firmware_dir().join("Cargo.toml"))
+    cmd.current_dir(repo_root())
+        .args(["build", "--release", "--target", TARGET])
+        .arg("--manifest-path")
+        .arg(manifest)
         .arg("--target-dir")
-        .arg(&target_dir);
+        .arg(target_dir);
     if !features.is_empty() {
         cmd.arg("--features").arg(features.join(","));
     }
@@ -175,18 +196,15 @@ pub fn build(features: &[&str]) -> Result<PathBuf, String> {
     }
     checked(
         &mut cmd,
-        "cargo to build the firmware",
-        &format!(
-            "building the firmware ({backend}) failed; is the {TARGET} target installed? \
-             ({INSTALL_HINT})"
-        ),
+        &format!("cargo to build {what}"),
+        &format!("building {what} failed; is the {TARGET} target installed? ({INSTALL_HINT})"),
     )?;
-    let elf = target_dir.join(TARGET).join("release").join("tessera-fw");
+    let elf = target_dir.join(TARGET).join("release").join(bin);
     if elf.is_file() {
         Ok(elf)
     } else {
         Err(format!(
-            "the firmware build left no ELF at {}",
+            "the build of {what} left no ELF at {}",
             elf.display()
         ))
     }
@@ -213,6 +231,7 @@ impl Run {
             height,
             seed: s.seed,
             scale: 0,
+            encoding: s.encoding,
         }
     }
 }
@@ -534,20 +553,24 @@ pub fn sections(elf: &Path) -> Result<Sizes, String> {
 
 /// The FLASH and RAM lengths of `tests/firmware/memory.x`, bytes.
 pub fn memory_budget() -> Result<(u64, u64), String> {
-    let path = firmware_dir().join("memory.x");
-    let text = std::fs::read_to_string(&path)
+    memory_regions(&firmware_dir().join("memory.x"))
+}
+
+/// The FLASH and RAM lengths of the linker memory file `path`, bytes.
+pub fn memory_regions(path: &Path) -> Result<(u64, u64), String> {
+    let text = std::fs::read_to_string(path)
         .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     let length = |region: &str| -> Result<u64, String> {
         let l = text
             .lines()
             .find(|l| l.trim_start().starts_with(region))
-            .ok_or_else(|| format!("no {region} region in memory.x"))?;
+            .ok_or_else(|| format!("no {region} region in {}", path.display()))?;
         let v = l
             .split("LENGTH")
             .nth(1)
             .and_then(|v| v.split('=').nth(1))
             .map(str::trim)
-            .ok_or_else(|| format!("no LENGTH for {region} in memory.x"))?;
+            .ok_or_else(|| format!("no LENGTH for {region} in {}", path.display()))?;
         let (digits, unit) = match v.strip_suffix('K') {
             Some(d) => (d, 1024),
             None => match v.strip_suffix('M') {
@@ -559,7 +582,7 @@ pub fn memory_budget() -> Result<(u64, u64), String> {
             .trim()
             .parse::<u64>()
             .map(|n| n * unit)
-            .map_err(|_| format!("bad LENGTH {v:?} for {region} in memory.x"))
+            .map_err(|_| format!("bad LENGTH {v:?} for {region} in {}", path.display()))
     };
     Ok((length("FLASH")?, length("RAM")?))
 }

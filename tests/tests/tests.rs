@@ -2,6 +2,7 @@
 
 mod adaptive;
 mod analytic;
+mod board;
 mod builtin_images;
 mod convergence;
 mod culling;

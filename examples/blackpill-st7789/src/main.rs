@@ -1,0 +1,251 @@
+//! tessera on a board: an STM32F411CEU6 "Black Pill" ray traces the built-in teapot
+//! straight onto an ST7789 240x240 SPI panel, with no framebuffer.
+//!
+//! The chip runs at 100 MHz from its 25 MHz crystal. SPI1 (SCK PA5, MOSI PA7) talks
+//! to the panel in mode 3 at 50 MHz (the APB2 clock of 100 MHz divided by 2: the
+//! fastest the peripheral gives, under the ST7789's write limit); DC is PB0, RES PB1,
+//! the backlight BLK PB10. The panel is driven by `mipidsi` (model ST7789, colours
+//! inverted, as the common 1.3" module needs) through an `embedded-hal-bus`
+//! exclusive SPI device without a chip select.
+//!
+//! The picture is drawn progressively (`Frame::drawable_progressive`): first one
+//! ray per 4x4 block, each block one `fill_solid`, so a rough teapot appears in a
+//! small part of the render time; then tile after tile of 16x16 pixels, each
+//! rendered into one `Rgb565` buffer on the stack with 4x4 Bayer dithering and sent
+//! in one address window. The on-board LED (PC13, active low) is lit while
+//! rendering and off when the picture is complete; on an error it blinks a code
+//! forever ([`Failure::blinks`]). Nothing in the render path panics: every error
+//! of tessera and of the panel is returned and shown on the LED.
+#![no_std]
+#![no_main]
+#![deny(unsafe_code)]
+
+use core::convert::Infallible;
+use cortex_m_rt::entry;
+use embedded_graphics_core::Drawable;
+use embedded_graphics_core::draw_target::DrawTarget;
+use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
+use embedded_hal::digital::{ErrorType, OutputPin};
+use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
+use mipidsi::interface::SpiInterface;
+use mipidsi::models::ST7789;
+use mipidsi::options::ColorInversion;
+use mipidsi::{Builder, Display};
+use stm32f4xx_hal::gpio::{self, Output, PinState, Speed};
+use stm32f4xx_hal::pac;
+use stm32f4xx_hal::prelude::*;
+use stm32f4xx_hal::rcc::{Config, Rcc};
+use stm32f4xx_hal::spi::Spi;
+use stm32f4xx_hal::timer::SysDelay;
+use tessera::{Dither, RenderSettings, Viewport, builtin};
+
+/// The crystal of the Black Pill, in MHz.
+const HSE_MHZ: u32 = 25;
+/// The system clock, in MHz: the STM32F411's maximum.
+const SYSCLK_MHZ: u32 = 100;
+/// The SPI clock asked for, in MHz: APB2 (100 MHz) / 2, the fastest SPI1 gives,
+/// under the ST7789's ~62 MHz limit for writes.
+const SPI_MHZ: u32 = 50;
+/// The panel's width and height in pixels.
+const SIZE: u16 = 240;
+/// The tile size: 16x16 pixels, 512 bytes of `Rgb565` a tile.
+const TILE: usize = 16;
+/// The preview's block: one ray per 4x4 pixels.
+const PREVIEW_BLOCK: u32 = 4;
+/// mipidsi's SPI buffer: one 16x16 tile of `Rgb565`, so a tile goes out in one
+/// SPI write.
+const SPI_BUFFER: usize = 2 * TILE * TILE;
+/// How long the LED is on and off in a blink of an error code, in ms.
+const BLINK_MS: u32 = 200;
+
+/// The SPI bus to the panel: SPI1, full duplex, 8-bit words (MISO unused).
+type PanelBus = Spi<pac::SPI1>;
+/// The panel's SPI device: the whole bus, no chip select.
+type PanelSpi = ExclusiveDevice<PanelBus, NoCs, NoDelay>;
+/// The panel: an ST7789 through mipidsi's SPI interface, DC on PB0, RES on PB1.
+type Panel<'b> = Display<SpiInterface<'b, PanelSpi, gpio::PB0<Output>>, ST7789, gpio::PB1<Output>>;
+
+/// What stopped the picture; the LED blinks [`Failure::blinks`] times, pauses,
+/// and again, forever.
+#[derive(Debug)]
+enum Failure {
+    /// tessera refused the scene, the mesh or the frame (kept for a debugger).
+    Scene(#[allow(dead_code)] tessera::Error),
+    /// The panel's initialisation failed.
+    PanelInit,
+    /// A write to the panel failed (SPI or DC pin).
+    PanelWrite,
+}
+
+impl Failure {
+    /// The number of blinks that names this failure: 2 scene, 3 panel
+    /// initialisation, 4 panel write.
+    fn blinks(&self) -> u32 {
+        match self {
+            Self::Scene(_) => 2,
+            Self::PanelInit => 3,
+            Self::PanelWrite => 4,
+        }
+    }
+}
+
+impl From<tessera::Error> for Failure {
+    fn from(e: tessera::Error) -> Self {
+        Self::Scene(e)
+    }
+}
+
+/// The absent chip select of the 1.3" module (its CS is tied low on the board):
+/// an output pin that does nothing.
+struct NoCs;
+
+impl ErrorType for NoCs {
+    type Error = Infallible;
+}
+
+impl OutputPin for NoCs {
+    /// Nothing to drive.
+    fn set_low(&mut self) -> Result<(), Infallible> {
+        Ok(())
+    }
+
+    /// Nothing to drive.
+    fn set_high(&mut self) -> Result<(), Infallible> {
+        Ok(())
+    }
+}
+
+/// The pins of the panel besides the SPI bus.
+struct PanelPins {
+    /// Data/command select (PB0).
+    dc: gpio::PB0<Output>,
+    /// Reset, active low (PB1).
+    rst: gpio::PB1<Output>,
+    /// Backlight, on when high (PB10).
+    blk: gpio::PB10<Output>,
+}
+
+/// Sets up the clocks and pins, draws the teapot, then shows the outcome on the
+/// LED forever.
+#[entry]
+fn main() -> ! {
+    let (Some(dp), Some(cp)) = (pac::Peripherals::take(), pac::CorePeripherals::take()) else {
+        halt();
+    };
+    let mut rcc = dp
+        .RCC
+        .freeze(Config::hse(HSE_MHZ.MHz()).sysclk(SYSCLK_MHZ.MHz()));
+    let mut delay = cp.SYST.delay(&rcc.clocks);
+    let gpioa = dp.GPIOA.split(&mut rcc);
+    let gpiob = dp.GPIOB.split(&mut rcc);
+    let gpioc = dp.GPIOC.split(&mut rcc);
+    // PC13 sinks the LED's current: high is off, low is lit.
+    let mut led = gpioc.pc13.into_push_pull_output_in_state(PinState::High);
+    let bus = panel_bus(dp.SPI1, gpioa.pa5, gpioa.pa7, &mut rcc);
+    let pins = PanelPins {
+        dc: gpiob.pb0.into_push_pull_output(),
+        rst: gpiob.pb1.into_push_pull_output_in_state(PinState::High),
+        blk: gpiob.pb10.into_push_pull_output(),
+    };
+    let mut buffer = [0u8; SPI_BUFFER];
+    led.set_low();
+    match show_teapot(bus, pins, &mut buffer, &mut delay) {
+        Ok(()) => {
+            led.set_high();
+            halt()
+        }
+        Err(failure) => blink_forever(&mut led, &mut delay, failure.blinks()),
+    }
+}
+
+/// SPI1 in mode 3 at [`SPI_MHZ`] on SCK PA5 and MOSI PA7 (very high speed
+/// outputs, for the 50 MHz edges); MISO is not connected.
+fn panel_bus(spi1: pac::SPI1, sck: gpio::PA5, mosi: gpio::PA7, rcc: &mut Rcc) -> PanelBus {
+    let sck = sck.into_alternate::<5>().speed(Speed::VeryHigh);
+    let mosi = mosi.into_alternate::<5>().speed(Speed::VeryHigh);
+    spi1.spi(
+        (Some(sck), pac::SPI1::NoMiso, Some(mosi)),
+        embedded_hal::spi::MODE_3,
+        SPI_MHZ.MHz(),
+        rcc,
+    )
+}
+
+/// Initialises the panel, clears it to black, turns the backlight on and draws
+/// the teapot on it.
+fn show_teapot(
+    bus: PanelBus,
+    mut pins: PanelPins,
+    buffer: &mut [u8],
+    delay: &mut SysDelay,
+) -> Result<(), Failure> {
+    let mut panel = init_panel(bus, pins.dc, pins.rst, buffer, delay)?;
+    // The panel's memory holds noise after a reset: clear it before lighting it.
+    panel
+        .clear(Rgb565::BLACK)
+        .map_err(|_| Failure::PanelWrite)?;
+    pins.blk.set_high();
+    draw_teapot(&mut panel)
+}
+
+/// The ST7789 240x240 panel on `bus`, reset through `rst` and initialised with
+/// inverted colours (the 1.3" module's panel shows the complement otherwise).
+fn init_panel<'b>(
+    bus: PanelBus,
+    dc: gpio::PB0<Output>,
+    rst: gpio::PB1<Output>,
+    buffer: &'b mut [u8],
+    delay: &mut SysDelay,
+) -> Result<Panel<'b>, Failure> {
+    let Ok(spi) = ExclusiveDevice::new_no_delay(bus, NoCs);
+    Builder::new(ST7789, SpiInterface::new(spi, dc, buffer))
+        .display_size(SIZE, SIZE)
+        .invert_colors(ColorInversion::Inverted)
+        .reset_pin(rst)
+        .init(delay)
+        .map_err(|_| Failure::PanelInit)
+}
+
+/// Ray traces the built-in teapot onto `display` with the README's API: the
+/// scene's frame at 240x240 with the default settings, drawn progressively
+/// (a preview of one ray per 4x4 block, then the 16x16 tiles, Bayer 4x4 dithered).
+fn draw_teapot<D>(display: &mut D) -> Result<(), Failure>
+where
+    D: DrawTarget<Color = Rgb565>,
+{
+    let scene = builtin::teapot()?;
+    // The mesh and its BVH stay in flash; the view only refers to them.
+    let view = scene.view().with_meshes(builtin::TEAPOT_MESHES)?;
+    let frame = scene.frame(Viewport::new(SIZE, SIZE), RenderSettings::default())?;
+    frame
+        .drawable_progressive::<Rgb565, TILE>(&view, Dither::Bayer4, PREVIEW_BLOCK)
+        .draw(display)
+        .map_err(|_| Failure::PanelWrite)
+}
+
+/// Blinks `led` (active low) `count` times, pauses, and again, forever.
+fn blink_forever(led: &mut gpio::PC13<Output>, delay: &mut SysDelay, count: u32) -> ! {
+    loop {
+        for _ in 0..count {
+            led.set_low();
+            delay.delay_ms(BLINK_MS);
+            led.set_high();
+            delay.delay_ms(BLINK_MS);
+        }
+        delay.delay_ms(4 * BLINK_MS);
+    }
+}
+
+/// Spins forever (the picture stays on the panel).
+fn halt() -> ! {
+    loop {
+        core::hint::spin_loop();
+    }
+}
+
+/// Halts on a panic (none is expected: the render path returns its errors).
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
+    cortex_m::interrupt::disable();
+    halt()
+}

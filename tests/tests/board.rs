@@ -1,0 +1,96 @@
+//! The board example (`examples/blackpill-st7789`, an STM32F411 "Black Pill" with an
+//! ST7789 panel): it builds and links for the Cortex-M4F within the chip's memory,
+//! and its README's sizes are those of the linked ELF.
+
+use std::path::PathBuf;
+use tessera_tests::firmware::{self, Sizes};
+use tessera_tests::thousands;
+
+fn example() -> PathBuf {
+    firmware::repo_root()
+        .join("examples")
+        .join("blackpill-st7789")
+}
+
+/// The number in a README cell or after a label: digits and thousands commas.
+fn number(text: &str) -> Option<u64> {
+    let digits: String = text
+        .trim_start()
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || *c == ',')
+        .filter(char::is_ascii_digit)
+        .collect();
+    digits.parse().ok()
+}
+
+/// The README's figure in the table row of `section` (`| `.text` | 218,688 | ...`).
+fn table_figure(readme: &str, section: &str) -> Option<u64> {
+    let row = format!("| `{section}` |");
+    let line = readme.lines().find(|l| l.starts_with(&row))?;
+    number(&line[row.len()..])
+}
+
+/// The figure right after `label` in the README.
+fn figure_after(readme: &str, label: &str) -> Option<u64> {
+    let at = readme.find(label)? + label.len();
+    number(&readme[at..])
+}
+
+#[test]
+fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
+    let dir = example();
+    let elf = firmware::build_elf(
+        &dir.join("Cargo.toml"),
+        &dir.join("target"),
+        &[],
+        "blackpill-st7789",
+        "the board example",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let s: Sizes = firmware::sections(&elf).unwrap();
+    let (flash, ram) = firmware::memory_regions(&dir.join("memory.x")).unwrap();
+    assert_eq!(
+        (flash, ram),
+        (512 * 1024, 128 * 1024),
+        "the STM32F411CE's memory"
+    );
+    assert!(s.flash() <= flash && s.ram() <= ram, "{s:?}");
+    // It renders the teapot from flash: the baked mesh and BVH are in .rodata.
+    assert!(s.rodata >= 58_624, "{s:?}");
+
+    let readme = std::fs::read_to_string(dir.join("README.md")).unwrap();
+    let mut wrong = Vec::new();
+    let mut expect = |what: &str, said: Option<u64>, truth: u64| {
+        if said != Some(truth) {
+            wrong.push(format!("{what}: the README says {said:?}, the ELF {truth}"));
+        }
+    };
+    for (section, truth) in [
+        (".vector_table", s.vector_table),
+        (".text", s.text),
+        (".rodata", s.rodata),
+        (".data", s.data),
+        (".bss", s.bss),
+    ] {
+        expect(section, table_figure(&readme, section), truth);
+    }
+    expect("flash", figure_after(&readme, "- **Flash**: "), s.flash());
+    expect(
+        "static RAM",
+        figure_after(&readme, "- **Static RAM** (`.data` + `.bss`): "),
+        s.ram(),
+    );
+    let kib = format!(
+        "{} bytes ({:.1} KiB) of 512 KiB",
+        thousands(s.flash()),
+        s.flash() as f64 / 1024.0
+    );
+    if !readme.contains(&kib) {
+        wrong.push(format!("flash: the README lacks `{kib}`"));
+    }
+    assert!(
+        wrong.is_empty(),
+        "examples/blackpill-st7789/README.md is not the linked ELF ({}): {wrong:#?}",
+        elf.display()
+    );
+}
