@@ -121,7 +121,7 @@ impl Builtin {
             sampler,
             max_depth,
             seed: 0,
-            encoding: crate::Encoding::Linear,
+            encoding: crate::Encoding::Srgb,
         }
     }
 

@@ -72,14 +72,13 @@ impl Color {
     }
 }
 
-/// `[0, 1]` to `0..=255`, rounding to nearest; out-of-range values saturate.
 /// The sRGB encoding to 8 bits: `SRGB_THRESHOLDS[k - 1]` is the bit pattern of
 /// the smallest `f32` linear value whose correctly rounded 8-bit sRGB code is `k`
 /// (`round(255 srgb(v))`, the IEC 61966-2-1 curve evaluated in f64 when the table
 /// was made: `python3` bisection over the `f32` bit patterns of [0, 1]). For
 /// positive `f32`, the bit patterns are in the order of the values, so the code
-/// of `v` is the number of thresholds at or below its bits: 8 integer
-/// comparisons, 1 KiB of flash, no `powf`.
+/// of `v` is the number of thresholds at or below its bits, which [`srgb8`] finds
+/// from [`SRGB_STARTS`] and at most two comparisons; 1 KiB of flash, no `powf`.
 const SRGB_THRESHOLDS: [u32; 255] = [
     0x391f22b4, 0x39eeb40e, 0x3a46eb61, 0x3a8b3e5e, 0x3ab3070b, 0x3adacfb8, 0x3b014c33, 0x3b153089,
     0x3b2914df, 0x3b3cf936, 0x3b50f2d1, 0x3b65fb9b, 0x3b7c3403, 0x3b89d060, 0x3b962333, 0x3ba314bd,
@@ -118,10 +117,12 @@ const SRGB_THRESHOLDS: [u32; 255] = [
 /// How a pixel's linear colour becomes its 8 bits ([`crate::RenderSettings`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Encoding {
-    /// The linear value itself, rounded ([`Color::to_rgb8`]).
-    #[default]
+    /// The linear value itself, rounded ([`Color::to_rgb8`]): for images that are
+    /// processed further as linear data.
     Linear,
-    /// sRGB, what monitors and TFT panels expect ([`Color::to_srgb8`]).
+    /// sRGB, what monitors and TFT panels expect ([`Color::to_srgb8`]): the
+    /// default.
+    #[default]
     Srgb,
 }
 
@@ -174,16 +175,91 @@ impl core::str::FromStr for Encoding {
     }
 }
 
+/// The buckets of [`SRGB_STARTS`]: the bit patterns from `SRGB_LO` (2^-13, below
+/// the first threshold, 1.5e-4) to 1.0 cut into runs of `2^SRGB_SHIFT` patterns
+/// (64 per octave); every value below `SRGB_LO` falls in the first.
+const SRGB_LO: u32 = 0x3900_0000;
+const SRGB_SHIFT: u32 = 17;
+const ONE_BITS: u32 = 0x3f80_0000;
+const SRGB_BUCKETS: usize = ((ONE_BITS - SRGB_LO) >> SRGB_SHIFT) as usize;
+
+/// The thresholds and a last one above every value: the comparisons of [`srgb8`]
+/// index it by a `u8` code, never out of range (the bounds check compiles away).
+static SRGB_NEXT: [u32; 256] = srgb_next();
+
+// Compile-time only, as below.
+#[allow(clippy::indexing_slicing)]
+const fn srgb_next() -> [u32; 256] {
+    let mut next = [u32::MAX; 256];
+    let mut k = 0;
+    while k < SRGB_THRESHOLDS.len() {
+        next[k] = SRGB_THRESHOLDS[k];
+        k += 1;
+    }
+    next
+}
+
+/// The sRGB code at the start of each bucket: the number of thresholds at or below
+/// its first bit pattern (832 bytes of flash). The thresholds are at least
+/// 2^16.6 patterns apart (near 0.6), so a bucket holds at most two after its
+/// start: [`srgb8`] finishes with two comparisons instead of a binary search's
+/// eight (measured on the chip: the encoding's cost on chapter-direct went from
+/// 104 instructions a pixel to 46; see docs/chip-cost.md). Made at compile time from the thresholds, which also
+/// checks the two-at-most (the build fails otherwise).
+static SRGB_STARTS: [u8; SRGB_BUCKETS] = srgb_starts();
+
+// Compile-time only: an index out of range or a bucket with three thresholds
+// fails the build, never the chip.
+#[allow(clippy::indexing_slicing)]
+const fn srgb_starts() -> [u8; SRGB_BUCKETS] {
+    let mut starts = [0u8; SRGB_BUCKETS];
+    let mut k = 0;
+    let mut i = 0;
+    while i < SRGB_BUCKETS {
+        let start = SRGB_LO + ((i as u32) << SRGB_SHIFT);
+        while k < SRGB_THRESHOLDS.len() && SRGB_THRESHOLDS[k] <= start {
+            k += 1;
+        }
+        starts[i] = k as u8;
+        let end = start + (1 << SRGB_SHIFT);
+        let mut after = k;
+        while after < SRGB_THRESHOLDS.len() && SRGB_THRESHOLDS[after] < end {
+            after += 1;
+        }
+        assert!(
+            after - k <= 2,
+            "an sRGB bucket holds more than two thresholds"
+        );
+        i += 1;
+    }
+    starts
+}
+
 /// The correctly rounded 8-bit sRGB code of the linear value `v` (0 below 0 and
-/// for NaN, 255 from 1 on).
+/// for NaN, 255 from 1 on): the code at the start of `v`'s bucket, plus the (at
+/// most two) thresholds between that start and `v`.
 #[inline]
 fn srgb8(v: f32) -> u8 {
-    if v.is_nan() || v <= 0.0 {
+    // Integer tests only: the sign bit set (negative, -0, a negative NaN) or +0 is
+    // at most 0 as an `i32`; from 1.0 up the patterns are 1..inf, then NaNs.
+    let bits = v.to_bits();
+    if bits.cast_signed() <= 0 {
         return 0;
     }
-    let bits = v.to_bits();
-    let code = SRGB_THRESHOLDS.partition_point(|&t| t <= bits);
-    u8::try_from(code).unwrap_or(255)
+    if bits >= ONE_BITS {
+        return if bits > f32::INFINITY.to_bits() {
+            0
+        } else {
+            255
+        };
+    }
+    let bucket = (bits.saturating_sub(SRGB_LO) >> SRGB_SHIFT) as usize;
+    let mut code = SRGB_STARTS.get(bucket).copied().unwrap_or(255);
+    for _ in 0..2 {
+        let next = SRGB_NEXT.get(usize::from(code));
+        code += u8::from(next.is_some_and(|&t| t <= bits));
+    }
+    code
 }
 
 #[inline]
@@ -305,9 +381,24 @@ mod tests {
             assert!(v < last.0 || c >= last.1);
             last = (v, c);
         }
+        // Around every bucket's start, against the binary search of the
+        // thresholds (the code by definition).
+        for i in 0..=SRGB_BUCKETS as u32 {
+            let start = i64::from(SRGB_LO + (i << SRGB_SHIFT));
+            for d in -3i64..=3 {
+                let bits = (start + d) as u32;
+                let v = f32::from_bits(bits);
+                let code = SRGB_THRESHOLDS.partition_point(|&t| t <= bits);
+                assert_eq!(usize::from(srgb8(v)), code, "{v:e}");
+            }
+        }
         assert_eq!(srgb8(0.0), 0);
+        assert_eq!(srgb8(-0.0), 0);
+        assert_eq!(srgb8(f32::MIN_POSITIVE / 4.0), 0);
         assert_eq!(srgb8(-0.5), 0);
         assert_eq!(srgb8(f32::NAN), 0);
+        assert_eq!(srgb8(-f32::NAN), 0);
+        assert_eq!(srgb8(f32::NEG_INFINITY), 0);
         assert_eq!(srgb8(1.0), 255);
         assert_eq!(srgb8(7.0), 255);
         assert_eq!(srgb8(f32::INFINITY), 255);

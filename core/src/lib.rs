@@ -77,7 +77,10 @@ pub use bvh::{
 };
 pub use camera::{Camera, CameraBasis, Viewport};
 pub use color::{Color, Encoding, Rgb8, UnknownEncoding};
-pub use display::{DitheredRendering, Rendering, draw_panel_tile, draw_tile, draw_tile_dithered};
+pub use display::{
+    DitheredRendering, ProgressiveRendering, Rendering, draw_panel_tile, draw_tile,
+    draw_tile_dithered,
+};
 pub use dither::{Dither, UnknownDither};
 pub use error::{Error, Field, List, MAX_COLOR, MAX_DEPTH, MAX_EXTENT, MIN_LENGTH};
 pub use geometry::{Aabb, Plane, Sphere, Triangle};

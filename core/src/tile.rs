@@ -38,18 +38,19 @@ pub struct RenderSettings {
     pub max_depth: u8,
     /// Seed of the random samplers.
     pub seed: u32,
-    /// How the pixels' linear colours become 8 bits (default linear).
+    /// How the pixels' linear colours become 8 bits (default sRGB, what displays
+    /// expect).
     pub encoding: Encoding,
 }
 
 impl Default for RenderSettings {
-    /// Pixel centres, 3 bounces, seed 0, linear.
+    /// Pixel centres, 3 bounces, seed 0, sRGB.
     fn default() -> Self {
         Self {
             sampler: Sampler::Centre,
             max_depth: 3,
             seed: 0,
-            encoding: Encoding::Linear,
+            encoding: Encoding::Srgb,
         }
     }
 }

@@ -337,7 +337,7 @@ pub struct RenderDesc {
     pub seed: u32,
     /// Tile size: 8, 16 or 32.
     pub tile: usize,
-    /// How the pixels become 8 bits: `linear` (the default) or `srgb`.
+    /// How the pixels become 8 bits: `srgb` (the default) or `linear`.
     pub encoding: String,
 }
 
@@ -350,7 +350,7 @@ impl Default for RenderDesc {
             depth: 3,
             seed: 0,
             tile: 16,
-            encoding: "linear".into(),
+            encoding: "srgb".into(),
         }
     }
 }

@@ -187,16 +187,36 @@ pub fn backend() -> String {
     }
 }
 
-/// The converged reference of a scene: the f64 renderer with 16x16 stratified
-/// samples per pixel and the deepest recursion.
+/// The settings of the converged reference: 16x16 stratified samples per pixel,
+/// the deepest recursion, sRGB-encoded (FLIP compares what a viewer sees).
+pub const CONVERGED: RenderSettings = RenderSettings {
+    sampler: Sampler::Stratified(16),
+    max_depth: MAX_DEPTH,
+    seed: 0x5eed,
+    encoding: tessera::Encoding::Srgb,
+};
+
+/// The converged reference of a scene: the f64 renderer with [`CONVERGED`].
 pub fn converged(desc: &SceneDesc, vp: Viewport) -> Result<RgbImage, HostError> {
-    let settings = RenderSettings {
-        sampler: Sampler::Stratified(16),
-        max_depth: MAX_DEPTH,
-        seed: 0x5eed,
-        encoding: tessera::Encoding::Linear,
-    };
-    Ok(crate::reference::render(desc, vp, &settings)?.to_rgb8())
+    Ok(crate::reference::render(desc, vp, &CONVERGED)?.to_rgb8())
+}
+
+/// The file name of the converged reference of the scene `name` (described by
+/// `desc`) at `vp` in a cache folder: `NAME-WxH-ENCODING-HASH.png`, the hash
+/// (FNV-1a, 64 bits) of the scene's description and of [`CONVERGED`], so that a
+/// cached image made from another scene or other settings (a linear one, say) is
+/// never taken for this one. (A change of the reference renderer itself is not in
+/// the name: clear the folder then.)
+#[must_use]
+pub fn truth_file_name(name: &str, desc: &SceneDesc, vp: Viewport) -> String {
+    let key = format!("{desc:?}|{CONVERGED:?}");
+    let hash = key.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!(
+        "{name}-{}x{}-{}-{hash:016x}.png",
+        vp.width, vp.height, CONVERGED.encoding
+    )
 }
 
 fn accuracy(img: &RgbImage, truth: &RgbImage) -> Result<compare::Accuracy, HostError> {
@@ -246,7 +266,7 @@ pub fn measure_scene(
             sampler: setting.sampler,
             max_depth: setting.depth,
             seed: 1,
-            encoding: tessera::Encoding::Linear,
+            encoding: tessera::Encoding::Srgb,
         };
         let timed = b.with_scene(|view, cam| {
             let frame = Frame::try_new(cam, vp, settings)?;
@@ -441,6 +461,30 @@ pub fn figure(results: &[FringeResult], per_row: usize) -> RgbImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The cache name of a converged reference changes with the scene, the size
+    /// and the encoding (a linear reference cached by an older build is not read
+    /// as an sRGB one: that made every FLIP of the report 0.6).
+    #[test]
+    fn a_cached_truth_is_named_by_everything_it_depends_on() {
+        let vp = Viewport::new(128, 96);
+        let desc = crate::file::builtin_desc(Builtin::ChapterReflect);
+        let name = truth_file_name("chapter-reflect", &desc, vp);
+        assert!(name.starts_with("chapter-reflect-128x96-srgb-"), "{name}");
+        assert!(name.ends_with(".png"));
+        assert_eq!(name, truth_file_name("chapter-reflect", &desc, vp));
+        let mut other = desc.clone();
+        other.render.encoding = "linear".into();
+        let mut moved = desc.clone();
+        moved.camera.position[0] += 1e-9;
+        for n in [
+            truth_file_name("chapter-reflect", &other, vp),
+            truth_file_name("chapter-reflect", &moved, vp),
+            truth_file_name("chapter-reflect", &desc, Viewport::new(96, 128)),
+        ] {
+            assert_ne!(n, name);
+        }
+    }
 
     #[test]
     fn grid_is_the_product_of_samplers_and_depths_without_duplicates() {

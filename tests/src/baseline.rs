@@ -40,7 +40,7 @@ pub fn runs() -> Vec<Run> {
 pub fn render(entries: &[(String, u64)]) -> String {
     let mut s = format!(
         "# Exact instruction counts of the firmware (SysTick, inside render_tile), one run a\n\
-         # line: the run-list line (<scene> <sampler> <depth> <tile> <width> <height> <seed>)\n\
+         # line: the run-list line (<scene> <sampler> <depth> <tile> <width> <height> <seed> <encoding>)\n\
          # and its instruction count. The firmware test `instruction_counts_stay_within_the_baseline`\n\
          # fails when a count rises by more than {TOLERANCE_PERCENT}% over this file.\n\
          # Written by `{BLESS}`.\n\

@@ -1,6 +1,6 @@
 //! Scenes whose every pixel has a known value.
 
-use tessera::{Color, RenderSettings, Sampler, Viewport};
+use tessera::{Color, Encoding, RenderSettings, Sampler, Viewport};
 use tessera_tests::inside_sphere;
 
 /// The 8-bit value of `v` (linear, clamped, rounded), computed independently.
@@ -21,7 +21,7 @@ fn camera_inside_a_lit_diffuse_sphere_sees_one_known_value() {
                 sampler,
                 max_depth: 2,
                 seed: 1,
-                encoding: tessera::Encoding::Linear,
+                encoding: Encoding::Linear,
             };
             let img = tessera_host::render(
                 &scene.view(),
@@ -55,15 +55,28 @@ fn ambient_only_scene_returns_the_material_colour() {
     // No light: only ambient * colour, so every pixel is exactly the colour.
     let mut scene = inside_sphere(2.0, 0.0, 0.0, Color::new(0.2, 0.4, 0.6)).unwrap();
     scene.set_ambient(Color::splat(0.5)).unwrap();
-    let img = tessera_host::render(
-        &scene.view(),
-        scene.camera(),
-        Viewport::new(16, 16),
-        RenderSettings::default(),
-        8,
-    )
-    .unwrap();
-    for p in img.pixels() {
-        assert_eq!(p.0, [26, 51, 77]); // round(255 * (0.1, 0.2, 0.3))
+    // Linear: round(255 * (0.1, 0.2, 0.3)); sRGB (the default): the IEC 61966-2-1
+    // curve of the same values, in f64.
+    let srgb = |v: f64| (255.0 * (1.055 * v.powf(1.0 / 2.4) - 0.055)).round() as u8;
+    for (encoding, want) in [
+        (Encoding::Linear, [26, 51, 77]),
+        (Encoding::Srgb, [srgb(0.1), srgb(0.2), srgb(0.3)]),
+    ] {
+        let settings = RenderSettings {
+            encoding,
+            ..RenderSettings::default()
+        };
+        let img = tessera_host::render(
+            &scene.view(),
+            scene.camera(),
+            Viewport::new(16, 16),
+            settings,
+            8,
+        )
+        .unwrap();
+        for p in img.pixels() {
+            assert_eq!(p.0, want, "{encoding}");
+        }
     }
+    assert_eq!(RenderSettings::default().encoding, Encoding::Srgb);
 }

@@ -2,12 +2,27 @@
 //! `target/test-images/` to be looked at), with checks of what each must show.
 
 use image::RgbImage;
-use tessera::Viewport;
 use tessera::builtin::Builtin;
+use tessera::{Encoding, RenderSettings, Viewport};
 use tessera_tests::output_dir;
 
+/// `b` with its own settings (sRGB, what a viewer sees), for the PNG files.
 fn render(b: Builtin, w: u16, h: u16) -> RgbImage {
-    b.with_scene(|view, cam| tessera_host::render(view, cam, Viewport::new(w, h), b.settings(), 16))
+    render_in(b, w, h, b.settings().encoding)
+}
+
+/// `b` encoded linear: the checks below are on the light's values (ratios,
+/// brightness differences, fringe maxima), which the sRGB curve would bend.
+fn render_linear(b: Builtin, w: u16, h: u16) -> RgbImage {
+    render_in(b, w, h, Encoding::Linear)
+}
+
+fn render_in(b: Builtin, w: u16, h: u16, encoding: Encoding) -> RgbImage {
+    let settings = RenderSettings {
+        encoding,
+        ..b.settings()
+    };
+    b.with_scene(|view, cam| tessera_host::render(view, cam, Viewport::new(w, h), settings, 16))
         .unwrap()
         .unwrap()
 }
@@ -47,8 +62,8 @@ fn builtin_scenes_render_to_png() {
 
 #[test]
 fn chapter_pictures_show_a_lit_blue_sphere_and_reflections() {
-    let direct = render(Builtin::ChapterDirect, 160, 120);
-    let reflect = render(Builtin::ChapterReflect, 160, 120);
+    let direct = render_linear(Builtin::ChapterDirect, 160, 120);
+    let reflect = render_linear(Builtin::ChapterReflect, 160, 120);
     // The blue sphere is in the middle: blue dominates there.
     let c = mean(&direct, 72, 50, 88, 60);
     assert!(c[2] > 2.0 * c[0] && c[2] > 2.0 * c[1], "centre {c:?}");
@@ -74,7 +89,7 @@ fn chapter_pictures_show_a_lit_blue_sphere_and_reflections() {
 #[test]
 fn interference_screen_shows_fringes_at_the_chapter_spacing() {
     // 7 mm screen height at 240 px: 0.75 mm spacing = 240 * 0.75 / h px.
-    let img = render(Builtin::Interference, 320, 240);
+    let img = render_linear(Builtin::Interference, 320, 240);
     let row: Vec<f64> = (0..320)
         .map(|x| f64::from(img.get_pixel(x, 120).0[1]))
         .collect();

@@ -62,7 +62,9 @@ fn tile_size_and_order_do_not_change_a_pixel() {
                 );
                 // And equal to rendering each pixel on its own.
                 for (x, y, p) in reference.enumerate_pixels() {
-                    let q = frame.pixel_color(view, x, y, &mut ()).to_rgb8();
+                    let q = settings
+                        .encoding
+                        .encode(frame.pixel_color(view, x, y, &mut ()));
                     assert_eq!(p.0, [q.r, q.g, q.b], "{name} pixel ({x}, {y})");
                 }
             })

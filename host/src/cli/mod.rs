@@ -115,8 +115,8 @@ struct Common {
     /// Seed of the random samplers
     #[arg(long)]
     seed: Option<u32>,
-    /// How the pixels become 8 bits: linear (the value itself) or srgb (what
-    /// displays expect) [default: the scene file's, or linear]
+    /// How the pixels become 8 bits: srgb (what displays expect) or linear (the
+    /// value itself) [default: the scene file's, or srgb]
     #[arg(long)]
     encoding: Option<tessera::Encoding>,
     /// Tile size: 8, 16 or 32

@@ -22,8 +22,9 @@ pub struct TradeArgs {
     /// Also measure the f64 reference with each setting (the ceiling)
     #[arg(long)]
     reference: bool,
-    /// Folder caching the converged references (NAME-WxH.png), shared between
-    /// builds of both backends
+    /// Folder caching the converged references (NAME-WxH-ENCODING-HASH.png, the
+    /// hash of the scene and the reference's settings), shared between builds of
+    /// both backends
     #[arg(long)]
     truth_dir: Option<PathBuf>,
 }
@@ -53,11 +54,12 @@ pub fn run(args: &TradeArgs) -> Result<(), Error> {
 /// The converged reference of `b` at `vp`: read from `dir` when cached there,
 /// else rendered (and cached when there is a `dir`).
 fn truth(b: Builtin, vp: Viewport, dir: Option<&PathBuf>) -> Result<RgbImage, Error> {
-    let cached = dir.map(|d| d.join(format!("{}-{}x{}.png", b.name(), vp.width, vp.height)));
+    let desc = tessera_host::file::builtin_desc(b);
+    let cached = dir.map(|d| d.join(trade::truth_file_name(b.name(), &desc, vp)));
     if let Some(img) = cached.as_ref().and_then(|p| image::open(p).ok()) {
         return Ok(img.to_rgb8());
     }
-    let t = trade::converged(&tessera_host::file::builtin_desc(b), vp)?;
+    let t = trade::converged(&desc, vp)?;
     if let Some(p) = &cached {
         if let Some(dir) = p.parent() {
             std::fs::create_dir_all(dir).map_err(|source| Error::Folder {

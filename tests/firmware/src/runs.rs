@@ -1,8 +1,9 @@
 //! The run list: one run per line,
-//! `<scene>[@k] <sampler> <depth> <tile 8|16|32> <width> <height> <seed>` (`@k`
-//! scales the scene by `2^k`), with the sampler in its text form (`corner`,
-//! `centre`, `prefiltered`, `stratified:K`, `random:N`, ...). Blank lines and lines
-//! starting with `#` are skipped.
+//! `<scene>[@k] <sampler> <depth> <tile 8|16|32> <width> <height> <seed> [<encoding>]`
+//! (`@k` scales the scene by `2^k`), with the sampler in its text form (`corner`,
+//! `centre`, `prefiltered`, `stratified:K`, `random:N`, ...) and the encoding
+//! `linear` or `srgb` (absent: the default, srgb). Blank lines and lines starting
+//! with `#` are skipped.
 //!
 //! One home for both sides of the line: the host-side harness
 //! (`tessera_tests::firmware`, which includes this file with `#[path]`) writes a
@@ -10,7 +11,7 @@
 
 use core::fmt;
 use tessera::builtin::Builtin;
-use tessera::{RenderSettings, Sampler};
+use tessera::{Encoding, RenderSettings, Sampler};
 
 /// One render on the chip.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,6 +32,8 @@ pub struct Run {
     pub seed: u32,
     /// The scene scaled by `2^scale` (`Builtin::with_scaled_scene`); 0 = as built.
     pub scale: i32,
+    /// How the pixels become 8 bits.
+    pub encoding: Encoding,
 }
 
 impl Run {
@@ -41,12 +44,13 @@ impl Run {
             sampler: self.sampler,
             max_depth: self.depth,
             seed: self.seed,
-            encoding: tessera::Encoding::Linear,
+            encoding: self.encoding,
         }
     }
 }
 
-/// The run's line in the run list: `scene[@k] sampler depth tile width height seed`.
+/// The run's line in the run list:
+/// `scene[@k] sampler depth tile width height seed encoding`.
 impl fmt::Display for Run {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.scene.name())?;
@@ -55,8 +59,8 @@ impl fmt::Display for Run {
         }
         write!(
             f,
-            " {} {} {} {} {} {}",
-            self.sampler, self.depth, self.tile, self.width, self.height, self.seed
+            " {} {} {} {} {} {} {}",
+            self.sampler, self.depth, self.tile, self.width, self.height, self.seed, self.encoding
         )
     }
 }
@@ -85,6 +89,10 @@ pub fn parse(line: &str) -> Result<Run, &'static str> {
     let width = next("missing width")?.parse().map_err(|_| "bad width")?;
     let height = next("missing height")?.parse().map_err(|_| "bad height")?;
     let seed = next("missing seed")?.parse().map_err(|_| "bad seed")?;
+    let encoding = match f.next() {
+        Some(e) => e.parse().map_err(|_| "bad encoding: linear or srgb")?,
+        None => Encoding::default(),
+    };
     if f.next().is_some() {
         return Err("too many fields");
     }
@@ -97,5 +105,6 @@ pub fn parse(line: &str) -> Result<Run, &'static str> {
         height,
         seed,
         scale,
+        encoding,
     })
 }

@@ -23,8 +23,8 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
-use tessera::Viewport;
 use tessera::builtin::Builtin;
+use tessera::{Encoding, Viewport};
 use tessera::{Sampler, Sampler::*};
 use tessera_tests::firmware::{self, Output, Run, Sizes, repo_relative};
 use tessera_tests::{baseline, cycles, profile, thousands};
@@ -62,7 +62,8 @@ fn main() -> ExitCode {
 }
 
 /// The run list: every scene at its own depth (chapter-reflect at 0, 1, 3) with
-/// each sampler.
+/// each sampler, encoded in sRGB (the default); then each scene with its own
+/// settings encoded linear, for the encoding's cost.
 fn runs() -> Vec<Run> {
     let mut runs = Vec::new();
     for b in Builtin::ALL {
@@ -81,6 +82,13 @@ fn runs() -> Vec<Run> {
                 });
             }
         }
+    }
+    for b in Builtin::ALL {
+        runs.push(Run {
+            tile: TILE,
+            encoding: Encoding::Linear,
+            ..Run::of(b, SIZE, SIZE)
+        });
     }
     runs
 }
@@ -200,6 +208,7 @@ fn report(bless: bool) -> Result<PathBuf, String> {
     m.setup(&mut d);
     m.counting(&mut d);
     m.instructions(&mut d);
+    m.encoding(&mut d);
     m.image_size(&mut d);
     m.stack(&mut d);
     m.regenerate(&mut d);
@@ -404,6 +413,7 @@ impl Measured {
             .zip(&exact.out.runs)
             .zip(&fast.out.runs)
             .zip(est)
+            .filter(|(((r, _), _), _)| r.encoding == Encoding::Srgb)
         {
             let spp = r.sampler.count();
             let (max, psnr) = difference(&e.pixels, &f.pixels);
@@ -422,6 +432,44 @@ impl Measured {
                 f.instructions as f64 / e.instructions.max(1) as f64,
                 max,
                 psnr
+            );
+        }
+    }
+
+    /// The cost of the sRGB encoding: each scene's own settings, linear and sRGB.
+    fn encoding(&self, w: &mut String) {
+        let Self { runs, exact, .. } = self;
+        let _ = writeln!(w, "\n## The output encoding\n");
+        let _ = writeln!(
+            w,
+            "Every figure above encodes the pixels in sRGB, the default (`Color::to_srgb8`: \
+         a bucket table of 832 bytes and at most two comparisons a channel, no `powf`). \
+         The same renders with `encoding: Encoding::Linear` (the value itself, rounded), \
+         exact backend, each scene with its own settings:\n"
+        );
+        let _ = writeln!(
+            w,
+            "| scene | depth | sampler | linear instr/px | srgb instr/px | srgb - linear |"
+        );
+        let _ = writeln!(w, "|---|---|---|---|---|---|");
+        let measured = || runs.iter().zip(&exact.out.runs);
+        for (r, lin) in measured().filter(|(r, _)| r.encoding == Encoding::Linear) {
+            let srgb = Run {
+                encoding: Encoding::Srgb,
+                ..*r
+            };
+            let Some((_, s)) = measured().find(|(x, _)| **x == srgb) else {
+                continue;
+            };
+            let _ = writeln!(
+                w,
+                "| {} | {} | {} | {:.0} | {:.0} | {:.0} |",
+                r.scene.name(),
+                r.depth,
+                r.sampler,
+                lin.instructions_per_pixel(),
+                s.instructions_per_pixel(),
+                s.instructions_per_pixel() - lin.instructions_per_pixel()
             );
         }
     }
