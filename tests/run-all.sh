@@ -69,6 +69,9 @@ done
 
 say "rustdoc: no warnings (broken or private links, unclosed HTML tags)"
 run env RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
+# The core alone, with its default features (what a firmware's docs build sees):
+# the workspace build unifies the host's features (bvh, teapot) into it.
+run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera --no-deps
 
 # rust-version is what the dependencies need (flip-rs 1.88, criterion 1.86): the
 # whole workspace, every target, type-checks with that toolchain, and cargo refuses

@@ -62,7 +62,10 @@ pub struct Rendering<'a, C, const N: usize> {
 }
 
 impl Frame {
-    /// This frame of `scene` as a [`Drawable`] ([`Rendering`]) with tiles of `N`:
+    /// This frame of `scene` as a [`Drawable`] ([`Rendering`]) with tiles of `N`,
+    /// each pixel converted with the display colour's `From<Rgb888>` (the nearest
+    /// level; for a 16-bit or grey panel, [`Frame::drawable_dithered`] dithers
+    /// instead of banding):
     ///
     /// ```
     /// use embedded_graphics_core::{pixelcolor::Rgb565, prelude::*};

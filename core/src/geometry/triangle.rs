@@ -180,7 +180,7 @@ impl Triangle {
     /// A triangle of baked data (`static` tables written by `tessera bake`), not
     /// checked here, in a `const` context: a view checks every baked triangle
     /// against [`Triangle::try_new`] when it takes them
-    /// ([`crate::SceneView::with_baked`], feature `bvh`), and no other function
+    /// (`SceneView::with_baked`, feature `bvh`), and no other function
     /// takes a triangle made this way without a scene's checks.
     #[must_use]
     pub const fn baked(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3]) -> Self {
