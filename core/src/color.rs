@@ -64,8 +64,9 @@ impl Color {
 
     /// The colour encoded for a display: each linear component as its correctly
     /// rounded 8-bit sRGB code (IEC 61966-2-1: what monitors and TFT panels
-    /// expect; [`Color::to_rgb8`] writes the linear value itself). A table of 255
-    /// thresholds in flash, no `powf`.
+    /// expect; [`Color::to_rgb8`] writes the linear value itself): a bucket table
+    /// and at most two comparisons a channel, 1.8 KiB of tables in flash, no
+    /// `powf`.
     #[must_use]
     pub fn to_srgb8(self) -> Rgb8 {
         Rgb8::new(srgb8(self.r), srgb8(self.g), srgb8(self.b))
@@ -78,7 +79,8 @@ impl Color {
 /// was made: `python3` bisection over the `f32` bit patterns of [0, 1]). For
 /// positive `f32`, the bit patterns are in the order of the values, so the code
 /// of `v` is the number of thresholds at or below its bits, which [`srgb8`] finds
-/// from [`SRGB_STARTS`] and at most two comparisons; 1 KiB of flash, no `powf`.
+/// from [`SRGB_STARTS`] and at most two comparisons (1 KiB for the thresholds,
+/// 832 bytes for the buckets, no `powf`).
 const SRGB_THRESHOLDS: [u32; 255] = [
     0x391f22b4, 0x39eeb40e, 0x3a46eb61, 0x3a8b3e5e, 0x3ab3070b, 0x3adacfb8, 0x3b014c33, 0x3b153089,
     0x3b2914df, 0x3b3cf936, 0x3b50f2d1, 0x3b65fb9b, 0x3b7c3403, 0x3b89d060, 0x3b962333, 0x3ba314bd,
@@ -200,12 +202,13 @@ const fn srgb_next() -> [u32; 256] {
 }
 
 /// The sRGB code at the start of each bucket: the number of thresholds at or below
-/// its first bit pattern (832 bytes of flash). The thresholds are at least
-/// 2^16.6 patterns apart (near 0.6), so a bucket holds at most two after its
-/// start: [`srgb8`] finishes with two comparisons instead of a binary search's
-/// eight (measured on the chip: the encoding's cost on chapter-direct went from
-/// 104 instructions a pixel to 46; see docs/chip-cost.md). Made at compile time from the thresholds, which also
-/// checks the two-at-most (the build fails otherwise).
+/// its first bit pattern (832 bytes of flash). The thresholds are at least 2^16.6
+/// patterns apart (100,925: the first values of codes 189 and 190, near 0.51), so
+/// a bucket of 2^17 holds at most two after its start: [`srgb8`] finishes with two
+/// comparisons instead of a binary search's eight (measured on the chip: the
+/// encoding's cost on chapter-direct went from 104 instructions a pixel to 46; see
+/// docs/chip-cost.md). Made at compile time from the thresholds, which also checks
+/// the two-at-most (the build fails otherwise).
 static SRGB_STARTS: [u8; SRGB_BUCKETS] = srgb_starts();
 
 // Compile-time only: an index out of range or a bucket with three thresholds

@@ -321,7 +321,7 @@ impl Frame {
             for bx in 0..w.div_ceil(block) {
                 let c = self.preview_color(scene, (bx, by), block, &mut ());
                 let (x, y) = (bx * block, by * block);
-                let color = D::Color::from_rgb8(c.to_rgb8(), x, y, dither);
+                let color = D::Color::from_rgb8(self.settings().encoding.encode(c), x, y, dither);
                 let area = rectangle(x, y, block.min(w - x), block.min(h - y));
                 target.fill_solid(&area, color)?;
             }
@@ -516,26 +516,26 @@ mod tests {
         }
     }
 
-    /// A frame buffer of `Rgb565` that counts the pixel writes.
-    struct Fb {
+    /// A frame buffer of `C` (`Rgb565` unless said) that counts the pixel writes.
+    struct Fb<C = Rgb565> {
         w: u32,
         h: u32,
-        px: std::vec::Vec<Rgb565>,
+        px: std::vec::Vec<C>,
         writes: usize,
     }
 
     extern crate std;
 
-    impl OriginDimensions for Fb {
+    impl<C> OriginDimensions for Fb<C> {
         fn size(&self) -> Size {
             Size::new(self.w, self.h)
         }
     }
 
-    impl DrawTarget for Fb {
-        type Color = Rgb565;
+    impl<C: PixelColor> DrawTarget for Fb<C> {
+        type Color = C;
         type Error = core::convert::Infallible;
-        fn draw_iter<I: IntoIterator<Item = embedded_graphics_core::Pixel<Rgb565>>>(
+        fn draw_iter<I: IntoIterator<Item = embedded_graphics_core::Pixel<C>>>(
             &mut self,
             pixels: I,
         ) -> Result<(), Self::Error> {
@@ -596,6 +596,57 @@ mod tests {
                 assert_eq!(rays.primary, 1);
             })
             .unwrap();
+        }
+    }
+
+    /// A preview block is the colour of the final picture at the pixel its ray
+    /// goes through (the block's middle, clamped to the frame), in the frame's
+    /// encoding: with centre sampling the same ray, so the same bytes (8-bit
+    /// colour: no dithering to move them).
+    #[test]
+    fn a_preview_block_is_the_final_pixel_at_its_middle_in_either_encoding() {
+        use crate::builtin::Builtin;
+        use embedded_graphics_core::pixelcolor::Rgb888;
+        for b in Builtin::ALL {
+            for encoding in [crate::Encoding::Srgb, crate::Encoding::Linear] {
+                b.with_scene(|view, cam| {
+                    let (w, h) = (45u16, 34u16);
+                    let settings = RenderSettings {
+                        sampler: crate::Sampler::Centre,
+                        encoding,
+                        ..b.settings()
+                    };
+                    let frame = Frame::try_new(cam, crate::Viewport::new(w, h), settings).unwrap();
+                    let fb = || Fb {
+                        w: u32::from(w),
+                        h: u32::from(h),
+                        px: std::vec![Rgb888::new(0, 0, 0); usize::from(w) * usize::from(h)],
+                        writes: 0,
+                    };
+                    let mut direct = fb();
+                    frame
+                        .drawable_dithered::<Rgb888, 16>(view, Dither::Bayer4)
+                        .draw(&mut direct)
+                        .unwrap();
+                    let mut preview = fb();
+                    frame
+                        .draw_preview(view, Dither::Bayer4, 4, &mut preview)
+                        .unwrap();
+                    let (w, h) = (usize::from(w), usize::from(h));
+                    for by in 0..h.div_ceil(4) {
+                        for bx in 0..w.div_ceil(4) {
+                            let (mx, my) = ((bx * 4 + 2).min(w - 1), (by * 4 + 2).min(h - 1));
+                            assert_eq!(
+                                preview.px[by * 4 * w + bx * 4],
+                                direct.px[my * w + mx],
+                                "{} {encoding} block ({bx}, {by})",
+                                b.name()
+                            );
+                        }
+                    }
+                })
+                .unwrap();
+            }
         }
     }
 }

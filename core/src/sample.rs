@@ -70,18 +70,18 @@ pub enum Sampler {
     /// the frame (above, left, right, below) met something else (another primitive or none, or a shadow where
     /// the pixel's own is lit, by light) or, on untextured surfaces, brought back
     /// an 8-bit colour that differs from the pixel's by more than `threshold` in a
-    /// channel. Textured surfaces are left to the prefiltered centre ray (a
+    /// channel (the output's 8 bits: sRGB codes by default, [`crate::Encoding`]). Textured surfaces are left to the prefiltered centre ray (a
     /// texture's colour steps are not edges the samples would improve: refining
     /// Young's fringes by their colour steps makes them worse, FLIP 0.0048 ->
-    /// 0.017 at 128x96). The decision depends only on the centre rays of the
+    /// 0.017 at 128x96, measured when the output was linear). The decision depends only on the centre rays of the
     /// pixel and its neighbours; a tile traces the centre rays of a one-pixel
     /// apron around it, so the image is the same for every tile size, order and
     /// thread count, with three rows of centre samples as its only memory.
     Adaptive {
         /// Samples per side of a refined pixel.
         k: u8,
-        /// Largest channel difference (8-bit units) between neighbouring centre
-        /// samples that does not refine them ([`Sampler::ADAPTIVE_THRESHOLD`] by
+        /// Largest channel difference (8-bit units of the output's encoding)
+        /// between neighbouring centre samples that does not refine them ([`Sampler::ADAPTIVE_THRESHOLD`] by
         /// default).
         threshold: u8,
     },

@@ -8,8 +8,8 @@
 //!
 //! Simplifications, on purpose (Whitted's model, as in the chapter): shadow rays stop
 //! at any surface, transparent or not (no caustics, no coloured shadows); only camera
-//! rays are clipped by the far plane; colours are linear, written without a gamma
-//! curve.
+//! rays are clipped by the far plane. Colours are linear here; the tile loops encode
+//! them for output ([`crate::Encoding`]: sRGB by default).
 //!
 //! Bounded stack: there is no recursion. A camera ray's own hit is shaded by one
 //! out-of-line call; only if that hit sends reflected or refracted rays does a

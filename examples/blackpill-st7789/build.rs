@@ -1,7 +1,5 @@
-//! Puts memory.x where the linker finds it (cortex-m-rt's link.x includes it).
-//!
-//! `-Tlink.x` itself comes from the repository's `.cargo/config.toml` (target
-//! `thumbv7em-none-eabihf`): adding it here too would give it twice.
+//! Puts memory.x where the linker finds it and links the binaries with
+//! cortex-m-rt's `link.x` (which includes it).
 
 use std::env;
 use std::fs;
@@ -11,6 +9,9 @@ fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     fs::write(out.join("memory.x"), include_bytes!("memory.x")).expect("write memory.x");
     println!("cargo:rustc-link-search={}", out.display());
+    // Here rather than in a `.cargo/config.toml`, so that the crate links the same
+    // wherever it is built from (a copy outside this repository too).
+    println!("cargo:rustc-link-arg-bins=-Tlink.x");
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=build.rs");
 }

@@ -203,13 +203,18 @@ pub fn converged(desc: &SceneDesc, vp: Viewport) -> Result<RgbImage, HostError> 
 
 /// The file name of the converged reference of the scene `name` (described by
 /// `desc`) at `vp` in a cache folder: `NAME-WxH-ENCODING-HASH.png`, the hash
-/// (FNV-1a, 64 bits) of the scene's description and of [`CONVERGED`], so that a
-/// cached image made from another scene or other settings (a linear one, say) is
-/// never taken for this one. (A change of the reference renderer itself is not in
-/// the name: clear the folder then.)
+/// (FNV-1a, 64 bits) of the scene's description (all but its `[render]` table,
+/// which the reference does not use: it renders with [`CONVERGED`]) and of
+/// [`CONVERGED`], so that a cached image made from another scene or other
+/// settings (a linear one, say) is never taken for this one. (A change of the
+/// reference renderer itself is not in the name: clear the folder then.)
 #[must_use]
 pub fn truth_file_name(name: &str, desc: &SceneDesc, vp: Viewport) -> String {
-    let key = format!("{desc:?}|{CONVERGED:?}");
+    let scene = SceneDesc {
+        render: crate::desc::RenderDesc::default(),
+        ..desc.clone()
+    };
+    let key = format!("{scene:?}|{CONVERGED:?}");
     let hash = key.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
         (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
     });
@@ -266,7 +271,7 @@ pub fn measure_scene(
             sampler: setting.sampler,
             max_depth: setting.depth,
             seed: 1,
-            encoding: tessera::Encoding::Srgb,
+            encoding: CONVERGED.encoding,
         };
         let timed = b.with_scene(|view, cam| {
             let frame = Frame::try_new(cam, vp, settings)?;
@@ -462,9 +467,9 @@ pub fn figure(results: &[FringeResult], per_row: usize) -> RgbImage {
 mod tests {
     use super::*;
 
-    /// The cache name of a converged reference changes with the scene, the size
-    /// and the encoding (a linear reference cached by an older build is not read
-    /// as an sRGB one: that made every FLIP of the report 0.6).
+    /// The cache name of a converged reference changes with the scene and the
+    /// size, and names the encoding (a linear reference cached by an older build
+    /// is not read as an sRGB one: that made every FLIP of the report 0.6).
     #[test]
     fn a_cached_truth_is_named_by_everything_it_depends_on() {
         let vp = Viewport::new(128, 96);
@@ -473,12 +478,17 @@ mod tests {
         assert!(name.starts_with("chapter-reflect-128x96-srgb-"), "{name}");
         assert!(name.ends_with(".png"));
         assert_eq!(name, truth_file_name("chapter-reflect", &desc, vp));
+        // The file's own [render] settings do not make the reference.
         let mut other = desc.clone();
         other.render.encoding = "linear".into();
+        other.render.sampler = "stratified:4".into();
+        assert_eq!(truth_file_name("chapter-reflect", &other, vp), name);
         let mut moved = desc.clone();
         moved.camera.position[0] += 1e-9;
+        let mut lit = desc.clone();
+        lit.ambient[1] += 0.01;
         for n in [
-            truth_file_name("chapter-reflect", &other, vp),
+            truth_file_name("chapter-reflect", &lit, vp),
             truth_file_name("chapter-reflect", &moved, vp),
             truth_file_name("chapter-reflect", &desc, Viewport::new(96, 128)),
         ] {

@@ -183,7 +183,8 @@ pub fn build_elf(
     if !features.is_empty() {
         cmd.arg("--features").arg(features.join(","));
     }
-    // Flags from the environment would replace the config's `-Tlink.x`.
+    // Flags from the environment would change the code the figures are of, and a
+    // target folder from it would mix the images.
     for var in [
         "RUSTFLAGS",
         "CARGO_ENCODED_RUSTFLAGS",
@@ -604,13 +605,16 @@ mod tests {
                 (Sampler::Random(5), 32, 7),
                 (b.settings().sampler, 16, 0),
             ] {
-                runs.push(Run {
-                    sampler,
-                    tile,
-                    scale,
-                    seed: 12345,
-                    ..Run::of(b, 64, 48)
-                });
+                for encoding in [tessera::Encoding::Srgb, tessera::Encoding::Linear] {
+                    runs.push(Run {
+                        sampler,
+                        tile,
+                        scale,
+                        seed: 12345,
+                        encoding,
+                        ..Run::of(b, 64, 48)
+                    });
+                }
             }
         }
         runs.extend(crate::baseline::runs());
@@ -621,6 +625,20 @@ mod tests {
         assert_eq!(
             parse_run("chapter-reflect centre 1 12 8 8 0"),
             Err("tile size is not 8, 16 or 32")
+        );
+        // The encoding: absent is the default (srgb), named in any case, and
+        // nothing after it.
+        let srgb = parse_run("chapter-reflect centre 1 16 8 8 0").unwrap();
+        assert_eq!(srgb.encoding, tessera::Encoding::Srgb);
+        let linear = parse_run("chapter-reflect centre 1 16 8 8 0 LINEAR").unwrap();
+        assert_eq!(linear.encoding, tessera::Encoding::Linear);
+        assert_eq!(
+            parse_run("chapter-reflect centre 1 16 8 8 0 gamma"),
+            Err("bad encoding: linear or srgb")
+        );
+        assert_eq!(
+            parse_run("chapter-reflect centre 1 16 8 8 0 srgb 1"),
+            Err("too many fields")
         );
     }
 

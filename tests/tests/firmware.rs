@@ -66,6 +66,20 @@ fn firmware_pixels_equal_the_host_build_byte_for_byte() {
         tile: 32,
         ..with(Builtin::Showcase, Random(2), 3, 77, 53)
     });
+    // Linear output (the tile loops of the other encoding), each tile size, and
+    // the adaptive sampler, which compares encoded pixels.
+    for (b, sampler, tile) in [
+        (Builtin::ChapterReflect, Centre, 16),
+        (Builtin::Showcase, Stratified(2), 8),
+        (Builtin::Teapot, Centre, 32),
+        (Builtin::ChapterDirect, Adaptive { k: 2, threshold: 8 }, 16),
+    ] {
+        runs.push(Run {
+            tile,
+            encoding: tessera::Encoding::Linear,
+            ..with(b, sampler, 5, 77, 53)
+        });
+    }
     let out = run(&runs);
     let mut bad = Vec::new();
     for (i, (r, chip)) in runs.iter().zip(&out.runs).enumerate() {

@@ -52,8 +52,8 @@ const SIZE: u16 = 240;
 const TILE: usize = 16;
 /// The preview's block: one ray per 4x4 pixels.
 const PREVIEW_BLOCK: u32 = 4;
-/// mipidsi's SPI buffer: one 16x16 tile of `Rgb565`, so a tile goes out in one
-/// SPI write.
+/// mipidsi's SPI buffer: one 16x16 tile of `Rgb565`, so a tile's pixels go out
+/// in one 512-byte SPI write (mipidsi then flushes an empty rest).
 const SPI_BUFFER: usize = 2 * TILE * TILE;
 /// How long the LED is on and off in a blink of an error code, in ms.
 const BLINK_MS: u32 = 200;
@@ -132,6 +132,12 @@ fn main() -> ! {
     let (Some(dp), Some(cp)) = (pac::Peripherals::take(), pac::CorePeripherals::take()) else {
         halt();
     };
+    // Above 84 MHz the F411's regulator must be in scale 1 (PWR_CR.VOS; the reset
+    // value is scale 2, up to 84 MHz); the HAL only sets the flash wait states.
+    // VOS is written while the PLL is off, as the reference manual asks; PWR's
+    // clock first.
+    dp.RCC.apb1enr().modify(|_, w| w.pwren().set_bit());
+    dp.PWR.cr().modify(|_, w| w.vos().scale1());
     let mut rcc = dp
         .RCC
         .freeze(Config::hse(HSE_MHZ.MHz()).sysclk(SYSCLK_MHZ.MHz()));

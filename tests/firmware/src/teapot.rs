@@ -90,7 +90,8 @@ fn draw(tile: &mut Tile<N>) -> Result<(u32, u64, u64), tessera::Error> {
     let mut blocks = 0u32;
     for by in 0..u32::from(SIZE).div_ceil(4) {
         for bx in 0..u32::from(SIZE).div_ceil(4) {
-            let c = frame.preview_color(&view, (bx, by), 4, &mut ()).to_rgb8();
+            let c = frame.preview_color(&view, (bx, by), 4, &mut ());
+            let c = frame.settings().encoding.encode(c);
             // Kept (a display would get it): the work cannot be optimised away.
             blocks = blocks.wrapping_add(u32::from(c.r) + u32::from(c.g) + u32::from(c.b));
         }

@@ -61,10 +61,13 @@ struct Job {
     seed: u32,
     /// Sub-pixel position of the offset sampler.
     offset: [f32; 2],
+    /// sRGB (else linear) output.
+    srgb: bool,
 }
 
 const fn job(scene: u8, sampler: u8, count: u16, depth: u8, tile: u8, scale: i32) -> Job {
     Job {
+        srgb: (scene + sampler + tile).is_multiple_of(2),
         scene,
         sampler,
         depth,
@@ -79,8 +82,9 @@ const fn job(scene: u8, sampler: u8, count: u16, depth: u8, tile: u8, scale: i32
 }
 
 /// The renders: every built-in scene at its own settings, and every sampler, tile
-/// size and a scaled scene somewhere (small frames: a run under qemu takes a second).
-static JOBS: [Job; 8] = [
+/// size, encoding and a scaled scene somewhere (small frames: a run under qemu
+/// takes a second).
+static JOBS: [Job; 9] = [
     job(0, 1, 1, 0, 16, 0), // chapter-direct, centre
     job(1, 1, 1, 1, 16, 0), // chapter-reflect, centre
     job(2, 5, 1, 0, 8, 0),  // interference, prefiltered
@@ -89,15 +93,17 @@ static JOBS: [Job; 8] = [
     job(1, 4, 3, 1, 32, 2), // chapter-reflect x4, random 3
     job(2, 0, 1, 0, 16, 0), // interference, corner
     job(0, 2, 1, 0, 8, -3), // chapter-direct /8, offset
+    job(1, 6, 3, 1, 16, 0), // chapter-reflect, adaptive:3
 ];
 
 /// Where every rendered pixel is stored (volatile).
 static mut SINK: u32 = 0;
 
 /// The sampler numbered `n` (0 corner, 1 centre, 2 offset, 3 stratified, 4 random,
-/// else prefiltered).
+/// 6 adaptive, else prefiltered).
 fn sampler(n: u8, count: u16, offset: [f32; 2]) -> Result<Sampler, tessera::Error> {
     Ok(match n {
+        6 => Sampler::adaptive(u8::try_from(count).unwrap_or(u8::MAX)),
         0 => Sampler::Corner,
         1 => Sampler::Centre,
         2 => Sampler::Offset(SubPixel::try_new(offset[0], offset[1])?),
@@ -146,7 +152,12 @@ fn render_all() -> Result<(), Failure> {
             sampler: sampler(j.sampler, j.count, j.offset)?,
             max_depth: j.depth,
             seed: j.seed,
-            encoding: tessera::Encoding::Linear,
+            // Hidden like the rest: both encodings' loops are linked and proved.
+            encoding: if j.srgb {
+                tessera::Encoding::Srgb
+            } else {
+                tessera::Encoding::Linear
+            },
         };
         let viewport = Viewport::new(j.width, j.height);
         lit |= match j.tile {

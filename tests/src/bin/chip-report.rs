@@ -458,9 +458,9 @@ impl Measured {
                 encoding: Encoding::Srgb,
                 ..*r
             };
-            let Some((_, s)) = measured().find(|(x, _)| **x == srgb) else {
-                continue;
-            };
+            let (_, s) = measured()
+                .find(|(x, _)| **x == srgb)
+                .expect("runs() measures each linear run's sRGB twin");
             let _ = writeln!(
                 w,
                 "| {} | {} | {} | {:.0} | {:.0} | {:.0} |",
