@@ -8,8 +8,9 @@
 
 use crate::color::Rgb8;
 use crate::dither::Dither;
+use crate::error::Error;
 use crate::scene::SceneView;
-use crate::tile::{Frame, Tile, TileCoord, TilePixel};
+use crate::tile::{AllLoops, Frame, Loops, Tile, TileCoord, TilePixel};
 use core::marker::PhantomData;
 use embedded_graphics_core::Drawable;
 use embedded_graphics_core::draw_target::DrawTarget;
@@ -211,10 +212,33 @@ where
 
 /// A frame as a [`Drawable`] on a panel of fewer bits, dithered:
 /// [`Frame::drawable_dithered`].
+///
+/// `L` is the set of tile loops it links ([`Loops`]): every one unless
+/// [`DitheredRendering::linking`] says fewer.
 #[derive(Clone, Copy, Debug)]
-pub struct DitheredRendering<'a, C, const N: usize> {
+pub struct DitheredRendering<'a, C, const N: usize, L = AllLoops> {
     rendering: Rendering<'a, C, N>,
     dither: Dither,
+    loops: PhantomData<L>,
+}
+
+impl<'a, C, const N: usize, L> DitheredRendering<'a, C, N, L> {
+    /// The same drawing linking only the tile loops of `M` (a firmware with fixed
+    /// settings leaves the others out of its image: [`Loops`]).
+    ///
+    /// # Errors
+    /// [`Error::NotLinked`] if the frame's settings and scene need a loop `M`
+    /// leaves out ([`Frame::check_loops`]): checked here, once, so the drawing
+    /// itself never meets it.
+    pub fn linking<M: Loops>(self) -> Result<DitheredRendering<'a, C, N, M>, Error> {
+        let r = &self.rendering;
+        r.frame.check_loops::<M>(&r.scene)?;
+        Ok(DitheredRendering {
+            rendering: self.rendering,
+            dither: self.dither,
+            loops: PhantomData,
+        })
+    }
 }
 
 impl Frame {
@@ -235,11 +259,14 @@ impl Frame {
                 color: PhantomData,
             },
             dither,
+            loops: PhantomData,
         }
     }
 }
 
-impl<C: TilePixel + PixelColor, const N: usize> Drawable for DitheredRendering<'_, C, N> {
+impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable
+    for DitheredRendering<'_, C, N, L>
+{
     type Color = C;
     type Output = ();
 
@@ -258,7 +285,7 @@ impl<C: TilePixel + PixelColor, const N: usize> Drawable for DitheredRendering<'
             for tx in 0..across {
                 let coord = TileCoord::new(tx, ty);
                 if frame
-                    .render_tile(&r.scene, coord, &mut tile, &mut ())
+                    .render_tile_in::<L, N, _, _>(&r.scene, coord, &mut tile, &mut ())
                     .is_ok()
                 {
                     draw_panel_tile(&tile, target)?;
@@ -274,9 +301,24 @@ impl<C: TilePixel + PixelColor, const N: usize> Drawable for DitheredRendering<'
 /// them, which replace every preview pixel: the final picture is the direct
 /// render's. [`Frame::drawable_progressive`].
 #[derive(Clone, Copy, Debug)]
-pub struct ProgressiveRendering<'a, C, const N: usize> {
-    tiles: DitheredRendering<'a, C, N>,
+pub struct ProgressiveRendering<'a, C, const N: usize, L = AllLoops> {
+    tiles: DitheredRendering<'a, C, N, L>,
     block: u32,
+}
+
+impl<'a, C, const N: usize, L> ProgressiveRendering<'a, C, N, L> {
+    /// The same drawing linking only the tile loops of `M`
+    /// ([`DitheredRendering::linking`]).
+    ///
+    /// # Errors
+    /// [`Error::NotLinked`] if the frame's settings and scene need a loop `M`
+    /// leaves out.
+    pub fn linking<M: Loops>(self) -> Result<ProgressiveRendering<'a, C, N, M>, Error> {
+        Ok(ProgressiveRendering {
+            tiles: self.tiles.linking::<M>()?,
+            block: self.block,
+        })
+    }
 }
 
 impl Frame {
@@ -330,7 +372,9 @@ impl Frame {
     }
 }
 
-impl<C: TilePixel + PixelColor, const N: usize> Drawable for ProgressiveRendering<'_, C, N> {
+impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable
+    for ProgressiveRendering<'_, C, N, L>
+{
     type Color = C;
     type Output = ();
 
@@ -346,13 +390,13 @@ impl<C: TilePixel + PixelColor, const N: usize> Drawable for ProgressiveRenderin
     }
 }
 
-impl<C, const N: usize> OriginDimensions for ProgressiveRendering<'_, C, N> {
+impl<C, const N: usize, L> OriginDimensions for ProgressiveRendering<'_, C, N, L> {
     fn size(&self) -> Size {
         self.tiles.size()
     }
 }
 
-impl<C, const N: usize> OriginDimensions for DitheredRendering<'_, C, N> {
+impl<C, const N: usize, L> OriginDimensions for DitheredRendering<'_, C, N, L> {
     fn size(&self) -> Size {
         self.rendering.size()
     }
@@ -594,6 +638,48 @@ mod tests {
                 let mut rays = RayCount::default();
                 let _ = frame.preview_color(view, (0, 0), 4, &mut rays);
                 assert_eq!(rays.primary, 1);
+            })
+            .unwrap();
+        }
+    }
+
+    /// A drawing linking only the loops its settings need draws the same pixels;
+    /// one linking too few is refused before it draws.
+    #[test]
+    fn a_drawing_with_fewer_loops_draws_the_same_or_is_refused() {
+        use crate::builtin::Builtin;
+        /// Direct light only, sRGB, no adaptive sampler.
+        enum DirectSrgb {}
+        impl Loops for DirectSrgb {
+            const DIRECT: bool = true;
+            const BOUNCES: bool = false;
+            const LINEAR: bool = false;
+            const SRGB: bool = true;
+            const ADAPTIVE: bool = false;
+        }
+        for b in Builtin::ALL {
+            b.with_scene(|view, cam| {
+                let (w, h) = (37u16, 29u16);
+                let frame = Frame::try_new(cam, crate::Viewport::new(w, h), b.settings()).unwrap();
+                let fb = || Fb {
+                    w: u32::from(w),
+                    h: u32::from(h),
+                    px: std::vec![Rgb565::new(0, 0, 0); usize::from(w) * usize::from(h)],
+                    writes: 0,
+                };
+                let mut all = fb();
+                let drawing = frame.drawable_progressive::<Rgb565, 16>(view, Dither::Bayer4, 4);
+                drawing.draw(&mut all).unwrap();
+                let direct = view.depth(b.settings().max_depth) == 0;
+                match drawing.linking::<DirectSrgb>() {
+                    Ok(fewer) => {
+                        assert!(direct, "{}", b.name());
+                        let mut px = fb();
+                        fewer.draw(&mut px).unwrap();
+                        assert!(px.px == all.px, "{}", b.name());
+                    }
+                    Err(e) => assert!(!direct && e == Error::NotLinked, "{}", b.name()),
+                }
             })
             .unwrap();
         }

@@ -174,6 +174,9 @@ pub enum Error {
     UnknownSampler,
     /// A tile coordinate outside the frame.
     TileOutOfFrame,
+    /// The frame's settings and scene need a tile loop that the set of loops the
+    /// firmware chose to link does not have ([`crate::Loops`]).
+    NotLinked,
     /// A material's reflectivity and transparency add up to more than 1: it would
     /// send on more light than it receives.
     ReflectionAndTransmissionAboveOne,
@@ -230,6 +233,10 @@ impl fmt::Display for Error {
                  adaptive:K (2-64) or adaptive:K,T (T: 0-255)",
             ),
             Self::TileOutOfFrame => f.write_str("tile coordinate is outside the frame"),
+            Self::NotLinked => f.write_str(
+                "the settings need a tile loop that is not linked (the Loops given leave out \
+                 bounces, direct light, an encoding or the adaptive sampler that they need)",
+            ),
             Self::ReflectionAndTransmissionAboveOne => f.write_str(
                 "material reflectivity + transparency must be <= 1 \
                  (it would send on more light than it receives)",

@@ -93,7 +93,7 @@ pub use sample::{Sampler, SubPixel};
 pub use scene::{Primitive, Scene, SceneView};
 pub use shade::{RayCount, RayCounter};
 pub use texture::Texture;
-pub use tile::{Frame, RenderSettings, Tile, TileCoord, TilePixel};
+pub use tile::{AllLoops, Frame, Loops, RenderSettings, Tile, TileCoord, TilePixel};
 pub use vec::Vec3;
 
 /// Internals that the test crates check on their own (the extremes battery, the

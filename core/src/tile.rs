@@ -68,6 +68,59 @@ impl RenderSettings {
     }
 }
 
+/// Which tile loops a firmware links ([`Frame::render_tile_in`],
+/// [`crate::DitheredRendering::linking`]). The render settings are values, so
+/// [`Frame::render_tile`] links a pixel loop for every case they can select
+/// ([`AllLoops`]); a firmware whose settings are fixed names the ones it needs and
+/// the others are left out of the image (the board example: 57 KB less code). A
+/// render whose settings need a loop left out is refused ([`Error::NotLinked`]),
+/// never drawn wrong.
+///
+/// ```
+/// use tessera::{builtin, Loops, RenderSettings, Tile, TileCoord, Viewport};
+///
+/// /// Direct light only, sRGB, no adaptive sampling.
+/// enum DirectSrgb {}
+/// impl Loops for DirectSrgb {
+///     const DIRECT: bool = true;
+///     const BOUNCES: bool = false;
+///     const LINEAR: bool = false;
+///     const SRGB: bool = true;
+///     const ADAPTIVE: bool = false;
+/// }
+///
+/// let scene = builtin::chapter_direct()?;
+/// let settings = RenderSettings { max_depth: 0, ..RenderSettings::default() };
+/// let frame = scene.frame(Viewport::new(32, 32), settings)?;
+/// let mut tile = Tile::<16>::new();
+/// frame.render_tile_in::<DirectSrgb, 16, _, _>(&scene.view(), TileCoord::new(0, 0), &mut tile, &mut ())?;
+/// # Ok::<(), tessera::Error>(())
+/// ```
+pub trait Loops {
+    /// The loop without bounces: scenes without mirrors or glass, or depth 0.
+    const DIRECT: bool;
+    /// The loop with bounces: mirrors or glass within the frame's depth.
+    const BOUNCES: bool;
+    /// Linear output ([`Encoding::Linear`]).
+    const LINEAR: bool;
+    /// sRGB output ([`Encoding::Srgb`]).
+    const SRGB: bool;
+    /// The adaptive sampler's loop ([`Sampler::Adaptive`]).
+    const ADAPTIVE: bool;
+}
+
+/// Every tile loop: what [`Frame::render_tile`] links.
+#[derive(Clone, Copy, Debug)]
+pub enum AllLoops {}
+
+impl Loops for AllLoops {
+    const DIRECT: bool = true;
+    const BOUNCES: bool = true;
+    const LINEAR: bool = true;
+    const SRGB: bool = true;
+    const ADAPTIVE: bool = true;
+}
+
 /// Which tile of the frame: tile `(tx, ty)` covers pixels `tx*N .. tx*N + N` by
 /// `ty*N .. ty*N + N`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -648,12 +701,50 @@ impl Frame {
         tile: &mut Tile<N, P>,
         count: &mut C,
     ) -> Result<(), Error> {
-        self.render_tile_with(scene, coord, tile, count)
+        self.render_tile_with::<N, C, P, AllLoops>(scene, coord, tile, count)
+    }
+
+    /// [`Frame::render_tile`] linking only the tile loops of `L` ([`Loops`]): the
+    /// same pixels, or [`Error::NotLinked`] when the settings and the scene need
+    /// a loop that `L` leaves out ([`Frame::check_loops`]).
+    ///
+    /// # Errors
+    /// As [`Frame::render_tile`], and [`Error::NotLinked`].
+    pub fn render_tile_in<L: Loops, const N: usize, C: RayCounter, P: TilePixel>(
+        &self,
+        scene: &SceneView<'_>,
+        coord: TileCoord,
+        tile: &mut Tile<N, P>,
+        count: &mut C,
+    ) -> Result<(), Error> {
+        self.check_loops::<L>(scene)?;
+        self.render_tile_with::<N, C, P, L>(scene, coord, tile, count)
+    }
+
+    /// Whether `L` has every tile loop this frame needs for `scene`: with
+    /// bounces or without (the scene's mirrors and glass within the frame's
+    /// depth), the encoding, and the adaptive sampler's loop.
+    ///
+    /// # Errors
+    /// [`Error::NotLinked`] naming none in particular: the settings decide.
+    pub fn check_loops<L: Loops>(&self, scene: &SceneView<'_>) -> Result<(), Error> {
+        let bounces = scene.depth(self.settings.max_depth) > 0;
+        let linked = (if bounces { L::BOUNCES } else { L::DIRECT })
+            && match self.settings.encoding {
+                Encoding::Srgb => L::SRGB,
+                Encoding::Linear => L::LINEAR,
+            }
+            && (self.adaptive.is_none() || L::ADAPTIVE);
+        if linked {
+            Ok(())
+        } else {
+            Err(Error::NotLinked)
+        }
     }
 
     /// The tile loop: the tile's candidate lists first ([`crate::cull`]), then
     /// every pixel, or the background at once when no primitive reaches the tile.
-    fn render_tile_with<const N: usize, C: RayCounter, P: TilePixel>(
+    fn render_tile_with<const N: usize, C: RayCounter, P: TilePixel, L: Loops>(
         &self,
         scene: &SceneView<'_>,
         coord: TileCoord,
@@ -698,26 +789,30 @@ impl Frame {
             let (b, p) = (background, &picks);
             // The adaptive loop decides the encoding per pixel (its pixels cost
             // far more than the branch).
+            // Each call only where `L` links it (constants: the others compile
+            // away); the caller checked `L` against the settings, so no tile
+            // falls through.
             if let (Some(t), None) = (self.adaptive, background) {
-                if depth > 0 {
+                if L::ADAPTIVE && depth > 0 && L::BOUNCES {
                     self.fill_adaptive::<N, C, true, P>(scene, p, depth, tile, area, t, count);
-                } else {
+                } else if L::ADAPTIVE && depth == 0 && L::DIRECT {
                     self.fill_adaptive::<N, C, false, P>(scene, p, 0, tile, area, t, count);
                 }
             } else {
                 match (depth > 0, srgb) {
-                    (true, false) => {
+                    (true, false) if L::BOUNCES && L::LINEAR => {
                         self.fill::<N, C, true, P, false>(scene, p, depth, tile, area, b, count);
                     }
-                    (false, false) => {
+                    (false, false) if L::DIRECT && L::LINEAR => {
                         self.fill::<N, C, false, P, false>(scene, p, 0, tile, area, b, count);
                     }
-                    (true, true) => {
+                    (true, true) if L::BOUNCES && L::SRGB => {
                         self.fill::<N, C, true, P, true>(scene, p, depth, tile, area, b, count);
                     }
-                    (false, true) => {
+                    (false, true) if L::DIRECT && L::SRGB => {
                         self.fill::<N, C, false, P, true>(scene, p, 0, tile, area, b, count);
                     }
+                    _ => {}
                 }
             }
         };
@@ -837,6 +932,7 @@ impl<const N: usize> Window<N> {
 mod tests {
     use super::*;
     use core::mem::size_of;
+    extern crate std;
 
     #[test]
     fn tile_buffer_sizes_match_the_docs() {
@@ -861,5 +957,107 @@ mod tests {
         assert!(s.validate().is_ok());
         s.sampler = Sampler::Random(0);
         assert_eq!(s.validate(), Err(Error::BadSampleCount));
+    }
+
+    /// A set of loops by its five flags.
+    struct Set<const D: bool, const B: bool, const LI: bool, const S: bool, const A: bool>;
+
+    impl<const D: bool, const B: bool, const LI: bool, const S: bool, const A: bool> Loops
+        for Set<D, B, LI, S, A>
+    {
+        const DIRECT: bool = D;
+        const BOUNCES: bool = B;
+        const LINEAR: bool = LI;
+        const SRGB: bool = S;
+        const ADAPTIVE: bool = A;
+    }
+
+    /// Every tile of the frame with the loops of `L`, row-major pixels; or the
+    /// first error.
+    fn tiles_in<L: Loops>(
+        frame: &Frame,
+        view: &SceneView<'_>,
+    ) -> Result<std::vec::Vec<Rgb8>, Error> {
+        let mut out = std::vec::Vec::new();
+        let mut tile = Tile::<8>::new();
+        let (across, down) = frame.tile_grid(8);
+        for ty in 0..down {
+            for tx in 0..across {
+                frame.render_tile_in::<L, 8, _, _>(
+                    view,
+                    TileCoord::new(tx, ty),
+                    &mut tile,
+                    &mut (),
+                )?;
+                out.extend(tile.pixels());
+            }
+        }
+        Ok(out)
+    }
+
+    /// With a set of loops that has what the settings and the scene need, a
+    /// render is the same bytes as with every loop; with a set that lacks one of
+    /// them, it is refused. Every built-in scene, with and without bounces, in
+    /// both encodings, with and without the adaptive sampler.
+    #[test]
+    fn a_render_with_fewer_loops_is_the_same_or_refused() {
+        use crate::builtin::Builtin;
+        type DirectSrgb = Set<true, false, false, true, false>;
+        type DirectLinear = Set<true, false, true, false, false>;
+        type BouncesSrgb = Set<false, true, false, true, false>;
+        type AdaptiveSrgb = Set<true, true, false, true, true>;
+        type AdaptiveDirectSrgb = Set<true, false, false, true, true>;
+        fn flags<L: Loops>() -> [bool; 5] {
+            [L::DIRECT, L::BOUNCES, L::LINEAR, L::SRGB, L::ADAPTIVE]
+        }
+        fn one<L: Loops>(frame: &Frame, view: &SceneView<'_>, all: &[Rgb8], need: [bool; 5]) {
+            let has = flags::<L>();
+            let enough = need.iter().zip(&has).all(|(n, h)| !n || *h);
+            match tiles_in::<L>(frame, view) {
+                Ok(px) => assert!(enough && px == all, "{has:?} for {need:?}"),
+                Err(e) => assert!(
+                    !enough && e == Error::NotLinked,
+                    "{has:?} for {need:?}: {e}"
+                ),
+            }
+            assert_eq!(frame.check_loops::<L>(view).is_ok(), enough);
+        }
+        let mut refused = 0;
+        for b in Builtin::ALL {
+            for (sampler, depth, encoding) in [
+                (Sampler::Centre, 0, Encoding::Srgb),
+                (Sampler::Stratified(2), 3, Encoding::Linear),
+                (Sampler::adaptive(2), 3, Encoding::Srgb),
+                (Sampler::adaptive(2), 0, Encoding::Linear),
+            ] {
+                b.with_scene(|view, cam| {
+                    let settings = RenderSettings {
+                        sampler,
+                        max_depth: depth,
+                        seed: 3,
+                        encoding,
+                    };
+                    let frame =
+                        Frame::try_new(cam, crate::Viewport::new(20, 13), settings).unwrap();
+                    let all = tiles_in::<AllLoops>(&frame, view).unwrap();
+                    let bounces = view.depth(depth) > 0;
+                    let need = [
+                        !bounces,
+                        bounces,
+                        encoding == Encoding::Linear,
+                        encoding == Encoding::Srgb,
+                        matches!(sampler, Sampler::Adaptive { .. }),
+                    ];
+                    one::<DirectSrgb>(&frame, view, &all, need);
+                    one::<DirectLinear>(&frame, view, &all, need);
+                    one::<BouncesSrgb>(&frame, view, &all, need);
+                    one::<AdaptiveSrgb>(&frame, view, &all, need);
+                    one::<AdaptiveDirectSrgb>(&frame, view, &all, need);
+                    refused += usize::from(frame.check_loops::<DirectSrgb>(view).is_err());
+                })
+                .unwrap();
+            }
+        }
+        assert!(refused > 0);
     }
 }
