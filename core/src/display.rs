@@ -215,11 +215,30 @@ where
 ///
 /// `L` is the set of tile loops it links ([`Loops`]): every one unless
 /// [`DitheredRendering::linking`] says fewer.
-#[derive(Clone, Copy, Debug)]
 pub struct DitheredRendering<'a, C, const N: usize, L = AllLoops> {
     rendering: Rendering<'a, C, N>,
     dither: Dither,
-    loops: PhantomData<L>,
+    // `fn() -> L`: no bounds on `L` for the traits below, and no `L` stored.
+    loops: PhantomData<fn() -> L>,
+}
+
+// By hand: derived, they would ask `L` (a firmware's `enum` of constants) to be
+// `Clone`, `Copy` and `Debug` too (the panel colour `C` still is).
+impl<C: Copy, const N: usize, L> Clone for DitheredRendering<'_, C, N, L> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<C: Copy, const N: usize, L> Copy for DitheredRendering<'_, C, N, L> {}
+
+impl<C: core::fmt::Debug, const N: usize, L> core::fmt::Debug for DitheredRendering<'_, C, N, L> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("DitheredRendering")
+            .field("rendering", &self.rendering)
+            .field("dither", &self.dither)
+            .finish_non_exhaustive()
+    }
 }
 
 impl<'a, C, const N: usize, L> DitheredRendering<'a, C, N, L> {
@@ -300,10 +319,29 @@ impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable
 /// each block filled in one colour, then the tiles as [`DitheredRendering`] draws
 /// them, which replace every preview pixel: the final picture is the direct
 /// render's. [`Frame::drawable_progressive`].
-#[derive(Clone, Copy, Debug)]
 pub struct ProgressiveRendering<'a, C, const N: usize, L = AllLoops> {
     tiles: DitheredRendering<'a, C, N, L>,
     block: u32,
+}
+
+// By hand, as [`DitheredRendering`]'s.
+impl<C: Copy, const N: usize, L> Clone for ProgressiveRendering<'_, C, N, L> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<C: Copy, const N: usize, L> Copy for ProgressiveRendering<'_, C, N, L> {}
+
+impl<C: core::fmt::Debug, const N: usize, L> core::fmt::Debug
+    for ProgressiveRendering<'_, C, N, L>
+{
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("ProgressiveRendering")
+            .field("tiles", &self.tiles)
+            .field("block", &self.block)
+            .finish()
+    }
 }
 
 impl<'a, C, const N: usize, L> ProgressiveRendering<'a, C, N, L> {
@@ -356,12 +394,27 @@ impl Frame {
         D: DrawTarget,
         D::Color: TilePixel,
     {
+        self.draw_preview_in::<AllLoops, D>(scene, dither, block, target)
+    }
+
+    /// [`Frame::draw_preview`] with the pixel loops of `L` only.
+    fn draw_preview_in<L: Loops, D>(
+        &self,
+        scene: &SceneView<'_>,
+        dither: Dither,
+        block: u32,
+        target: &mut D,
+    ) -> Result<(), D::Error>
+    where
+        D: DrawTarget,
+        D::Color: TilePixel,
+    {
         let block = block.max(1);
         let vp = self.viewport();
         let (w, h) = (u32::from(vp.width), u32::from(vp.height));
         for by in 0..h.div_ceil(block) {
             for bx in 0..w.div_ceil(block) {
-                let c = self.preview_color(scene, (bx, by), block, &mut ());
+                let c = self.preview_color_in::<L, _>(scene, (bx, by), block, &mut ());
                 let (x, y) = (bx * block, by * block);
                 let color = D::Color::from_rgb8(self.settings().encoding.encode(c), x, y, dither);
                 let area = rectangle(x, y, block.min(w - x), block.min(h - y));
@@ -385,7 +438,7 @@ impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable
     {
         let r = &self.tiles.rendering;
         r.frame
-            .draw_preview(&r.scene, self.tiles.dither, self.block, target)?;
+            .draw_preview_in::<L, D>(&r.scene, self.tiles.dither, self.block, target)?;
         self.tiles.draw(target)
     }
 }
@@ -674,6 +727,9 @@ mod tests {
                 match drawing.linking::<DirectSrgb>() {
                     Ok(fewer) => {
                         assert!(direct, "{}", b.name());
+                        // Copy and Debug although `DirectSrgb` is neither.
+                        let copy = fewer;
+                        assert!(std::format!("{copy:?}").starts_with("ProgressiveRendering"));
                         let mut px = fb();
                         fewer.draw(&mut px).unwrap();
                         assert!(px.px == all.px, "{}", b.name());

@@ -60,8 +60,11 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
 
     let readme = std::fs::read_to_string(dir.join("README.md")).unwrap();
     let mut wrong = Vec::new();
+    // Within 1 %: the same sources built in another folder link a little
+    // differently (the crates' paths enter their symbol hashes, which moves code
+    // alignment: 128 bytes of `.text` measured); a stale figure is further off.
     let mut expect = |what: &str, said: Option<u64>, truth: u64| {
-        if said != Some(truth) {
+        if said.is_none_or(|s| s.abs_diff(truth) * 100 > truth) {
             wrong.push(format!("{what}: the README says {said:?}, the ELF {truth}"));
         }
     };
@@ -74,19 +77,24 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
     ] {
         expect(section, table_figure(&readme, section), truth);
     }
-    expect("flash", figure_after(&readme, "- **Flash**: "), s.flash());
+    let said_flash = figure_after(&readme, "- **Flash**: ");
+    expect("flash", said_flash, s.flash());
     expect(
         "static RAM",
         figure_after(&readme, "- **Static RAM** (`.data` + `.bss`): "),
         s.ram(),
     );
-    let kib = format!(
-        "{} bytes ({:.1} KiB) of 512 KiB",
-        thousands(s.flash()),
-        s.flash() as f64 / 1024.0
-    );
-    if !readme.contains(&kib) {
-        wrong.push(format!("flash: the README lacks `{kib}`"));
+    // The README's flash figure in KiB and per cent is its bytes'.
+    if let Some(f) = said_flash {
+        let kib = format!(
+            "{} bytes ({:.1} KiB) of 512 KiB, {:.0} %",
+            thousands(f),
+            f as f64 / 1024.0,
+            100.0 * f as f64 / 524_288.0
+        );
+        if !readme.contains(&kib) {
+            wrong.push(format!("flash: the README lacks `{kib}`"));
+        }
     }
     assert!(
         wrong.is_empty(),

@@ -69,7 +69,8 @@ type Panel<'b> = Display<SpiInterface<'b, PanelSpi, gpio::PB0<Output>>, ST7789, 
 /// and again, forever.
 #[derive(Debug)]
 enum Failure {
-    /// tessera refused the scene, the mesh or the frame (kept for a debugger).
+    /// tessera refused the scene, the mesh, the frame or the loops linked (kept
+    /// for a debugger).
     Scene(#[allow(dead_code)] tessera::Error),
     /// The panel's initialisation failed.
     PanelInit,
@@ -232,7 +233,7 @@ where
 
 /// The only tile loop the teapot needs with these settings: direct light (it
 /// has no mirror or glass), sRGB, centre sampling. The others are left out of
-/// the image (`tessera::Loops`: about 57 KB of code); settings that needed one
+/// the image (`tessera::Loops`: about 74 KB of code); settings that needed one
 /// would be refused by `linking`, not drawn wrong.
 enum TeapotLoops {}
 
