@@ -205,9 +205,9 @@ const fn srgb_next() -> [u32; 256] {
 /// its first bit pattern (832 bytes of flash). The thresholds are at least 2^16.6
 /// patterns apart (100,925: the first values of codes 189 and 190, near 0.51), so
 /// a bucket of 2^17 holds at most two after its start: [`srgb8`] finishes with two
-/// comparisons instead of a binary search's eight (measured on the chip: the
-/// encoding's cost on chapter-direct went from 104 instructions a pixel to 46; see
-/// docs/chip-cost.md). Made at compile time from the thresholds, which also checks
+/// comparisons instead of a binary search's eight (the encoding costs 46
+/// instructions a pixel on chapter-direct, docs/chip-cost.md; the binary search
+/// cost 104, measured once by hand with the same firmware). Made at compile time from the thresholds, which also checks
 /// the two-at-most (the build fails otherwise).
 static SRGB_STARTS: [u8; SRGB_BUCKETS] = srgb_starts();
 

@@ -329,14 +329,7 @@ mod tests {
         list.set_ambient(Color::splat(0.05)).unwrap();
         list.add_material(s.view().materials()[0]).unwrap();
         list.add_light(s.view().lights()[0]).unwrap();
-        for &[a, b, c] in &f {
-            let p = |i: u16| {
-                let q = v[usize::from(i)];
-                Vec3::new(q[0], q[1], q[2])
-            };
-            list.add_triangle(Triangle::try_new(p(a), p(b), p(c)).unwrap(), MaterialId(0))
-                .unwrap();
-        }
+        add_faces(&mut list, &v, &f);
         assert_eq!(flat_px, render(&list.view()));
         // Normals against the winding shade and lift the same (each is taken on
         // the side of its face's own normal).
@@ -350,6 +343,29 @@ mod tests {
         // so does the smooth one.
         for (p, q) in flat_px.iter().zip(&smooth_px) {
             assert_eq!(*p == [0, 0, 0], *q == [0, 0, 0]);
+        }
+    }
+
+    /// Every face of `(v, f)` as a triangle of `list`'s triangle list, material 0.
+    fn add_faces<
+        const S: usize,
+        const P: usize,
+        const T: usize,
+        const B: usize,
+        const M: usize,
+        const L: usize,
+    >(
+        list: &mut Scene<S, P, T, B, M, L>,
+        v: &[[f32; 3]],
+        f: &[[u16; 3]],
+    ) {
+        let p = |i: u16| {
+            let q = v[usize::from(i)];
+            Vec3::new(q[0], q[1], q[2])
+        };
+        for &[a, b, c] in f {
+            list.add_triangle(Triangle::try_new(p(a), p(b), p(c)).unwrap(), MaterialId(0))
+                .unwrap();
         }
     }
 
@@ -390,14 +406,7 @@ mod tests {
             s.add_sphere(ball, MaterialId(0)).unwrap();
             s.add_triangle(tri, MaterialId(0)).unwrap();
         }
-        for &[a, b, c] in &f {
-            let p = |i: u16| {
-                let q = v[usize::from(i)];
-                Vec3::new(q[0], q[1], q[2])
-            };
-            list.add_triangle(Triangle::try_new(p(a), p(b), p(c)).unwrap(), MaterialId(0))
-                .unwrap();
-        }
+        add_faces(&mut list, &v, &f);
         let meshed = render(&with.view().with_meshes(&mesh).unwrap());
         assert_eq!(meshed, render(&list.view()));
         // The triangle and the sphere are in the picture.

@@ -758,8 +758,8 @@ fn a_wrong_figure_fails() {
         ("needs 1,360 to", "needs 1,456 to", "1,456"),
         ("(1.3 to 2.0 KiB)", "(1.5 to 2.0 KiB)", "1.5"),
         (
-            "Flash 495,488 bytes (483.9 KiB",
-            "Flash 495,488 bytes (48.9 KiB",
+            "Flash 495,656 bytes (484.0 KiB",
+            "Flash 495,656 bytes (48.9 KiB",
             "48.9",
         ),
         (

@@ -30,15 +30,16 @@
 #![no_main]
 
 mod clock;
+mod faults;
 mod protocol;
 mod runs;
 mod semihost;
 mod stack;
 
 use core::fmt::{self, Write as _};
-use cortex_m_rt::{ExceptionFrame, entry, exception};
+use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
-use cortex_m_semihosting::{heprintln, hprintln};
+use cortex_m_semihosting::hprintln;
 use protocol::{FRAME_PATTERN, FRAME_PREFIX, FRAME_SUFFIX, RUNS_FILE, RUNS_MAX};
 use semihost::{HostFile, IoError};
 use tessera::{Frame, Tile, TileCoord, Viewport};
@@ -277,30 +278,4 @@ fn write_tile<const N: usize>(out: &HostFile, tile: &Tile<N>, width: u16) -> Res
         out.write_all(bytes.get(..n).unwrap_or(&[])).map_err(io)?;
     }
     Ok(())
-}
-
-#[exception]
-unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
-    hprintln!("hard fault: {:?}", frame);
-    debug::exit(EXIT_FAILURE);
-    loop {
-        cortex_m::asm::bkpt();
-    }
-}
-
-#[exception]
-unsafe fn DefaultHandler(irq: i16) {
-    hprintln!("unexpected exception {}", irq);
-    debug::exit(EXIT_FAILURE);
-}
-
-#[panic_handler]
-fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
-    cortex_m::interrupt::disable();
-    hprintln!("panic: {}", info);
-    heprintln!("panic: {}", info);
-    debug::exit(EXIT_FAILURE);
-    loop {
-        cortex_m::asm::bkpt();
-    }
 }

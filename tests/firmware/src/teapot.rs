@@ -19,12 +19,16 @@
 #[allow(dead_code)]
 mod stack;
 
+// The test image's fault and panic handlers.
+#[path = "faults.rs"]
+mod faults;
+
 // SysTick instruction counting, as the test image's.
 #[path = "clock.rs"]
 #[allow(dead_code)]
 mod clock;
 
-use cortex_m_rt::{ExceptionFrame, entry, exception};
+use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
 use tessera::builtin::{self, Builtin};
@@ -112,23 +116,4 @@ fn draw(tile: &mut Tile<N>) -> Result<(u32, u64, u64), tessera::Error> {
         }
     }
     Ok((hash, preview, clock::now() - t0))
-}
-
-#[exception]
-unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
-    hprintln!("hard fault: {:?}", frame);
-    debug::exit(EXIT_FAILURE);
-    loop {
-        cortex_m::asm::bkpt();
-    }
-}
-
-#[panic_handler]
-fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
-    cortex_m::interrupt::disable();
-    hprintln!("panic: {}", info);
-    debug::exit(EXIT_FAILURE);
-    loop {
-        cortex_m::asm::bkpt();
-    }
 }
