@@ -42,6 +42,14 @@
 //! M4F).
 #![allow(clippy::disallowed_methods)] // the one home of libm calls (core/clippy.toml)
 
+/// Square root of an `f64`, correctly rounded (libm; software on the Cortex-M4F,
+/// which has no `f64` unit): for the rare hits computed in `f64`
+/// (`geometry::wide`), never per pixel in an ordinary scene.
+#[must_use]
+pub fn sqrt64(x: f64) -> f64 {
+    libm::sqrt(x)
+}
+
 /// Square root, correctly rounded with the exact backend.
 #[inline]
 #[must_use]

@@ -18,6 +18,7 @@ mod aabb;
 mod plane;
 mod sphere;
 pub(crate) mod triangle;
+mod wide;
 
 pub use aabb::Aabb;
 pub(crate) use aabb::inverse as aabb_inverse;

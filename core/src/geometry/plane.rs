@@ -1,5 +1,6 @@
 //! Infinite plane: a point and a normal.
 
+use super::wide::W3;
 use super::{Candidate, Geom, Locate, Shape, Surface, tangent_basis};
 use crate::error::{Error, Field, position, unit};
 use crate::math::gamma;
@@ -11,6 +12,15 @@ use crate::vec::Vec3;
 pub struct Plane {
     point: Vec3,
     normal: Vec3,
+    /// `normal . point`, computed once in `f64` with the `f64` unit normal and
+    /// rounded: the plane is `normal . x = offset`, exact where it crosses the line
+    /// through the world's origin along its normal, and off by a few ulps of `|x|`
+    /// at a point `x`, as close as `f32` can hold `x` itself. A hit's time
+    /// `(offset - n.o) / n.d` then involves the ray's origin and the plane's
+    /// distance from the world's origin, never the point the user happened to
+    /// give: `(point - o).n` loses ulps of `point`, and a plane through a point
+    /// `10^7` away put the hits of a camera near the origin units off the plane.
+    offset: f32,
     /// The tangents of [`tangent_basis`]`(normal)`, the axes of the plane's uv,
     /// computed once here rather than at every textured hit.
     tangents: (Vec3, Vec3),
@@ -29,11 +39,17 @@ impl Plane {
     /// );
     /// ```
     pub fn try_new(point: Vec3, normal: Vec3) -> Result<Self, Error> {
-        let normal = unit(normal, Field::PlaneNormal)?;
+        // Checked (finite, not zero) in `f32`, normalised in `f64`: the plane is
+        // `n . x = n . point` with that `f64` normal, and both are rounded once.
+        let normal = W3::from(unit(normal, Field::PlaneNormal)?);
+        let normal = normal.div(normal.length());
+        let point = position(point, Field::PlanePoint)?;
+        let unit = normal.round();
         Ok(Self {
-            point: position(point, Field::PlanePoint)?,
-            normal,
-            tangents: tangent_basis(normal),
+            point,
+            normal: unit,
+            offset: normal.dot(W3::from(point)) as f32,
+            tangents: tangent_basis(unit),
         })
     }
 
@@ -55,7 +71,7 @@ impl Plane {
     #[inline(always)]
     pub(crate) fn hit(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let denom = ray.dir.dot(self.normal);
-        let t = (self.point - ray.origin).dot(self.normal) / denom;
+        let t = (self.offset - ray.origin.dot(self.normal)) / denom;
         (t > 0.0 && t < t_max).then_some(t)
     }
 }
@@ -70,11 +86,15 @@ impl Locate for Plane {
     fn error(&self, ray: &Ray, hit: &Candidate, _: Vec3, _: Vec3) -> Vec3 {
         let t = hit.t;
         let dt = ray.dir * t;
-        // Error of the time: the numerator (p0 - o).n carries gamma(5) of its
-        // operands, the division and the denominator gamma(4) of t. The point moves
-        // along the ray by that much; the final add rounds by gamma(2).
+        // Error of the time, against the plane `normal . x = offset` as stored
+        // (the plane the renderer defines): the numerator `offset - o.n` carries
+        // gamma(4) of `|offset| + |o|.|n|` (the dot product's three roundings and
+        // the difference's); the division and the denominator add gamma(4) of t.
+        // The point moves along the ray by that much; the final add rounds by
+        // gamma(2).
         let denom = crate::math::abs(ray.dir.dot(self.normal));
-        let num_err = gamma(5) * (self.point.abs() + ray.origin.abs()).dot(self.normal.abs());
+        let n = self.normal.abs();
+        let num_err = gamma(4) * (crate::math::abs(self.offset) + ray.origin.abs().dot(n));
         let t_err = num_err / denom + gamma(4) * t;
         (ray.origin.abs() + dt.abs()) * gamma(2) + ray.dir.abs() * t_err
     }

@@ -1,5 +1,6 @@
 //! Sphere: centre and radius.
 
+use super::wide::{W3, gamma64};
 use super::{Candidate, Geom, Locate, Shape, Surface};
 use crate::error::{Error, Field, finite, length, position};
 use crate::math::{self, gamma};
@@ -9,6 +10,11 @@ use core::f32::consts::{FRAC_1_PI, PI};
 
 /// `(1 - gamma(3))^2`: the shrink factor of the cheap miss test, squared.
 const SHRINK2: f32 = (1.0 - gamma(3)) * (1.0 - gamma(3));
+
+/// How much larger than a hit's time plus the ray origin's magnitude the radius
+/// must be for the hit to be computed in `f64` (see `Sphere::huge_for`). Never
+/// the case for a sphere smaller than its distance.
+const HUGE: f32 = 16.0;
 
 /// A sphere of centre `center` and radius `radius > 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -138,7 +144,49 @@ impl Sphere {
                 return Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) });
             }
         }
-        self.refined_roots(ray)
+        let (t0, t1) = self.refined_roots(ray)?;
+        // The refined roots are still off by a few ulps of the radius (and of the
+        // distance to the centre). A root small beside the radius is then mostly
+        // error: a ground of radius 10^7 seen from a few units. Those come from
+        // `f64`. (The fast path above never needs it: its origin is at least r/8
+        // off the surface, so its roots are not small beside r.)
+        if self.huge_for(ray, math::min(math::abs(t0), math::abs(t1))) {
+            return self.wide_roots(ray).or(Some((t0, t1)));
+        }
+        Some((t0, t1))
+    }
+
+    /// True when a hit at time `t` of `ray` is so near beside the radius (with
+    /// the origin's magnitude: what the ray's own point is accurate to) that the
+    /// `f32` roots and the re-projected point lose it: then the roots come from
+    /// `f64` and the point is the ray's (see [`super::wide`]).
+    #[inline(always)]
+    fn huge_for(&self, ray: &Ray, t: f32) -> bool {
+        // The first test alone settles the common case (t not small beside r).
+        let o = ray.origin.abs();
+        self.radius > HUGE * t && self.radius > HUGE * (t + o.x + o.y + o.z)
+    }
+
+    /// Both roots in `f64`, smaller first: Ray Tracing Gems' form (the
+    /// discriminant from the centre's distance to the line, the near root as
+    /// `c / q`), whose roundings are at `2^-53` of the radius and the distances.
+    #[cold]
+    #[inline(never)]
+    fn wide_roots(&self, ray: &Ray) -> Option<(f32, f32)> {
+        let (d, r) = (W3::from(ray.dir), f64::from(self.radius));
+        let f = W3::from(ray.origin).sub(W3::from(self.center));
+        let dd = d.dot(d);
+        let b = -f.dot(d);
+        let tc = b / dd;
+        let l = W3::new(f.x + d.x * tc, f.y + d.y * tc, f.z + d.z * tc);
+        let disc = dd * (r * r - l.dot(l));
+        if disc.is_nan() || disc < 0.0 {
+            return None;
+        }
+        let q = b + math::sqrt64(disc).copysign(b);
+        let c = f.dot(f) - r * r;
+        let (t0, t1) = ((c / q) as f32, (q / dd) as f32);
+        (t0.is_finite() && t1.is_finite()).then_some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
     }
 
     /// The roots with `l` computed almost exactly: `f = o - c` as an unevaluated sum
@@ -177,6 +225,39 @@ impl Sphere {
     }
 }
 
+impl Sphere {
+    /// [`Locate::locate`] for a hit of a sphere far larger than the ray's reach
+    /// ([`Sphere::huge_for`]): the re-projected point would be off by ulps of the
+    /// centre and the radius, the ray's is off by ulps of what the ray spans
+    /// ([`Sphere::distance`] then measures how far from the sphere it is).
+    #[cold]
+    #[inline(never)]
+    fn locate_on_ray(&self, ray: &Ray, t: f32) -> (Vec3, Vec3, Vec3) {
+        let p = ray.at(t);
+        let local = p - self.center;
+        (p, local.normalize_or(Vec3::Y), local)
+    }
+
+    /// The error bound of a point `x` placed on the ray rather than on the sphere
+    /// (see [`Sphere::huge_for`]): its distance from the sphere, `|x - c| - r`
+    /// measured in `f64` as `(|x - c|^2 - r^2) / (|x - c| + r)` (no cancellation
+    /// but the exact difference) with a bound on that measurement's own error,
+    /// along the normal, so that `offset_origin` moves the point across the
+    /// surface by at least that much.
+    #[inline(never)]
+    fn distance(&self, x: Vec3) -> Vec3 {
+        let r = f64::from(self.radius);
+        let w = W3::from(x).sub(W3::from(self.center));
+        let (w2, len) = (w.dot(w), w.length());
+        // w: gamma64(1) per component, so w2 within gamma64(4) of the true square
+        // (r^2 is exact: 48 bits); the difference, the sum below and the division
+        // add gamma64(3) of the result; len within gamma64(3).
+        let dist = (w2 - r * r) / (len + r);
+        let slack = gamma64(5) * w2 / (len + r) + gamma64(6) * dist.abs();
+        w.scaled_up((dist.abs() + slack) / len)
+    }
+}
+
 /// `a - b` as `(s, e)` with `s = fl(a - b)` and `s + e = a - b` exactly (Knuth's
 /// TwoSum: six operations, no branch).
 #[inline]
@@ -198,6 +279,9 @@ fn split(a: f32) -> (f32, f32) {
 impl Locate for Sphere {
     #[inline(always)]
     fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3) {
+        if self.huge_for(ray, hit.t) {
+            return self.locate_on_ray(ray, hit.t);
+        }
         let p = ray.at(hit.t);
         // Re-project the point onto the sphere (pbrt-v4): its error is then bounded
         // by gamma(5) |p - c| instead of growing with t.
@@ -212,7 +296,10 @@ impl Locate for Sphere {
     }
 
     #[inline(always)]
-    fn error(&self, _: &Ray, _: &Candidate, point: Vec3, local: Vec3) -> Vec3 {
+    fn error(&self, ray: &Ray, hit: &Candidate, point: Vec3, local: Vec3) -> Vec3 {
+        if self.huge_for(ray, hit.t) {
+            return self.distance(point);
+        }
         local.abs() * gamma(5) + point.abs() * gamma(1)
     }
 

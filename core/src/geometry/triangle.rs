@@ -8,6 +8,7 @@
 //! resolved in `f64`. Neighbouring triangles therefore agree on which side of their
 //! shared edge the ray passes: no ray leaks between them.
 
+use super::wide::{W3, gamma64};
 use super::{Candidate, Geom, Locate, Shape, Surface};
 use crate::error::{Error, Field, position};
 use crate::math;
@@ -264,6 +265,18 @@ impl Triangle {
         let (b0, b1, b2) = (e.u * inv, e.v * inv, e.w * inv);
         let [z0, z1, z2] = e.z;
         let t = b0 * z0 + b1 * z1 + b2 * z2;
+        // With every depth positive (the triangle wholly ahead of the origin's
+        // depth) the three terms add up. A vertex behind it (a sign bit set) makes
+        // them cancel, leaving an error of a few ulps of the largest term: for a
+        // triangle far larger than its distance (a floor reaching behind the
+        // camera), more than the whole time. Then the time comes from `f64`.
+        let t = if (z0.to_bits() | z1.to_bits() | z2.to_bits()) >> 31 == 0 {
+            t
+        } else {
+            let (s, o) = (shear, shear.origin);
+            let frame = [s.sx, s.sy, s.sz, o.x, o.y, o.z];
+            self.straddling_time(s.axes, frame, [b0 * z0, b1 * z1, b2 * z2], t)
+        };
         // False for NaN.
         if t > 0.0 && t < t_max {
             Some(Candidate { t, b1, b2, face: 0 })
@@ -273,8 +286,101 @@ impl Triangle {
     }
 }
 
+/// How much larger than the ray's reach (its origin's magnitude plus the hit time)
+/// the terms of a triangle's barycentric point may be before the point is taken
+/// on the ray instead (see `Triangle::locate`); and how much Woop's time's terms
+/// may exceed the time before it comes from `f64` (see `Triangle::hit_with`).
+/// Neither ever holds in a scene of triangles smaller than their distance.
+const HUGE: f32 = 16.0;
+
+/// The plane of the triangle `p` in `f64`: a vertex, the normal `e1 x e2` (not
+/// normalised) and the magnitudes its rounding error is relative to.
+fn wide_plane(p: [Vec3; 3]) -> (W3, W3, W3) {
+    let [p0, p1, p2] = p.map(W3::from);
+    let (n, mag) = p1.sub(p0).cross(p2.sub(p0));
+    (p0, n, mag)
+}
+
+/// The time at which the ray `o + t d` meets the plane of the triangle `p`:
+/// `n.(p0 - o) / n.d` in `f64`, whose error is `2^-53` of the triangle's size
+/// times its distance (see [`super::wide`]), rounded to `f32`. `None` for a ray
+/// in the plane.
+#[inline(never)]
+fn plane_time(p: [Vec3; 3], o: Vec3, d: Vec3) -> Option<f32> {
+    let (p0, n, _) = wide_plane(p);
+    let t = n.dot(p0.sub(W3::from(o))) / n.dot(W3::from(d));
+    let t = t as f32;
+    t.is_finite().then_some(t)
+}
+
+/// The error bound of a point `x` that was placed on the ray rather than on the
+/// triangle `p` (see `Triangle::locate`): its distance from the triangle's plane,
+/// measured in `f64` with a bound on that measurement's own error, along the
+/// normal (so that `offset_origin` moves the point across the plane by at least
+/// that much).
+#[inline(never)]
+fn plane_distance(p: [Vec3; 3], x: Vec3) -> Vec3 {
+    let (p0, n, mag) = wide_plane(p);
+    let w = W3::from(x).sub(p0);
+    let len = n.length();
+    // n's components are off by gamma64(4) of `mag` (two differences, a product
+    // and the difference of products), the dot product adds gamma64(4) of its
+    // terms, w gamma64(1); the division by the length gamma64(4) relative.
+    let dist = n.dot(w) / len;
+    let slack = gamma64(9) * mag.dot(w.abs()) / len + gamma64(5) * dist.abs();
+    n.scaled_up((dist.abs() + slack) / len)
+}
+
+impl Triangle {
+    /// [`Triangle::hit_with`]'s time when a vertex lies behind the ray's origin:
+    /// Woop's time `t`, the sum of `terms`, unless their magnitude exceeds it by
+    /// more than [`HUGE`]; then the time in `f64`, where the triangle's plane
+    /// crosses the ray (Woop's test has already decided that the ray crosses the
+    /// triangle), computed in the ray's sheared frame: `axes` and `frame` (`sx,
+    /// sy, sz` and the origin) are the shear's, by value (a reference would keep
+    /// every shear in memory for the sake of this rare call). Out of line and not
+    /// generic: one copy for every loop that tests triangles.
+    #[cold]
+    #[inline(never)]
+    fn straddling_time(&self, axes: u8, frame: [f32; 6], terms: [f32; 3], t: f32) -> f32 {
+        let m = terms.iter().fold(0.0, |m, x| m + math::abs(*x));
+        // False for NaN: a NaN time stays what the range test rejects.
+        if m <= HUGE * math::abs(t) {
+            return t;
+        }
+        let [sx, sy, sz, ox, oy, oz] = frame.map(f64::from);
+        let kz = usize::from(axes / 2);
+        let kx = if kz == 2 { 0 } else { kz + 1 };
+        let ky = if kx == 2 { 0 } else { kx + 1 };
+        let (kx, ky) = if axes % 2 == 1 { (ky, kx) } else { (kx, ky) };
+        let [a, b, c] = [self.p0, self.p1, self.p2].map(|p| {
+            // Woop's `(ax, ay)` and depth of the vertex, in `f64`: each rounded
+            // at 2^-53 of the vertex's distance from the origin.
+            let q = W3::from(p.permute(kx, ky, kz)).sub(W3::new(ox, oy, oz));
+            W3::new(q.x - sx * q.z, q.y - sy * q.z, sz * q.z)
+        });
+        // In that frame the ray is the z axis and z is the time: the time is
+        // where the plane through a, b, c crosses the z axis.
+        let (n, _) = b.sub(a).cross(c.sub(a));
+        let time = (n.dot(a) / n.z) as f32;
+        if time.is_finite() { time } else { t }
+    }
+}
+
+impl Triangle {
+    /// [`Locate::locate`] on the ray, at the time of the plane in `f64`; `aux.z`
+    /// is 1 to tell [`Locate::error`]. `None` for a ray in the plane.
+    #[cold]
+    #[inline(never)]
+    fn locate_on_ray(&self, ray: &Ray, b0: f32, normal: Vec3) -> Option<(Vec3, Vec3, Vec3)> {
+        let t = plane_time([self.p0, self.p1, self.p2], ray.origin, ray.dir)?;
+        Some((ray.at(t), normal, Vec3::new(b0, 0.0, 1.0)))
+    }
+}
+
 impl Locate for Triangle {
-    /// `aux.x` is `b0`, the weight of `p0`.
+    /// `aux.x` is `b0`, the weight of `p0`; `aux.z` is 1 when the point is the
+    /// ray's rather than the barycentric one.
     #[inline(always)]
     fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3) {
         let (b1, b2) = (hit.b1, hit.b2);
@@ -289,11 +395,27 @@ impl Locate for Triangle {
         let (q0, q1, q2) = (self.p0 * b0, self.p1 * b1, self.p2 * b2);
         // The constructor checked that the normal normalises; Z only keeps it total.
         let normal = self.cross().normalize_or(Vec3::Z);
+        // The barycentric point is off by a few ulps of its terms: of the vertices'
+        // size. For a triangle far larger than the ray's reach (a wall 10^8 wide
+        // seen from 6 units) that is more than the whole view, while the ray's own
+        // point is off by ulps of what the ray spans: take it then, at the time of
+        // the plane in `f64`. (Sums of the components stand for the largest: the
+        // choice only has to be the more accurate one by a wide margin.)
+        let terms = q0.abs() + q1.abs() + q2.abs();
+        let reach = ray.origin.abs();
+        if terms.x + terms.y + terms.z > HUGE * (reach.x + reach.y + reach.z + hit.t)
+            && let Some(located) = self.locate_on_ray(ray, b0, normal)
+        {
+            return located;
+        }
         (q0 + q1 + q2, normal, Vec3::new(b0, 0.0, 0.0))
     }
 
     #[inline(always)]
-    fn error(&self, _: &Ray, hit: &Candidate, _: Vec3, aux: Vec3) -> Vec3 {
+    fn error(&self, _: &Ray, hit: &Candidate, point: Vec3, aux: Vec3) -> Vec3 {
+        if aux.z != 0.0 {
+            return plane_distance([self.p0, self.p1, self.p2], point);
+        }
         let (q0, q1, q2) = (self.p0 * aux.x, self.p1 * hit.b1, self.p2 * hit.b2);
         // pbrt-v4's bound for barycentric interpolation (pbrt 3rd ed. 3.9.6).
         (q0.abs() + q1.abs() + q2.abs()) * math::gamma(7)
@@ -537,7 +659,7 @@ mod tests {
                 let (j, k) = ((i + 1) % 3, (i + 2) % 3);
                 e1[j] * e2[k] - e1[k] * e2[j]
             });
-            let n = n.map(|c| c / libm::sqrt(dot64(n, n)));
+            let n = n.map(|c| c / crate::math::sqrt64(dot64(n, n)));
             for _ in 0..500 {
                 // b1, b2 in [0, 0.5), so the target is inside the triangle.
                 let (b1, b2) = ((rand(&mut seed) + 1.0) / 4.0, (rand(&mut seed) + 1.0) / 4.0);

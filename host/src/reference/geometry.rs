@@ -2,6 +2,7 @@
 //! formulas: the quadratic for spheres, one division for planes, Möller-Trumbore for
 //! triangles, the slab test for boxes. Normals and uv follow the core's conventions.
 
+use super::exact;
 use super::vec::V3;
 use std::f64::consts::PI;
 
@@ -43,6 +44,10 @@ pub enum Shape {
         point: V3,
         /// Unit normal.
         normal: V3,
+        /// The plane is `normal . x = offset`: `N . point / |N|` for the normal
+        /// `N` as given, computed almost exactly ([`Shape::plane`]), so that the
+        /// plane is exact near the world's origin whatever point was given.
+        offset: f64,
     },
     /// Double-sided triangle; outward normal along `(p1 - p0) x (p2 - p0)`.
     Triangle {
@@ -81,28 +86,44 @@ fn in_range(t: f64, t_max: f64) -> Option<Hit> {
 }
 
 impl Shape {
+    /// The plane through `point` with normal `n` (any non-zero length).
+    #[must_use]
+    pub fn plane(point: V3, n: V3) -> Self {
+        let len = n.length();
+        Self::Plane {
+            point,
+            normal: n * (1.0 / len),
+            offset: exact::dot2(n, point, V3::ZERO) / len,
+        }
+    }
+
     /// The nearest hit with `0 < t < t_max`.
     #[must_use]
     pub fn intersect(&self, ray: &Ray, t_max: f64) -> Option<Hit> {
         match *self {
             Self::Sphere { center, radius } => {
-                // |o + t d - c|^2 = r^2 with |d| = 1: t^2 + 2 b t + c = 0.
-                let f = ray.origin - center;
-                let b = f.dot(ray.dir);
-                let c = f.dot(f) - radius * radius;
-                let disc = b * b - c;
+                // |o + t d - c|^2 = r^2 with |d| = 1: t^2 + 2 b t + c = 0, the
+                // products summed almost exactly (`exact`): near a sphere far
+                // larger than the distance, `c` is a small difference of squares.
+                let (fh, fl) = exact::diff(ray.origin, center);
+                let b = exact::dot2(ray.dir, fh, fl);
+                let c = exact::norm2_minus(fh, fl, radius);
+                let disc = exact::square_minus(b, c);
                 if disc < 0.0 {
                     return None;
                 }
-                let s = disc.sqrt();
-                in_range(-b - s, t_max).or_else(|| in_range(-b + s, t_max))
+                // The roots without cancellation: q and c / q.
+                let q = -(b + disc.sqrt().copysign(b));
+                let (t0, t1) = if q == 0.0 { (0.0, 0.0) } else { (q, c / q) };
+                let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+                in_range(near, t_max).or_else(|| in_range(far, t_max))
             }
-            Self::Plane { point, normal } => {
+            Self::Plane { normal, offset, .. } => {
                 let denom = ray.dir.dot(normal);
                 if denom == 0.0 {
                     return None;
                 }
-                in_range((point - ray.origin).dot(normal) / denom, t_max)
+                in_range((offset - ray.origin.dot(normal)) / denom, t_max)
             }
             Self::Triangle { p } => {
                 // Möller-Trumbore: o + t d = p0 + u e1 + v e2.
@@ -123,7 +144,14 @@ impl Shape {
                 if v < 0.0 || u + v > 1.0 {
                     return None;
                 }
-                in_range(e2.dot(qv) * inv, t_max).map(|h| Hit { b1: u, b2: v, ..h })
+                // t = (p0 - o).(e1 x e2) / d.(e1 x e2) by Cramer's rule, the
+                // determinants almost exact (`exact`): for a triangle far larger
+                // than its distance, Moller-Trumbore's `e2.qv` is a small difference
+                // of cubes of its size.
+                let (wh, wl) = exact::diff(p[0], ray.origin);
+                let num = exact::det3(wh, e1, e2) + wl.dot(e1.cross(e2));
+                let t = num / exact::det3(ray.dir, e1, e2);
+                in_range(t, t_max).map(|h| Hit { b1: u, b2: v, ..h })
             }
             Self::Box { min, max } => box_hit(min, max, ray, t_max),
         }
@@ -155,7 +183,7 @@ impl Shape {
                 (n.z.atan2(n.x) + PI) / (2.0 * PI),
                 n.y.clamp(-1.0, 1.0).acos() / PI,
             ],
-            Self::Plane { point, normal } => {
+            Self::Plane { point, normal, .. } => {
                 let (t, b) = tangent_basis(normal);
                 let d = p - point;
                 [d.dot(t), d.dot(b)]
@@ -274,10 +302,7 @@ mod tests {
     #[test]
     fn plane_checker_uv() {
         // n = +y: by hand, t = (1, 0, 0) and b = (0, 0, -1).
-        let plane = Shape::Plane {
-            point: V3::new(0.0, -1.0, 0.0),
-            normal: V3::Y,
-        };
+        let plane = Shape::plane(V3::new(0.0, -1.0, 0.0), V3::Y * 2.0);
         let ray = Ray {
             origin: V3::new(0.3, 2.0, -1.7),
             dir: -V3::Y,

@@ -15,6 +15,7 @@
 //! shadow ray's outcome. Neighbours with different signatures straddle a silhouette,
 //! a reflected or refracted silhouette, or a shadow edge.
 
+pub mod exact;
 pub mod geometry;
 pub mod scene;
 pub mod shade;

@@ -290,10 +290,7 @@ impl RefScene {
             add(0, i, shape, &s.material)?;
         }
         for (i, p) in desc.planes.iter().enumerate() {
-            let shape = Shape::Plane {
-                point: v(p.point),
-                normal: v(p.normal).normalize(),
-            };
+            let shape = Shape::plane(v(p.point), v(p.normal));
             add(1, i, shape, &p.material)?;
         }
         for (i, t) in desc.triangles.iter().enumerate() {

@@ -14,7 +14,8 @@
 //! - cases 7 and 8, `scale`: scale invariance and flush-to-zero;
 //! - case 9, `analytic`: the analytic scene;
 //! - case 10, `refraction`: refraction near the critical angle;
-//! - case 11, `range`: the edges of the supported range.
+//! - case 11, `range`: the edges of the supported range;
+//! - case 13, `huge`: surfaces far larger than their distance to the camera.
 //!
 //! What they share (`support`): the `f64` side of the comparisons, ulps, a seeded
 //! generator, rays built exactly. Everything is deterministic: rays come from fixed
@@ -24,6 +25,7 @@ mod analytic;
 mod boxes;
 mod camera;
 mod far_sphere;
+mod huge;
 mod range;
 mod refraction;
 mod reintersection;
@@ -36,6 +38,7 @@ pub use analytic::*;
 pub use boxes::*;
 pub use camera::*;
 pub use far_sphere::*;
+pub use huge::*;
 pub use range::*;
 pub use refraction::*;
 pub use reintersection::*;
