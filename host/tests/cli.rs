@@ -2,6 +2,8 @@
 //! failure must print a clear message on stderr, exit non-zero, and leave an
 //! existing output file untouched.
 
+#[path = "cli/bake.rs"]
+mod bake;
 mod common;
 
 use common::{bin, scenes, scratch, temps, text};
