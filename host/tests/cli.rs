@@ -392,13 +392,13 @@ fn compare_exits_non_zero_when_the_bar_is_not_met() {
 
 #[test]
 fn the_help_says_how_outputs_are_written() {
-    for cmd in ["render", "compare", "simulate"] {
+    for cmd in ["render", "compare", "simulate", "bake"] {
         let out = bin().args([cmd, "--help"]).output().unwrap();
         let help = text(&out.stdout).replace('\n', " ");
         for key in [
             "A symbolic link is followed: the file it names is written",
             "a link to a folder is refused",
-            "the input scene file itself",
+            "every file the command reads: the scene file and its meshes' OBJ files",
             "--threads at most 256",
             "when compare's accuracy bar is not met",
         ] {
