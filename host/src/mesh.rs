@@ -14,7 +14,7 @@ use tessera::List;
 
 /// The most OBJ text a scene reads, in bytes, all its meshes together: 16 MiB.
 /// The host's 8,192 triangles take about 1 MiB of OBJ text (with normals and
-/// texture coordinates, 3); the bound keeps a wrong path (a disk image, a device)
+/// texture coordinates, 3); the bound keeps a wrong path (a disk image)
 /// or a file naming one large OBJ many times from being read at length, and the
 /// parser's memory (its index lists grow with the text: a face line of many
 /// vertices makes about one triangle every two bytes) near 100 MB.
@@ -58,17 +58,17 @@ pub fn read(
     }
     let (shown, text) = if let Some(path) = obj_file(mesh, base) {
         let shown = path.display().to_string();
-        let text = crate::file::read_limited(&path, *budget, "OBJ file").map_err(|e| {
-            if *budget < MAX_OBJ_BYTES {
-                format!(
-                    "{shown}: {e}: what is left of the {} MiB that the OBJ files of a scene \
-                     may take together",
-                    MAX_OBJ_BYTES >> 20
-                )
-            } else {
-                format!("{shown}: {e}")
-            }
-        })?;
+        // Said only of a file above the limit (not of one that cannot be read).
+        let left = if *budget < MAX_OBJ_BYTES {
+            format!(
+                ": what is left of the {} MiB that the OBJ files of a scene may take together",
+                MAX_OBJ_BYTES >> 20
+            )
+        } else {
+            String::new()
+        };
+        let text = crate::file::read_limited(&path, *budget, "OBJ file", &left)
+            .map_err(|e| format!("{shown}: {e}"))?;
         (shown, text)
     } else {
         let obj = crate::teapot::teapot(crate::teapot::SEGMENTS).to_obj();

@@ -110,8 +110,9 @@ fn refused(path: &Path, reason: impl Into<String>) -> HostError {
     }
 }
 
-/// What a file that is not a regular file is.
-fn kind(t: &fs::FileType) -> &'static str {
+/// What a file that is not a regular file is (an output, or an input:
+/// [`crate::file`]).
+pub(crate) fn kind(t: &fs::FileType) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;

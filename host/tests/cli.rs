@@ -5,6 +5,8 @@
 #[path = "cli/bake.rs"]
 mod bake;
 mod common;
+#[path = "cli/inputs.rs"]
+mod inputs;
 
 use common::{bin, scenes, scratch, temps, text};
 use std::path::Path;
@@ -400,6 +402,7 @@ fn the_help_says_how_outputs_are_written() {
             "a link to a folder is refused",
             "every file the command reads: the scene file and its meshes' OBJ files",
             "--threads at most 256",
+            "a FIFO, a device, a socket or a folder is refused at once",
             "when compare's accuracy bar is not met",
         ] {
             assert!(help.contains(key), "{cmd} --help lacks {key:?}: {help}");

@@ -32,6 +32,9 @@ files, also under another path or through a hard or symbolic link. A symbolic \
 link is followed: the file it names is written (created, for a dangling link) and \
 the link stays; a link to a folder is refused.
 
+Inputs (the scene file, its meshes' OBJ files) must be regular files: a FIFO, a \
+device, a socket or a folder is refused at once, unread.
+
 Limits, checked before any work: --threads at most 256; compare and trade at most \
 about 28.5 million pixels (FLIP's work limit); simulate at most 4 GiB for its \
 panel, and 3600 orbit frames. render has no size limit: it streams the PNG a row \
