@@ -96,9 +96,9 @@ const KEYWORDS: &[&str] = &[
 /// `::`, with an optional leading `::`; `crate` and `self` only as the first
 /// segment, `super` there or after `self` or `super` (none after a leading
 /// `::`); every other segment an ASCII identifier that is neither a keyword
-/// (strict or reserved, in Rust 2021 or 2024) nor `_`, or a raw identifier `r#name` (not `r#crate`,
-/// `r#self`, `r#super`, `r#Self`). The error says which segment is wrong and
-/// why, e.g. `"fn" is a Rust keyword, not a crate name`.
+/// (strict or reserved, in Rust 2021 or 2024) nor `_`, or a raw identifier
+/// `r#name` (not `r#crate`, `r#self`, `r#super`, `r#Self`). The error says which
+/// segment is wrong and why, e.g. `"fn" is a Rust keyword, not a crate name`.
 pub fn check_crate_path(path: &str) -> Result<(), String> {
     let ident = |w: &str| {
         let mut c = w.chars();
@@ -225,11 +225,12 @@ fn points(s: &mut String, doc: &str, name: &str, p: &[[f32; 3]]) -> usize {
 
 /// The Rust source of a scene's baked triangles and meshes, using the core crate
 /// as `krate` (`tessera`, or `crate` inside the core: a path that
-/// [`check_crate_path`] accepts, checked by the caller); `header`: comment lines put first (without `//`; a line break
-/// or control character in them is escaped, see [`rust_string`] for strings of
-/// the input). Writes `TRIANGLES` (the triangle list, if any) and
-/// its hierarchy `BVH` (`NODES`, `ORDER`), and for each mesh `i` its
-/// `MESH{i}_VERTICES`, `_FACES`, `_NORMALS`, `_NODES`, `_ORDER`, all in `MESHES`.
+/// [`check_crate_path`] accepts, checked by the caller); `header`: comment
+/// lines put first (without `//`; a line break or control character in them is
+/// escaped: strings of the input go in as [`rust_string`] literals). Writes
+/// `TRIANGLES` (the triangle list, if any) and its hierarchy `BVH` (`NODES`,
+/// `ORDER`), and for each mesh `i` its `MESH{i}_VERTICES`, `_FACES`,
+/// `_NORMALS`, `_NODES`, `_ORDER`, all in `MESHES`.
 #[must_use]
 pub fn source(scene: &HostScene, krate: &str, header: &[String]) -> String {
     let mut body = String::new();

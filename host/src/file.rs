@@ -11,9 +11,9 @@
 //! a folder is refused before anything waits on it (its type is checked before
 //! opening, and again on the handle, opened non-blocking). Before the TOML
 //! parser sees the text, the file is bounded: at most [`MAX_FILE_BYTES`] are
-//! read, and a pre-scan refuses arrays and inline tables
-//! nested deeper than [`MAX_NESTING`] and lists with more items than the host
-//! scene holds (counting `[[sphere]]` headers and the inline tables of a top-level
+//! read, and a pre-scan refuses arrays and inline tables nested deeper than
+//! [`MAX_NESTING`] and lists with more items than the host scene holds
+//! (counting `[[sphere]]` headers and the inline tables of a top-level
 //! `sphere = [...]`), so neither the parser's memory nor its recursion depends on
 //! what the file holds. [`warnings`] lists what is accepted but looks like a
 //! mistake (`fovy = 1.05`, radians where degrees are meant).

@@ -1,6 +1,6 @@
-//! Output files: what `-o` may replace, symbolic links, long names, the input
-//! scene, all-or-nothing orbit frames, and no temporary file left behind by an
-//! error, a file size limit, SIGINT or SIGTERM.
+//! Output files: what `-o` may replace, symbolic links, long names, the inputs
+//! (the scene, its OBJ files), all-or-nothing orbit frames, and no temporary file
+//! left behind by an error, a file size limit, SIGINT or SIGTERM.
 
 mod common;
 
