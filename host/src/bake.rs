@@ -16,6 +16,154 @@ use crate::desc::{DescError, HostBvh, HostScene, SceneDesc};
 use std::fmt::Write as _;
 use tessera::BvhNode;
 
+/// `s` as a Rust string literal (with its quotes) that reads back to `s` and
+/// cannot leave its place in the generated file: one line of printable text,
+/// whether it stands in a string literal or in a `//` comment. `"` and `\\` are
+/// escaped; so is every control character (`\n`, `\r`, `\t`, `\0`, other C0, DEL
+/// and C1 such as U+0085 as `\u{..}`), every whitespace but the space (U+2028
+/// and U+2029 end a line for some readers), and the bidirectional-text controls
+/// (U+061C, U+200E, U+200F, U+202A to U+202E, U+2066 to U+2069: the compiler's
+/// deny-by-default lints `text_direction_codepoint_in_literal` and `_in_comment`
+/// refuse the last two ranges). Any other non-ASCII character is written as
+/// [`char::escape_debug`] writes it: as it is, or as `\u{..}` when it is not
+/// printable or is a combining mark. Every escape used is a Rust string escape.
+/// Every string of the input that bake writes goes through this function.
+#[must_use]
+pub fn rust_string(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            '\0' => out.push_str("\\0"),
+            ' '..='~' => out.push(c),
+            c if must_escape(c) => {
+                let _ = write!(out, "\\u{{{:x}}}", u32::from(c));
+            }
+            c => out.extend(c.escape_debug()),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// Whether `c` is a character that could end a line of the generated file or
+/// reorder it for a reader or the compiler's lints: a control character, a
+/// whitespace other than the space, a bidirectional-text control. Decided here,
+/// whatever the Unicode tables of `escape_debug` (which change between Rust
+/// versions) say.
+fn must_escape(c: char) -> bool {
+    (c.is_control() || c.is_whitespace() && c != ' ')
+        || matches!(
+            c,
+            '\u{61c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}'
+        )
+}
+
+/// `line` made safe to follow `// ` on one line: every character of
+/// [`must_escape`] written as `\u{..}`. (The header's strings from the input
+/// are already [`rust_string`] literals; this keeps a caller's mistake from
+/// becoming code.)
+fn comment(line: &str) -> String {
+    let mut out = String::with_capacity(line.len());
+    for c in line.chars() {
+        if must_escape(c) {
+            let _ = write!(out, "\\u{{{:x}}}", u32::from(c));
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// The keywords of Rust 2021 and 2024, strict and reserved: none can name a
+/// crate or a module (`r#` aside).
+const KEYWORDS: &[&str] = &[
+    "as", "async", "await", "break", "const", "continue", "crate", "dyn", "else", "enum", "extern",
+    "false", "fn", "for", "if", "impl", "in", "let", "loop", "match", "mod", "move", "mut", "pub",
+    "ref", "return", "self", "Self", "static", "struct", "super", "trait", "true", "type",
+    "unsafe", "use", "where", "while", // strict
+    "abstract", "become", "box", "do", "final", "gen", "macro", "override", "priv", "try",
+    "typeof", "unsized", "virtual", "yield", // reserved
+];
+
+/// Checks that `path` is what Rust accepts as the path of a `use` (the core
+/// crate as the generated file names it, `use PATH::{...}`): segments joined by
+/// `::`, with an optional leading `::`; `crate` and `self` only as the first
+/// segment, `super` there or after `self` or `super` (none after a leading
+/// `::`); every other segment an ASCII identifier that is neither a keyword
+/// (strict or reserved, in Rust 2021 or 2024) nor `_`, or a raw identifier
+/// `r#name` (not `r#crate`, `r#self`, `r#super`, `r#Self`). The error says which
+/// segment is wrong and why, e.g. `"fn" is a Rust keyword, not a crate name`.
+pub fn check_crate_path(path: &str) -> Result<(), String> {
+    let ident = |w: &str| {
+        let mut c = w.chars();
+        w != "_"
+            && c.next()
+                .is_some_and(|f| f == '_' || f.is_ascii_alphabetic())
+            && c.all(|x| x == '_' || x.is_ascii_alphanumeric())
+    };
+    let (global, rest) = match path.strip_prefix("::") {
+        Some(rest) => (true, rest),
+        None => (false, path),
+    };
+    let mut leading = true; // only `self` and `super` so far
+    for (i, w) in rest.split("::").enumerate() {
+        let what = if i == 0 {
+            "a crate name"
+        } else {
+            "a module name"
+        };
+        if w.is_empty() {
+            return Err(format!(
+                "{path:?} has an empty segment: expected names joined by ::"
+            ));
+        }
+        if let Some(raw) = w.strip_prefix("r#") {
+            if matches!(raw, "crate" | "self" | "super" | "Self") {
+                return Err(format!("{w:?} cannot be a raw identifier"));
+            }
+            if !ident(raw) {
+                return Err(format!(
+                    "{w:?} is not a raw identifier (r# and an identifier)"
+                ));
+            }
+        } else if matches!(w, "crate" | "self") {
+            if i > 0 || global {
+                return Err(format!(
+                    "{w:?} may only start a path (and not after a leading ::)"
+                ));
+            }
+        } else if w == "super" {
+            if global || !leading {
+                return Err(format!(
+                    "{w:?} may only start a path or follow self or super"
+                ));
+            }
+        } else if KEYWORDS.contains(&w) {
+            return Err(format!("{w:?} is a Rust keyword, not {what}"));
+        } else if w == "_" {
+            return Err(format!("\"_\" is a placeholder, not {what}"));
+        } else if !ident(w) {
+            return Err(format!(
+                "{w:?} is not an identifier (ASCII letters, digits and _, not starting \
+                 with a digit), not {what}"
+            ));
+        }
+        leading = leading && matches!(w, "self" | "super");
+    }
+    Ok(())
+}
+
+/// `n` and the noun, singular for one (`1 plane`, `2 planes`).
+fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 /// `x` as a Rust `f32` literal that reads back to the same value.
 fn lit(x: f32) -> String {
     let s = format!("{x:?}");
@@ -76,10 +224,13 @@ fn points(s: &mut String, doc: &str, name: &str, p: &[[f32; 3]]) -> usize {
 }
 
 /// The Rust source of a scene's baked triangles and meshes, using the core crate
-/// as `krate` (`tessera`, or `crate` inside the core); `header`: comment lines
-/// put first (without `//`). Writes `TRIANGLES` (the triangle list, if any) and
-/// its hierarchy `BVH` (`NODES`, `ORDER`), and for each mesh `i` its
-/// `MESH{i}_VERTICES`, `_FACES`, `_NORMALS`, `_NODES`, `_ORDER`, all in `MESHES`.
+/// as `krate` (`tessera`, or `crate` inside the core: a path that
+/// [`check_crate_path`] accepts, checked by the caller); `header`: comment
+/// lines put first (without `//`; a line break or control character in them is
+/// escaped: strings of the input go in as [`rust_string`] literals). Writes
+/// `TRIANGLES` (the triangle list, if any) and its hierarchy `BVH` (`NODES`,
+/// `ORDER`), and for each mesh `i` its `MESH{i}_VERTICES`, `_FACES`,
+/// `_NORMALS`, `_NODES`, `_ORDER`, all in `MESHES`.
 #[must_use]
 pub fn source(scene: &HostScene, krate: &str, header: &[String]) -> String {
     let mut body = String::new();
@@ -112,7 +263,7 @@ pub fn source(scene: &HostScene, krate: &str, header: &[String]) -> String {
                  pub static BVH: BakedBvh<'static> = BakedBvh::new(&NODES, &ORDER, {});\n",
                 lit(bvh.reach())
             );
-            parts.push(format!("{} triangles", triangles.len()));
+            parts.push(count(triangles.len(), "triangle", "triangles"));
         }
     }
     let mut meshes = Vec::new();
@@ -155,10 +306,10 @@ pub fn source(scene: &HostScene, krate: &str, header: &[String]) -> String {
             lit(bvh.reach())
         ));
         parts.push(format!(
-            "mesh {i}: {} vertices, {} faces, {} BVH nodes",
-            vertices.len(),
-            faces.len(),
-            bvh.nodes().len()
+            "mesh {i}: {}, {}, {}",
+            count(vertices.len(), "vertex", "vertices"),
+            count(faces.len(), "face", "faces"),
+            count(bvh.nodes().len(), "BVH node", "BVH nodes")
         ));
     }
     if !meshes.is_empty() {
@@ -172,7 +323,7 @@ pub fn source(scene: &HostScene, krate: &str, header: &[String]) -> String {
     }
     let mut s = String::new();
     for line in header {
-        let _ = writeln!(s, "{}", format!("// {line}").trim_end());
+        let _ = writeln!(s, "{}", format!("// {}", comment(line)).trim_end());
     }
     let _ = writeln!(s, "//\n// {}: {bytes} bytes of flash.\n", parts.join("; "));
     let mut names = vec!["BakedBvh", "BvhNode"];
@@ -215,23 +366,29 @@ pub fn scene_source(desc: &SceneDesc, name: &str, krate: &str) -> Result<String,
             message: "it has no triangles or meshes: nothing to bake".to_string(),
         });
     }
+    // The scene's path and its materials' names are written as Rust string
+    // literals: a line break or a bidirectional-text control in them cannot
+    // end the comment or reorder the code around it.
     let mut header = vec![
-        format!("Baked by `tessera bake` from {name}: generated, do not edit."),
+        format!(
+            "Baked by `tessera bake` from {}: generated, do not edit.",
+            rust_string(name)
+        ),
         "They use the scene's materials by index:".to_string(),
     ];
     for (i, m) in desc.materials.iter().enumerate() {
-        header.push(format!("  {i}: {}", m.name));
+        header.push(format!("  {i}: {}", rust_string(&m.name)));
     }
     let others = [
-        ("spheres", desc.spheres.len()),
-        ("planes", desc.planes.len()),
-        ("boxes", desc.boxes.len()),
-        ("lights", desc.lights.len()),
+        ("sphere", "spheres", desc.spheres.len()),
+        ("plane", "planes", desc.planes.len()),
+        ("box", "boxes", desc.boxes.len()),
+        ("light", "lights", desc.lights.len()),
     ];
     let rest: Vec<String> = others
         .iter()
-        .filter(|(_, n)| *n > 0)
-        .map(|(what, n)| format!("{n} {what}"))
+        .filter(|(_, _, n)| *n > 0)
+        .map(|(one, many, n)| count(*n, one, many))
         .collect();
     header.push(format!(
         "Not baked (build them in the firmware's scene): {}the camera.",
@@ -270,6 +427,167 @@ mod tests {
              tessera-host --lib bake` and rebuild",
             path.display()
         );
+    }
+
+    /// What the compiler reads from a literal that `rust_string` writes: its
+    /// escapes undone (only those it writes), or `None` if it is not one such
+    /// literal.
+    fn unescape(lit: &str) -> Option<String> {
+        let body = lit.strip_prefix('"')?.strip_suffix('"')?;
+        let mut out = String::new();
+        let mut c = body.chars();
+        while let Some(x) = c.next() {
+            if x == '"' {
+                return None;
+            }
+            if x != '\\' {
+                out.push(x);
+                continue;
+            }
+            out.push(match c.next()? {
+                'n' => '\n',
+                'r' => '\r',
+                't' => '\t',
+                '0' => '\0',
+                e @ ('\\' | '"') => e,
+                'u' => {
+                    let hex: String = c.by_ref().take_while(|&h| h != '}').collect();
+                    char::from_u32(u32::from_str_radix(hex.strip_prefix('{')?, 16).ok()?)?
+                }
+                _ => return None,
+            });
+        }
+        Some(out)
+    }
+
+    /// One line of printable text, nothing a lint or a reader takes as a line
+    /// break or a change of direction, reading back to `s`.
+    fn assert_inert(s: &str) {
+        let lit = rust_string(s);
+        assert!(!lit.contains(must_escape), "{s:?} -> {lit}");
+        assert_eq!(unescape(&lit).as_deref(), Some(s), "{s:?} -> {lit}");
+        assert!(!comment(&lit).contains(must_escape));
+    }
+
+    #[test]
+    fn a_rust_string_is_one_inert_line_that_reads_back() {
+        for s in [
+            "",
+            "floor",
+            "ok\npub static INJECTED: u32 = 1;",
+            "a\r\nb\u{2028}c\u{2029}d\u{85}e\u{b}\u{c}",
+            "\u{202a}\u{202b}\u{202c}\u{202d}\u{202e}\u{2066}\u{2067}\u{2068}\u{2069}",
+            "\u{200e}\u{200f}\u{61c}",
+            "*/ /* \" \\ \\\" \\u{41} '",
+            "nul\0\u{1}\u{1b}[2J\u{7f}\u{9f}",
+            "\u{301}combining at the start, e\u{301} inside",
+            "émail ✓ 日本 \u{a0}\u{3000}\u{feff}\u{e000}\u{10ffff}",
+        ] {
+            assert_inert(s);
+        }
+        assert_eq!(rust_string("floor"), "\"floor\"");
+        assert_eq!(rust_string("a\"b\\c"), r#""a\"b\\c""#);
+        assert_eq!(rust_string("x\ny\u{202e}"), r#""x\ny\u{202e}""#);
+        assert_eq!(rust_string("émail"), "\"émail\"");
+        // Every character, one at a time and between two others.
+        for c in (0..=0x10_ffff).filter_map(char::from_u32) {
+            assert_inert(&format!("{c}"));
+            assert_inert(&format!("a{c}\\"));
+        }
+    }
+
+    #[test]
+    fn a_header_line_stays_a_comment() {
+        assert_eq!(comment("a\nb\u{202e}c \"d\""), "a\\u{a}b\\u{202e}c \"d\"");
+        let text = source(
+            &teapot_scene(),
+            "crate",
+            &["one\npub static X: u8 = 0;".into()],
+        );
+        assert!(text.starts_with("// one\\u{a}pub static X"), "{text}");
+    }
+
+    fn teapot_scene() -> HostScene {
+        crate::file::builtin_desc(tessera::builtin::Builtin::Teapot)
+            .to_core()
+            .unwrap()
+    }
+
+    #[test]
+    fn a_crate_path_is_what_use_accepts() {
+        for ok in [
+            "tessera",
+            "crate",
+            "self",
+            "super",
+            "super::super::tessera",
+            "self::super::deps",
+            "crate::deps::tessera",
+            "::tessera",
+            "my_deps::tessera",
+            "_tessera",
+            "t3",
+            "r#fn",
+            "r#gen::r#async",
+            "union",
+            "raw",
+            "safe",
+            "macro_rules",
+        ] {
+            assert_eq!(check_crate_path(ok), Ok(()), "{ok}");
+        }
+        for (bad, why) in [
+            ("fn", "\"fn\" is a Rust keyword, not a crate name"),
+            ("tessera::fn", "\"fn\" is a Rust keyword, not a module name"),
+            ("::fn", "\"fn\" is a Rust keyword, not a crate name"),
+            ("Self", "\"Self\" is a Rust keyword"),
+            ("_", "\"_\" is a placeholder, not a crate name"),
+            ("a::_", "\"_\" is a placeholder, not a module name"),
+            ("tessera::crate", "\"crate\" may only start a path"),
+            ("::crate", "\"crate\" may only start a path"),
+            ("::self", "\"self\" may only start a path"),
+            ("a::self", "\"self\" may only start a path"),
+            (
+                "::super",
+                "\"super\" may only start a path or follow self or super",
+            ),
+            (
+                "crate::super",
+                "\"super\" may only start a path or follow self or super",
+            ),
+            (
+                "a::super",
+                "\"super\" may only start a path or follow self or super",
+            ),
+            ("r#crate", "\"r#crate\" cannot be a raw identifier"),
+            ("r#self", "\"r#self\" cannot be a raw identifier"),
+            ("r#super", "\"r#super\" cannot be a raw identifier"),
+            ("r#Self", "\"r#Self\" cannot be a raw identifier"),
+            ("r#_", "\"r#_\" is not a raw identifier"),
+            ("r#", "\"r#\" is not a raw identifier"),
+            ("", "has an empty segment"),
+            ("::", "has an empty segment"),
+            ("a::", "has an empty segment"),
+            ("a::::b", "has an empty segment"),
+            (":::a", "\":a\" is not an identifier"),
+            ("tes-sera", "\"tes-sera\" is not an identifier"),
+            ("3d", "\"3d\" is not an identifier"),
+            ("a:b", "\"a:b\" is not an identifier"),
+            ("tessera::{X}", "\"{X}\" is not an identifier"),
+            ("a b", "\"a b\" is not an identifier"),
+            ("tesséra", "\"tesséra\" is not an identifier"),
+            ("a\nb", "\"a\\nb\" is not an identifier"),
+        ] {
+            let e = check_crate_path(bad).unwrap_err();
+            assert!(e.contains(why), "{bad:?}: {e}");
+        }
+        for k in KEYWORDS
+            .iter()
+            .filter(|k| !matches!(**k, "crate" | "self" | "super"))
+        {
+            assert!(check_crate_path(k).is_err(), "{k}");
+            assert!(check_crate_path(&format!("a::{k}")).is_err(), "{k}");
+        }
     }
 
     #[test]

@@ -7,10 +7,13 @@
 //! `FILE:LINE: item: message` when a value is refused (`sphere 2: sphere radius must
 //! be > 0, got -1`, the line being where that item starts).
 //!
-//! Before the TOML parser sees the text, the file is bounded: at most
-//! [`MAX_FILE_BYTES`] are read, and a pre-scan refuses arrays and inline tables
-//! nested deeper than [`MAX_NESTING`] and lists with more items than the host
-//! scene holds (counting `[[sphere]]` headers and the inline tables of a top-level
+//! Only a regular file is read, scene or OBJ file: a FIFO, a device, a socket or
+//! a folder is refused before anything waits on it (its type is checked before
+//! opening, and again on the handle, opened non-blocking). Before the TOML
+//! parser sees the text, the file is bounded: at most [`MAX_FILE_BYTES`] are
+//! read, and a pre-scan refuses arrays and inline tables nested deeper than
+//! [`MAX_NESTING`] and lists with more items than the host scene holds
+//! (counting `[[sphere]]` headers and the inline tables of a top-level
 //! `sphere = [...]`), so neither the parser's memory nor its recursion depends on
 //! what the file holds. [`warnings`] lists what is accepted but looks like a
 //! mistake (`fovy = 1.05`, radians where degrees are meant).
@@ -29,8 +32,8 @@ use toml::de::{DeTable, DeValue};
 /// What kind of problem a [`FileError`] reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ErrorKind {
-    /// The file could not be read (missing, unreadable, not UTF-8, larger than
-    /// [`MAX_FILE_BYTES`]).
+    /// The file could not be read (missing, unreadable, not a regular file, not
+    /// UTF-8, larger than [`MAX_FILE_BYTES`]).
     Read,
     /// The text is not TOML or does not have the shape of a scene: a syntax error,
     /// an unknown key, a value of the wrong type, a missing key, a duplicate key,
@@ -119,7 +122,7 @@ pub fn load(path: &Path) -> Result<SceneDesc, FileError> {
 /// [`load`] with a size limit of `limit` bytes.
 fn load_limited(path: &Path, limit: usize) -> Result<SceneDesc, FileError> {
     let file = path.display().to_string();
-    match read_limited(path, limit, "scene file") {
+    match read_limited(path, limit, "scene file", "") {
         Ok(text) => parse_limited(&text, &file, limit, path.parent().unwrap_or(Path::new(""))),
         Err(message) => Err(FileError {
             kind: ErrorKind::Read,
@@ -132,27 +135,35 @@ fn load_limited(path: &Path, limit: usize) -> Result<SceneDesc, FileError> {
     }
 }
 
-/// The text of the file at `path` if it is UTF-8 of at most `limit` bytes, else
-/// the message. Reads at most `limit + 1` bytes (a regular file whose size is
-/// known to be above the limit is not read at all).
-pub(crate) fn read_limited(path: &Path, limit: usize, what: &str) -> Result<String, String> {
+/// The text of the file at `path` if it is a regular file (following symbolic
+/// links) of UTF-8 of at most `limit` bytes, else the message (`what`: `scene
+/// file`, `OBJ file`; `budget`: said after the message of a file above the
+/// limit). Reads at most `limit + 1` bytes (a file whose size is known to be above
+/// the limit is not read at all); opens it with [`open_regular`], so that nothing
+/// waits on a FIFO or a device.
+pub(crate) fn read_limited(
+    path: &Path,
+    limit: usize,
+    what: &str,
+    budget: &str,
+) -> Result<String, String> {
     let cannot = |e: std::io::Error| format!("cannot read the {what}: {e}");
-    let file = std::fs::File::open(path).map_err(cannot)?;
+    let file = open_regular(path, what)?;
     let size = file
         .metadata()
         .ok()
         .filter(|m| m.is_file())
         .map(|m| m.len());
     if let Some(n) = size.filter(|&n| n > limit as u64) {
-        return Err(too_big(Some(n), limit, what));
+        return Err(too_big(Some(n), limit, what) + budget);
     }
     let mut bytes = Vec::new();
     file.take(limit as u64 + 1)
         .read_to_end(&mut bytes)
         .map_err(cannot)?;
     if bytes.len() > limit {
-        // Grown since, or not a regular file (a pipe): the size is not known.
-        return Err(too_big(size.filter(|&n| n > limit as u64), limit, what));
+        // Grown since: the size is not known.
+        return Err(too_big(size.filter(|&n| n > limit as u64), limit, what) + budget);
     }
     String::from_utf8(bytes).map_err(|e| {
         let at = e.utf8_error().valid_up_to();
@@ -160,6 +171,58 @@ pub(crate) fn read_limited(path: &Path, limit: usize, what: &str) -> Result<Stri
         let (line, column) = line_col(text, at);
         format!("cannot read the {what}: it is not UTF-8 text (invalid byte at {line}:{column})")
     })
+}
+
+/// The file at `path` opened for reading if it is a regular file (following
+/// symbolic links), else the message naming what it is (`cannot read the OBJ
+/// file: it is a FIFO (named pipe), not a regular file`). Nothing waits: the type
+/// is checked before opening (opening a FIFO for reading waits for a writer; a
+/// device may do anything), then the file is opened non-blocking and its type
+/// checked again on the handle, so that a FIFO or a device put in its place
+/// between the two is refused too, at once.
+pub(crate) fn open_regular(path: &Path, what: &str) -> Result<std::fs::File, String> {
+    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read the {what}: {e}"))?;
+    regular(&meta, what)?;
+    open_checked(path, what)
+}
+
+/// The second half of [`open_regular`]: opens `path` without waiting and checks
+/// the type of what it opened.
+fn open_checked(path: &Path, what: &str) -> Result<std::fs::File, String> {
+    let cannot = |e: std::io::Error| format!("cannot read the {what}: {e}");
+    let file = open_nonblocking(path).map_err(cannot)?;
+    regular(&file.metadata().map_err(cannot)?, what)?;
+    Ok(file)
+}
+
+/// Nothing if `m` is a regular file's, else the message naming what it is.
+fn regular(m: &std::fs::Metadata, what: &str) -> Result<(), String> {
+    if m.is_file() {
+        Ok(())
+    } else {
+        Err(format!(
+            "cannot read the {what}: it is {}, not a regular file",
+            crate::output::kind(&m.file_type())
+        ))
+    }
+}
+
+/// Opens `path` for reading without waiting: `O_NONBLOCK` (a FIFO opens at once,
+/// with or without a writer; on a regular file it changes nothing) and
+/// `O_NOCTTY` (a terminal does not become the controlling one).
+#[cfg(unix)]
+fn open_nonblocking(path: &Path) -> std::io::Result<std::fs::File> {
+    use std::os::unix::fs::OpenOptionsExt;
+    std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NONBLOCK | libc::O_NOCTTY)
+        .open(path)
+}
+
+/// Elsewhere, a plain open (after the type check).
+#[cfg(not(unix))]
+fn open_nonblocking(path: &Path) -> std::io::Result<std::fs::File> {
+    std::fs::File::open(path)
 }
 
 /// The message for a file (`what`: `scene file`, `OBJ file`) above the limit.
@@ -1145,19 +1208,49 @@ color = [0.9, 0.1, 0.1]
         );
     }
 
-    /// A file of unknown size (a device, a pipe) is read only up to the limit.
+    /// A device, a FIFO, a socket or a folder is refused before anything is read
+    /// from it or waits on it (/dev/zero was read up to the limit, a FIFO waited
+    /// for a writer forever).
     #[cfg(unix)]
     #[test]
-    fn endless_input_is_read_only_up_to_the_limit() {
+    fn an_input_that_is_not_a_regular_file_is_refused_unread() {
         let e = load_limited(Path::new("/dev/zero"), 1000).unwrap_err();
         assert_eq!(e.kind, ErrorKind::Read);
         assert_eq!(
             e.to_string(),
-            "/dev/zero: the scene file is larger than the limit of 1000 bytes \
-             (0.00095367431640625 MiB)"
+            "/dev/zero: cannot read the scene file: it is a character device, not a regular file"
         );
-        let e = load(Path::new("/dev/zero")).unwrap_err();
-        assert!(e.message.ends_with("limit of 4194304 bytes (4 MiB)"), "{e}");
+        let dir = TempDir::new("kinds");
+        let e = load(&dir.0).unwrap_err();
+        assert!(
+            e.message.ends_with("it is a folder, not a regular file"),
+            "{e}"
+        );
+        let fifo = dir.0.join("fifo.toml");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        let e = load(&fifo).unwrap_err();
+        assert!(
+            e.message
+                .ends_with("it is a FIFO (named pipe), not a regular file"),
+            "{e}"
+        );
+        // A FIFO that takes the place of a regular file after the type check is
+        // opened without waiting and refused on its handle.
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let _ = tx.send(open_checked(&fifo, "OBJ file").map(drop));
+        });
+        let opened = rx
+            .recv_timeout(std::time::Duration::from_secs(20))
+            .expect("opening a FIFO waited");
+        assert_eq!(
+            opened,
+            Err("cannot read the OBJ file: it is a FIFO (named pipe), not a regular file".into())
+        );
     }
 
     #[test]

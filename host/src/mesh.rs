@@ -9,12 +9,12 @@
 
 use crate::desc::{Face, MAX_TRIANGLES, MeshDesc, core_triangle_of, num, too_many};
 use std::io::{BufRead, Read};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use tessera::List;
 
 /// The most OBJ text a scene reads, in bytes, all its meshes together: 16 MiB.
 /// The host's 8,192 triangles take about 1 MiB of OBJ text (with normals and
-/// texture coordinates, 3); the bound keeps a wrong path (a disk image, a device)
+/// texture coordinates, 3); the bound keeps a wrong path (a disk image)
 /// or a file naming one large OBJ many times from being read at length, and the
 /// parser's memory (its index lists grow with the text: a face line of many
 /// vertices makes about one triangle every two bytes) near 100 MB.
@@ -23,6 +23,13 @@ pub const MAX_OBJ_BYTES: usize = 16 << 20;
 /// The `obj` of a mesh that is tessera's own teapot ([`crate::teapot`], at its
 /// default tessellation) rather than a file: no file is needed.
 pub const BUILTIN_TEAPOT: &str = "builtin:teapot";
+
+/// The OBJ file of `mesh`, relative to `base` (the scene file's folder), or
+/// `None` for the built-in teapot, which is no file.
+#[must_use]
+pub fn obj_file(mesh: &MeshDesc, base: &Path) -> Option<PathBuf> {
+    (mesh.obj != BUILTIN_TEAPOT).then(|| base.join(&mesh.obj))
+}
 
 /// The faces of `mesh`'s OBJ file (its path relative to `base`), scaled and
 /// moved, and how many degenerate faces were left out. At most `*budget` bytes of
@@ -49,24 +56,23 @@ pub fn read(
             mesh.translate.map(num).join(", ")
         ));
     }
-    let (shown, text) = if mesh.obj == BUILTIN_TEAPOT {
+    let (shown, text) = if let Some(path) = obj_file(mesh, base) {
+        let shown = path.display().to_string();
+        // Said only of a file above the limit (not of one that cannot be read).
+        let left = if *budget < MAX_OBJ_BYTES {
+            format!(
+                ": what is left of the {} MiB that the OBJ files of a scene may take together",
+                MAX_OBJ_BYTES >> 20
+            )
+        } else {
+            String::new()
+        };
+        let text = crate::file::read_limited(&path, *budget, "OBJ file", &left)
+            .map_err(|e| format!("{shown}: {e}"))?;
+        (shown, text)
+    } else {
         let obj = crate::teapot::teapot(crate::teapot::SEGMENTS).to_obj();
         (BUILTIN_TEAPOT.to_string(), obj)
-    } else {
-        let path = base.join(&mesh.obj);
-        let shown = path.display().to_string();
-        let text = crate::file::read_limited(&path, *budget, "OBJ file").map_err(|e| {
-            if *budget < MAX_OBJ_BYTES {
-                format!(
-                    "{shown}: {e}: what is left of the {} MiB that the OBJ files of a scene \
-                     may take together",
-                    MAX_OBJ_BYTES >> 20
-                )
-            } else {
-                format!("{shown}: {e}")
-            }
-        })?;
-        (shown, text)
     };
     *budget = budget.saturating_sub(text.len());
     // Lines (`l`) and points (`p`) are no faces, but tobj reads them as faces:

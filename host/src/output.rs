@@ -7,8 +7,9 @@
 //!   then renamed onto it: an existing file is replaced whole or left untouched.
 //! - An output is checked before any work ([`Target::check`]): an existing
 //!   output that is not a regular file (a folder, a device, a FIFO, a socket) is
-//!   refused, and so is the input scene file (compared by identity: device and
-//!   inode, so another path or a hard link to it is caught).
+//!   refused, and so is every file the command reads ([`Input`]: the scene file,
+//!   the OBJ files of its meshes), compared by identity (device and inode, so
+//!   another path, a symbolic link or a hard link to it is caught).
 //! - A symbolic link is followed (through a chain of links, also a dangling one):
 //!   the file it names is written and the link stays. A link to a folder is
 //!   refused like the folder.
@@ -74,6 +75,27 @@ pub fn clean_up_on_signals() -> Result<(), HostError> {
     Ok(())
 }
 
+/// A file a command reads, which no output may replace.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Input {
+    /// The file, as the command reads it.
+    pub path: PathBuf,
+    /// What it is, for the message: `the input scene file m.toml`, `the OBJ file
+    /// ok.obj of mesh 1 (scene m.toml)`.
+    pub what: String,
+}
+
+impl Input {
+    /// The scene file at `path`.
+    #[must_use]
+    pub fn scene(path: &Path) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            what: format!("the input scene file {}", path.display()),
+        }
+    }
+}
+
 /// An output checked before any work is done: the file that will be written.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Target {
@@ -88,8 +110,9 @@ fn refused(path: &Path, reason: impl Into<String>) -> HostError {
     }
 }
 
-/// What a file that is not a regular file is.
-fn kind(t: &fs::FileType) -> &'static str {
+/// What a file that is not a regular file is (an output, or an input:
+/// [`crate::file`]).
+pub(crate) fn kind(t: &fs::FileType) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;
@@ -134,8 +157,9 @@ fn same_file(a: &fs::Metadata, a_path: &Path, b: &Path) -> bool {
 impl Target {
     /// Checks that `path` may be written, following symbolic links, without
     /// touching anything: refused if it is empty, an existing folder, device,
-    /// FIFO or socket (also through a link), or one of `inputs`.
-    pub fn check(path: &Path, inputs: &[&Path]) -> Result<Self, HostError> {
+    /// FIFO or socket (also through a link), or one of `inputs` (the same file,
+    /// by identity).
+    pub fn check(path: &Path, inputs: &[Input]) -> Result<Self, HostError> {
         if path.as_os_str().is_empty() {
             return Err(refused(path, "the file name is empty"));
         }
@@ -182,13 +206,10 @@ impl Target {
                     ),
                 ));
             }
-            if let Some(input) = inputs.iter().find(|i| same_file(m, &file, i)) {
+            if let Some(input) = inputs.iter().find(|i| same_file(m, &file, &i.path)) {
                 return Err(refused(
                     path,
-                    format!(
-                        "it is the input scene file {}{through}; choose another output",
-                        input.display()
-                    ),
+                    format!("it is {}{through}; choose another output", input.what),
                 ));
             }
         }
@@ -199,7 +220,7 @@ impl Target {
     }
 
     /// [`Target::check`] for several outputs, which must be different files.
-    pub fn check_all(paths: &[PathBuf], inputs: &[&Path]) -> Result<Vec<Self>, HostError> {
+    pub fn check_all(paths: &[PathBuf], inputs: &[Input]) -> Result<Vec<Self>, HostError> {
         let mut out: Vec<Self> = Vec::with_capacity(paths.len());
         for p in paths {
             let t = Self::check(p, inputs)?;
@@ -482,7 +503,7 @@ fn rename_all(files: &mut [Pending], list: &mut Vec<PathBuf>) -> Result<(), Host
 /// with `write`, and renames it onto `path`.
 pub fn write_with(
     path: &Path,
-    inputs: &[&Path],
+    inputs: &[Input],
     write: impl FnOnce(&mut Pending) -> Result<(), HostError>,
 ) -> Result<(), HostError> {
     let mut pending = Pending::create(Target::check(path, inputs)?)?;

@@ -2,7 +2,11 @@
 //! failure must print a clear message on stderr, exit non-zero, and leave an
 //! existing output file untouched.
 
+#[path = "cli/bake.rs"]
+mod bake;
 mod common;
+#[path = "cli/inputs.rs"]
+mod inputs;
 
 use common::{bin, scenes, scratch, temps, text};
 use std::path::Path;
@@ -390,14 +394,15 @@ fn compare_exits_non_zero_when_the_bar_is_not_met() {
 
 #[test]
 fn the_help_says_how_outputs_are_written() {
-    for cmd in ["render", "compare", "simulate"] {
+    for cmd in ["render", "compare", "simulate", "bake"] {
         let out = bin().args([cmd, "--help"]).output().unwrap();
         let help = text(&out.stdout).replace('\n', " ");
         for key in [
             "A symbolic link is followed: the file it names is written",
             "a link to a folder is refused",
-            "the input scene file itself",
+            "every file the command reads: the scene file and its meshes' OBJ files",
             "--threads at most 256",
+            "a FIFO, a device, a socket or a folder is refused at once",
             "when compare's accuracy bar is not met",
         ] {
             assert!(help.contains(key), "{cmd} --help lacks {key:?}: {help}");

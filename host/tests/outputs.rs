@@ -1,6 +1,6 @@
-//! Output files: what `-o` may replace, symbolic links, long names, the input
-//! scene, all-or-nothing orbit frames, and no temporary file left behind by an
-//! error, a file size limit, SIGINT or SIGTERM.
+//! Output files: what `-o` may replace, symbolic links, long names, the inputs
+//! (the scene, its OBJ files), all-or-nothing orbit frames, and no temporary file
+//! left behind by an error, a file size limit, SIGINT or SIGTERM.
 
 mod common;
 
@@ -150,6 +150,123 @@ fn the_input_scene_is_never_the_output() {
         );
         assert!(temps(&dir).is_empty(), "{args:?}");
     }
+}
+
+/// A scene of one mesh whose OBJ file is `obj` (relative to the scene's folder).
+fn mesh_scene(obj: &str) -> String {
+    format!(
+        "[camera]\nposition = [0, 0.5, 4]\nlook_at = [0, 0.5, 0]\nnear = 0.1\nfar = 100\n\n\
+         [[material]]\nname = \"m\"\n\n[[light]]\nposition = [0, 4, 4]\nintensity = 20\n\n\
+         [[mesh]]\nobj = {obj:?}\nmaterial = \"m\"\n"
+    )
+}
+
+const OBJ: &[u8] = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+/// A folder with scenes of one mesh each: `m.toml` (`ok.obj`, also reached by
+/// the hard link `alias.png` and the symbolic links `link.png` and
+/// `sub/up.rs`), `sub/s.toml` (`sub/ok.obj`), `frames.toml` (`o-000.png`) and
+/// `gif.toml` (`anim.gif`).
+fn mesh_folder(name: &str) -> common::Scratch {
+    let dir = scratch(name);
+    std::fs::create_dir(dir.join("sub")).unwrap();
+    for (scene, obj) in MESH_SCENES {
+        let folder = Path::new(scene).parent().unwrap();
+        std::fs::write(dir.join(scene), mesh_scene(obj)).unwrap();
+        std::fs::write(dir.join(folder).join(obj), OBJ).unwrap();
+    }
+    std::fs::hard_link(dir.join("ok.obj"), dir.join("alias.png")).unwrap();
+    std::os::unix::fs::symlink("ok.obj", dir.join("link.png")).unwrap();
+    std::os::unix::fs::symlink("../ok.obj", dir.join("sub/up.rs")).unwrap();
+    dir
+}
+
+const MESH_SCENES: [(&str, &str); 4] = [
+    ("m.toml", "ok.obj"),
+    ("sub/s.toml", "ok.obj"),
+    ("frames.toml", "o-000.png"),
+    ("gif.toml", "anim.gif"),
+];
+
+/// No command writes over the OBJ file of a mesh of its scene, whichever way the
+/// output names it: the same path, another path, a hard link, a symbolic link, an
+/// orbit frame's name, in the scene's folder or not. The file keeps its bytes and
+/// nothing else is left. (Before: each of these cases replaced the OBJ file.)
+#[test]
+fn no_output_replaces_a_meshs_obj_file() {
+    let ok = "it is the OBJ file ok.obj of mesh 1 (scene m.toml); choose another output";
+    let cases: &[(&[&str], &str)] = &[
+        (&["render", "m.toml", "-o", "ok.obj"], ok),
+        (&["render", "m.toml", "-o", "./ok.obj"], ok),
+        (&["render", "m.toml", "-o", "alias.png"], ok),
+        (
+            &["render", "m.toml", "-o", "link.png"],
+            "it is the OBJ file ok.obj of mesh 1 (scene m.toml) (the symbolic link's \
+             target ok.obj); choose another output",
+        ),
+        (&["compare", "m.toml", "--heatmap", "ok.obj"], ok),
+        (&["compare", "m.toml", "--heatmap", "alias.png"], ok),
+        (&["simulate", "m.toml", "-o", "./ok.obj"], ok),
+        (
+            &["simulate", "m.toml", "-o", "link.png"],
+            "it is the OBJ file ok.obj",
+        ),
+        (&["bake", "m.toml", "-o", "ok.obj"], ok),
+        (&["bake", "m.toml", "-o", "sub/../ok.obj"], ok),
+        (
+            &["bake", "m.toml", "-o", "sub/up.rs"],
+            "it is the OBJ file ok.obj of mesh 1 (scene m.toml) (the symbolic link's \
+             target sub/../ok.obj)",
+        ),
+        (
+            &["render", "sub/s.toml", "-o", "sub/ok.obj"],
+            "it is the OBJ file sub/ok.obj of mesh 1 (scene sub/s.toml)",
+        ),
+        (
+            &["simulate", "frames.toml", "--orbit", "2", "-o", "o.png"],
+            "refusing to write o-000.png: it is the OBJ file o-000.png of mesh 1 \
+             (scene frames.toml)",
+        ),
+        (
+            &["simulate", "gif.toml", "--orbit", "2", "-o", "anim.gif"],
+            "refusing to write anim.gif: it is the OBJ file anim.gif of mesh 1 (scene gif.toml)",
+        ),
+    ];
+    // Each case in a fresh folder, every failure listed.
+    let mut wrong = Vec::new();
+    for (args, message) in cases {
+        let dir = mesh_folder("obj-input");
+        let before = entries(&dir);
+        let mut args = args.to_vec();
+        if args[0] != "bake" {
+            args.extend(["--size", "16x16"]);
+        }
+        let out = run(&dir, &args);
+        let e = text(&out.stderr);
+        if out.status.code() != Some(1) || !e.contains(message) {
+            wrong.push(format!("{args:?}: status {:?}: {e}", out.status.code()));
+        }
+        for (scene, obj) in MESH_SCENES {
+            let file = dir.join(Path::new(scene).parent().unwrap()).join(obj);
+            if std::fs::read(&file).unwrap() != OBJ {
+                wrong.push(format!("{args:?}: {} was replaced", file.display()));
+            }
+        }
+        if entries(&dir) != before || !temps(&dir.join("sub")).is_empty() {
+            wrong.push(format!("{args:?}: left {:?}", entries(&dir)));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+    // The same scenes write any other file; the built-in teapot is no file.
+    let dir = mesh_folder("obj-input");
+    let out = run(
+        &dir,
+        &["render", "m.toml", "--size", "16x16", "-o", "fine.png"],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    std::fs::write(dir.join("teapot.toml"), mesh_scene("builtin:teapot")).unwrap();
+    let out = run(&dir, &["bake", "teapot.toml", "-o", "builtin:teapot"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
 }
 
 #[test]

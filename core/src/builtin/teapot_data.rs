@@ -1,8 +1,8 @@
-// Baked by `tessera bake` from scenes/teapot.toml: generated, do not edit.
+// Baked by `tessera bake` from "scenes/teapot.toml": generated, do not edit.
 // They use the scene's materials by index:
-//   0: floor
-//   1: glaze
-// Not baked (build them in the firmware's scene): 1 planes, 2 lights, the camera.
+//   0: "floor"
+//   1: "glaze"
+// Not baked (build them in the firmware's scene): 1 plane, 2 lights, the camera.
 //
 // mesh 0: 580 vertices, 1088 faces, 1125 BVH nodes: 58624 bytes of flash.
 

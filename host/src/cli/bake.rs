@@ -16,26 +16,15 @@ pub struct BakeArgs {
     #[arg(short, long)]
     output: PathBuf,
     /// The name the firmware gives the core crate (`crate` inside the core itself):
-    /// a Rust path, identifiers joined by `::`
+    /// a Rust path, identifiers joined by `::` (no keyword)
     #[arg(long = "crate", default_value = "tessera", value_parser = parse_path)]
     krate: String,
 }
 
-/// `--crate`: a Rust path (`tessera`, `crate`, `my_deps::tessera`).
+/// `--crate`: a Rust path of a `use` (`tessera`, `crate`, `my_deps::tessera`;
+/// see [`tessera_host::bake::check_crate_path`]).
 fn parse_path(s: &str) -> Result<String, String> {
-    let ident = |w: &str| {
-        let mut c = w.chars();
-        c.next()
-            .is_some_and(|f| f == '_' || f.is_ascii_alphabetic())
-            && c.all(|x| x == '_' || x.is_ascii_alphanumeric())
-    };
-    if s.split("::").all(ident) {
-        Ok(s.to_string())
-    } else {
-        Err(format!(
-            "expected a Rust path (identifiers joined by ::), got {s:?}"
-        ))
-    }
+    tessera_host::bake::check_crate_path(s).map(|()| s.to_string())
 }
 
 pub fn run(args: &BakeArgs) -> Result<(), Error> {

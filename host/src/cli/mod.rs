@@ -27,9 +27,13 @@ and renamed onto it when complete, so an existing file is replaced whole or left
 untouched; Ctrl-C, SIGTERM, SIGHUP and a file size limit leave no temporary file. \
 Several outputs (orbit frames) are all or nothing. Refused before any work: an \
 output that exists and is not a regular file (a folder, a device such as /dev/null, \
-a FIFO), and the input scene file itself. A symbolic link is followed: the file it \
-names is written (created, for a dangling link) and the link stays; a link to a \
-folder is refused.
+a FIFO), and every file the command reads: the scene file and its meshes' OBJ \
+files, also under another path or through a hard or symbolic link. A symbolic \
+link is followed: the file it names is written (created, for a dangling link) and \
+the link stays; a link to a folder is refused.
+
+Inputs (the scene file, its meshes' OBJ files) must be regular files: a FIFO, a \
+device, a socket or a folder is refused at once, unread.
 
 Limits, checked before any work: --threads at most 256; compare and trade at most \
 about 28.5 million pixels (FLIP's work limit); simulate at most 4 GiB for its \
@@ -71,6 +75,7 @@ enum Command {
     /// a firmware (flash, not RAM): give them to the firmware's view of the rest of
     /// the scene with `SceneView::with_baked` (TRIANGLES, BVH) and
     /// `SceneView::with_meshes` (MESHES).
+    #[command(after_long_help = OUTPUT_HELP)]
     Bake(bake::BakeArgs),
     /// List the built-in scenes.
     Scenes,

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use tessera::builtin::Builtin;
 use tessera::{Camera, RenderSettings, SceneView, Viewport};
 use tessera_host::desc::{DescError, SceneDesc};
-use tessera_host::output::Target;
+use tessera_host::output::{Input, Target};
 
 /// A scene to render: a built-in (rendered from the core's own code) or a file.
 pub enum Source {
@@ -34,20 +34,34 @@ impl Source {
         Ok(Self::File(name.to_string(), Box::new(desc)))
     }
 
-    /// The scene file, which no output may replace.
-    fn inputs(&self) -> Vec<&Path> {
-        match self {
-            Self::Builtin(_) => Vec::new(),
-            Self::File(n, _) => vec![Path::new(n)],
-        }
+    /// The files the scene was read from, which no output may replace: the scene
+    /// file and the OBJ files of its meshes (relative to the scene file's folder,
+    /// as [`tessera_host::file::load`] reads them).
+    fn inputs(&self) -> Vec<Input> {
+        let Self::File(name, desc) = self else {
+            return Vec::new();
+        };
+        let scene = Path::new(name);
+        let base = scene.parent().unwrap_or(Path::new(""));
+        let meshes = desc.meshes.iter().enumerate().filter_map(|(i, m)| {
+            let path = tessera_host::mesh::obj_file(m, base)?;
+            let what = format!(
+                "the OBJ file {} of mesh {} (scene {name})",
+                path.display(),
+                i + 1
+            );
+            Some(Input { path, what })
+        });
+        std::iter::once(Input::scene(scene)).chain(meshes).collect()
     }
 
-    /// Checks an output path against the input (see [`Target::check`]).
+    /// Checks an output path against the inputs (see [`Target::check`]).
     pub fn target(&self, path: &Path) -> Result<Target, Error> {
         Ok(Target::check(path, &self.inputs())?)
     }
 
-    /// Checks several outputs, written all or nothing (see [`Target::check_all`]).
+    /// Checks several outputs against the inputs, written all or nothing (see
+    /// [`Target::check_all`]).
     pub fn targets(&self, paths: &[PathBuf]) -> Result<Vec<Target>, Error> {
         Ok(Target::check_all(paths, &self.inputs())?)
     }

@@ -1,0 +1,242 @@
+//! `tessera bake`: the generated Rust file compiles against the real core, without
+//! warnings, whatever text the scene holds (material names, the scene's path);
+//! `--crate` takes only what Rust accepts as a `use` path.
+
+use super::common::{bin, scratch, text};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Material names that would end a `//` comment, trip a deny-by-default lint
+/// (bidirectional-text controls) or end a string literal if written as they are.
+const HOSTILE: &[&str] = &[
+    "ok\npub static INJECTED: u32 = 1; compile_error!(\"injected from a material name\");",
+    "cr\rpub static INJECTED_CR: u32 = 1; compile_error!(\"injected after a CR\");",
+    "line\u{2028}separator\u{2029}paragraph\u{85}next line",
+    "bidi \u{202a}\u{202b}\u{202c}\u{202d}\u{202e} isolates \u{2066}\u{2067}\u{2068}\u{2069} marks \u{200e}\u{200f}\u{61c}",
+    "*/ pub static INJECTED_BLOCK: u32 = 1; /*",
+    "\"; pub static INJECTED_QUOTE: u32 = 1; //",
+    "back\\slash \\\" \\u{41} \\n",
+    "nul\0byte",
+    "tab\tescape\u{1b}[31m del\u{7f} bom\u{feff}",
+    "émail ✓ 日本",
+    "",
+];
+
+/// `s` as a TOML basic string (every character outside printable ASCII as
+/// `\UXXXXXXXX`).
+fn toml_string(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            ' '..='~' => out.push(c),
+            c => out.push_str(&format!("\\U{:08X}", u32::from(c))),
+        }
+    }
+    out + "\""
+}
+
+/// A scene with a triangle and a mesh per hostile material name.
+fn hostile_scene() -> String {
+    let mut s = String::from(
+        "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\nnear = 0.1\nfar = 100\n\n\
+         [[light]]\nposition = [0, 5, 5]\nintensity = 10\n\n",
+    );
+    for (i, name) in HOSTILE.iter().enumerate() {
+        let name = toml_string(name);
+        let x = i as f64;
+        s += &format!(
+            "[[material]]\nname = {name}\n\n\
+             [[triangle]]\nvertices = [[{x}, 0, 0], [{x}.5, 0, 0], [{x}, 1, 0]]\nmaterial = {name}\n\n\
+             [[mesh]]\nobj = \"tri.obj\"\nmaterial = {name}\ntranslate = [{x}, 2, 0]\n\n"
+        );
+    }
+    s
+}
+
+/// The string literals of the generated file's comment lines, in order.
+fn literals_in_comments(source: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for line in source.lines().filter(|l| l.starts_with("//")) {
+        let mut rest = line;
+        while let Some(start) = rest.find('"') {
+            let body = &rest[start + 1..];
+            let mut escaped = false;
+            let end = body
+                .char_indices()
+                .find(|&(_, c)| {
+                    let end = c == '"' && !escaped;
+                    escaped = c == '\\' && !escaped;
+                    end
+                })
+                .map(|(i, _)| i)
+                .unwrap_or_else(|| panic!("an unterminated string literal in {line:?}"));
+            found.push(format!("\"{}\"", &body[..end]));
+            rest = &body[end + 1..];
+        }
+    }
+    found
+}
+
+/// The folder in the workspace's `target/` where the compile checks build, so
+/// that the core is compiled once across runs.
+fn check_target_dir() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("bake-check")
+}
+
+/// Builds and runs, with `cargo run --offline` and `-D warnings`, a program in
+/// `dir` that includes the baked file `baked`, uses its `TRIANGLES`, `BVH` and
+/// `MESHES`, and prints the bytes of each of `literals` (Rust string literals);
+/// returns the printed lines. Panics with cargo's output if it does not compile
+/// cleanly.
+fn compile_and_run(dir: &Path, baked: &Path, literals: &[String]) -> Vec<String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let core = root.join("core");
+    let project = dir.join("check");
+    std::fs::create_dir_all(project.join("src")).unwrap();
+    std::fs::write(
+        project.join("Cargo.toml"),
+        format!(
+            "[package]\nname = \"bake-check\"\nversion = \"0.0.0\"\nedition = \"2024\"\n\
+             publish = false\n\n[dependencies]\n\
+             tessera = {{ path = {:?}, features = [\"bvh\"] }}\n\n[workspace]\n",
+            core.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    // The workspace's lock: the same versions of the core's dependencies, offline.
+    std::fs::copy(root.join("Cargo.lock"), project.join("Cargo.lock")).unwrap();
+    std::fs::write(
+        project.join("src/main.rs"),
+        format!(
+            "#[path = {:?}]\nmod baked;\n\n\
+             const LITERALS: &[&str] = &[\n{}];\n\n\
+             fn main() {{\n    \
+                 std::hint::black_box((&baked::TRIANGLES, &baked::BVH, &baked::MESHES));\n    \
+                 for s in LITERALS {{\n        println!(\"{{:?}}\", s.as_bytes());\n    }}\n}}\n",
+            baked.to_str().unwrap(),
+            literals
+                .iter()
+                .map(|l| format!("    {l},\n"))
+                .collect::<String>()
+        ),
+    )
+    .unwrap();
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let out = Command::new(cargo)
+        .current_dir(&project)
+        .args(["run", "--offline", "--quiet"])
+        .env("CARGO_TARGET_DIR", check_target_dir())
+        .env("RUSTFLAGS", "-D warnings")
+        .env_remove("CARGO_ENCODED_RUSTFLAGS")
+        .env_remove("CARGO_BUILD_RUSTFLAGS")
+        .env_remove("CARGO_BUILD_TARGET")
+        .output()
+        .unwrap();
+    let stderr = text(&out.stderr);
+    assert!(
+        out.status.success(),
+        "the baked file does not compile cleanly:\n{stderr}\n--- {}:\n{}",
+        baked.display(),
+        std::fs::read_to_string(baked).unwrap_or_default()
+    );
+    assert!(!stderr.contains("warning"), "{stderr}");
+    text(&out.stdout).lines().map(str::to_string).collect()
+}
+
+/// Hostile material names and a scene path with a line break in a folder name:
+/// the baked file compiles without a warning against the real core (the
+/// `compile_error!` in a name would stop it if the name became code), every line
+/// before the `use` is a comment, and the header's string literals are the
+/// names themselves, as the compiler reads them. (Failed before the fix: the
+/// first name's `compile_error!` was on line 4 of the file.)
+#[test]
+fn a_baked_file_with_hostile_names_compiles_and_keeps_them_inert() {
+    let dir = scratch("bake-hostile");
+    let folder = "scene\nfolder\u{2028}\u{202e}x";
+    std::fs::create_dir(dir.join(folder)).unwrap();
+    std::fs::write(
+        dir.join(folder).join("tri.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let scene = format!("{folder}/x.toml");
+    std::fs::write(dir.join(&scene), hostile_scene()).unwrap();
+    let out = bin()
+        .current_dir(&dir)
+        .args(["bake", &scene, "-o", "out.rs"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let source = std::fs::read_to_string(dir.join("out.rs")).unwrap();
+    let head: Vec<&str> = source
+        .lines()
+        .take_while(|l| !l.starts_with("use "))
+        .collect();
+    for line in &head {
+        assert!(
+            line.is_empty() || line.starts_with("//"),
+            "not a comment: {line:?}"
+        );
+    }
+    assert!(
+        !source
+            .lines()
+            .any(|l| l.contains("INJECTED") && !l.starts_with("//")),
+        "{source}"
+    );
+    // Nothing in the file that a reader or a lint would take as a line break or
+    // a reordering of the text.
+    let forbidden = |c: char| {
+        (c.is_control() && c != '\n')
+            || matches!(c, '\u{2028}' | '\u{2029}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+    };
+    assert!(!source.contains(forbidden), "{source}");
+    // One of each kind: in the singular.
+    assert!(
+        source.contains("// Not baked (build them in the firmware's scene): 1 light, the camera.")
+            && source.contains("// 11 triangles; mesh 0: 3 vertices, 1 face, 1 BVH node;"),
+        "{source}"
+    );
+    let literals = literals_in_comments(&source);
+    let mut want = vec![scene.clone()];
+    want.extend(HOSTILE.iter().map(|s| s.to_string()));
+    assert_eq!(literals.len(), want.len(), "{literals:?}");
+    let printed = compile_and_run(&dir, &dir.join("out.rs"), &literals);
+    let want: Vec<String> = want.iter().map(|s| format!("{:?}", s.as_bytes())).collect();
+    assert_eq!(printed, want);
+}
+
+/// `--crate` takes a path Rust accepts in `use`; a keyword is a usage error
+/// (exit status 2) that says so, and nothing is written.
+#[test]
+fn bake_refuses_a_keyword_as_the_crate() {
+    let dir = scratch("bake-crate");
+    let scene = super::common::scenes().join("examples/triangle.toml");
+    for (krate, message) in [
+        ("fn", "\"fn\" is a Rust keyword, not a crate name"),
+        (
+            "tessera::async",
+            "\"async\" is a Rust keyword, not a module name",
+        ),
+        ("gen", "\"gen\" is a Rust keyword, not a crate name"),
+        ("_", "\"_\" is a placeholder, not a crate name"),
+        ("tessera::crate", "\"crate\" may only start a path"),
+        ("r#self", "\"r#self\" cannot be a raw identifier"),
+        ("tessera::", "an empty segment"),
+        ("tes-sera", "\"tes-sera\" is not an identifier"),
+    ] {
+        let out = bin()
+            .current_dir(&dir)
+            .arg("bake")
+            .arg(&scene)
+            .args(["-o", "out.rs", "--crate", krate])
+            .output()
+            .unwrap();
+        let e = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{krate}: {e}");
+        assert!(e.contains("--crate") && e.contains(message), "{krate}: {e}");
+        assert!(!dir.join("out.rs").exists(), "{krate}");
+    }
+}
