@@ -650,6 +650,7 @@ pub fn warnings(desc: &SceneDesc) -> Vec<String> {
             ));
         }
     }
+    out.extend(crate::precision::edge_warnings(desc));
     out.iter().map(|w| escape_controls(w)).collect()
 }
 

@@ -36,6 +36,7 @@ pub mod limits;
 pub mod mesh;
 pub mod output;
 pub mod png;
+pub mod precision;
 pub mod reference;
 pub mod simulate;
 pub mod teapot;

@@ -1,0 +1,283 @@
+//! What `f32` cannot place: the loader's warning about triangle edges far longer
+//! than their distance to the camera.
+//!
+//! The core decides whether a ray crosses a triangle with Woop's watertight test,
+//! in `f32`, from the vertices relative to the ray's origin. A vertex `M` away is
+//! known to a few ulps of `M`, and the test's shear multiplies the vertex's
+//! depth along the ray: an edge that recedes far along the view but passes near
+//! the camera is drawn a little off (an edge across the view, however long, is
+//! not: its great extent is not a depth). The extremes battery (case 13 of
+//! `docs/extremes.md`, "near an edge") shows it within the accuracy bar up to ends
+//! 4 million times farther than the edge, and off by whole pixels from 5 million
+//! (at 96x72; more pixels see it sooner). The hit points and shading of such a
+//! triangle stay exact (they come from `f64` there); only its outline moves. An
+//! edge shared with one other triangle of the same material in the same plane is
+//! no outline (both sides decide it with the same rounding: a floor of two huge
+//! triangles shows no seam), and an edge beyond the camera's far distance is not
+//! seen: neither is warned about.
+
+use crate::desc::{Face, SceneDesc, num};
+use std::collections::HashMap;
+
+/// Above this ratio of an edge's farther end to its distance from the camera, the
+/// loader warns: a quarter of where the battery first leaves the bar.
+pub const EDGE_RATIO: f64 = 1e6;
+
+/// The most such warnings a scene gets (then a count of the rest).
+const MAX_WARNINGS: usize = 4;
+
+/// A triangle of the scene: its vertices, material and how messages name it.
+struct Tri<'a> {
+    face: Face,
+    material: &'a str,
+    name: String,
+}
+
+/// A vertex as the core gets it (`f32`, `-0` as `0`): the key of shared edges.
+fn key(p: [f64; 3]) -> [u32; 3] {
+    p.map(|x| {
+        let y = x as f32;
+        if y == 0.0 { 0 } else { y.to_bits() }
+    })
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn length(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// The point of the segment `a b` nearest to `p`, as the fraction of the way from
+/// `a` to `b`.
+fn nearest(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    let (ab, ap) = (sub(b, a), sub(p, a));
+    (dot(ap, ab) / dot(ab, ab)).clamp(0.0, 1.0)
+}
+
+/// True when `p` lies in the plane of `f` (to `1e-9` of the face's size).
+fn in_plane(f: &Face, p: [f64; 3]) -> bool {
+    let n = cross(sub(f[1], f[0]), sub(f[2], f[0]));
+    let size = length(sub(f[1], f[0])).max(length(sub(f[2], f[0])));
+    (dot(n, sub(p, f[0])) / length(n)).abs() <= 1e-9 * size
+}
+
+/// The warnings of `desc` about triangle edges, list and mesh faces alike.
+#[must_use]
+pub fn edge_warnings(desc: &SceneDesc) -> Vec<String> {
+    let mut tris: Vec<Tri<'_>> = desc
+        .triangles
+        .iter()
+        .enumerate()
+        .map(|(i, t)| Tri {
+            face: t.vertices,
+            material: &t.material,
+            name: format!("triangle {}", i + 1),
+        })
+        .collect();
+    for (i, m) in desc.meshes.iter().enumerate() {
+        tris.extend(m.faces.iter().enumerate().map(|(j, f)| Tri {
+            face: *f,
+            material: &m.material,
+            name: format!("mesh {} ({:?}), face {}", i + 1, m.obj, j + 1),
+        }));
+    }
+    let edge = |a: [f64; 3], b: [f64; 3]| {
+        let (a, b) = (key(a), key(b));
+        if a <= b { (a, b) } else { (b, a) }
+    };
+    let mut sides: HashMap<([u32; 3], [u32; 3]), Vec<usize>> = HashMap::new();
+    for (i, t) in tris.iter().enumerate() {
+        for k in 0..3 {
+            sides
+                .entry(edge(t.face[k], t.face[(k + 1) % 3]))
+                .or_default()
+                .push(i);
+        }
+    }
+    let cam = desc.camera.position;
+    let forward = match (desc.camera.forward, desc.camera.look_at) {
+        (Some(f), _) => f,
+        (None, Some(at)) => sub(at, cam),
+        (None, None) => return Vec::new(),
+    };
+    let forward = forward.map(|x| x / length(forward));
+    let mut out = Vec::new();
+    let mut more = 0;
+    for (i, t) in tris.iter().enumerate() {
+        let worst = (0..3)
+            .filter_map(|k| {
+                let (a, b) = (t.face[k], t.face[(k + 1) % 3]);
+                let c = t.face[(k + 2) % 3];
+                // Hidden: one neighbour, same material, same plane (its third
+                // vertex on this one's plane, and this one's on its).
+                let owners = sides.get(&edge(a, b))?;
+                let seamless = owners.len() == 2
+                    && owners.iter().filter(|&&j| j != i).all(|&j| {
+                        let o = &tris[j];
+                        o.material == t.material
+                            && o.face.iter().all(|&p| in_plane(&t.face, p))
+                            && in_plane(&o.face, c)
+                    });
+                // Each end is off by ulps of its depth along the view; the edge's
+                // point nearest to the camera, a fraction `s` of the way, by the
+                // ends' errors weighed as its position weighs them.
+                let s = nearest(cam, a, b);
+                let q = [0, 1, 2].map(|i| a[i] + (b[i] - a[i]) * s);
+                let distance = length(sub(q, cam));
+                let depth = |p: [f64; 3]| dot(sub(p, cam), forward).abs();
+                let reach = depth(a) * (1.0 - s) + depth(b) * s;
+                let ratio = reach / distance;
+                (!seamless && distance <= desc.camera.far && ratio > EDGE_RATIO)
+                    .then_some((ratio, a, b, distance, reach))
+            })
+            .max_by(|x, y| x.0.total_cmp(&y.0));
+        let Some((ratio, a, b, distance, reach)) = worst else {
+            continue;
+        };
+        if out.len() == MAX_WARNINGS {
+            more += 1;
+            continue;
+        }
+        let p = |v: [f64; 3]| format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]));
+        out.push(format!(
+            "{}: its edge from {} to {} passes {distance:.3} from the camera while its \
+             ends reach about {reach:.2e} along the view there ({ratio:.1e} times \
+             farther, above {EDGE_RATIO:.0e}): f32 places such an edge only to within a \
+             few ulps of that reach (2^-24 of it is {:.2e}), so its outline may be drawn \
+             off by up to that much; split the triangle so that its edges near the view \
+             are shorter (docs/extremes.md, case 13)",
+            t.name,
+            p(a),
+            p(b),
+            reach / f64::from(1u32 << 24),
+        ));
+    }
+    if more > 0 {
+        out.push(format!(
+            "{more} more triangle(s) with such edges (the first {MAX_WARNINGS} are named above)"
+        ));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::file::parse;
+
+    /// A scene seen from `[0.3, 2, 6.1]` looking at the origin, with `items`.
+    fn scene(far: f64, items: &str) -> SceneDesc {
+        let text = format!(
+            "[camera]\nposition = [0.3, 2, 6.1]\nlook_at = [0, 0, 0]\nnear = 0.1\nfar = {far}\n\
+             [[material]]\nname = \"a\"\n[[material]]\nname = \"b\"\n\
+             [[light]]\nposition = [2, 6, 4]\nintensity = 40\n{items}"
+        );
+        parse(&text, "t.toml").unwrap()
+    }
+
+    fn triangle(v: [[f64; 3]; 3], material: &str) -> String {
+        format!("[[triangle]]\nvertices = {v:?}\nmaterial = \"{material}\"\n")
+    }
+
+    /// The issue's ground: two triangles 2e7 wide meeting under the camera.
+    fn ground(second: &str) -> String {
+        let s = 1e7;
+        triangle([[-s, 0.0, -s], [s, 0.0, -s], [s, 0.0, s]], "a")
+            + &triangle([[-s, 0.0, -s], [s, 0.0, s], [-s, 0.0, s]], second)
+    }
+
+    #[test]
+    fn a_huge_ground_of_two_triangles_is_no_outline() {
+        assert_eq!(
+            edge_warnings(&scene(100.0, &ground("a"))),
+            Vec::<String>::new()
+        );
+        // Its outer edges are far beyond the far distance, and nearer than their
+        // reach only when the far distance takes them in: still no outline near.
+        assert_eq!(
+            edge_warnings(&scene(1e9, &ground("a"))),
+            Vec::<String>::new()
+        );
+    }
+
+    #[test]
+    fn an_outline_receding_near_the_camera_is_warned_about() {
+        // Another material: the diagonal under the camera is an outline.
+        let w = edge_warnings(&scene(100.0, &ground("b")));
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(
+            w[0].starts_with("triangle 1: its edge from [1e7, 0, 1e7] to [-1e7, 0, -1e7]"),
+            "{w:?}"
+        );
+        assert!(w[0].contains("docs/extremes.md, case 13"), "{w:?}");
+        // An edge along the view 0.3 beside the camera's foot: warned from 1e6 on.
+        let edge = |s: f64| triangle([[0.0, 0.0, s], [0.0, 0.0, -s], [-s, 0.0, 0.0]], "a");
+        assert_eq!(
+            edge_warnings(&scene(100.0, &edge(1e5))),
+            Vec::<String>::new()
+        );
+        assert_eq!(edge_warnings(&scene(100.0, &edge(1e7))).len(), 1);
+        // Beyond the far distance it is not seen.
+        let far = triangle(
+            [[200.0, 0.0, 1e9], [200.0, 0.0, -1e9], [1e9, 0.0, 0.0]],
+            "a",
+        );
+        assert_eq!(edge_warnings(&scene(100.0, &far)), Vec::<String>::new());
+        assert_eq!(edge_warnings(&scene(1000.0, &far)).len(), 1);
+    }
+
+    #[test]
+    fn an_edge_across_the_view_or_anchored_near_the_camera_is_not() {
+        // A wall 2e8 wide across the view: its base is long, but not in depth.
+        let wall = triangle([[1e8, 0.0, 0.0], [-1e8, 0.0, 0.0], [0.0, 1e8, 0.0]], "a");
+        assert_eq!(edge_warnings(&scene(100.0, &wall)), Vec::<String>::new());
+        // A wedge from a vertex near the camera to the far distance and beyond.
+        let wedge = triangle([[0.0, 0.0, 8.0], [5e8, 0.0, -1e9], [-5e8, 0.0, -1e9]], "a");
+        assert_eq!(edge_warnings(&scene(100.0, &wedge)), Vec::<String>::new());
+    }
+
+    #[test]
+    fn mesh_faces_are_looked_at_and_the_warnings_are_few() {
+        let mut d = scene(100.0, "");
+        let s = 1e8;
+        let faces: Vec<Face> = (0..10)
+            .map(|i| {
+                let x = 0.5 * f64::from(i);
+                [[x, 0.0, s], [x, 0.0, -s], [x - s, 0.0, 0.0]]
+            })
+            .collect();
+        d.meshes.push(crate::desc::MeshDesc {
+            obj: "m.obj".into(),
+            material: "a".into(),
+            scale: 1.0,
+            translate: [0.0; 3],
+            smooth: false,
+            faces,
+            degenerate: 0,
+        });
+        let w = edge_warnings(&d);
+        assert_eq!(w.len(), MAX_WARNINGS + 1, "{w:?}");
+        assert!(
+            w[0].starts_with("mesh 1 (\"m.obj\"), face 1: its edge from"),
+            "{w:?}"
+        );
+        assert_eq!(
+            w[MAX_WARNINGS],
+            "6 more triangle(s) with such edges (the first 4 are named above)"
+        );
+    }
+}
