@@ -19,7 +19,7 @@
 //! rounded to the precision of `r_cam` and the difference loses the pixel offsets
 //! (several pixels of error at `|r_cam| / n = 1e5` in `f32`).
 
-use crate::error::{Error, Field, in_range, length, unit};
+use crate::error::{Error, Field, flush3, in_range, length, unit};
 use crate::math;
 use crate::ray::Ray;
 use crate::vec::Vec3;
@@ -64,7 +64,7 @@ impl Camera {
         far: f32,
     ) -> Result<Self, Error> {
         let position = crate::error::position(position, Field::CameraPosition)?;
-        let (raw_forward, raw_up) = (forward, up);
+        let (raw_forward, raw_up) = (flush3(forward), flush3(up));
         let forward = unit(forward, Field::CameraForward)?;
         let up = unit(up, Field::CameraUp)?;
         let right = right_vector(forward, raw_forward, raw_up);
@@ -504,12 +504,17 @@ mod tests {
             Err(Error::EmptyViewport)
         );
         assert!(matches!(
-            ok(o, z, y, 60.0, 1e-38, 1.0),
+            ok(o, z, y, 60.0, 1e-37, 1.0),
             Err(Error::OutOfRange {
                 field: Field::Near,
                 ..
             })
         ));
+        // A subnormal near distance is read as zero (`error::flush`).
+        assert_eq!(
+            ok(o, z, y, 60.0, 1e-38, 1.0),
+            Err(Error::NotPositive(Field::Near))
+        );
         assert!(matches!(
             ok(o, z, y, 60.0, 0.1, 1e19),
             Err(Error::OutOfRange {

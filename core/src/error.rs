@@ -29,6 +29,7 @@ pub enum Field {
     Transparency,
     RefractiveIndex,
     TextureScale,
+    FringeSpacing,
     TextureColor,
     LightPosition,
     LightColor,
@@ -67,6 +68,7 @@ impl Field {
             Self::Transparency => "material transparency",
             Self::RefractiveIndex => "material refractive index",
             Self::TextureScale => "texture scale",
+            Self::FringeSpacing => "fringe spacing",
             Self::TextureColor => "texture color",
             Self::LightPosition => "light position",
             Self::LightColor => "light color",
@@ -287,6 +289,7 @@ pub(crate) fn color(c: crate::Color, field: Field) -> Result<crate::Color, Error
     if !c.is_finite() {
         return Err(Error::NotFinite(field));
     }
+    let c = crate::Color::new(flush(c.r), flush(c.g), flush(c.b));
     if c.min_component() >= 0.0 && c.max_component() <= MAX_COLOR {
         Ok(c)
     } else {
@@ -301,6 +304,32 @@ pub(crate) fn color(c: crate::Color, field: Field) -> Result<crate::Color, Error
 const EXTENT_RANGE: &str = "[-2^60, 2^60] (about 1.15e18) per component";
 /// The range message for sizes.
 const LENGTH_RANGE: &str = "[2^-52, 2^60] (about 2.2e-16 to 1.15e18)";
+
+/// `x`, or a zero of its sign when it is subnormal (below `2^-126` in magnitude):
+/// the one rule for subnormal numbers in a scene. Every number a scene takes
+/// (positions, directions, lengths, scales, colours, intensities, weights) goes
+/// through it where it is checked, and the host's loader and f64 reference apply
+/// the same rule to the numbers of a scene file. A subnormal number carries fewer
+/// bits than the others, and what `f32` and `f64` make of it differ (`1e-45` is
+/// `1.4e-45` in `f32`, and a product with it underflows in `f32` only), so the
+/// f32 core and the f64 reference would disagree: a camera at `z = 1e-45` above
+/// its target rolled differently in each. Read as zero, it means the same to
+/// both.
+#[must_use]
+pub(crate) const fn flush(x: f32) -> f32 {
+    let bits = x.to_bits();
+    if bits & 0x7f80_0000 == 0 {
+        f32::from_bits(bits & 0x8000_0000)
+    } else {
+        x
+    }
+}
+
+/// [`flush`] of each component.
+#[must_use]
+pub(crate) const fn flush3(v: crate::Vec3) -> crate::Vec3 {
+    crate::Vec3::new(flush(v.x), flush(v.y), flush(v.z))
+}
 
 /// Checks that every component of `v` is finite and within [`MAX_EXTENT`].
 pub(crate) fn position(v: crate::Vec3, field: Field) -> Result<crate::Vec3, Error> {
@@ -328,19 +357,19 @@ pub(crate) fn length(v: f32, field: Field) -> Result<f32, Error> {
     }
 }
 
-/// Checks that `v` is finite.
+/// Checks that `v` is finite; [`flush`]ed.
 pub(crate) fn finite(v: f32, field: Field) -> Result<f32, Error> {
     if v.is_finite() {
-        Ok(v)
+        Ok(flush(v))
     } else {
         Err(Error::NotFinite(field))
     }
 }
 
-/// Checks that every component of `v` is finite.
+/// Checks that every component of `v` is finite; [`flush3`]ed.
 pub(crate) fn finite3(v: crate::Vec3, field: Field) -> Result<crate::Vec3, Error> {
     if v.is_finite() {
-        Ok(v)
+        Ok(flush3(v))
     } else {
         Err(Error::NotFinite(field))
     }
@@ -362,9 +391,129 @@ pub(crate) fn in_range(
     }
 }
 
-/// Checks that `v` is finite and normalises it.
+/// Checks that `v` is finite and normalises it (after [`flush3`]).
 pub(crate) fn unit(v: crate::Vec3, field: Field) -> Result<crate::Vec3, Error> {
     finite3(v, field)?
         .try_normalize()
         .ok_or(Error::ZeroLength(field))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{
+        Aabb, Camera, Color, Material, Plane, PointLight, Sampler, Scene, Sphere, SubPixel,
+        Texture, Triangle, Vec3,
+    };
+
+    /// The smallest subnormal, and the largest, of each sign.
+    const SUB: [f32; 4] = [1e-45, -1e-45, 1.1e-38, -1.1e-38];
+
+    #[test]
+    fn flush_keeps_normal_numbers_and_the_sign_of_zero() {
+        for x in [
+            0.0,
+            1.0,
+            -2.5,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            f32::MAX,
+            f32::INFINITY,
+        ] {
+            assert_eq!(flush(x).to_bits(), x.to_bits(), "{x}");
+        }
+        assert!(flush(f32::NAN).is_nan());
+        for x in SUB {
+            assert_eq!(flush(x).to_bits(), (0.0f32).copysign(x).to_bits(), "{x}");
+        }
+        assert_eq!(flush(-0.0).to_bits(), (-0.0f32).to_bits());
+    }
+
+    /// Every number a scene takes is read by the rule: a subnormal input gives
+    /// what a zero of its sign gives, or the refusal of a zero.
+    #[test]
+    fn every_constructor_reads_subnormal_numbers_as_zero() {
+        for s in SUB {
+            let z = 0.0f32.copysign(s);
+            let v = |a: f32| Vec3::new(0.5, a, -2.0);
+            // Positions and directions.
+            assert_eq!(Sphere::try_new(v(s), 1.0), Sphere::try_new(v(z), 1.0));
+            assert_eq!(Plane::try_new(v(s), v(s)), Plane::try_new(v(z), v(z)));
+            let tri = |a: f32| Triangle::try_new(v(a), Vec3::X, Vec3::Y);
+            assert_eq!(tri(s), tri(z));
+            assert_eq!(
+                Aabb::try_new(v(s), Vec3::splat(3.0)),
+                Aabb::try_new(v(z), Vec3::splat(3.0))
+            );
+            let cam = |a: f32| {
+                Camera::try_new(
+                    Vec3::new(0.0, 2.0, a),
+                    Vec3::new(a, -1.0, a),
+                    Vec3::new(a, 1.0, 0.0),
+                    60.0,
+                    0.1,
+                    10.0,
+                )
+            };
+            assert_eq!(cam(s), cam(z));
+            // Colours, intensities, weights, texture numbers.
+            let c = |a: f32| Color::new(0.5, a, 1.0);
+            let light = |a: f32| PointLight::try_new(v(a), c(a), 2.0);
+            assert_eq!(light(s), light(z));
+            let dim = |a: f32| PointLight::try_new(Vec3::ZERO, Color::WHITE, a);
+            assert_eq!(dim(s.abs()), dim(0.0));
+            let material = |a: f32| {
+                let checker = Texture::Checker {
+                    a: c(a),
+                    b: c(a),
+                    scale: 2.0,
+                };
+                Material::matte(c(a)).with_texture(checker)
+            };
+            let add = |m: Material| {
+                let mut scene = Scene::<0, 0, 0, 0, 1, 0>::new(cam(0.0).unwrap());
+                scene
+                    .add_material(m)
+                    .map(|_| *scene.view().materials.first().unwrap())
+            };
+            assert_eq!(add(material(s).unwrap()), add(material(z).unwrap()));
+            let reflective = |a: f32| Material::matte(Color::WHITE).with_reflectivity(a.abs());
+            assert_eq!(add(reflective(s).unwrap()), add(reflective(0.0).unwrap()));
+            let mut scene = Scene::<0, 0, 0, 0, 0, 0>::new(cam(0.0).unwrap());
+            scene.set_ambient(c(s)).unwrap();
+            scene.set_background(c(s)).unwrap();
+            let view = scene.view();
+            assert_eq!((view.ambient, view.background), (c(z), c(z)));
+            assert_eq!(SubPixel::try_new(s.abs(), 0.5), SubPixel::try_new(0.0, 0.5));
+            assert!(
+                Sampler::Offset(SubPixel::try_new(s.abs(), 0.5).unwrap())
+                    .validate()
+                    .is_ok()
+            );
+            // Lengths and scales: read as zero, refused as zero is.
+            let zero = Err(Error::NotPositive(Field::SphereRadius));
+            assert_eq!(Sphere::try_new(Vec3::ZERO, s.abs()), zero);
+            let checker = Texture::Checker {
+                a: Color::WHITE,
+                b: Color::BLACK,
+                scale: s.abs(),
+            };
+            assert_eq!(
+                checker.validate(),
+                Err(Error::NotPositive(Field::TextureScale))
+            );
+            let fringes = Texture::Fringes {
+                color: Color::WHITE,
+                spacing: s.abs(),
+            };
+            assert_eq!(
+                fringes.validate(),
+                Err(Error::NotPositive(Field::FringeSpacing))
+            );
+            assert_eq!(
+                Camera::try_new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, s.abs(), 1.0),
+                Err(Error::NotPositive(Field::Near))
+            );
+        }
+    }
 }

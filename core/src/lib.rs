@@ -54,6 +54,8 @@ mod cull;
 mod display;
 mod dither;
 mod error;
+#[cfg(feature = "testing")]
+mod extreme;
 mod geometry;
 mod light;
 mod material;
@@ -106,6 +108,7 @@ pub mod testing {
     /// went through a BVH (the BVH's cost per ray; counted only with this feature).
     #[cfg(feature = "bvh")]
     pub use crate::bvh::visits;
+    pub use crate::extreme::Extreme;
     pub use crate::geometry::{Candidate, Shape, Surface};
     pub use crate::ray::offset_origin;
     pub use crate::shade::refract;

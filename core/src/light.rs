@@ -20,7 +20,8 @@ impl PointLight {
     pub fn try_new(position: Vec3, color: Color, intensity: f32) -> Result<Self, Error> {
         let position = crate::error::position(position, Field::LightPosition)?;
         let color = crate::error::color(color, Field::LightColor)?;
-        if finite(intensity, Field::LightIntensity)? < 0.0 {
+        let intensity = finite(intensity, Field::LightIntensity)?;
+        if intensity < 0.0 {
             return Err(Error::OutOfRange {
                 field: Field::LightIntensity,
                 range: "[0, inf)",

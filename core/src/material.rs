@@ -8,7 +8,7 @@
 //! reflection), each weighted, each only when its weight is non-zero.
 
 use crate::color::Color;
-use crate::error::{Error, Field, finite, in_range};
+use crate::error::{Error, Field, finite, flush, in_range};
 use crate::texture::Texture;
 
 /// A reference to a material of a scene (its index in the scene's material list).
@@ -124,6 +124,23 @@ impl Material {
         self.ior = in_range(ior, 1.0, 4.0, Field::RefractiveIndex, "[1, 4]")?;
         self.check_energy()?;
         Ok(self)
+    }
+
+    /// The material with its numbers read by the rule for subnormal numbers
+    /// ([`crate::error::flush`]): what a scene keeps ([`crate::Scene::add_material`]).
+    #[must_use]
+    pub(crate) fn flushed(self) -> Self {
+        Self {
+            texture: self.texture.flushed(),
+            ambient: flush(self.ambient),
+            diffuse: flush(self.diffuse),
+            specular: flush(self.specular),
+            shininess: flush(self.shininess),
+            reflectivity: flush(self.reflectivity),
+            transparency: flush(self.transparency),
+            ior: flush(self.ior),
+            ..self
+        }
     }
 
     /// Checks every number (used when the material is added to a scene, so that a

@@ -19,6 +19,7 @@ pub struct SubPixel {
 impl SubPixel {
     /// A sub-pixel position; each coordinate must be finite and in `[0, 1)`.
     pub fn try_new(x: f32, y: f32) -> Result<Self, Error> {
+        let (x, y) = (crate::error::flush(x), crate::error::flush(y));
         let ok = |v: f32| (0.0..1.0).contains(&v);
         if ok(x) && ok(y) {
             Ok(Self { x, y })

@@ -117,6 +117,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
 
     /// Adds a material (checked) and returns its reference.
     pub fn add_material(&mut self, material: Material) -> Result<MaterialId, Error> {
+        let material = material.flushed();
         material.validate()?;
         let id = u16::try_from(self.materials.len()).map_err(|_| Error::CapacityExceeded {
             list: List::Materials,

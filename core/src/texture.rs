@@ -1,7 +1,7 @@
 //! Surface colours that vary with the texture coordinate `uv`.
 
 use crate::color::Color;
-use crate::error::{Error, Field, finite};
+use crate::error::{Error, Field, finite, flush};
 use crate::math;
 
 /// What colours a surface: one colour, or a procedural uv texture.
@@ -42,18 +42,19 @@ impl Texture {
     /// assert!((spacing - 0.75e-3).abs() < 1e-9);
     /// ```
     pub fn young(color: Color, d: f32, lambda: f32, screen: f32) -> Result<Self, Error> {
+        let [d, lambda, screen] = [d, lambda, screen].map(flush);
         for v in [d, lambda, screen] {
-            if finite(v, Field::TextureScale)? <= 0.0 {
-                return Err(Error::NotPositive(Field::TextureScale));
+            if finite(v, Field::FringeSpacing)? <= 0.0 {
+                return Err(Error::NotPositive(Field::FringeSpacing));
             }
             if v > crate::MAX_EXTENT {
                 return Err(Error::OutOfRange {
-                    field: Field::TextureScale,
+                    field: Field::FringeSpacing,
                     range: SPACING_RANGE,
                 });
             }
         }
-        let spacing = lambda * screen / d;
+        let spacing = flush(lambda * screen / d);
         let t = Self::Fringes { color, spacing };
         t.validate()?;
         Ok(t)
@@ -87,24 +88,43 @@ impl Texture {
     /// keeps its fringes; beyond view an overflowing `u / spacing` is a bright
     /// fringe, see `math::cos_turns`).
     pub fn validate(&self) -> Result<(), Error> {
-        let (colors, scale, length) = match *self {
-            Self::Solid(c) => ([c, c], 1.0, false),
-            Self::Checker { a, b, scale } => ([a, b], scale, false),
-            Self::Fringes { color, spacing } => ([color, color], spacing, true),
+        let (colors, scale, field) = match *self {
+            Self::Solid(c) => ([c, c], 1.0, Field::TextureScale),
+            Self::Checker { a, b, scale } => ([a, b], scale, Field::TextureScale),
+            Self::Fringes { color, spacing } => ([color, color], spacing, Field::FringeSpacing),
         };
         for c in colors {
             crate::error::color(c, Field::TextureColor)?;
         }
-        if finite(scale, Field::TextureScale)? <= 0.0 {
-            return Err(Error::NotPositive(Field::TextureScale));
+        if finite(scale, field)? <= 0.0 {
+            return Err(Error::NotPositive(field));
         }
-        if length && !(MIN_SPACING..=crate::MAX_EXTENT).contains(&scale) {
+        if field == Field::FringeSpacing && !(MIN_SPACING..=crate::MAX_EXTENT).contains(&scale) {
             return Err(Error::OutOfRange {
-                field: Field::TextureScale,
+                field,
                 range: SPACING_RANGE,
             });
         }
         Ok(())
+    }
+
+    /// The texture with its numbers read by the rule for subnormal numbers
+    /// ([`crate::error::flush`]): what a scene keeps.
+    #[must_use]
+    pub(crate) fn flushed(self) -> Self {
+        let c = |c: Color| Color::new(flush(c.r), flush(c.g), flush(c.b));
+        match self {
+            Self::Solid(color) => Self::Solid(c(color)),
+            Self::Checker { a, b, scale } => Self::Checker {
+                a: c(a),
+                b: c(b),
+                scale: flush(scale),
+            },
+            Self::Fringes { color, spacing } => Self::Fringes {
+                color: c(color),
+                spacing: flush(spacing),
+            },
+        }
     }
 }
 
@@ -264,7 +284,12 @@ mod tests {
     fn bad_textures_are_rejected() {
         assert_eq!(
             Texture::young(Color::WHITE, 0.0, 500e-9, 3.0),
-            Err(Error::NotPositive(Field::TextureScale))
+            Err(Error::NotPositive(Field::FringeSpacing))
+        );
+        // A subnormal number is read as zero (`error::flush`).
+        assert_eq!(
+            Texture::young(Color::WHITE, 1e-40, 500e-9, 3.0),
+            Err(Error::NotPositive(Field::FringeSpacing))
         );
         let bad = Texture::Checker {
             a: Color::new(f32::NAN, 0.0, 0.0),
@@ -302,16 +327,22 @@ mod tests {
         assert_eq!(just.validate(), Ok(()));
         let above = Texture::Solid(Color::new(0.0, next_up(crate::MAX_COLOR), 1.0));
         assert!(same(above.validate(), out_of_range(Field::TextureColor)));
-        for spacing in [1e-39f32, f32::MIN_POSITIVE, 5e-20, 3e38] {
+        for spacing in [f32::MIN_POSITIVE, 5e-20, 3e38] {
             let t = Texture::Fringes {
                 color: Color::WHITE,
                 spacing,
             };
             assert!(
-                same(t.validate(), out_of_range(Field::TextureScale)),
+                same(t.validate(), out_of_range(Field::FringeSpacing)),
                 "{spacing}"
             );
         }
+        // A subnormal spacing is read as zero (`error::flush`).
+        let t = Texture::Fringes {
+            color: Color::WHITE,
+            spacing: 1e-39,
+        };
+        assert_eq!(t.validate(), Err(Error::NotPositive(Field::FringeSpacing)));
         let ok = Texture::Fringes {
             color: Color::WHITE,
             spacing: MIN_SPACING,
@@ -320,7 +351,7 @@ mod tests {
         assert!(matches!(
             Texture::young(Color::WHITE, 3.4e38, 500e-9, 3.0),
             Err(Error::OutOfRange {
-                field: Field::TextureScale,
+                field: Field::FringeSpacing,
                 ..
             })
         ));

@@ -290,6 +290,48 @@ pub struct SceneDesc {
     /// after the file's own `[[triangle]]`s.
     #[serde(default, rename = "mesh")]
     pub meshes: Vec<MeshDesc>,
+    /// The numbers [`SceneDesc::flush_subnormals`] read as zero: never written in a
+    /// file.
+    #[serde(skip)]
+    pub flushed: Vec<Flushed>,
+}
+
+/// A number of a scene file read as zero by the rule for subnormal numbers
+/// ([`SceneDesc::flush_subnormals`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Flushed {
+    /// The item, as messages name it (`sphere 2`, `camera`).
+    pub item: String,
+    /// The key (`center`, `texture scale`).
+    pub key: String,
+    /// The number as written.
+    pub value: f64,
+}
+
+impl fmt::Display for Flushed {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: {} {} is below the smallest normal f32 number (1.18e-38 in magnitude) \
+             and is read as 0 (tessera reads every subnormal number of a scene as 0, so \
+             that the f32 core, the chip and the f64 reference agree)",
+            self.item,
+            self.key,
+            num(self.value)
+        )
+    }
+}
+
+/// `x` read by the rule for subnormal numbers: a zero of its sign when it is not
+/// zero but its `f32` is below `2^-126` in magnitude (subnormal, or rounded to 0),
+/// as the core reads its `f32` (`tessera`'s validation flushes subnormal numbers).
+#[must_use]
+pub fn flush(x: f64) -> f64 {
+    if x != 0.0 && (x as f32).abs() < f32::MIN_POSITIVE {
+        0f64.copysign(x)
+    } else {
+        x
+    }
 }
 
 /// The camera: `forward` or `look_at` (exactly one).
@@ -547,15 +589,19 @@ impl fmt::Display for DescError {
 
 impl std::error::Error for DescError {}
 
-/// `s` with every control character (C0, DEL, C1) and every bidirectional-text
+/// `s` with every control character (C0, DEL, C1), every whitespace but the space
+/// (U+2028 and U+2029 end a line for some readers) and every bidirectional-text
 /// control written as `\u{1b}` (Rust's notation), so that a string from a scene
 /// file echoed in a message cannot move the cursor, clear the terminal or
 /// reorder the text around it. Other text, backslashes included, is unchanged.
 pub fn escape_controls(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
-        let bidi = matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}');
-        if c.is_control() || bidi {
+        let bidi = matches!(c, '\u{61c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}');
+        // Whitespace that ends a line for some terminals and readers (U+2028,
+        // U+2029; U+0085 is a control).
+        let breaks = c.is_whitespace() && !matches!(c, ' ' | '\t');
+        if c.is_control() || bidi || breaks {
             out.push_str(&format!("\\u{{{:x}}}", u32::from(c)));
         } else {
             out.push(c);
@@ -650,6 +696,125 @@ fn field_of(e: tessera::Error) -> Option<Field> {
 }
 
 impl SceneDesc {
+    /// Reads every number of the scene by the rule for subnormal numbers
+    /// ([`flush`]), as the core and the reference then both see them, and records
+    /// each one changed in [`SceneDesc::flushed`] (the loader warns about them, and
+    /// an item refused because of one says so).
+    pub fn flush_subnormals(&mut self) {
+        let mut out = Vec::new();
+        let mut at = |item: &str, key: &str, xs: &mut [f64]| {
+            for x in xs {
+                let y = flush(*x);
+                if y.to_bits() != x.to_bits() {
+                    out.push(Flushed {
+                        item: item.to_string(),
+                        key: key.to_string(),
+                        value: *x,
+                    });
+                    *x = y;
+                }
+            }
+        };
+        at("ambient", "ambient", &mut self.ambient);
+        at("background", "background", &mut self.background);
+        let c = &mut self.camera;
+        at("camera", "position", &mut c.position);
+        if let Some(f) = &mut c.forward {
+            at("camera", "forward", f);
+        }
+        if let Some(l) = &mut c.look_at {
+            at("camera", "look_at", l);
+        }
+        at("camera", "up", &mut c.up);
+        for (key, x) in [
+            ("fovy", &mut c.fovy),
+            ("near", &mut c.near),
+            ("far", &mut c.far),
+        ] {
+            at("camera", key, std::slice::from_mut(x));
+        }
+        for (i, m) in self.materials.iter_mut().enumerate() {
+            let item = format!("material {} ({:?})", i + 1, m.name);
+            at(&item, "color", &mut m.color);
+            for (key, x) in [
+                ("ambient", &mut m.ambient),
+                ("diffuse", &mut m.diffuse),
+                ("specular", &mut m.specular),
+                ("shininess", &mut m.shininess),
+                ("reflectivity", &mut m.reflectivity),
+                ("transparency", &mut m.transparency),
+                ("ior", &mut m.ior),
+            ] {
+                at(&item, key, std::slice::from_mut(x));
+            }
+            match &mut m.texture {
+                None => {}
+                Some(TextureDesc::Checker { a, b, scale }) => {
+                    at(&item, "texture a", a);
+                    at(&item, "texture b", b);
+                    at(&item, "texture scale", std::slice::from_mut(scale));
+                }
+                Some(TextureDesc::Fringes { color, spacing }) => {
+                    at(&item, "texture color", color);
+                    at(&item, "texture spacing", std::slice::from_mut(spacing));
+                }
+                Some(TextureDesc::Young {
+                    color,
+                    d,
+                    wavelength,
+                    distance,
+                }) => {
+                    at(&item, "texture color", color);
+                    at(&item, "texture d", std::slice::from_mut(d));
+                    at(
+                        &item,
+                        "texture wavelength",
+                        std::slice::from_mut(wavelength),
+                    );
+                    at(&item, "texture distance", std::slice::from_mut(distance));
+                }
+            }
+        }
+        for (i, l) in self.lights.iter_mut().enumerate() {
+            let item = format!("light {}", i + 1);
+            at(&item, "position", &mut l.position);
+            at(&item, "color", &mut l.color);
+            at(&item, "intensity", std::slice::from_mut(&mut l.intensity));
+        }
+        for (i, d) in self.spheres.iter_mut().enumerate() {
+            let item = format!("sphere {}", i + 1);
+            at(&item, "center", &mut d.center);
+            at(&item, "radius", std::slice::from_mut(&mut d.radius));
+        }
+        for (i, d) in self.planes.iter_mut().enumerate() {
+            let item = format!("plane {}", i + 1);
+            at(&item, "point", &mut d.point);
+            at(&item, "normal", &mut d.normal);
+        }
+        for (i, d) in self.triangles.iter_mut().enumerate() {
+            let item = format!("triangle {}", i + 1);
+            for v in &mut d.vertices {
+                at(&item, "vertices", v);
+            }
+        }
+        for (i, d) in self.boxes.iter_mut().enumerate() {
+            let item = format!("box {}", i + 1);
+            at(&item, "min", &mut d.min);
+            at(&item, "max", &mut d.max);
+        }
+        for (i, m) in self.meshes.iter_mut().enumerate() {
+            let item = format!("mesh {}", i + 1);
+            at(&item, "scale", std::slice::from_mut(&mut m.scale));
+            at(&item, "translate", &mut m.translate);
+            for (j, f) in m.faces.iter_mut().enumerate() {
+                for v in f {
+                    at(&item, &format!("face {} vertex", j + 1), v);
+                }
+            }
+        }
+        self.flushed = out;
+    }
+
     /// The sampler named by `render.sampler`.
     pub fn sampler(&self) -> Result<Sampler, DescError> {
         let text = &self.render.sampler;

@@ -300,9 +300,29 @@ fn parse_limited(
         mesh.faces = faces;
         mesh.degenerate = degenerate;
     }
+    desc.flush_subnormals();
     check(&desc).map_err(|e| {
         let line = places.start(&e.item).map(|b| line_col(text, b).0);
-        fail(ErrorKind::Invalid, line, None, Some(e.item), e.message)
+        // A value refused because the rule for subnormal numbers read it as 0
+        // (a radius of 1e-45): say so, the message shows the 0.
+        let why: Vec<String> = desc
+            .flushed
+            .iter()
+            .filter(|f| f.item == e.item)
+            .map(|f| {
+                format!(
+                    "{} {} is subnormal in f32 and reads as 0",
+                    f.key,
+                    num(f.value)
+                )
+            })
+            .collect();
+        let message = if why.is_empty() {
+            e.message
+        } else {
+            format!("{}: the file's {}", e.message, why.join(", "))
+        };
+        fail(ErrorKind::Invalid, line, None, Some(e.item), message)
     })?;
     Ok(desc)
 }
@@ -649,6 +669,19 @@ pub fn warnings(desc: &SceneDesc) -> Vec<String> {
                 m.name
             ));
         }
+    }
+    const FLUSHED_SHOWN: usize = 4;
+    out.extend(
+        desc.flushed
+            .iter()
+            .take(FLUSHED_SHOWN)
+            .map(ToString::to_string),
+    );
+    if desc.flushed.len() > FLUSHED_SHOWN {
+        out.push(format!(
+            "{} more subnormal number(s) read as 0 (the first {FLUSHED_SHOWN} are named above)",
+            desc.flushed.len() - FLUSHED_SHOWN
+        ));
     }
     out.extend(crate::precision::edge_warnings(desc));
     out.iter().map(|w| escape_controls(w)).collect()

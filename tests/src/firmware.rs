@@ -22,7 +22,6 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
-use tessera::builtin::Builtin;
 
 /// The file names, limits and tick rate the firmware and this harness agree on: the
 /// firmware's own `tests/firmware/src/protocol.rs`, included here.
@@ -216,12 +215,24 @@ pub fn build_elf(
 /// included here.
 #[path = "../firmware/src/runs.rs"]
 mod runs;
-pub use runs::{Run, parse as parse_run};
+pub use runs::{Run, SceneRef, parse as parse_run};
+
+impl SceneRef {
+    /// The scene's own settings (a built-in scene's, or the defaults).
+    #[must_use]
+    pub fn settings(self) -> tessera::RenderSettings {
+        match self {
+            Self::Builtin(b) => b.settings(),
+            Self::Extreme(_) => tessera::RenderSettings::default(),
+        }
+    }
+}
 
 impl Run {
     /// `scene` with its own settings, tiles of 16, `width x height`.
     #[must_use]
-    pub fn of(scene: Builtin, width: u16, height: u16) -> Self {
+    pub fn of(scene: impl Into<SceneRef>, width: u16, height: u16) -> Self {
+        let scene = scene.into();
         let s = scene.settings();
         Self {
             scene,
@@ -592,6 +603,7 @@ pub fn memory_regions(path: &Path) -> Result<(u64, u64), String> {
 mod tests {
     use super::*;
     use tessera::Sampler;
+    use tessera::builtin::Builtin;
 
     /// Every run the reports and tests send reads back as itself: the run list's
     /// writer and reader agree.

@@ -263,7 +263,7 @@ fn case11_scenes_at_the_limits_render_and_one_step_beyond_is_refused() {
 #[test]
 fn case13_huge_surfaces_meet_the_bar_or_are_warned_about() {
     for surface in HugeSurface::ALL {
-        let placements: &[Placement] = if surface.is_triangle() {
+        let placements: &[Placement] = if surface.takes_placement() {
             &Placement::ALL
         } else {
             &[Placement::Centre]

@@ -157,6 +157,21 @@ fn edge_f64(px: f32, py: f32, qx: f32, qy: f32) -> f32 {
     (f64::from(px) * f64::from(qy) - f64::from(py) * f64::from(qx)) as f32
 }
 
+/// The three edge functions of the projected vertices `[ax, ay, bx, by, cx, cy]`
+/// with [`edge_f64`]: out of line and cold (a ray through an edge or a vertex is
+/// rare), so that the loops which test triangles keep one call, not the `f64`
+/// code, in each of their copies.
+#[cold]
+#[inline(never)]
+fn edges_f64(p: [f32; 6]) -> (f32, f32, f32) {
+    let [ax, ay, bx, by, cx, cy] = p;
+    (
+        edge_f64(cx, cy, bx, by),
+        edge_f64(ax, ay, cx, cy),
+        edge_f64(bx, by, ax, ay),
+    )
+}
+
 impl Triangle {
     /// A triangle from its vertices.
     ///
@@ -221,15 +236,15 @@ impl Triangle {
         let (bx, by) = (b.x - sx * b.z, b.y - sy * b.z);
         let (cx, cy) = (c.x - sx * c.z, c.y - sy * c.z);
 
-        let mut u = edge(cx, cy, bx, by);
-        let mut v = edge(ax, ay, cx, cy);
-        let mut w = edge(bx, by, ax, ay);
+        let (mut u, mut v, mut w) = (
+            edge(cx, cy, bx, by),
+            edge(ax, ay, cx, cy),
+            edge(bx, by, ax, ay),
+        );
         if u == 0.0 || v == 0.0 || w == 0.0 {
             // The ray may pass exactly through an edge or vertex: settle each sign
             // exactly, as the paper does, so neighbours cannot both say "outside".
-            u = edge_f64(cx, cy, bx, by);
-            v = edge_f64(ax, ay, cx, cy);
-            w = edge_f64(bx, by, ax, ay);
+            (u, v, w) = edges_f64([ax, ay, bx, by, cx, cy]);
         }
         // Zeros count as inside, so a ray through an edge or vertex hits every
         // triangle touching it.
@@ -338,8 +353,9 @@ impl Triangle {
     /// crosses the ray (Woop's test has already decided that the ray crosses the
     /// triangle), computed in the ray's sheared frame: `axes` and `frame` (`sx,
     /// sy, sz` and the origin) are the shear's, by value (a reference would keep
-    /// every shear in memory for the sake of this rare call). Out of line and not
-    /// generic: one copy for every loop that tests triangles.
+    /// every shear in memory for the sake of this rare call); 0 (no hit) when the
+    /// crossing is within that computation's error of the origin. Out of line
+    /// and not generic: one copy for every loop that tests triangles.
     #[cold]
     #[inline(never)]
     fn straddling_time(&self, axes: u8, frame: [f32; 6], terms: [f32; 3], t: f32) -> f32 {
@@ -353,17 +369,41 @@ impl Triangle {
         let kx = if kz == 2 { 0 } else { kz + 1 };
         let ky = if kx == 2 { 0 } else { kx + 1 };
         let (kx, ky) = if axes % 2 == 1 { (ky, kx) } else { (kx, ky) };
+        let mut big = 0.0f64;
         let [a, b, c] = [self.p0, self.p1, self.p2].map(|p| {
-            // Woop's `(ax, ay)` and depth of the vertex, in `f64`: each rounded
-            // at 2^-53 of the vertex's distance from the origin.
+            // Woop's `(ax, ay)` and depth of the vertex, in `f64`: each within
+            // gamma64(3) of its terms' magnitude, at most `big`.
             let q = W3::from(p.permute(kx, ky, kz)).sub(W3::new(ox, oy, oz));
+            let (zx, zy) = ((sx * q.z).abs(), (sy * q.z).abs());
+            big = big
+                .max(q.x.abs() + zx)
+                .max(q.y.abs() + zy)
+                .max((sz * q.z).abs());
             W3::new(q.x - sx * q.z, q.y - sy * q.z, sz * q.z)
         });
         // In that frame the ray is the z axis and z is the time: the time is
         // where the plane through a, b, c crosses the z axis.
         let (n, _) = b.sub(a).cross(c.sub(a));
-        let time = (n.dot(a) / n.z) as f32;
-        if time.is_finite() { time } else { t }
+        let time = n.dot(a) / n.z;
+        // The error of that time: the edges are within 2 big (gamma64(4) of it),
+        // the normal within 8 big^2 (gamma64(16)), the numerator's terms within
+        // 24 big^3 (gamma64(24)). A crossing within it of the origin cannot be
+        // told from the origin's own surface (a ray leaving one triangle of a
+        // huge ground across its coplanar neighbour): no hit, as pbrt refuses
+        // `t` below its bound.
+        let (num_err, den_err) = (
+            gamma64(24) * 24.0 * big * big * big,
+            gamma64(16) * 8.0 * big * big,
+        );
+        let slack = n.z.abs() - den_err;
+        if !(slack > 0.0 && time.is_finite()) {
+            return t;
+        }
+        let err = (num_err + time.abs() * den_err) / slack;
+        if time <= err {
+            return 0.0;
+        }
+        time as f32
     }
 }
 

@@ -163,7 +163,8 @@ fn right_vector(fwd: V3, forward: V3, up: V3) -> V3 {
 
 /// Renders `desc` at `viewport` with `settings` in `f64`. First rejects exactly
 /// what the core rejects (`desc.to_core()` and the core's frame check, results
-/// discarded), then renders from the description's own values.
+/// discarded), then renders from the description's own values, read by the rule
+/// for subnormal numbers ([`SceneDesc::flush_subnormals`]).
 pub fn render(
     desc: &SceneDesc,
     viewport: tessera::Viewport,
@@ -177,6 +178,11 @@ pub fn render(
             message: e.to_string(),
         })?;
     drop(core);
+    // The rule for subnormal numbers, as the core applies it to its f32 numbers:
+    // a scene file's are read by it already, a description built in code not.
+    let mut desc = desc.clone();
+    desc.flush_subnormals();
+    let desc = &desc;
     let camera = RefCamera::new(&desc.camera, viewport)?;
     let scene = RefScene::from_desc(desc)?;
     let tracer = Tracer {

@@ -46,6 +46,7 @@ fn empty(camera: CameraDesc) -> SceneDesc {
         triangles: Vec::new(),
         boxes: Vec::new(),
         meshes: Vec::new(),
+        flushed: Vec::new(),
     }
 }
 

@@ -11,13 +11,75 @@
 
 use core::fmt;
 use tessera::builtin::Builtin;
-use tessera::{Encoding, RenderSettings, Sampler};
+use tessera::testing::Extreme;
+use tessera::{Camera, Encoding, RenderSettings, Sampler, SceneView};
+
+/// What a run renders: a built-in scene, or a scene of the extremes battery.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneRef {
+    /// A built-in scene (which a run may scale).
+    Builtin(Builtin),
+    /// A scene of the extremes battery (`tessera::testing::Extreme`).
+    Extreme(Extreme),
+}
+
+impl From<Builtin> for SceneRef {
+    fn from(b: Builtin) -> Self {
+        Self::Builtin(b)
+    }
+}
+
+impl From<Extreme> for SceneRef {
+    fn from(e: Extreme) -> Self {
+        Self::Extreme(e)
+    }
+}
+
+impl SceneRef {
+    /// Its name in the run list.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Builtin(b) => b.name(),
+            Self::Extreme(e) => e.name(),
+        }
+    }
+
+    /// The scene of a name.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        Builtin::from_name(name)
+            .map(Self::Builtin)
+            .or_else(|| Extreme::from_name(name).map(Self::Extreme))
+    }
+
+    /// `f` of the scene's view and camera, a built-in scene scaled by `2^k`
+    /// (`Builtin::with_scaled_scene`; an extreme scene is not scaled: `k` must
+    /// be 0).
+    ///
+    /// # Errors
+    /// The scene's own, and `Error::OutOfRange` for an extreme scene asked scaled.
+    pub fn with_scaled_scene<R>(
+        self,
+        k: i32,
+        f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
+    ) -> Result<R, tessera::Error> {
+        match self {
+            Self::Builtin(b) => b.with_scaled_scene(k, f),
+            Self::Extreme(e) if k == 0 => e.with_scene(f),
+            Self::Extreme(_) => Err(tessera::Error::OutOfRange {
+                field: tessera::Field::CameraPosition,
+                range: "an extreme scene at its own scale (no @k)",
+            }),
+        }
+    }
+}
 
 /// One render on the chip.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Run {
-    /// The built-in scene.
-    pub scene: Builtin,
+    /// The scene.
+    pub scene: SceneRef,
     /// The sampler.
     pub sampler: Sampler,
     /// Reflection/transmission depth.
@@ -75,7 +137,7 @@ pub fn parse(line: &str) -> Result<Run, &'static str> {
         Some((name, k)) => (name, k.parse().map_err(|_| "bad scale after @")?),
         None => (token, 0),
     };
-    let scene = Builtin::from_name(scene).ok_or("unknown scene")?;
+    let scene = SceneRef::from_name(scene).ok_or("unknown scene")?;
     let sampler = next("missing sampler")?
         .parse()
         .map_err(|_| "bad sampler")?;

@@ -164,7 +164,9 @@ fn profiled(elf: &std::path::Path, runs: &[Run]) -> Result<Vec<Profiled>, String
 fn host(run: &Run) -> Result<RgbImage, String> {
     let vp = Viewport::new(run.width, run.height);
     run.scene
-        .with_scene(|view, cam| tessera_host::render(view, cam, vp, run.settings(), run.tile))
+        .with_scaled_scene(0, |view, cam| {
+            tessera_host::render(view, cam, vp, run.settings(), run.tile)
+        })
         .map_err(|e| e.to_string())?
         .map_err(|e| e.to_string())
 }
@@ -554,7 +556,7 @@ impl Measured {
             let worst = |be: &Backend, f: &dyn Fn(&firmware::RunResult) -> u64| {
                 runs.iter()
                     .zip(&be.out.runs)
-                    .filter(|(r, _)| r.scene == b)
+                    .filter(|(r, _)| r.scene == b.into())
                     .map(|(_, x)| f(x))
                     .max()
                     .unwrap_or(0)

@@ -578,7 +578,7 @@ fn case13(md: &mut String) {
     let head: Vec<String> = HUGE_RATIOS.iter().map(|r| format!("{r:.0e}")).collect();
     let mut rows = String::new();
     for surface in HugeSurface::ALL {
-        let placements: &[Placement] = if surface.is_triangle() {
+        let placements: &[Placement] = if surface.takes_placement() {
             &Placement::ALL
         } else {
             &[Placement::Centre]
@@ -596,7 +596,7 @@ fn case13(md: &mut String) {
                     format!("{}{mark}{warn}", h.max_outside)
                 })
                 .collect();
-            let where_ = if surface.is_triangle() {
+            let where_ = if surface.takes_placement() {
                 format!(", {}", placement.name())
             } else {
                 String::new()

@@ -24,6 +24,9 @@ pub const HUGE_VIEWPORT: Viewport = Viewport::new(96, 72);
 pub enum HugeSurface {
     /// A triangle in the ground plane `y = 0`.
     Floor,
+    /// The ground `y = 0` as two triangles meeting under the camera (the usual
+    /// way to write a ground: their shared edge passes near the view).
+    Ground,
     /// A triangle in the plane `z = 0`, facing the camera.
     Upright,
     /// A triangle in the slope `x + 16 y + z / 2 = 0`.
@@ -36,8 +39,9 @@ pub enum HugeSurface {
 
 impl HugeSurface {
     /// Every surface.
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 6] = [
         Self::Floor,
+        Self::Ground,
         Self::Upright,
         Self::Tilted,
         Self::Sphere,
@@ -49,6 +53,7 @@ impl HugeSurface {
     pub fn name(self) -> &'static str {
         match self {
             Self::Floor => "floor triangle",
+            Self::Ground => "ground of two triangles",
             Self::Upright => "upright triangle",
             Self::Tilted => "tilted triangle",
             Self::Sphere => "sphere",
@@ -56,9 +61,9 @@ impl HugeSurface {
         }
     }
 
-    /// True for the triangle surfaces (which take a [`Placement`]).
+    /// True for the single triangles, which take a [`Placement`].
     #[must_use]
-    pub fn is_triangle(self) -> bool {
+    pub fn takes_placement(self) -> bool {
         matches!(self, Self::Floor | Self::Upright | Self::Tilted)
     }
 }
@@ -159,6 +164,13 @@ pub fn huge_scene(surface: HugeSurface, placement: Placement, ratio: f64) -> Str
             "[[plane]]\npoint = {}\nnormal = [1, 16, 0.5]\nmaterial = \"ground\"\n",
             point([s, slope(s, 0.0), 0.0])
         ),
+        HugeSurface::Ground => {
+            let v = |x: f64, z: f64| point([x, 0.0, z]);
+            let tri = |a: String, b: String, c: String| {
+                format!("[[triangle]]\nvertices = [{a}, {b}, {c}]\nmaterial = \"ground\"\n")
+            };
+            tri(v(-s, -s), v(s, -s), v(s, s)) + &tri(v(-s, -s), v(s, s), v(-s, s))
+        }
         _ => {
             let [a, b, c] = corners.map(|(x, z)| point(on(x, z)));
             format!("[[triangle]]\nvertices = [{a}, {b}, {c}]\nmaterial = \"ground\"\n")

@@ -474,7 +474,11 @@ mod tests {
         let runs = chip_runs();
         for b in crate::trade_report::SCENES {
             let grid = trade::grid(b.settings());
-            let mine: Vec<Setting> = runs.iter().filter(|r| r.scene == b).map(setting).collect();
+            let mine: Vec<Setting> = runs
+                .iter()
+                .filter(|r| r.scene == b.into())
+                .map(setting)
+                .collect();
             assert_eq!(mine, grid, "{}", b.name());
         }
         assert!(runs.iter().all(|r| r.seed == SEED && r.width == CHIP_SIZE));
