@@ -1293,6 +1293,67 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_subnormal_rule_reads_f32_subnormals_as_signed_zeros() {
+        for x in [1e-45, -1e-45, 1e-40, 1.1e-38, -1e-300, 1e-50] {
+            assert_eq!(flush(x).to_bits(), 0f64.copysign(x).to_bits(), "{x}");
+        }
+        // Normal in f32 (the last rounds up to f32's smallest normal), or zero.
+        let smallest = f64::from(f32::MIN_POSITIVE);
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            smallest,
+            -smallest,
+            smallest * (1.0 - 1e-9),
+            1e300,
+        ] {
+            assert_eq!(flush(x).to_bits(), x.to_bits(), "{x}");
+        }
+    }
+
+    /// A scene file's subnormal numbers are read as zeros and warned about, each
+    /// named by its item, key and value; a length refused because of it says why.
+    #[test]
+    fn the_loader_reads_subnormals_as_zero_and_says_so() {
+        let scene = |sphere: &str| {
+            format!(
+                "[camera]\nposition = [0, 2, 1e-45]\nlook_at = [0, 0, 0]\nnear = 0.1\nfar = 100\n\
+                 [[material]]\nname = \"m\"\ncolor = [0.5, -1e-40, 0.2]\n\
+                 [[light]]\nposition = [1, 4, 2]\nintensity = 20\n{sphere}"
+            )
+        };
+        let d = crate::file::parse(
+            &scene("[[sphere]]\ncenter = [0, 1, 0]\nradius = 1\nmaterial = \"m\"\n"),
+            "s.toml",
+        )
+        .unwrap();
+        assert_eq!(d.camera.position[2].to_bits(), 0f64.to_bits());
+        assert_eq!(d.materials[0].color[1].to_bits(), (-0f64).to_bits());
+        let w = crate::file::warnings(&d);
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(
+            w[0].starts_with("camera: position 1e-45 is below the smallest normal f32 number"),
+            "{w:?}"
+        );
+        assert!(
+            w[1].starts_with("material 1 (\"m\"): color -1e-40 is below"),
+            "{w:?}"
+        );
+        let e = crate::file::parse(
+            &scene("[[sphere]]\ncenter = [0, 1, 0]\nradius = 1e-40\nmaterial = \"m\"\n"),
+            "s.toml",
+        )
+        .unwrap_err()
+        .to_string();
+        assert_eq!(
+            e,
+            "s.toml:12: sphere 1: sphere radius must be > 0, got 0: the file's radius 1e-40 \
+             is subnormal in f32 and reads as 0"
+        );
+    }
+
+    #[test]
     fn numbers_print_in_the_shortest_form() {
         let cases = [
             (-1.0, "-1"),

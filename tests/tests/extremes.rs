@@ -291,3 +291,20 @@ fn case13_huge_surfaces_meet_the_bar_or_are_warned_about() {
         }
     }
 }
+
+/// Case 14: a subnormal number in any kind of scene input renders as a zero there,
+/// in the core and in the reference (each applying the rule itself: the
+/// descriptions are built in code, not read by the loader), and both agree; a
+/// length or a scale set to one is refused by both, as zero is.
+#[test]
+fn case14_subnormal_inputs_read_as_zero_in_the_core_and_the_reference() {
+    for kind in kinds() {
+        for x in SUBNORMALS {
+            let m = subnormal(&kind, x);
+            let case = format!("{} = {x:e}: {m:?}", kind.name);
+            assert_eq!(m.refused, kind.refused, "{case}");
+            assert_eq!((m.core_differ, m.reference_differ), (0, 0), "{case}");
+            assert!(m.meets_bar, "{case}");
+        }
+    }
+}

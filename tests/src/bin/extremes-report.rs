@@ -30,6 +30,7 @@ fn main() {
     case11(&mut body);
     case12(&mut body);
     case13(&mut body);
+    case14(&mut body);
     let mut md = String::new();
     header(&mut md, sphere_ulps, camera_px, &ranges);
     md.push_str(&body);
@@ -639,5 +640,51 @@ fn case13(md: &mut String) {
         HUGE_VIEWPORT.height,
         head.join(" | "),
         "---|".repeat(HUGE_RATIOS.len())
+    );
+}
+
+fn case14(md: &mut String) {
+    let mut rows = String::new();
+    for kind in kinds() {
+        let cells: Vec<String> = SUBNORMALS
+            .iter()
+            .map(|&x| {
+                let m = subnormal(&kind, x);
+                if m.refused {
+                    "refused".to_string()
+                } else {
+                    let bar = if m.meets_bar { "" } else { " ✗" };
+                    format!(
+                        "{} / {} / {}{bar}",
+                        m.core_differ, m.reference_differ, m.max_outside
+                    )
+                }
+            })
+            .collect();
+        let _ = writeln!(rows, "| {} | {} |", kind.name, cells.join(" | "));
+    }
+    let head: Vec<String> = SUBNORMALS.iter().map(|x| format!("{x:e}")).collect();
+    let _ = writeln!(
+        md,
+        "\n## 14. Subnormal numbers in a scene\n\n\
+         A number whose `f32` is subnormal (below 2^-126, about 1.18e-38, in magnitude) \
+         carries fewer bits than the others, and `f32` and `f64` make different things \
+         of it (`1e-45` is `1.4e-45` in `f32`; a product with it underflows in `f32` \
+         only): a camera 1e-45 off the vertical through its target rolled one way in \
+         the core and another in the reference. One rule now: such a number is read as \
+         a zero of its sign, by the core's checks (`tessera`'s constructors, a material \
+         when a scene takes it), by the f64 reference, and by the loader, which warns. \
+         Each kind below is set to the value of the column in a description built in \
+         code (the loader's rule aside) and rendered at {}x{} by both: the cell is the \
+         pixels of the core's image that differ from the same scene with a zero there, \
+         the same for the reference, then the largest difference of the core against \
+         the reference outside the silhouette band (✗: the bar is missed); a length or \
+         a scale is refused, as zero is. The firmware renders a subnormal camera and a \
+         scene with subnormals in every kind byte for byte like the host (case 12).\n\n\
+         | kind | {} |\n|---|{}\n{rows}",
+        SUBNORMAL_VIEWPORT.width,
+        SUBNORMAL_VIEWPORT.height,
+        head.join(" | "),
+        "---|".repeat(SUBNORMALS.len())
     );
 }

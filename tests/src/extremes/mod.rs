@@ -15,7 +15,8 @@
 //! - case 9, `analytic`: the analytic scene;
 //! - case 10, `refraction`: refraction near the critical angle;
 //! - case 11, `range`: the edges of the supported range;
-//! - case 13, `huge`: surfaces far larger than their distance to the camera.
+//! - case 13, `huge`: surfaces far larger than their distance to the camera;
+//! - case 14, `subnormal`: subnormal numbers in every kind of scene input.
 //!
 //! What they share (`support`): the `f64` side of the comparisons, ulps, a seeded
 //! generator, rays built exactly. Everything is deterministic: rays come from fixed
@@ -30,6 +31,7 @@ mod range;
 mod refraction;
 mod reintersection;
 mod scale;
+mod subnormal;
 mod support;
 mod tiny;
 mod watertight;
@@ -43,6 +45,7 @@ pub use range::*;
 pub use refraction::*;
 pub use reintersection::*;
 pub use scale::*;
+pub use subnormal::*;
 pub use support::*;
 pub use tiny::*;
 pub use watertight::*;
