@@ -24,9 +24,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 use tessera::builtin::Builtin;
+use tessera::testing::Extreme;
 use tessera::{Encoding, Viewport};
 use tessera::{Sampler, Sampler::*};
-use tessera_tests::firmware::{self, Output, Run, Sizes, repo_relative};
+use tessera_tests::firmware::{self, Output, Run, SceneRef, Sizes, repo_relative};
 use tessera_tests::{baseline, cycles, profile, thousands};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin chip-report";
@@ -88,6 +89,12 @@ fn runs() -> Vec<Run> {
             tile: TILE,
             encoding: Encoding::Linear,
             ..Run::of(b, SIZE, SIZE)
+        });
+    }
+    for e in Extreme::ALL {
+        runs.push(Run {
+            tile: TILE,
+            ..Run::of(e, SIZE, SIZE)
         });
     }
     runs
@@ -211,6 +218,7 @@ fn report(bless: bool) -> Result<PathBuf, String> {
     m.counting(&mut d);
     m.instructions(&mut d);
     m.encoding(&mut d);
+    m.extremes(&mut d);
     m.image_size(&mut d);
     m.stack(&mut d);
     m.regenerate(&mut d);
@@ -415,7 +423,9 @@ impl Measured {
             .zip(&exact.out.runs)
             .zip(&fast.out.runs)
             .zip(est)
-            .filter(|(((r, _), _), _)| r.encoding == Encoding::Srgb)
+            .filter(|(((r, _), _), _)| {
+                r.encoding == Encoding::Srgb && matches!(r.scene, SceneRef::Builtin(_))
+            })
         {
             let spp = r.sampler.count();
             let (max, psnr) = difference(&e.pixels, &f.pixels);
@@ -473,6 +483,61 @@ impl Measured {
                 s.instructions_per_pixel(),
                 s.instructions_per_pixel() - lin.instructions_per_pixel()
             );
+        }
+    }
+
+    /// The extremes battery's scenes: what a surface far larger than its distance
+    /// costs (the `f64` paths, software on this chip) beside the same scene at an
+    /// ordinary size, and the subnormal scenes.
+    fn extremes(&self, w: &mut String) {
+        let Self {
+            runs, exact, est, ..
+        } = self;
+        let _ = writeln!(
+            w,
+            "\n## Surfaces far larger than their distance, subnormal inputs\n"
+        );
+        let _ = writeln!(
+            w,
+            "The scenes of `tessera::testing::Extreme` (cases 13 and 14 of \
+             [extremes.md](extremes.md)), centre sampling, depth 3, exact backend: a ground \
+             (two triangles, or a sphere whose top is the ground) `2^25` units across, seen \
+             from 2 units, whose hits take the `f64` paths of `core/src/geometry/wide.rs` \
+             (software on the Cortex-M4F), beside the same scene with a ground 32 units \
+             across; a camera a subnormal off the vertical through its target, and a scene \
+             with subnormal numbers in every kind of input (read as zeros). The chip's \
+             pixels are the host's (checked above).\n"
+        );
+        let _ = writeln!(
+            w,
+            "| scene | instr/px | est. cycles/px | against the 32-unit ground |"
+        );
+        let _ = writeln!(w, "|---|---|---|---|");
+        let measured: Vec<(Extreme, f64, f64)> = runs
+            .iter()
+            .zip(&exact.out.runs)
+            .zip(est)
+            .filter_map(|((r, e), c)| match r.scene {
+                SceneRef::Extreme(x) => Some((
+                    x,
+                    e.instructions_per_pixel(),
+                    *c as f64 / e.pixels_count.max(1) as f64,
+                )),
+                SceneRef::Builtin(_) => None,
+            })
+            .collect();
+        let of = |x: Extreme| measured.iter().find(|m| m.0 == x).map(|m| m.1);
+        for &(x, instr, cycles) in &measured {
+            let twin = match x {
+                Extreme::HugeGround => of(Extreme::SmallGround),
+                Extreme::HugeSphere => of(Extreme::SmallSphere),
+                _ => None,
+            };
+            let against = twin.map_or_else(
+                || "-".to_string(),
+                |t| format!("{:+.0} instr/px ({:.2}x)", instr - t, instr / t),
+            );
+            let _ = writeln!(w, "| {} | {instr:.0} | {cycles:.0} | {against} |", x.name());
         }
     }
 
