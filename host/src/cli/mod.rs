@@ -114,8 +114,8 @@ struct Common {
     /// adaptive:K or adaptive:K,T (K x K samples only where a pixel needs them)
     #[arg(long)]
     sampler: Option<tessera::Sampler>,
-    /// Reflection/refraction depth (0 to 8)
-    #[arg(long)]
+    /// Reflection/refraction depth: 0 (no reflected or refracted ray) to 8
+    #[arg(long, value_parser = parse_depth)]
     depth: Option<u8>,
     /// Seed of the random samplers
     #[arg(long)]
@@ -144,6 +144,16 @@ fn parse_size(s: &str) -> Result<(u16, u16), String> {
         return Err(bad());
     }
     Ok((w, h))
+}
+
+fn parse_depth(s: &str) -> Result<u8, String> {
+    match s.trim().parse::<u8>() {
+        Ok(d) if d <= tessera::MAX_DEPTH => Ok(d),
+        _ => Err(format!(
+            "expected a depth from 0 to {} (reflections and refractions), got {s:?}",
+            tessera::MAX_DEPTH
+        )),
+    }
 }
 
 fn parse_threads(s: &str) -> Result<usize, String> {
