@@ -11,7 +11,8 @@
 //! - `simulate`: the simulated panel keeps whole frames: at most
 //!   [`MEMORY_LIMIT`] bytes, counted as [`SIMULATE_BYTES_PER_PIXEL`] per pixel
 //!   for the frame being drawn and 3 more per pixel of each frame kept for
-//!   `--window`; an orbit has at most [`MAX_ORBIT_FRAMES`] frames.
+//!   `--window`; an orbit has at most [`MAX_ORBIT_FRAMES`] frames, its GIF at
+//!   most [`MAX_GIF_DELAY_MS`] between frames.
 
 use crate::HostError;
 use tessera::Viewport;
@@ -27,6 +28,9 @@ pub const SIMULATE_BYTES_PER_PIXEL: u64 = 16;
 pub const MAX_ORBIT_FRAMES: u32 = 3600;
 /// The most timed runs per setting of `trade`.
 pub const MAX_RUNS: usize = 1000;
+/// The longest delay between the frames of an orbit's GIF, in milliseconds: a
+/// GIF counts delays in hundredths of a second, in 16 bits (65,535).
+pub const MAX_GIF_DELAY_MS: u32 = 655_350;
 
 /// `n` with thousands separators.
 #[must_use]
@@ -130,6 +134,17 @@ pub fn simulated(vp: Viewport, frames: u32, keep: bool) -> Result<(), HostError>
         )));
     }
     Ok(())
+}
+
+/// Checks a delay between GIF frames, in milliseconds (see [`MAX_GIF_DELAY_MS`]).
+pub fn gif_delay(ms: u32) -> Result<u32, String> {
+    if ms > MAX_GIF_DELAY_MS {
+        return Err(format!(
+            "expected a delay from 0 to {MAX_GIF_DELAY_MS} ms (a GIF frame lasts at most \
+             65535 hundredths of a second), got {ms}"
+        ));
+    }
+    Ok(ms)
 }
 
 /// Checks the runs of `trade`.

@@ -156,6 +156,17 @@ pub struct GifStream<W: Write> {
     delay: u16,
 }
 
+/// A delay of `ms` milliseconds in the hundredths of a second a GIF counts: the
+/// nearest one, but at least one for a delay that is not 0 (a GIF delay of 0 is
+/// no delay: viewers show such frames at a pace of their own). Refused above
+/// [`crate::limits::MAX_GIF_DELAY_MS`] (16 bits of hundredths).
+pub fn gif_delay(ms: u32) -> Result<u16, HostError> {
+    crate::limits::gif_delay(ms).map_err(HostError::Limit)?;
+    // No overflow: `ms` is at most MAX_GIF_DELAY_MS.
+    let hundredths = ((ms + 5) / 10).max(u32::from(ms > 0));
+    u16::try_from(hundredths).map_err(|_| HostError::Limit(format!("a GIF delay of {ms} ms")))
+}
+
 fn gif_error(e: gif::EncodingError) -> HostError {
     match e {
         gif::EncodingError::Io(e) => HostError::Write(e),
@@ -164,14 +175,16 @@ fn gif_error(e: gif::EncodingError) -> HostError {
 }
 
 impl<W: Write> GifStream<W> {
-    /// Writes the header of a GIF of `width x height` frames.
+    /// Writes the header of a GIF of `width x height` frames, `delay_ms` apart
+    /// (see [`gif_delay`]; at most [`crate::limits::MAX_GIF_DELAY_MS`]).
     pub fn new(out: W, width: u16, height: u16, delay_ms: u32) -> Result<Self, HostError> {
+        let delay = gif_delay(delay_ms)?;
         let mut enc = gif::Encoder::new(out, width, height, &[]).map_err(gif_error)?;
         enc.set_repeat(gif::Repeat::Infinite).map_err(gif_error)?;
         Ok(Self {
             enc,
             size: (width, height),
-            delay: u16::try_from(delay_ms / 10).unwrap_or(u16::MAX),
+            delay,
         })
     }
 

@@ -38,3 +38,65 @@ fn a_depth_beyond_the_maximum_is_a_usage_error_naming_the_range() {
         usage_error(&[cmd, "--depth=-1"], &["--depth", "got \"-1\""]);
     }
 }
+
+/// The frame delays of the GIF at `path`, in hundredths of a second.
+fn gif_delays(path: &Path) -> Vec<u16> {
+    let file = std::fs::File::open(path).unwrap();
+    let mut decoder = gif::DecodeOptions::new().read_info(file).unwrap();
+    let mut delays = Vec::new();
+    while let Some(frame) = decoder.read_next_frame().unwrap() {
+        delays.push(frame.delay);
+    }
+    delays
+}
+
+/// A GIF counts its delays in hundredths of a second, at most 65,535: a longer
+/// `--delay-ms` is refused (it was clamped to 655.35 s without a word), and a
+/// delay that is no multiple of 10 ms goes to the nearest hundredth, never to 0
+/// (5 ms became 0, which viewers show at their own pace).
+#[test]
+fn orbit_delays_are_bounded_and_rounded_to_hundredths() {
+    let max = tessera_host::limits::MAX_GIF_DELAY_MS.to_string();
+    assert_eq!(max, "655350");
+    for cmd in [&["simulate", "--orbit", "2"][..], &["simulate"]] {
+        let mut args = cmd.to_vec();
+        args.extend(["--delay-ms", "655351"]);
+        usage_error(
+            &args,
+            &["--delay-ms", "from 0 to 655350 ms", "got \"655351\""],
+        );
+    }
+    let dir = scratch("delays");
+    for (ms, cs) in [
+        ("80", 8),
+        ("5", 1),
+        ("14", 1),
+        ("15", 2),
+        ("0", 0),
+        ("655350", 65535),
+    ] {
+        let name = format!("d{ms}.gif");
+        let out = run(
+            &dir,
+            &[
+                "simulate",
+                "--orbit",
+                "2",
+                "--size",
+                "8x8",
+                "--delay-ms",
+                ms,
+                "-o",
+                &name,
+            ],
+        );
+        assert!(out.status.success(), "{ms}: {}", text(&out.stderr));
+        assert_eq!(gif_delays(&dir.join(&name)), vec![cs; 2], "--delay-ms {ms}");
+    }
+    let help = text(&run(&dir, &["simulate", "--help"]).stdout).replace('\n', " ");
+    let help = help.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(
+        help.contains("rounded to the nearest 10 ms") && help.contains("655350"),
+        "{help}"
+    );
+}

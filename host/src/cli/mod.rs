@@ -37,7 +37,7 @@ device, a socket or a folder is refused at once, unread.
 
 Limits, checked before any work: --threads at most 256; compare and trade at most \
 about 28.5 million pixels (FLIP's work limit); simulate at most 4 GiB for its \
-panel, and 3600 orbit frames. render has no size limit: it streams the PNG a row \
+panel, 3600 orbit frames and a GIF delay of 655350 ms (--delay-ms). render has no size limit: it streams the PNG a row \
 of tiles at a time.
 
 Exit status: 0 on success, 1 on an error or when compare's accuracy bar is not met, \
