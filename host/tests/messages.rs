@@ -100,3 +100,52 @@ fn orbit_delays_are_bounded_and_rounded_to_hundredths() {
         "{help}"
     );
 }
+
+/// A scene whose camera is 1e18 from what it looks at, on both x and z: in
+/// range, but an orbit swings it to 1.4e18 on one axis, beyond 2^60.
+const FAR_CAMERA: &str = "# A camera far out: its orbit leaves the supported range.
+[camera]
+position = [1e18, 0, 1e18]
+look_at = [0, 0, 0]
+near = 0.1
+far = 1e18
+
+[[material]]
+name = \"m\"
+
+[[sphere]]
+center = [0, 0, 0]
+radius = 1e17
+material = \"m\"
+
+[[light]]
+position = [0, 1e18, 0]
+intensity = 1e36
+";
+
+/// An orbit whose camera leaves the supported range is refused before any
+/// frame is drawn, with the scene, the frame and the position refused (it said
+/// only `camera position must be in [-2^60, 2^60] ...`).
+#[test]
+fn an_orbit_beyond_the_range_names_the_scene_the_frame_and_the_position() {
+    let dir = scratch("orbit-range");
+    std::fs::write(dir.join("far.toml"), FAR_CAMERA).unwrap();
+    for out in ["f.gif", "f.png"] {
+        let o = run(
+            &dir,
+            &[
+                "simulate", "far.toml", "--orbit", "8", "--size", "16x16", "-o", out,
+            ],
+        );
+        let e = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert_eq!(
+            e.trim_end(),
+            "tessera: error: far.toml: orbit frame 1 of 8 (numbered from 0): the camera \
+             at [1.4142136e18, 0, 0] (on a circle of radius 1.4142136e18 around \
+             [0, 0, 0]): camera position must be in [-2^60, 2^60] (about 1.15e18) per \
+             component",
+        );
+        assert_eq!(common::entries(&dir), vec!["far.toml"]);
+    }
+}

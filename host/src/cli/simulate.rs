@@ -162,17 +162,27 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let start = Instant::now();
     let mut shown = Vec::new();
     let files = source.with_core(|view, camera| {
+        // Every frame's camera is checked before any frame is drawn.
+        let in_scene = |e| match e {
+            HostError::Scene(e) => source.error(e),
+            e => Error::Host(e),
+        };
         let cameras = match args.orbit {
             None => vec![*camera],
-            Some(n) => sim::pivot(view, camera).and_then(|pivot| sim::orbit(camera, pivot, n))?,
+            Some(n) => sim::pivot(view, camera)
+                .and_then(|pivot| sim::orbit(camera, pivot, n))
+                .map_err(in_scene)?,
         };
+        let frames = cameras
+            .iter()
+            .map(|cam| Frame::try_new(cam, vp, settings))
+            .collect::<Result<Vec<Frame>, _>>()?;
         let bar = progress(
-            cameras.len() as u64,
-            u64::from(vp.width) * u64::from(vp.height) * cameras.len() as u64,
+            frames.len() as u64,
+            u64::from(vp.width) * u64::from(vp.height) * frames.len() as u64,
         );
-        let frames = cameras.iter().map(|cam| {
-            let frame = Frame::try_new(cam, vp, settings)?;
-            let img = sim::simulate_tiled(view, &frame, args.color, tile, Some(args.dither))?;
+        let frames = frames.iter().map(|frame| {
+            let img = sim::simulate_tiled(view, frame, args.color, tile, Some(args.dither))?;
             bar.inc(1);
             Ok(img)
         });
