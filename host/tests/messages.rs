@@ -149,3 +149,35 @@ fn an_orbit_beyond_the_range_names_the_scene_the_frame_and_the_position() {
         assert_eq!(common::entries(&dir), vec!["far.toml"]);
     }
 }
+
+/// A dotted key or a table header of very many parts is refused by the pre-scan
+/// at the part beyond the limit, with its line and column (the parser said
+/// `dotted.toml: recursion limit`, nowhere).
+#[test]
+fn a_key_of_too_many_parts_is_refused_with_its_line_and_column() {
+    let dir = scratch("dotted");
+    let cases = [
+        (format!("a{} = 1\n", ".a".repeat(200_000)), "1:32"),
+        (format!("# header\n[t{}]\n", ".t".repeat(200_000)), "2:33"),
+        (format!("x = 1\n[[u{}]]\n", ".u".repeat(16)), "2:34"),
+        (
+            format!("[camera]\nv = {{ w{} = 1 }}\n", ".w".repeat(16)),
+            "2:38",
+        ),
+    ];
+    for (body, at) in cases {
+        std::fs::write(dir.join("dotted.toml"), &body).unwrap();
+        let o = run(&dir, &["render", "dotted.toml", "-o", "x.png"]);
+        let e = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert_eq!(
+            e.trim_end(),
+            format!(
+                "tessera: error: dotted.toml:{at}: a dotted key or table header has more \
+                 than 16 parts"
+            ),
+            "{}",
+            &body[..body.len().min(80)]
+        );
+    }
+}
