@@ -181,3 +181,38 @@ fn a_key_of_too_many_parts_is_refused_with_its_line_and_column() {
         );
     }
 }
+
+/// `compare` writes a heat map only when asked (`--heatmap FILE`); it wrote
+/// `compare-heatmap.png` into the current folder every time.
+#[test]
+fn compare_writes_no_heat_map_unless_asked() {
+    let dir = scratch("no-heatmap");
+    let out = run(&dir, &["compare", "chapter-direct", "--size", "16x12"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("mean FLIP") && !stdout.contains("wrote"),
+        "{stdout}"
+    );
+    assert!(
+        common::entries(&dir).is_empty(),
+        "{:?}",
+        common::entries(&dir)
+    );
+    let out = run(
+        &dir,
+        &[
+            "compare",
+            "chapter-direct",
+            "--size",
+            "16x12",
+            "--heatmap",
+            "h.png",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("wrote h.png"));
+    assert_eq!(common::entries(&dir), vec!["h.png"]);
+    let help = text(&run(&dir, &["compare", "--help"]).stdout);
+    assert!(!help.contains("compare-heatmap.png"), "{help}");
+}

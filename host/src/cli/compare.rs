@@ -1,4 +1,5 @@
-//! `tessera compare`: the core (f32) against the reference (f64), with a heat-map.
+//! `tessera compare`: the core (f32) against the reference (f64), and a heat map
+//! of the differences when asked for one.
 
 use super::{Common, Error, Source, describe};
 use clap::Args;
@@ -12,16 +13,20 @@ use tessera_host::{HostError, compare, limits};
 pub struct CompareArgs {
     #[command(flatten)]
     common: Common,
-    /// Where to write the difference heat-map PNG
-    #[arg(long, default_value = "compare-heatmap.png")]
-    heatmap: PathBuf,
+    /// Also write a heat map of the differences to this PNG (none by default)
+    #[arg(long, value_name = "FILE")]
+    heatmap: Option<PathBuf>,
 }
 
 pub fn run(args: &CompareArgs) -> Result<(), Error> {
     let source = Source::open(args.common.scene.as_deref())?;
     let (settings, vp, tile) = source.settings(&args.common)?;
     limits::measured("compare", vp)?;
-    let mut heatmap = Pending::create(source.target(&args.heatmap)?)?;
+    // Created before the work, so an unwritable folder is known at once.
+    let heatmap = match &args.heatmap {
+        Some(path) => Some((path, Pending::create(source.target(path)?)?)),
+        None => None,
+    };
     let (core_img, core_non_finite) = core_image(&source, vp, settings, tile, args.common.threads)?;
     let reference = tessera_host::reference::render(&source.desc(), vp, &settings)
         .map_err(|e| source.error(e))?;
@@ -42,15 +47,17 @@ pub fn run(args: &CompareArgs) -> Result<(), Error> {
         },
     );
     println!("{acc}");
-    let map = compare::heatmap(&core_img, &ref_img, &reference.signature);
-    if let Err(e) = tessera_host::encode_png(&map, &mut heatmap) {
-        return Err(heatmap.error(HostError::Write(e)).into());
+    if let Some((path, mut file)) = heatmap {
+        let map = compare::heatmap(&core_img, &ref_img, &reference.signature);
+        if let Err(e) = tessera_host::encode_png(&map, &mut file) {
+            return Err(file.error(HostError::Write(e)).into());
+        }
+        output::commit(vec![file])?;
+        println!(
+            "wrote {} (black: equal, blue: 1 LSB, green: 2, yellow: 3-4, red: 5+; grey: band)",
+            path.display()
+        );
     }
-    output::commit(vec![heatmap])?;
-    println!(
-        "wrote {} (black: equal, blue: 1 LSB, green: 2, yellow: 3-4, red: 5+; grey: band)",
-        args.heatmap.display()
-    );
     if acc.meets_bar() {
         Ok(())
     } else {
