@@ -216,3 +216,67 @@ fn compare_writes_no_heat_map_unless_asked() {
     let help = text(&run(&dir, &["compare", "--help"]).stdout);
     assert!(!help.contains("compare-heatmap.png"), "{help}");
 }
+
+/// The summary of `render`: the sampler's samples a pixel (for the adaptive
+/// sampler the most a pixel may take: it printed "17 sample(s)/px" while about
+/// 3 rays a pixel were traced) and the rays traced a pixel, measured.
+#[test]
+fn the_render_summary_says_the_samples_bound_and_the_rays_traced() {
+    let dir = scratch("summary");
+    for (sampler, said, camera) in [
+        ("adaptive:4", "at most 17 samples/px (adaptive:4)", None),
+        ("stratified:4", "16 samples/px (stratified:4)", Some(16.0)),
+        ("random:3", "3 samples/px (random:3)", Some(3.0)),
+        ("centre", "1 sample/px (centre)", Some(1.0)),
+        ("corner", "1 sample/px (corner)", Some(1.0)),
+        ("prefiltered", "1 sample/px (prefiltered)", Some(1.0)),
+        (
+            "offset:0.25,0.5",
+            "1 sample/px (offset:0.25,0.5)",
+            Some(1.0),
+        ),
+    ] {
+        let out = run(
+            &dir,
+            &[
+                "render",
+                "showcase",
+                "--size",
+                "64x48",
+                "--sampler",
+                sampler,
+                "-o",
+                "s.png",
+            ],
+        );
+        let line = text(&out.stdout)
+            .lines()
+            .next()
+            .unwrap_or_default()
+            .to_string();
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        assert!(
+            line.starts_with(&format!("showcase: 64x48, {said}, depth 5")),
+            "{line}"
+        );
+        // `..., N rays, R/px (C camera rays/px), M Mrays/s`
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let at = words.iter().position(|w| *w == "rays,").expect(&line);
+        let rays: f64 = words[at - 1].parse().unwrap();
+        let per_px: f64 = words[at + 1].trim_end_matches("/px").parse().expect(&line);
+        let cam: f64 = words[at + 2].trim_start_matches('(').parse().expect(&line);
+        assert_eq!(words[at + 3..at + 5], ["camera", "rays/px),"], "{line}");
+        assert_eq!(
+            format!("{per_px:.2}"),
+            format!("{:.2}", rays / 3072.0),
+            "{line}"
+        );
+        match camera {
+            Some(c) => assert_eq!(cam, c, "{line}"),
+            // The adaptive sampler traces a centre ray a pixel, and an apron
+            // round each tile, and refines some pixels: below its bound.
+            None => assert!((1.0..17.0).contains(&cam), "{line}"),
+        }
+        assert!(per_px > cam, "{line}");
+    }
+}

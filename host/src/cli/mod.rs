@@ -183,14 +183,22 @@ fn progress(tiles: u64, work: u64) -> ProgressBar {
     bar
 }
 
-/// `NAME: WxH, N sample(s)/px (SAMPLER), depth D`: the start of every summary line.
+/// `NAME: WxH, N samples/px (SAMPLER), depth D`: the start of every summary line.
+/// The adaptive sampler's count is the most a pixel takes (`at most 17
+/// samples/px (adaptive:4)`): most pixels take one.
 fn describe(source: &Source, vp: Viewport, settings: &RenderSettings) -> String {
+    let n = settings.sampler.count();
+    let bound = if matches!(settings.sampler, tessera::Sampler::Adaptive { .. }) {
+        "at most "
+    } else {
+        ""
+    };
     format!(
-        "{}: {}x{}, {} sample(s)/px ({}), depth {}",
-        source.name(),
+        "{}: {}x{}, {bound}{n} sample{}/px ({}), depth {}",
+        tessera_host::desc::escape_controls(source.name()),
         vp.width,
         vp.height,
-        settings.sampler.count(),
+        if n == 1 { "" } else { "s" },
         settings.sampler,
         settings.max_depth
     )

@@ -62,10 +62,16 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     } else {
         args.common.threads
     };
+    // Measured: what the sampler's bound does not say (an adaptive pixel, the
+    // bounces and the shadow rays).
+    let pixels = f64::from(vp.width) * f64::from(vp.height);
     println!(
-        "{}, {tile}x{tile} tiles, {threads} thread(s): {secs:.3} s, {} rays, {:.2} Mrays/s",
+        "{}, {tile}x{tile} tiles, {threads} thread(s): {secs:.3} s, {} rays, {:.2}/px \
+         ({:.2} camera rays/px), {:.2} Mrays/s",
         describe(&source, vp, &settings),
         rays.total(),
+        rays.total() as f64 / pixels,
+        rays.primary as f64 / pixels,
         rays.total() as f64 / secs.max(1e-9) / 1e6,
     );
     println!("wrote {}", args.output.display());
