@@ -280,3 +280,148 @@ fn the_render_summary_says_the_samples_bound_and_the_rays_traced() {
         assert!(per_px > cam, "{line}");
     }
 }
+
+/// Runs `args` in `dir` until its first line on stderr (at most 60 s), then
+/// stops it (SIGTERM: its temporary files go); returns that line.
+fn first_warning(dir: &Path, args: &[&str]) -> String {
+    use std::io::BufRead;
+    use std::process::Stdio;
+    let mut child = bin()
+        .current_dir(dir)
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stderr = child.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut line = String::new();
+        let _ = std::io::BufReader::new(stderr).read_line(&mut line);
+        let _ = tx.send(line);
+    });
+    let line = rx.recv_timeout(std::time::Duration::from_secs(60));
+    let killed = std::process::Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let _ = child.wait();
+    line.unwrap_or_else(|_| panic!("{args:?}: nothing on stderr within 60 s"))
+}
+
+/// A 5 KB scene that asks for hours of work (16 glass spheres, 64 lights, depth
+/// 8, random:4096 at 320x240) is warned about before the work starts, with the
+/// estimate, what drives it and how to make it cheaper; nothing said so.
+#[test]
+fn a_costly_scene_is_warned_about_before_the_work_starts() {
+    let dir = scratch("costly");
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/costly.toml");
+    let scene = dir.join("costly.toml");
+    std::fs::copy(&fixture, &scene).unwrap();
+    assert!(std::fs::metadata(&scene).unwrap().len() < 6000);
+    for args in [
+        &["render", "costly.toml", "-o", "c.png"][..],
+        &["compare", "costly.toml"],
+        &["simulate", "costly.toml", "-o", "c.png"],
+    ] {
+        let w = first_warning(&dir, args);
+        for part in [
+            "tessera: warning: costly.toml: ",
+            " may take about ",
+            " on this machine (a trial of 1200 pixels traced ",
+            " rays a sample, ",
+            "at most 33215 rays a sample: ",
+            " x 4096 samples (random:4096) x 511 rays a sample (depth 8, transparent \
+             materials: 2 rays a hit) x 65 (64 lights: a shadow ray each a hit)",
+            "to make it cheaper: a smaller --size, fewer samples (--sampler), a lower --depth",
+        ] {
+            assert!(w.contains(part), "{args:?}: {part:?} not in {w}");
+        }
+        assert!(w.contains(" hours ") || w.contains(" minutes "), "{w}");
+        assert_eq!(common::entries(&dir), vec!["costly.toml"], "{args:?}");
+    }
+    // A smaller size, fewer samples and a lower depth: no warning.
+    let out = run(
+        &dir,
+        &[
+            "render",
+            "costly.toml",
+            "--size",
+            "32x24",
+            "--sampler",
+            "random:4",
+            "--depth",
+            "2",
+            "-o",
+            "c.png",
+        ],
+    );
+    assert!(
+        out.status.success() && out.stderr.is_empty(),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+/// No built-in scene and no example file is warned about at its own settings,
+/// by any command.
+#[test]
+fn no_scene_of_the_repository_is_warned_about() {
+    let dir = scratch("not-costly");
+    let mut scenes: Vec<String> = tessera::builtin::Builtin::ALL
+        .iter()
+        .map(|b| b.name().to_string())
+        .collect();
+    let examples = common::scenes().join("examples");
+    for f in common::entries(&examples) {
+        if f.ends_with(".toml") {
+            scenes.push(examples.join(f).display().to_string());
+        }
+    }
+    assert!(scenes.len() > 20, "{scenes:?}");
+    for s in &scenes {
+        for args in [
+            &["render", s, "-o", "x.png"][..],
+            &["compare", s],
+            &["simulate", s, "-o", "x.png"],
+        ] {
+            let out = run(&dir, args);
+            assert!(out.status.success(), "{args:?}: {}", text(&out.stderr));
+            assert!(out.stderr.is_empty(), "{args:?}: {}", text(&out.stderr));
+        }
+    }
+}
+
+/// `trade` scales the time it takes at its defaults by the work asked for, and
+/// warns beyond a minute's worth.
+#[test]
+fn a_costly_trade_is_warned_about_before_the_work_starts() {
+    let dir = scratch("trade-costly");
+    let w = first_warning(&dir, &["trade", "--size", "640x480"]);
+    for part in [
+        "tessera: warning: trade at 640x480 with 5 run(s) may take about ",
+        "25.0 times the work of `tessera trade` at its defaults (128x96, 5 runs, every \
+         scene, no cached references: 62 s)",
+        "to make it cheaper: a smaller --size, fewer --runs or --scenes, a --truth-dir",
+    ] {
+        assert!(w.contains(part), "{part:?} not in {w}");
+    }
+    let out = run(
+        &dir,
+        &[
+            "trade",
+            "--scenes",
+            "chapter-direct",
+            "--size",
+            "32x24",
+            "--runs",
+            "1",
+        ],
+    );
+    assert!(
+        out.status.success() && out.stderr.is_empty(),
+        "{}",
+        text(&out.stderr)
+    );
+}

@@ -1,7 +1,7 @@
 //! `tessera compare`: the core (f32) against the reference (f64), and a heat map
 //! of the differences when asked for one.
 
-use super::{Common, Error, Source, describe};
+use super::{Common, Error, Source, describe, threads, warn_work};
 use clap::Args;
 use image::RgbImage;
 use std::path::PathBuf;
@@ -22,6 +22,16 @@ pub fn run(args: &CompareArgs) -> Result<(), Error> {
     let source = Source::open(args.common.scene.as_deref())?;
     let (settings, vp, tile) = source.settings(&args.common)?;
     limits::measured("compare", vp)?;
+    let threads = threads(args.common.threads);
+    let what = format!("compare (the core on {threads} thread(s), the f64 reference on one)");
+    source.with_core(|view, camera| {
+        let work = limits::Work::of(view, vp, &settings);
+        // The core on the threads, its check for non-finite pixels and the f64
+        // reference on one thread each.
+        warn_work(&source, &what, view, camera, work, |w| {
+            w.core_seconds(threads) + w.core_seconds(1) + w.reference_seconds()
+        })
+    })?;
     // Created before the work, so an unwritable folder is known at once.
     let heatmap = match &args.heatmap {
         Some(path) => Some((path, Pending::create(source.target(path)?)?)),

@@ -40,6 +40,12 @@ about 28.5 million pixels (FLIP's work limit); simulate at most 4 GiB for its \
 panel, 3600 orbit frames and a GIF delay of 655350 ms (--delay-ms). render has no size limit: it streams the PNG a row \
 of tiles at a time.
 
+Work: before it starts, each command bounds its work (samples a pixel, the rays a \
+sample may take: each level of --depth can double them with glass, a shadow ray \
+per light at each hit; the primitives) and, where that bound is above a minute on \
+this machine, measures a trial of 1200 pixels; it warns (and goes on) when the \
+estimate is above a minute, with what drives it.
+
 Exit status: 0 on success, 1 on an error or when compare's accuracy bar is not met, \
 2 on a bad command line.";
 
@@ -181,6 +187,39 @@ fn progress(tiles: u64, work: u64) -> ProgressBar {
         bar.set_style(style);
     }
     bar
+}
+
+/// The render threads `n` asks for: itself, or for 0 one per core.
+fn threads(n: usize) -> usize {
+    if n == 0 {
+        rayon::current_num_threads()
+    } else {
+        n
+    }
+}
+
+/// Warns on stderr, before the work starts, when `what` (`the render on 2
+/// thread(s)`) may take more than [`limits::WARN_SECONDS`]: `seconds(work)`.
+/// Where the bound (see [`limits::Work`]) is above, a trial measures the rays a
+/// sample takes first ([`limits::Work::trial`]), for a closer estimate.
+fn warn_work(
+    source: &Source,
+    what: &str,
+    view: &tessera::SceneView<'_>,
+    camera: &tessera::Camera,
+    mut work: limits::Work,
+    seconds: impl Fn(&limits::Work) -> f64,
+) -> Result<(), Error> {
+    if seconds(&work) > limits::WARN_SECONDS {
+        work.trial(view, camera)?;
+    }
+    if let Some(w) = limits::work_warning(what, seconds(&work), &work) {
+        eprintln!(
+            "tessera: warning: {}: {w}",
+            tessera_host::desc::escape_controls(source.name())
+        );
+    }
+    Ok(())
 }
 
 /// `NAME: WxH, N samples/px (SAMPLER), depth D`: the start of every summary line.

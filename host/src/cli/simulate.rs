@@ -1,7 +1,7 @@
 //! `tessera simulate`: a scene drawn onto a simulated display panel, one frame or
 //! an orbit of the camera, saved as PNG(s) or a GIF and optionally shown in a window.
 
-use super::{Common, Error, Source, describe, progress};
+use super::{Common, Error, Source, describe, progress, warn_work};
 use clap::Args;
 use image::RgbImage;
 use std::path::PathBuf;
@@ -177,6 +177,12 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             .iter()
             .map(|cam| Frame::try_new(cam, vp, settings))
             .collect::<Result<Vec<Frame>, _>>()?;
+        let work = limits::Work::of(view, vp, &settings);
+        let n = frames.len() as f64;
+        let what = format!("drawing {} frame(s) on one thread", frames.len());
+        warn_work(&source, &what, view, camera, work, |w| {
+            w.core_seconds(1) * n
+        })?;
         let bar = progress(
             frames.len() as u64,
             u64::from(vp.width) * u64::from(vp.height) * frames.len() as u64,
