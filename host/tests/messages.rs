@@ -425,3 +425,55 @@ fn a_costly_trade_is_warned_about_before_the_work_starts() {
         text(&out.stderr)
     );
 }
+
+/// A scene of one mesh whose OBJ file is `obj`, written in `dir`.
+fn mesh_scene(dir: &Path, obj: &str) {
+    std::fs::write(dir.join("m.obj"), obj).unwrap();
+    std::fs::write(
+        dir.join("m.toml"),
+        "[camera]\nposition = [0, 0, 6]\nlook_at = [0, 0, 0]\nnear = 0.1\nfar = 100\n\n\
+         [[material]]\nname = \"m\"\n\n[[light]]\nposition = [3, 4, 5]\nintensity = 30\n\n\
+         [[mesh]]\nobj = \"m.obj\"\nmaterial = \"m\"\n",
+    )
+    .unwrap();
+}
+
+/// OBJ faces are bounded before tobj reads them (a single 16 MiB face line took
+/// 340 MB): a face of more vertices than a fan the scene could hold, or faces
+/// making more than twice the triangles the scene holds, are refused at their
+/// line, with the count.
+#[test]
+fn obj_faces_are_bounded_before_they_are_parsed() {
+    let dir = scratch("obj-faces");
+    let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    let huge = format!("{head}# one face\nf{}\n", " 1 2 3".repeat(1_000_000));
+    mesh_scene(&dir, &huge);
+    let out = run(&dir, &["render", "m.toml", "-o", "x.png"]);
+    assert_eq!(
+        text(&out.stderr).trim_end(),
+        "tessera: error: m.toml:14: mesh 1: m.obj:5: a face of 3000000 vertices, more than \
+         the 8194 whose fan fills the scene's 8192 triangles"
+    );
+    let many = format!("{head}{}", "f 1 2 3\n".repeat(20_000));
+    mesh_scene(&dir, &many);
+    let out = run(&dir, &["render", "m.toml", "-o", "x.png"]);
+    assert_eq!(
+        text(&out.stderr).trim_end(),
+        "tessera: error: m.toml:14: mesh 1: m.obj:16388: the faces up to this line make \
+         more than 16384 triangles (twice the 8192 the scene holds, degenerate faces \
+         included)"
+    );
+    // At the bounds: read, and refused (or not) for what the faces are.
+    let fan: Vec<String> = (0..8194).map(|i| format!("v {i} {} 0\n", i * i)).collect();
+    let fan = format!(
+        "{}f {}\n",
+        fan.concat(),
+        (1..=8194)
+            .map(|i| i.to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+    mesh_scene(&dir, &fan);
+    let out = run(&dir, &["render", "m.toml", "--size", "8x8", "-o", "x.png"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+}
