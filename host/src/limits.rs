@@ -6,8 +6,16 @@
 //!   memory proportional to the width (see [`crate::render_png`]).
 //! - `compare` and `trade`: at most [`flip_pixels`] pixels (about 28.5 million,
 //!   e.g. 5,300 x 5,300): FLIP refuses more than 2^34 filter operations at its
-//!   default 67 pixels per degree. They keep whole images (about 120 bytes a
-//!   pixel: 3.4 GB at that size). `trade` runs at most [`MAX_RUNS`] timed runs.
+//!   default 67 pixels per degree. They keep whole images: at its peak `compare`
+//!   holds the f64 reference's colours and signature (32 bytes a pixel) and
+//!   the band it makes of them (1 more): 924,616 KiB at 5342x5342 (`/usr/bin/time
+//!   -v tessera compare --size 5342x5342`, release build; it was 2,934,632 KiB
+//!   before FLIP was measured in bands, [`crate::compare::mean_flip`]). With
+//!   the adaptive sampler the reference keeps 48 bytes a pixel more:
+//!   2,234,768 KiB (`--sampler adaptive:2`). `trade` holds the same at most
+//!   (a reference render and a few 8-bit images; estimated, not measured at
+//!   that size: its converged references alone would take hours). `trade` runs
+//!   at most [`MAX_RUNS`] timed runs.
 //! - Work: before rendering, each command bounds the work from above ([`Work`]),
 //!   and where the bound is above [`WARN_SECONDS`] on this machine, measures the
 //!   rays a camera ray takes on a trial of a few pixels; it warns (it does not
@@ -76,17 +84,26 @@ pub fn threads(n: usize) -> Result<usize, String> {
     Ok(n)
 }
 
-/// The most pixels FLIP measures at the default pixels per degree: its filter
-/// work, `pixels x (16 x spatial taps + 14 x feature taps)`, is at most 2^34
-/// (flip-rs computes the taps in f32 as here).
+/// The radii, in pixels, of FLIP's two filters at the default pixels per
+/// degree: the spatial (colour) filter's and the feature filter's (flip-rs
+/// computes them in f32 as here). A pixel's error depends on no pixel farther
+/// away.
 #[must_use]
-pub fn flip_pixels() -> u64 {
+pub fn flip_radii() -> (u64, u64) {
     use std::f32::consts::PI;
     let ppd = flip_rs::DEFAULT_PPD;
     let radius = (3.0 * (0.04 / (2.0 * (PI * PI))).sqrt() * ppd).ceil();
     let feature_radius = (3.0 * (0.5 * 0.082 * ppd)).ceil();
-    let spatial = 2 * radius as u64 + 1;
-    let feature = 2 * feature_radius as u64 + 1;
+    (radius as u64, feature_radius as u64)
+}
+
+/// The most pixels FLIP measures at the default pixels per degree: its filter
+/// work, `pixels x (16 x spatial taps + 14 x feature taps)`, is at most 2^34.
+#[must_use]
+pub fn flip_pixels() -> u64 {
+    let (radius, feature_radius) = flip_radii();
+    let spatial = 2 * radius + 1;
+    let feature = 2 * feature_radius + 1;
     (1u64 << 34) / (16 * spatial + 14 * feature)
 }
 

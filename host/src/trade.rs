@@ -225,8 +225,9 @@ pub fn truth_file_name(name: &str, desc: &SceneDesc, vp: Viewport) -> String {
 }
 
 fn accuracy(img: &RgbImage, truth: &RgbImage) -> Result<compare::Accuracy, HostError> {
-    let flat = vec![0u64; (img.width() * img.height()) as usize];
-    compare::measure(img, 0, truth, 0, &flat)
+    // No silhouette band: every pixel counts.
+    let none = vec![false; img.width() as usize * img.height() as usize];
+    compare::measure_with_band(img, 0, truth, 0, &none)
 }
 
 fn row(

@@ -36,7 +36,9 @@ Inputs (the scene file, its meshes' OBJ files) must be regular files: a FIFO, a 
 device, a socket or a folder is refused at once, unread.
 
 Limits, checked before any work: --threads at most 256; compare and trade at most \
-about 28.5 million pixels (FLIP's work limit); simulate at most 4 GiB for its \
+about 28.5 million pixels (FLIP's work limit), where compare's memory peaks at \
+about 950 MB (33 bytes a pixel; 2.3 GB with --sampler adaptive:K, 80 bytes a \
+pixel); simulate at most 4 GiB for its \
 panel, 3600 orbit frames and a GIF delay of 655350 ms (--delay-ms). render has no size limit: it streams the PNG a row \
 of tiles at a time.
 
