@@ -37,6 +37,14 @@ pub enum HostError {
     },
     /// A request beyond a documented limit (see [`crate::limits`]), refused before any work.
     Limit(String),
+    /// A file could not be read (not a regular file, ...).
+    Read {
+        /// The file.
+        path: String,
+        /// Why, e.g. `cannot read the cached reference: it is a FIFO (named
+        /// pipe), not a regular file`.
+        message: String,
+    },
     /// Writing failed on a stream that does not know its file's name (the caller
     /// names it: [`crate::output::Pending::error`]).
     Write(std::io::Error),
@@ -87,6 +95,7 @@ impl fmt::Display for HostError {
                 write!(f, "cannot write {target}: {what} {temp} failed: {source}")
             }
             Self::Refused { path, reason } => write!(f, "refusing to write {path}: {reason}"),
+            Self::Read { path, message } => write!(f, "{path}: {message}"),
             Self::Limit(e) | Self::Files(e) => f.write_str(e),
             Self::Write(e) => write!(f, "cannot write the output: {e}"),
             Self::Encode(e) => write!(f, "cannot encode the PNG: {e}"),

@@ -477,3 +477,56 @@ fn obj_faces_are_bounded_before_they_are_parsed() {
     let out = run(&dir, &["render", "m.toml", "--size", "8x8", "-o", "x.png"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
 }
+
+/// A cached reference of `trade --truth-dir` that is not a regular file (a FIFO
+/// there made `trade` wait forever) is refused at once, unread, naming it.
+#[test]
+fn a_cached_reference_that_is_not_a_regular_file_is_refused() {
+    use std::process::Stdio;
+    let dir = scratch("truth-fifo");
+    let b = tessera::builtin::Builtin::ChapterDirect;
+    let vp = tessera::Viewport::new(16, 12);
+    let desc = tessera_host::file::builtin_desc(b);
+    let name = tessera_host::trade::truth_file_name(b.name(), &desc, vp);
+    std::fs::create_dir(dir.join("truth")).unwrap();
+    let fifo = dir.join("truth").join(&name);
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let mut child = bin()
+        .current_dir(&dir)
+        .args([
+            "trade",
+            "--scenes",
+            "chapter-direct",
+            "--size",
+            "16x12",
+            "--runs",
+            "1",
+        ])
+        .args(["--truth-dir", "truth"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > std::time::Duration::from_secs(20) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("trade waited on the FIFO for 20 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        text(&out.stderr).trim_end(),
+        format!(
+            "tessera: error: truth/{name}: cannot read the cached reference: it is a FIFO \
+             (named pipe), not a regular file"
+        )
+    );
+}

@@ -148,8 +148,10 @@ fn bound(
 fn truth(b: Builtin, vp: Viewport, dir: Option<&PathBuf>) -> Result<RgbImage, Error> {
     let desc = tessera_host::file::builtin_desc(b);
     let cached = dir.map(|d| d.join(trade::truth_file_name(b.name(), &desc, vp)));
-    if let Some(img) = cached.as_ref().and_then(|p| image::open(p).ok()) {
-        return Ok(img.to_rgb8());
+    if let Some(p) = &cached
+        && let Some(img) = trade::cached_truth(p, vp)?
+    {
+        return Ok(img);
     }
     let t = trade::converged(&desc, vp)?;
     if let Some(p) = &cached {
