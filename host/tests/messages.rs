@@ -530,3 +530,86 @@ fn a_cached_reference_that_is_not_a_regular_file_is_refused() {
         )
     );
 }
+
+/// True for a character that must not reach the terminal raw: a control
+/// character (C0, DEL, C1), a line or paragraph separator, a bidirectional
+/// control.
+fn unsafe_char(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{2028}' | '\u{2029}' | '\u{61c}' | '\u{200e}' | '\u{200f}'
+                | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}'
+        )
+}
+
+/// Paths and names in messages are escaped: a name with a line break or a
+/// terminal escape cannot forge a line or drive the terminal (output paths
+/// were printed raw by `cannot write`, `refusing to write` and the summary).
+#[test]
+fn paths_and_names_in_messages_are_escaped() {
+    let dir = scratch("escapes");
+    let evil = "e\nvil\u{1b}[31m\u{2028}\u{202e}\u{85}";
+    let shown = "e\\u{a}vil\\u{1b}[31m\\u{2028}\\u{202e}\\u{85}";
+    std::fs::create_dir(dir.join(format!("{evil}.png"))).unwrap();
+    let missing = format!("no-such-folder/{evil}.png");
+    let cases: Vec<(Vec<String>, String)> = vec![
+        (
+            vec![
+                "render".into(),
+                "--size".into(),
+                "8x8".into(),
+                "-o".into(),
+                missing.clone(),
+            ],
+            format!("cannot write no-such-folder/{shown}.png: creating the temporary file"),
+        ),
+        (
+            vec![
+                "render".into(),
+                "--size".into(),
+                "8x8".into(),
+                "-o".into(),
+                format!("{evil}.png"),
+            ],
+            format!("refusing to write {shown}.png: it is a folder"),
+        ),
+        (
+            vec!["render".into(), format!("{evil}.toml")],
+            format!("{shown}.toml: cannot read the scene file"),
+        ),
+        (
+            vec![
+                "compare".into(),
+                "--size".into(),
+                "8x8".into(),
+                "--heatmap".into(),
+                missing,
+            ],
+            format!("cannot write no-such-folder/{shown}.png"),
+        ),
+    ];
+    for (args, want) in cases {
+        let out = bin().current_dir(&dir).args(&args).output().unwrap();
+        let e = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {e}");
+        let line = e.strip_suffix('\n').unwrap_or(&e);
+        assert!(!line.chars().any(unsafe_char), "{args:?}: raw in {line:?}");
+        assert!(line.contains(&want), "{args:?}: {want:?} not in {line:?}");
+    }
+    // The summary on stdout too.
+    let out = bin()
+        .current_dir(&dir)
+        .args(["render", "--size", "8x8", "-o", &format!("{evil}-ok.png")])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    for line in stdout.lines() {
+        assert!(!line.chars().any(unsafe_char), "raw in {line:?}");
+    }
+    assert!(
+        stdout.contains(&format!("wrote {shown}-ok.png")),
+        "{stdout}"
+    );
+}

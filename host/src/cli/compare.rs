@@ -73,7 +73,7 @@ pub fn run(args: &CompareArgs) -> Result<(), Error> {
         output::commit(vec![file])?;
         println!(
             "wrote {} (black: equal, blue: 1 LSB, green: 2, yellow: 3-4, red: 5+; grey: band)",
-            path.display()
+            tessera_host::escape_path(path)
         );
     }
     if acc.meets_bar() {

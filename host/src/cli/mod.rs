@@ -218,7 +218,7 @@ fn warn_work(
     if let Some(w) = limits::work_warning(what, seconds(&work), &work) {
         eprintln!(
             "tessera: warning: {}: {w}",
-            tessera_host::desc::escape_controls(source.name())
+            tessera_host::escape(source.name())
         );
     }
     Ok(())
@@ -236,7 +236,7 @@ fn describe(source: &Source, vp: Viewport, settings: &RenderSettings) -> String 
     };
     format!(
         "{}: {}x{}, {bound}{n} sample{}/px ({}), depth {}",
-        tessera_host::desc::escape_controls(source.name()),
+        tessera_host::escape(source.name()),
         vp.width,
         vp.height,
         if n == 1 { "" } else { "s" },

@@ -76,6 +76,6 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         rays.primary as f64 / pixels,
         rays.total() as f64 / secs.max(1e-9) / 1e6,
     );
-    println!("wrote {}", args.output.display());
+    println!("wrote {}", tessera_host::escape_path(&args.output));
     Ok(())
 }

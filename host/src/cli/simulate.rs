@@ -208,7 +208,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         args.color,
         args.dither,
     );
-    println!("wrote {written}");
+    println!("wrote {}", tessera_host::escape(&written));
     if args.window {
         show_window(&shown, args.delay_ms)?;
     }
