@@ -12,10 +12,11 @@
 //!   -v tessera compare --size 5342x5342`, release build; it was 2,934,632 KiB
 //!   before FLIP was measured in bands, [`crate::compare::mean_flip`]). With
 //!   the adaptive sampler the reference keeps 48 bytes a pixel more:
-//!   2,234,768 KiB (`--sampler adaptive:2`). `trade` holds the same at most
-//!   (a reference render and a few 8-bit images; estimated, not measured at
-//!   that size: its converged references alone would take hours). `trade` runs
-//!   at most [`MAX_RUNS`] timed runs.
+//!   2,234,768 KiB (`--sampler adaptive:2`). `trade` holds about as much at
+//!   most, 35 bytes a pixel (a reference render, its 8-bit image and the
+//!   converged one; counted, not measured at that size: its converged
+//!   references alone would take hours). `trade` runs at most [`MAX_RUNS`]
+//!   timed runs.
 //! - Work: before rendering, each command bounds the work from above ([`Work`]),
 //!   and where the bound is above [`WARN_SECONDS`] on this machine, measures the
 //!   rays a camera ray takes on a trial of a few pixels; it warns (it does not

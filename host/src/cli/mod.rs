@@ -38,9 +38,9 @@ device, a socket or a folder is refused at once, unread.
 Limits, checked before any work: --threads at most 256; compare and trade at most \
 about 28.5 million pixels (FLIP's work limit), where compare's memory peaks at \
 about 950 MB (33 bytes a pixel; 2.3 GB with --sampler adaptive:K, 80 bytes a \
-pixel); simulate at most 4 GiB for its \
-panel, 3600 orbit frames and a GIF delay of 655350 ms (--delay-ms). render has no size limit: it streams the PNG a row \
-of tiles at a time.
+pixel); simulate at most 4 GiB for its panel, 3600 orbit frames and a GIF delay \
+of 655350 ms (--delay-ms). render has no size limit: it streams the PNG a row of \
+tiles at a time.
 
 Work: before it starts, each command bounds its work (samples a pixel, the rays a \
 sample may take: each level of --depth can double them with glass, a shadow ray \
