@@ -201,6 +201,26 @@ pub fn measure(
     reference_non_finite: usize,
     signature: &[u64],
 ) -> Result<Accuracy, HostError> {
+    let (w, h) = reference.dimensions();
+    let band = silhouette_band(w, h, signature);
+    measure_with_band(
+        core,
+        core_non_finite,
+        reference,
+        reference_non_finite,
+        &band,
+    )
+}
+
+/// [`measure`] with the silhouette band already made from the signature
+/// ([`silhouette_band`]: a byte a pixel where the signature takes eight).
+pub fn measure_with_band(
+    core: &RgbImage,
+    core_non_finite: usize,
+    reference: &RgbImage,
+    reference_non_finite: usize,
+    band: &[bool],
+) -> Result<Accuracy, HostError> {
     if core.dimensions() != reference.dimensions() {
         return Err(HostError::Measure(format!(
             "image sizes differ: {:?} vs {:?}",
@@ -209,7 +229,6 @@ pub fn measure(
         )));
     }
     let (w, h) = core.dimensions();
-    let band = silhouette_band(w, h, signature);
     let mut outside = [0usize; 4];
     let mut all = [0usize; 4];
     let mut max_abs_diff = 0u8;
@@ -256,17 +275,65 @@ pub fn measure(
     })
 }
 
-/// Mean LDR-FLIP of `test` against `reference` (sRGB 8-bit), at FLIP's default
-/// 67 pixels per degree.
+/// Pixels FLIP measures at a time ([`mean_flip`]): its workspace takes about 60
+/// bytes a pixel, so about 60 MB.
+const FLIP_BAND_PIXELS: usize = 1 << 20;
+
+/// Mean LDR-FLIP of `test` against `reference` (sRGB 8-bit, the same size), at
+/// FLIP's default 67 pixels per degree: `ldr_flip(..).statistics().mean` of the
+/// whole images, to the bit, computed a band of rows at a time in bounded memory
+/// (about [`FLIP_BAND_PIXELS`] pixels, whatever the images' size).
 pub fn mean_flip(reference: &RgbImage, test: &RgbImage) -> Result<f64, HostError> {
-    let (w, h) = reference.dimensions();
-    let to_flip = |img: &RgbImage| {
-        flip_rs::RgbImage::new(w as usize, h as usize, img.as_raw().clone())
-            .map_err(|e| HostError::Measure(format!("FLIP: {e}")))
-    };
-    let map = flip_rs::ldr_flip(&to_flip(reference)?, &to_flip(test)?, flip_rs::DEFAULT_PPD)
-        .map_err(|e| HostError::Measure(format!("FLIP: {e}")))?;
-    Ok(f64::from(map.statistics().mean))
+    let (radius, feature_radius) = crate::limits::flip_radii();
+    let apron = radius.max(feature_radius) as usize;
+    let rows = (FLIP_BAND_PIXELS / (reference.width() as usize).max(1)).max(2 * apron);
+    mean_flip_in_bands(reference, test, rows)
+}
+
+/// [`mean_flip`] in bands of `rows` rows. A pixel's FLIP error depends only on
+/// the pixels within the filters' radii ([`crate::limits::flip_radii`]), and on
+/// the image's edges, where the filters clamp: each band is measured with that
+/// many rows more above and below (none past the image's edges, as for the
+/// whole image) and only its own rows are kept, so every error is the one the
+/// whole image gives. They are summed in `f32` in row-major order, as FLIP's
+/// statistics do: the same mean.
+fn mean_flip_in_bands(
+    reference: &RgbImage,
+    test: &RgbImage,
+    rows: usize,
+) -> Result<f64, HostError> {
+    if reference.dimensions() != test.dimensions() {
+        return Err(HostError::Measure(format!(
+            "FLIP: image sizes differ: {:?} vs {:?}",
+            reference.dimensions(),
+            test.dimensions()
+        )));
+    }
+    let flip = |e: flip_rs::FlipError| HostError::Measure(format!("FLIP: {e}"));
+    let (w, h) = (reference.width() as usize, reference.height() as usize);
+    let (radius, feature_radius) = crate::limits::flip_radii();
+    let apron = radius.max(feature_radius) as usize;
+    let mut sum = 0.0_f32;
+    let mut top = 0;
+    while top < h {
+        let bottom = (top + rows.max(1)).min(h);
+        let (from, to) = (top.saturating_sub(apron), (bottom + apron).min(h));
+        let part = |img: &RgbImage| {
+            let bytes = img
+                .as_raw()
+                .get(from * w * 3..to * w * 3)
+                .unwrap_or_default();
+            flip_rs::RgbImage::new(w, to - from, bytes.to_vec()).map_err(flip)
+        };
+        let map = flip_rs::ldr_flip(&part(reference)?, &part(test)?, flip_rs::DEFAULT_PPD)
+            .map_err(flip)?;
+        let own = map.pixels().get((top - from) * w..(bottom - from) * w);
+        for &e in own.unwrap_or_default() {
+            sum += e;
+        }
+        top = bottom;
+    }
+    Ok(f64::from(sum / (w * h) as f32))
 }
 
 /// A heat-map of the differences: black = equal, blue = 1 LSB, green = 2, yellow =
@@ -274,7 +341,13 @@ pub fn mean_flip(reference: &RgbImage, test: &RgbImage) -> Result<f64, HostError
 #[must_use]
 pub fn heatmap(core: &RgbImage, reference: &RgbImage, signature: &[u64]) -> RgbImage {
     let (w, h) = core.dimensions();
-    let band = silhouette_band(w, h, signature);
+    heatmap_with_band(core, reference, &silhouette_band(w, h, signature))
+}
+
+/// [`heatmap`] with the silhouette band already made ([`silhouette_band`]).
+#[must_use]
+pub fn heatmap_with_band(core: &RgbImage, reference: &RgbImage, band: &[bool]) -> RgbImage {
+    let (w, h) = core.dimensions();
     let mut out = RgbImage::new(w, h);
     for (i, ((a, b), o)) in core
         .pixels()
@@ -303,6 +376,54 @@ mod tests {
         // 4x1: signatures a a b b -> pixels 1 and 2 are on the edge.
         let band = silhouette_band(4, 1, &[1, 1, 2, 2]);
         assert_eq!(band, vec![false, true, true, false]);
+    }
+
+    /// An image of `w x h` with a gradient, a disc and noise (the noise from
+    /// `seed`).
+    fn pattern(w: u32, h: u32, seed: u32) -> RgbImage {
+        let mut s = seed | 1;
+        RgbImage::from_fn(w, h, |x, y| {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            let (dx, dy) = (x as i64 - i64::from(w) / 2, y as i64 - i64::from(h) / 3);
+            let disc = if dx * dx + dy * dy < i64::from(w * h) / 8 {
+                90
+            } else {
+                0
+            };
+            let g = ((x * 255) / w.max(1)) as u8;
+            Rgb([g.wrapping_add(disc), (y * 7) as u8, (s % 4) as u8 + disc])
+        })
+    }
+
+    /// The banded mean is the whole image's mean, to the bit, for bands of
+    /// every height (one row, fewer rows than the filters' radii, more than
+    /// the image), on images from one row to many.
+    #[test]
+    fn flip_in_bands_is_flip_of_the_whole_image() {
+        for (w, h) in [(37, 29), (5, 50), (64, 1), (3, 3), (80, 61)] {
+            let a = pattern(w, h, 7);
+            let mut b = pattern(w, h, 11);
+            b.put_pixel(w / 2, h / 2, Rgb([255, 0, 255]));
+            let whole = |r: &RgbImage, t: &RgbImage| {
+                let f = |i: &RgbImage| {
+                    flip_rs::RgbImage::new(w as usize, h as usize, i.as_raw().clone()).unwrap()
+                };
+                let map = flip_rs::ldr_flip(&f(r), &f(t), flip_rs::DEFAULT_PPD).unwrap();
+                f64::from(map.statistics().mean)
+            };
+            let want = whole(&a, &b);
+            assert!(want > 0.0);
+            for rows in [1, 2, 5, 9, 13, 30, 1000] {
+                let got = mean_flip_in_bands(&a, &b, rows).unwrap();
+                assert_eq!(got.to_bits(), want.to_bits(), "{w}x{h}, bands of {rows}");
+            }
+            assert_eq!(mean_flip(&a, &b).unwrap().to_bits(), want.to_bits());
+            assert_eq!(mean_flip(&a, &a).unwrap(), 0.0);
+        }
+        let e = mean_flip(&pattern(4, 4, 1), &pattern(4, 5, 1)).unwrap_err();
+        assert!(e.to_string().contains("sizes differ"), "{e}");
     }
 
     #[test]

@@ -1,7 +1,48 @@
-//! What can go wrong on the host: [`HostError`], re-exported at the crate root.
+//! What can go wrong on the host: [`HostError`], re-exported at the crate root,
+//! and [`escape`], which every message passes the paths and names it shows
+//! through.
 
 use crate::desc;
 use std::fmt;
+use std::path::Path;
+
+/// `s` with every character that could move the cursor, end a line or reorder
+/// the text around it written as `\u{1b}` (Rust's notation), so that a path or
+/// a name shown in a message cannot forge a line or drive the terminal: the
+/// control characters (C0, DEL and C1, U+0085 NEXT LINE among them), the line
+/// and paragraph separators U+2028 and U+2029, and the bidirectional-text
+/// controls (U+061C, U+200E, U+200F, U+202A to U+202E, U+2066 to U+2069).
+/// Other text, backslashes included, is unchanged, so escaping twice changes
+/// nothing more.
+#[must_use]
+pub fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        let shown_raw = !(c.is_control()
+            || matches!(
+                c,
+                '\u{2028}'
+                    | '\u{2029}'
+                    | '\u{61c}'
+                    | '\u{200e}'
+                    | '\u{200f}'
+                    | '\u{202a}'..='\u{202e}'
+                    | '\u{2066}'..='\u{2069}'
+            ));
+        if shown_raw {
+            out.push(c);
+        } else {
+            out.push_str(&format!("\\u{{{:x}}}", u32::from(c)));
+        }
+    }
+    out
+}
+
+/// A path as a message shows it: [`Path::display`] through [`escape`].
+#[must_use]
+pub fn escape_path(p: &Path) -> String {
+    escape(&p.display().to_string())
+}
 
 /// What can go wrong on the host.
 #[derive(Debug)]
@@ -37,6 +78,14 @@ pub enum HostError {
     },
     /// A request beyond a documented limit (see [`crate::limits`]), refused before any work.
     Limit(String),
+    /// A file could not be read (not a regular file, ...).
+    Read {
+        /// The file.
+        path: String,
+        /// Why, e.g. `cannot read the cached reference: it is a FIFO (named
+        /// pipe), not a regular file`.
+        message: String,
+    },
     /// Writing failed on a stream that does not know its file's name (the caller
     /// names it: [`crate::output::Pending::error`]).
     Write(std::io::Error),
@@ -66,12 +115,15 @@ pub enum TempStep {
     Backup,
 }
 
+/// Paths, names and quoted texts are shown through [`escape`].
 impl fmt::Display for HostError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let e = |s: &str| escape(s);
+        let io = |s: &std::io::Error| escape(&s.to_string());
         match self {
             Self::Core(e) => write!(f, "{e}"),
             Self::TileSize(n) => write!(f, "tile size {n} is not one of 8, 16, 32"),
-            Self::Io { path, source } => write!(f, "cannot write {path}: {source}"),
+            Self::Io { path, source } => write!(f, "cannot write {}: {}", e(path), io(source)),
             Self::Temp {
                 target,
                 temp,
@@ -84,15 +136,23 @@ impl fmt::Display for HostError {
                     TempStep::Rename => "renaming onto it the temporary file",
                     TempStep::Backup => "keeping a copy of the old file as",
                 };
-                write!(f, "cannot write {target}: {what} {temp} failed: {source}")
+                write!(
+                    f,
+                    "cannot write {}: {what} {} failed: {}",
+                    e(target),
+                    e(temp),
+                    io(source)
+                )
             }
-            Self::Refused { path, reason } => write!(f, "refusing to write {path}: {reason}"),
-            Self::Limit(e) | Self::Files(e) => f.write_str(e),
-            Self::Write(e) => write!(f, "cannot write the output: {e}"),
-            Self::Encode(e) => write!(f, "cannot encode the PNG: {e}"),
-            Self::Threads(e) => write!(f, "cannot start the render threads: {e}"),
-            Self::Scene(e) => write!(f, "{e}"),
-            Self::Measure(e) => f.write_str(e),
+            Self::Refused { path, reason } => {
+                write!(f, "refusing to write {}: {}", e(path), e(reason))
+            }
+            Self::Read { path, message } => write!(f, "{}: {}", e(path), e(message)),
+            Self::Limit(s) | Self::Files(s) | Self::Measure(s) => f.write_str(&e(s)),
+            Self::Write(s) => write!(f, "cannot write the output: {}", io(s)),
+            Self::Encode(s) => write!(f, "cannot encode the PNG: {}", e(s)),
+            Self::Threads(s) => write!(f, "cannot start the render threads: {}", e(s)),
+            Self::Scene(d) => write!(f, "{d}"),
         }
     }
 }
@@ -108,5 +168,33 @@ impl From<tessera::Error> for HostError {
 impl From<desc::DescError> for HostError {
     fn from(e: desc::DescError) -> Self {
         Self::Scene(e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn escape_shows_what_could_drive_the_terminal_and_nothing_else() {
+        assert_eq!(
+            escape("a\u{1b}[2J\tb\r\n\u{7f}\u{85}\u{9b}\u{2028}\u{2029}\u{61c}\u{202e}\u{2066}"),
+            "a\\u{1b}[2J\\u{9}b\\u{d}\\u{a}\\u{7f}\\u{85}\\u{9b}\\u{2028}\\u{2029}\\u{61c}\\u{202e}\\u{2066}"
+        );
+        let plain = "scène 2: got \"é\\n\" [0.1, -1] 日本 \u{200b}";
+        assert_eq!(escape(plain), plain);
+        let once = escape("x\ny\u{2028}");
+        assert_eq!(escape(&once), once);
+        let e = HostError::Temp {
+            target: "a\nb.png".into(),
+            temp: "d/\u{1b}.tmp".into(),
+            step: TempStep::Create,
+            source: std::io::Error::other("no\u{2029}way"),
+        };
+        assert_eq!(
+            e.to_string(),
+            "cannot write a\\u{a}b.png: creating the temporary file d/\\u{1b}.tmp failed: \
+             no\\u{2029}way"
+        );
     }
 }

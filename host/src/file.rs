@@ -12,7 +12,8 @@
 //! opening, and again on the handle, opened non-blocking). Before the TOML
 //! parser sees the text, the file is bounded: at most [`MAX_FILE_BYTES`] are
 //! read, and a pre-scan refuses arrays and inline tables nested deeper than
-//! [`MAX_NESTING`] and lists with more items than the host scene holds
+//! [`MAX_NESTING`], dotted keys and table headers of more than
+//! [`MAX_KEY_PARTS`] parts, and lists with more items than the host scene holds
 //! (counting `[[sphere]]` headers and the inline tables of a top-level
 //! `sphere = [...]`), so neither the parser's memory nor its recursion depends on
 //! what the file holds. [`warnings`] lists what is accepted but looks like a
@@ -111,6 +112,11 @@ pub const MAX_FILE_BYTES: usize = 4 << 20;
 /// (`triangle = [{ vertices = [[0, 0, 0], ...] }]`); the bound keeps the
 /// recursive TOML parser far from the end of its stack.
 pub const MAX_NESTING: usize = 16;
+
+/// The most parts of a dotted key (`a.b.c = 1`) or a table header (`[a.b.c]`).
+/// A scene file needs at most 2 (`texture.kind = "checker"`); the TOML parser
+/// refuses 80 or more, without saying where.
+pub const MAX_KEY_PARTS: usize = 16;
 
 /// Reads the scene file at `path` and parses it with [`parse`]; messages name the
 /// file by `path` as given. At most [`MAX_FILE_BYTES`] + 1 bytes are read: a
@@ -378,7 +384,9 @@ struct Refusal {
 
 /// Scans the text before the TOML parser does, in one pass and constant memory,
 /// skipping strings and comments: refuses arrays and inline tables nested deeper
-/// than [`MAX_NESTING`] (at the first bracket too deep), and the first item beyond
+/// than [`MAX_NESTING`] (at the first bracket too deep), keys and table headers of
+/// more than [`MAX_KEY_PARTS`] parts (at the dot before the first part too many),
+/// and the first item beyond
 /// a list's capacity, counting `[[sphere]]` headers and the inline tables of a
 /// top-level `sphere = [...]` (at the item; a list the scan does not recognise,
 /// such as a key with escapes, is still counted after parsing, before any item is
@@ -392,6 +400,7 @@ fn prescan(text: &str) -> Result<(), Refusal> {
         line_start: true,
         root: true,
         key_start: None,
+        key_dots: None,
         pending: None,
         open_list: None,
     };
@@ -416,6 +425,9 @@ struct Scan<'t> {
     root: bool,
     /// Where the top-level key being read starts.
     key_start: Option<usize>,
+    /// In a key (top-level or of an inline table, before its `=`): the dots
+    /// seen so far.
+    key_dots: Option<usize>,
     /// The list named by the key just before `=`, until its value starts.
     pending: Option<usize>,
     /// The list whose top-level array is open (its items are at depth 2).
@@ -434,6 +446,7 @@ impl Scan<'_> {
                 if top {
                     self.line_start = true;
                     self.key_start = None;
+                    self.key_dots = None;
                     self.pending = None;
                 }
                 return Ok(i + 1);
@@ -444,6 +457,11 @@ impl Scan<'_> {
                 return Ok(end.map_or(b.len(), |n| i + n));
             }
             _ => {}
+        }
+        if top && self.line_start && c == b'[' {
+            // Counted also in a header that is malformed: the parser may still
+            // read its key.
+            header_parts(b, i)?;
         }
         if top
             && self.line_start
@@ -461,6 +479,7 @@ impl Scan<'_> {
         }
         if top && self.line_start {
             self.key_start = Some(i);
+            self.key_dots = Some(0);
         }
         self.line_start = false;
         match c {
@@ -468,12 +487,33 @@ impl Scan<'_> {
                 self.pending = None;
                 return Ok(skip_string(b, i));
             }
+            b'.' if self.key_dots.is_some() => {
+                let dots = self.key_dots.unwrap_or(0) + 1;
+                too_many_parts(dots, i)?;
+                self.key_dots = Some(dots);
+            }
             b'=' if top => {
+                self.key_dots = None;
                 let key = self.key_start.take().filter(|_| self.root);
                 self.pending = key.and_then(|k| list_named(&self.text[k..i]));
             }
-            b'[' | b'{' => self.open(c, i)?,
-            b']' | b'}' => self.close(c),
+            b'[' | b'{' => {
+                self.open(c, i)?;
+                self.key_dots = (c == b'{').then_some(0);
+            }
+            b']' | b'}' => {
+                self.close(c);
+                self.key_dots = None;
+            }
+            // A key of an inline table follows its `{` or a `,`.
+            b',' => {
+                self.pending = None;
+                self.key_dots = (self.stack.last() == Some(&b'{')).then_some(0);
+            }
+            b'=' => {
+                self.pending = None;
+                self.key_dots = None;
+            }
             _ => self.pending = None,
         }
         Ok(i + 1)
@@ -527,6 +567,41 @@ impl Scan<'_> {
         }
         Ok(())
     }
+}
+
+/// Refuses the header starting at `b[i] == b'['` (first on its line, outside any
+/// bracket) if its name has more than [`MAX_KEY_PARTS`] parts, at the dot before
+/// the first part too many. The name ends at `]`, or at the end of the line or a
+/// comment in a malformed header.
+fn header_parts(b: &[u8], i: usize) -> Result<(), Refusal> {
+    let mut j = i + 1;
+    let mut dots = 0;
+    while let Some(&c) = b.get(j) {
+        match c {
+            b'"' | b'\'' => j = skip_string(b, j),
+            b']' | b'\n' | b'#' => break,
+            b'.' => {
+                dots += 1;
+                too_many_parts(dots, j)?;
+                j += 1;
+            }
+            _ => j += 1,
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a key whose `dots`-th dot, at `byte`, starts a part beyond
+/// [`MAX_KEY_PARTS`].
+fn too_many_parts(dots: usize, byte: usize) -> Result<(), Refusal> {
+    if dots < MAX_KEY_PARTS {
+        return Ok(());
+    }
+    Err(Refusal {
+        byte,
+        item: None,
+        message: format!("a dotted key or table header has more than {MAX_KEY_PARTS} parts"),
+    })
 }
 
 /// The header `[name]` or `[[name]]` starting at `b[i] == b'['` (outside any
@@ -1353,6 +1428,59 @@ color = [0.9, 0.1, 0.1]
              material = \"red\"\n"
         );
         assert!(parse(&text, "t.toml").is_ok());
+    }
+
+    /// Keys and headers of more than 16 parts are refused at the dot before the
+    /// 17th, wherever a key may be; dots in strings, comments and values are no
+    /// parts.
+    #[test]
+    fn keys_of_too_many_parts_are_refused_where_keys_are() {
+        let parts = |n: usize, sep: &str| vec!["k"; n].join(sep);
+        let at = |t: &str| prescan(t).map_err(|r| line_col(t, r.byte));
+        for fine in [
+            format!("{} = 1\n", parts(16, ".")),
+            format!("{} = 1\n", parts(16, " . ")),
+            format!("[{}]\n[[{}]]\n", parts(16, "."), parts(16, ".")),
+            format!(
+                "a = {{ {} = 1, {} = [1.5, 2.5] }}\n",
+                parts(16, "."),
+                parts(16, ".")
+            ),
+            format!(
+                "\"{}\".'{}' = \"{}\"\n",
+                parts(40, "."),
+                parts(40, "."),
+                parts(40, ".")
+            ),
+            format!("a = [{}]\n", vec!["1.5"; 40].join(", ")),
+            format!("a = 1.5 # {}\n", parts(40, ".")),
+            format!("a = \"\"\"\n{}\n\"\"\"\n", parts(40, ".")),
+            format!("a = [{{ b = 1 }}, 1.{}]\n", "5".repeat(40)),
+        ] {
+            assert_eq!(prescan(&fine), Ok(()), "{fine}");
+        }
+        for (text, place) in [
+            (format!("{} = 1\n", parts(17, ".")), (1, 32)),
+            (format!("x = 1\n{} = 1\n", parts(17, " . ")), (2, 63)),
+            (format!("[{}]\n", parts(17, ".")), (1, 33)),
+            (format!("[{}\n", parts(17, ".")), (1, 33)),
+            (format!("[[\"a.b\".{}]]\n", parts(16, ".")), (1, 38)),
+            (
+                format!("a = {{ b = 1, {} = 2 }}\n", parts(17, ".")),
+                (1, 45),
+            ),
+            (
+                format!("a = [{{ b = [1.5, {{ {} = 1 }}] }}]\n", parts(17, ".")),
+                (1, 51),
+            ),
+        ] {
+            assert_eq!(at(&text), Err(place), "{text}");
+        }
+        let e = parse(&format!("{}{HEAD}", parts(100_000, ".")), "t.toml").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.toml:1:32: a dotted key or table header has more than 16 parts"
+        );
     }
 
     /// 1025 bare `[[sphere]]` headers: refused at the 1025th by the pre-scan (the

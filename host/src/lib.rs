@@ -42,7 +42,7 @@ pub mod simulate;
 pub mod teapot;
 pub mod trade;
 
-pub use error::{HostError, TempStep};
+pub use error::{HostError, TempStep, escape, escape_path};
 use image::RgbImage;
 use std::io::{Seek, Write};
 use std::path::Path;

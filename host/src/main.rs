@@ -22,12 +22,14 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     let cli = cli::Cli::parse();
     if let Err(e) = tessera_host::output::clean_up_on_signals() {
-        eprintln!("tessera: warning: {e}");
+        eprintln!("tessera: warning: {}", tessera_host::escape(&e.to_string()));
     }
     match cli.run() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("tessera: error: {e}");
+            // Every part of a message is escaped where it is made; this is the
+            // last guard (escaping twice changes nothing).
+            eprintln!("tessera: error: {}", tessera_host::escape(&e.to_string()));
             ExitCode::FAILURE
         }
     }

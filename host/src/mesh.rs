@@ -14,10 +14,15 @@ use tessera::List;
 
 /// The most OBJ text a scene reads, in bytes, all its meshes together: 16 MiB.
 /// The host's 8,192 triangles take about 1 MiB of OBJ text (with normals and
-/// texture coordinates, 3); the bound keeps a wrong path (a disk image)
-/// or a file naming one large OBJ many times from being read at length, and the
-/// parser's memory (its index lists grow with the text: a face line of many
-/// vertices makes about one triangle every two bytes) near 100 MB.
+/// texture coordinates, 3); the bound keeps a wrong path (a disk image) or a
+/// file naming one large OBJ many times from being read at length. With the
+/// faces bounded too ([`MAX_FACE_VERTICES`], [`MAX_OBJ_TRIANGLES`]) the
+/// command's peak memory reading a 16 MiB OBJ file is at most 79 MiB: 16 MiB
+/// of `vn 0 0 1` lines (1.86 million normals) peak at 80,764 KiB, of `vt 0 0`
+/// lines at 74,520 KiB, of `v` lines at 50,592 KiB, one face line of 8.4
+/// million vertices (refused) at 37,132 KiB, where it took 340,072 KiB before
+/// the faces were bounded (`/usr/bin/time -v tessera render SCENE --size 16x16`,
+/// release build).
 pub const MAX_OBJ_BYTES: usize = 16 << 20;
 
 /// The `obj` of a mesh that is tessera's own teapot ([`crate::teapot`], at its
@@ -88,6 +93,7 @@ pub fn read(
             }
         })
         .collect();
+    bound_faces(&text).map_err(|(line, why)| format!("{shown}:{line}: {why}"))?;
     let mut reader = Consumed {
         rest: text.as_bytes(),
         at: 0,
@@ -159,6 +165,53 @@ pub fn read(
         ));
     }
     Ok((faces, degenerate))
+}
+
+/// The most vertices of an OBJ face: its fan of `MAX_TRIANGLES` triangles fills
+/// the scene's triangle list.
+pub const MAX_FACE_VERTICES: usize = MAX_TRIANGLES + 2;
+
+/// The most triangles the faces of an OBJ file may make (polygons counted as
+/// fans), degenerate faces (left out) included: twice what the scene holds.
+/// Bounding them before tobj reads the file bounds tobj's lists, which grow
+/// with the faces (a file of 2 million faces took 275 MB, one face line of 2.8
+/// million vertices 340 MB).
+pub const MAX_OBJ_TRIANGLES: usize = 2 * MAX_TRIANGLES;
+
+/// Checks the faces of OBJ `text` as tobj will read them (lines whose first word
+/// is `f`): at most [`MAX_FACE_VERTICES`] vertices a face and
+/// [`MAX_OBJ_TRIANGLES`] triangles in all. Else the 1-based line at fault and
+/// why.
+fn bound_faces(text: &str) -> Result<(), (usize, String)> {
+    let mut triangles = 0;
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if words.next() != Some("f") {
+            continue;
+        }
+        let vertices = words.clone().take(MAX_FACE_VERTICES + 1).count();
+        if vertices > MAX_FACE_VERTICES {
+            return Err((
+                n + 1,
+                format!(
+                    "a face of {} vertices, more than the {MAX_FACE_VERTICES} whose fan fills \
+                     the scene's {MAX_TRIANGLES} triangles",
+                    words.count()
+                ),
+            ));
+        }
+        triangles += vertices.saturating_sub(2);
+        if triangles > MAX_OBJ_TRIANGLES {
+            return Err((
+                n + 1,
+                format!(
+                    "the faces up to this line make more than {MAX_OBJ_TRIANGLES} triangles \
+                     (twice the {MAX_TRIANGLES} the scene holds, degenerate faces included)"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The line of the first face (`f`) with a vertex, texture or normal index

@@ -106,13 +106,17 @@ pub fn simulate_tiled(
 }
 
 /// The cameras of an orbit of `frames` steps around the vertical (camera up) axis
-/// through `pivot`, starting at `camera`.
+/// through `pivot`, starting at `camera`: all of them, or the first the core
+/// refuses (a position beyond [`tessera::MAX_EXTENT`]), as a
+/// [`HostError::Scene`] whose item is the frame (`orbit frame 3 of 36`, numbered
+/// from 0 as the frames' files are) and whose message gives the position.
 pub fn orbit(camera: &Camera, pivot: Vec3, frames: u32) -> Result<Vec<Camera>, HostError> {
     let axis = camera.up();
     let arm = camera.position() - pivot;
-    (0..frames.max(1))
+    let frames = frames.max(1);
+    (0..frames)
         .map(|k| {
-            let a = std::f32::consts::TAU * k as f32 / frames.max(1) as f32;
+            let a = std::f32::consts::TAU * k as f32 / frames as f32;
             let (s, c) = a.sin_cos();
             // Rodrigues' rotation of the arm about the axis.
             let rotated = arm * c + axis.cross(arm) * s + axis * (axis.dot(arm) * (1.0 - c));
@@ -125,9 +129,35 @@ pub fn orbit(camera: &Camera, pivot: Vec3, frames: u32) -> Result<Vec<Camera>, H
                 camera.near(),
                 camera.far(),
             )
-            .map_err(HostError::Core)
+            .map_err(|e| {
+                HostError::Scene(crate::desc::DescError {
+                    item: format!("orbit frame {k} of {frames} (numbered from 0)"),
+                    message: format!(
+                        "the camera at {} (on a circle of radius {} around {}): {e}",
+                        show(position),
+                        show_f32(arm.length()),
+                        show(pivot)
+                    ),
+                })
+            })
         })
         .collect()
+}
+
+/// `x` for a message: the shortest digits that read back to the same `f32`,
+/// with an exponent from `1e6` up and below `1e-6` (`1.4142135e18`).
+fn show_f32(x: f32) -> String {
+    let a = x.abs();
+    if x.is_finite() && a != 0.0 && !(1e-6..1e6).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// A point for a message: `[x, y, z]` (see [`show_f32`]).
+fn show(v: Vec3) -> String {
+    format!("[{}, {}, {}]", show_f32(v.x), show_f32(v.y), show_f32(v.z))
 }
 
 /// The point the camera looks at: where its central ray first hits the scene, or,
@@ -156,6 +186,17 @@ pub struct GifStream<W: Write> {
     delay: u16,
 }
 
+/// A delay of `ms` milliseconds in the hundredths of a second a GIF counts: the
+/// nearest one, but at least one for a delay that is not 0 (a GIF delay of 0 is
+/// no delay: viewers show such frames at a pace of their own). Refused above
+/// [`crate::limits::MAX_GIF_DELAY_MS`] (16 bits of hundredths).
+pub fn gif_delay(ms: u32) -> Result<u16, HostError> {
+    crate::limits::gif_delay(ms).map_err(HostError::Limit)?;
+    // No overflow: `ms` is at most MAX_GIF_DELAY_MS.
+    let hundredths = ((ms + 5) / 10).max(u32::from(ms > 0));
+    u16::try_from(hundredths).map_err(|_| HostError::Limit(format!("a GIF delay of {ms} ms")))
+}
+
 fn gif_error(e: gif::EncodingError) -> HostError {
     match e {
         gif::EncodingError::Io(e) => HostError::Write(e),
@@ -164,14 +205,16 @@ fn gif_error(e: gif::EncodingError) -> HostError {
 }
 
 impl<W: Write> GifStream<W> {
-    /// Writes the header of a GIF of `width x height` frames.
+    /// Writes the header of a GIF of `width x height` frames, `delay_ms` apart
+    /// (see [`gif_delay`]; at most [`crate::limits::MAX_GIF_DELAY_MS`]).
     pub fn new(out: W, width: u16, height: u16, delay_ms: u32) -> Result<Self, HostError> {
+        let delay = gif_delay(delay_ms)?;
         let mut enc = gif::Encoder::new(out, width, height, &[]).map_err(gif_error)?;
         enc.set_repeat(gif::Repeat::Infinite).map_err(gif_error)?;
         Ok(Self {
             enc,
             size: (width, height),
-            delay: u16::try_from(delay_ms / 10).unwrap_or(u16::MAX),
+            delay,
         })
     }
 

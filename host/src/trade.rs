@@ -12,6 +12,7 @@ use crate::HostError;
 use crate::compare;
 use crate::desc::SceneDesc;
 use image::RgbImage;
+use std::path::Path;
 use std::time::Instant;
 use tessera::builtin::Builtin;
 use tessera::{Frame, MAX_DEPTH, RenderSettings, Sampler, SceneView, Viewport};
@@ -224,9 +225,33 @@ pub fn truth_file_name(name: &str, desc: &SceneDesc, vp: Viewport) -> String {
     )
 }
 
+/// The converged reference cached at `path` for `vp`: `None` when there is no
+/// such file or it is not a PNG of `vp`'s size (it is rendered again and
+/// replaced). A file there that is not a regular file (a FIFO, a device, a
+/// folder) is refused, unread: its type is checked before it is opened, and it
+/// is opened without waiting ([`crate::file`]'s reader of scene files).
+pub fn cached_truth(path: &Path, vp: Viewport) -> Result<Option<RgbImage>, HostError> {
+    if std::fs::metadata(path).is_err_and(|e| e.kind() == std::io::ErrorKind::NotFound) {
+        return Ok(None);
+    }
+    let file =
+        crate::file::open_regular(path, "cached reference").map_err(|message| HostError::Read {
+            path: path.display().to_string(),
+            message,
+        })?;
+    let decoded =
+        image::ImageReader::with_format(std::io::BufReader::new(file), image::ImageFormat::Png)
+            .decode();
+    Ok(decoded
+        .ok()
+        .map(|img| img.to_rgb8())
+        .filter(|img| img.dimensions() == (u32::from(vp.width), u32::from(vp.height))))
+}
+
 fn accuracy(img: &RgbImage, truth: &RgbImage) -> Result<compare::Accuracy, HostError> {
-    let flat = vec![0u64; (img.width() * img.height()) as usize];
-    compare::measure(img, 0, truth, 0, &flat)
+    // No silhouette band: every pixel counts.
+    let none = vec![false; img.width() as usize * img.height() as usize];
+    compare::measure_with_band(img, 0, truth, 0, &none)
 }
 
 fn row(

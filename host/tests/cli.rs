@@ -248,7 +248,7 @@ fn bad_input_gives_a_clear_message_and_keeps_the_output() {
     let e = fails(&dir, &["render", "--sampler", "random:0", "-o", "out.png"]);
     assert!(e.contains("random"), "{e}");
     let e = fails(&dir, &["render", "--depth", "9", "-o", "out.png"]);
-    assert!(e.contains("depth 9"), "{e}");
+    assert!(e.contains("expected a depth from 0 to 8"), "{e}");
     let e = fails(&dir, &["render", "--tile", "12", "-o", "out.png"]);
     assert!(e.contains("8, 16 or 32"), "{e}");
 }

@@ -37,6 +37,6 @@ pub fn run(args: &BakeArgs) -> Result<(), Error> {
         return Err(file.error(tessera_host::HostError::Write(e)).into());
     }
     output::commit(vec![file])?;
-    println!("wrote {}", args.output.display());
+    println!("wrote {}", tessera_host::escape_path(&args.output));
     Ok(())
 }

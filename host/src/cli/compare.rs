@@ -1,6 +1,7 @@
-//! `tessera compare`: the core (f32) against the reference (f64), with a heat-map.
+//! `tessera compare`: the core (f32) against the reference (f64), and a heat map
+//! of the differences when asked for one.
 
-use super::{Common, Error, Source, describe};
+use super::{Common, Error, Source, describe, threads, warn_work};
 use clap::Args;
 use image::RgbImage;
 use std::path::PathBuf;
@@ -12,26 +13,48 @@ use tessera_host::{HostError, compare, limits};
 pub struct CompareArgs {
     #[command(flatten)]
     common: Common,
-    /// Where to write the difference heat-map PNG
-    #[arg(long, default_value = "compare-heatmap.png")]
-    heatmap: PathBuf,
+    /// Also write a heat map of the differences to this PNG (none by default)
+    #[arg(long, value_name = "FILE")]
+    heatmap: Option<PathBuf>,
 }
 
 pub fn run(args: &CompareArgs) -> Result<(), Error> {
     let source = Source::open(args.common.scene.as_deref())?;
     let (settings, vp, tile) = source.settings(&args.common)?;
     limits::measured("compare", vp)?;
-    let mut heatmap = Pending::create(source.target(&args.heatmap)?)?;
-    let (core_img, core_non_finite) = core_image(&source, vp, settings, tile, args.common.threads)?;
-    let reference = tessera_host::reference::render(&source.desc(), vp, &settings)
+    let threads = threads(args.common.threads);
+    let what = format!("compare (the core on {threads} thread(s), the f64 reference on one)");
+    source.with_core(|view, camera| {
+        let work = limits::Work::of(view, vp, &settings);
+        // The core on the threads, its check for non-finite pixels and the f64
+        // reference on one thread each.
+        warn_work(&source, &what, view, camera, work, |w| {
+            w.core_seconds(threads) + w.core_seconds(1) + w.reference_seconds()
+        })
+    })?;
+    // Created before the work, so an unwritable folder is known at once.
+    let heatmap = match &args.heatmap {
+        Some(path) => Some((path, Pending::create(source.target(path)?)?)),
+        None => None,
+    };
+    // The reference first, and only what is measured kept of it (the silhouette
+    // band and its 8-bit image: 4 bytes a pixel of its 32), each made once the
+    // part it no longer needs is gone, so that the peak is the reference's own
+    // 32 bytes a pixel and one more.
+    let mut reference = tessera_host::reference::render(&source.desc(), vp, &settings)
         .map_err(|e| source.error(e))?;
+    let (w, h) = (u32::from(vp.width), u32::from(vp.height));
+    let band = compare::silhouette_band(w, h, &std::mem::take(&mut reference.signature));
     let ref_img = reference.to_rgb8();
-    let acc = compare::measure(
+    let reference_non_finite = reference.non_finite();
+    drop(reference);
+    let (core_img, core_non_finite) = core_image(&source, vp, settings, tile, args.common.threads)?;
+    let acc = compare::measure_with_band(
         &core_img,
         core_non_finite,
         &ref_img,
-        reference.non_finite(),
-        &reference.signature,
+        reference_non_finite,
+        &band,
     )?;
     println!(
         "{}: core (f32, {}) vs reference (f64)",
@@ -42,15 +65,17 @@ pub fn run(args: &CompareArgs) -> Result<(), Error> {
         },
     );
     println!("{acc}");
-    let map = compare::heatmap(&core_img, &ref_img, &reference.signature);
-    if let Err(e) = tessera_host::encode_png(&map, &mut heatmap) {
-        return Err(heatmap.error(HostError::Write(e)).into());
+    if let Some((path, mut file)) = heatmap {
+        let map = compare::heatmap_with_band(&core_img, &ref_img, &band);
+        if let Err(e) = tessera_host::encode_png(&map, &mut file) {
+            return Err(file.error(HostError::Write(e)).into());
+        }
+        output::commit(vec![file])?;
+        println!(
+            "wrote {} (black: equal, blue: 1 LSB, green: 2, yellow: 3-4, red: 5+; grey: band)",
+            tessera_host::escape_path(path)
+        );
     }
-    output::commit(vec![heatmap])?;
-    println!(
-        "wrote {} (black: equal, blue: 1 LSB, green: 2, yellow: 3-4, red: 5+; grey: band)",
-        args.heatmap.display()
-    );
     if acc.meets_bar() {
         Ok(())
     } else {

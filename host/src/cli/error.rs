@@ -2,11 +2,12 @@
 
 use std::fmt;
 use std::path::PathBuf;
-use tessera_host::HostError;
 use tessera_host::desc::DescError;
 use tessera_host::file::FileError;
+use tessera_host::{HostError, escape, escape_path};
 
-/// Why a command failed (printed as `tessera: error: ...`, exit status 1).
+/// Why a command failed (printed as `tessera: error: ...`, exit status 1). Names
+/// and paths are shown through [`escape`].
 #[derive(Debug)]
 pub enum Error {
     /// The host library refused or failed: the core's errors, outputs, limits, ...
@@ -51,7 +52,7 @@ impl fmt::Display for Error {
         match self {
             Self::Host(e) => write!(f, "{e}"),
             Self::File(e) => write!(f, "{e}"),
-            Self::Scene { name, source } => write!(f, "{name}: {source}"),
+            Self::Scene { name, source } => write!(f, "{}: {source}", escape(name)),
             Self::NoSuchScene(name) => {
                 let names: Vec<&str> = tessera::builtin::Builtin::ALL
                     .iter()
@@ -59,18 +60,19 @@ impl fmt::Display for Error {
                     .collect();
                 write!(
                     f,
-                    "{name:?} is neither a built-in scene ({}) nor an existing file",
+                    "{:?} is neither a built-in scene ({}) nor an existing file",
+                    escape(name),
                     names.join(", ")
                 )
             }
-            Self::UnknownBuiltin(name) => write!(f, "unknown built-in scene {name:?}"),
-            Self::BelowBar { name, shortfall } => write!(f, "{name}: {shortfall}"),
+            Self::UnknownBuiltin(name) => write!(f, "unknown built-in scene {:?}", escape(name)),
+            Self::BelowBar { name, shortfall } => write!(f, "{}: {shortfall}", escape(name)),
             Self::NoOrbitFrames => f.write_str("--orbit needs at least 1 frame"),
             #[cfg(not(feature = "sdl"))]
             Self::NoWindow => f.write_str(
                 "this tessera was built without the SDL window: rebuild with `--features sdl` (needs libsdl2-dev)",
             ),
-            Self::Folder { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::Folder { path, source } => write!(f, "{}: {source}", escape_path(path)),
         }
     }
 }

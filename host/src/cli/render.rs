@@ -1,10 +1,11 @@
 //! `tessera render`: a scene to a PNG, streamed a row of tiles at a time.
 
-use super::{Common, Error, Source, describe, progress};
+use super::{Common, Error, Source, describe, progress, threads, warn_work};
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
 use tessera::Frame;
+use tessera_host::limits;
 use tessera_host::output::{self, Pending};
 
 /// Where `render` writes when no `-o` is given.
@@ -33,9 +34,15 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let source = Source::open(args.common.scene.as_deref())?;
     let (settings, vp, tile) = source.settings(&args.common)?;
     let target = source.target(&args.output)?;
+    let threads = threads(args.common.threads);
     let start = Instant::now();
     let (file, rays) = source.with_core(|view, camera| {
         let frame = Frame::try_new(camera, vp, settings)?;
+        let work = limits::Work::of(view, vp, &settings);
+        let what = format!("the render on {threads} thread(s)");
+        warn_work(&source, &what, view, camera, work, |w| {
+            w.core_seconds(threads)
+        })?;
         // Created before the work, so an unwritable folder is known at once.
         let mut file = Pending::create(target)?;
         let (across, down) = frame.tile_grid(tile);
@@ -57,17 +64,18 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     })?;
     let secs = start.elapsed().as_secs_f64();
     output::commit(vec![file])?;
-    let threads = if args.common.threads == 0 {
-        rayon::current_num_threads()
-    } else {
-        args.common.threads
-    };
+    // Measured: what the sampler's bound does not say (an adaptive pixel, the
+    // bounces and the shadow rays).
+    let pixels = f64::from(vp.width) * f64::from(vp.height);
     println!(
-        "{}, {tile}x{tile} tiles, {threads} thread(s): {secs:.3} s, {} rays, {:.2} Mrays/s",
+        "{}, {tile}x{tile} tiles, {threads} thread(s): {secs:.3} s, {} rays, {:.2}/px \
+         ({:.2} camera rays/px), {:.2} Mrays/s",
         describe(&source, vp, &settings),
         rays.total(),
+        rays.total() as f64 / pixels,
+        rays.primary as f64 / pixels,
         rays.total() as f64 / secs.max(1e-9) / 1e6,
     );
-    println!("wrote {}", args.output.display());
+    println!("wrote {}", tessera_host::escape_path(&args.output));
     Ok(())
 }

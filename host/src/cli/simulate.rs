@@ -1,7 +1,7 @@
 //! `tessera simulate`: a scene drawn onto a simulated display panel, one frame or
 //! an orbit of the camera, saved as PNG(s) or a GIF and optionally shown in a window.
 
-use super::{Common, Error, Source, describe, progress};
+use super::{Common, Error, Source, describe, progress, warn_work};
 use clap::Args;
 use image::RgbImage;
 use std::path::PathBuf;
@@ -31,8 +31,10 @@ pub struct SimulateArgs {
     /// (1 to 3600)
     #[arg(long)]
     orbit: Option<u32>,
-    /// Delay between orbit frames in the GIF, milliseconds
-    #[arg(long, default_value_t = 80)]
+    /// Delay between orbit frames, in milliseconds, 0 to 655350. A GIF counts in
+    /// hundredths of a second: the delay is rounded to the nearest 10 ms, a delay
+    /// of 1 to 4 ms up to 10 ms (many viewers show delays under 20 ms at 100 ms)
+    #[arg(long, default_value_t = 80, value_parser = parse_delay)]
     delay_ms: u32,
     /// Also show the frame(s) in an SDL window (build with --features sdl)
     #[arg(long)]
@@ -43,6 +45,23 @@ pub struct SimulateArgs {
 fn parse_dither(s: &str) -> Result<tessera::Dither, String> {
     s.parse()
         .map_err(|_| format!("expected none, bayer4 or bayer8, got {s:?}"))
+}
+
+/// `--delay-ms`: at most [`limits::MAX_GIF_DELAY_MS`].
+fn parse_delay(s: &str) -> Result<u32, String> {
+    let ms = s.trim().parse::<u32>().map_err(|_| {
+        format!(
+            "expected a delay from 0 to {} ms, got {s:?}",
+            limits::MAX_GIF_DELAY_MS
+        )
+    })?;
+    limits::gif_delay(ms).map_err(|_| {
+        format!(
+            "expected a delay from 0 to {} ms (a GIF frame lasts at most 65535 hundredths \
+             of a second), got {s:?}",
+            limits::MAX_GIF_DELAY_MS
+        )
+    })
 }
 
 /// Where `simulate` writes, checked: one animated GIF, or one PNG per frame.
@@ -143,17 +162,33 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let start = Instant::now();
     let mut shown = Vec::new();
     let files = source.with_core(|view, camera| {
+        // Every frame's camera is checked before any frame is drawn.
+        let in_scene = |e| match e {
+            HostError::Scene(e) => source.error(e),
+            e => Error::Host(e),
+        };
         let cameras = match args.orbit {
             None => vec![*camera],
-            Some(n) => sim::pivot(view, camera).and_then(|pivot| sim::orbit(camera, pivot, n))?,
+            Some(n) => sim::pivot(view, camera)
+                .and_then(|pivot| sim::orbit(camera, pivot, n))
+                .map_err(in_scene)?,
         };
+        let frames = cameras
+            .iter()
+            .map(|cam| Frame::try_new(cam, vp, settings))
+            .collect::<Result<Vec<Frame>, _>>()?;
+        let work = limits::Work::of(view, vp, &settings);
+        let n = frames.len() as f64;
+        let what = format!("drawing {} frame(s) on one thread", frames.len());
+        warn_work(&source, &what, view, camera, work, |w| {
+            w.core_seconds(1) * n
+        })?;
         let bar = progress(
-            cameras.len() as u64,
-            u64::from(vp.width) * u64::from(vp.height) * cameras.len() as u64,
+            frames.len() as u64,
+            u64::from(vp.width) * u64::from(vp.height) * frames.len() as u64,
         );
-        let frames = cameras.iter().map(|cam| {
-            let frame = Frame::try_new(cam, vp, settings)?;
-            let img = sim::simulate_tiled(view, &frame, args.color, tile, Some(args.dither))?;
+        let frames = frames.iter().map(|frame| {
+            let img = sim::simulate_tiled(view, frame, args.color, tile, Some(args.dither))?;
             bar.inc(1);
             Ok(img)
         });
@@ -173,7 +208,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         args.color,
         args.dither,
     );
-    println!("wrote {written}");
+    println!("wrote {}", tessera_host::escape(&written));
     if args.window {
         show_window(&shown, args.delay_ms)?;
     }

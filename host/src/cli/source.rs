@@ -29,7 +29,10 @@ impl Source {
         }
         let desc = tessera_host::file::load(path)?;
         for w in tessera_host::file::warnings(&desc) {
-            eprintln!("tessera: warning: {name}: {w}");
+            eprintln!(
+                "tessera: warning: {}",
+                tessera_host::escape(&format!("{name}: {w}"))
+            );
         }
         Ok(Self::File(name.to_string(), Box::new(desc)))
     }
