@@ -41,42 +41,13 @@ pub fn rust_string(s: &str) -> String {
             '\t' => out.push_str("\\t"),
             '\0' => out.push_str("\\0"),
             ' '..='~' => out.push(c),
-            c if must_escape(c) => {
+            c if crate::error::must_escape(c) => {
                 let _ = write!(out, "\\u{{{:x}}}", u32::from(c));
             }
             c => out.extend(c.escape_debug()),
         }
     }
     out.push('"');
-    out
-}
-
-/// Whether `c` is a character that could end a line of the generated file or
-/// reorder it for a reader or the compiler's lints: a control character, a
-/// whitespace other than the space, a bidirectional-text control. Decided here,
-/// whatever the Unicode tables of `escape_debug` (which change between Rust
-/// versions) say.
-fn must_escape(c: char) -> bool {
-    (c.is_control() || c.is_whitespace() && c != ' ')
-        || matches!(
-            c,
-            '\u{61c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}'
-        )
-}
-
-/// `line` made safe to follow `// ` on one line: every character of
-/// [`must_escape`] written as `\u{..}`. (The header's strings from the input
-/// are already [`rust_string`] literals; this keeps a caller's mistake from
-/// becoming code.)
-fn comment(line: &str) -> String {
-    let mut out = String::with_capacity(line.len());
-    for c in line.chars() {
-        if must_escape(c) {
-            let _ = write!(out, "\\u{{{:x}}}", u32::from(c));
-        } else {
-            out.push(c);
-        }
-    }
     out
 }
 
@@ -323,7 +294,7 @@ pub fn source(scene: &HostScene, krate: &str, header: &[String]) -> String {
     }
     let mut s = String::new();
     for line in header {
-        let _ = writeln!(s, "{}", format!("// {}", comment(line)).trim_end());
+        let _ = writeln!(s, "{}", format!("// {}", crate::escape(line)).trim_end());
     }
     let _ = writeln!(s, "//\n// {}: {bytes} bytes of flash.\n", parts.join("; "));
     let mut names = vec!["BakedBvh", "BvhNode"];
@@ -464,9 +435,9 @@ mod tests {
     /// break or a change of direction, reading back to `s`.
     fn assert_inert(s: &str) {
         let lit = rust_string(s);
-        assert!(!lit.contains(must_escape), "{s:?} -> {lit}");
+        assert!(!lit.contains(crate::error::must_escape), "{s:?} -> {lit}");
         assert_eq!(unescape(&lit).as_deref(), Some(s), "{s:?} -> {lit}");
-        assert!(!comment(&lit).contains(must_escape));
+        assert!(!crate::escape(&lit).contains(crate::error::must_escape));
     }
 
     #[test]
@@ -498,7 +469,10 @@ mod tests {
 
     #[test]
     fn a_header_line_stays_a_comment() {
-        assert_eq!(comment("a\nb\u{202e}c \"d\""), "a\\u{a}b\\u{202e}c \"d\"");
+        assert_eq!(
+            crate::escape("a\nb\u{202e}c \"d\""),
+            "a\\u{a}b\\u{202e}c \"d\""
+        );
         let text = source(
             &teapot_scene(),
             "crate",

@@ -581,34 +581,13 @@ impl fmt::Display for DescError {
         write!(
             f,
             "{}: {}",
-            escape_controls(&self.item),
-            escape_controls(&self.message)
+            crate::escape(&self.item),
+            crate::escape(&self.message)
         )
     }
 }
 
 impl std::error::Error for DescError {}
-
-/// `s` with every control character (C0, DEL, C1), every whitespace but the space
-/// (U+2028 and U+2029 end a line for some readers) and every bidirectional-text
-/// control written as `\u{1b}` (Rust's notation), so that a string from a scene
-/// file echoed in a message cannot move the cursor, clear the terminal or
-/// reorder the text around it. Other text, backslashes included, is unchanged.
-pub fn escape_controls(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        let bidi = matches!(c, '\u{61c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}');
-        // Whitespace that ends a line for some terminals and readers (U+2028,
-        // U+2029; U+0085 is a control).
-        let breaks = c.is_whitespace() && !matches!(c, ' ' | '\t');
-        if c.is_control() || bidi || breaks {
-            out.push_str(&format!("\\u{{{:x}}}", u32::from(c)));
-        } else {
-            out.push(c);
-        }
-    }
-    out
-}
 
 /// Formats a number of a scene file for a message: the shortest digits that read
 /// back to the same `f64` (`-1`, `0.002`, `NaN`, `inf`), with an exponent when the
@@ -1393,16 +1372,6 @@ mod tests {
             f3([0.0, 0.0, 1e39], "sphere center").unwrap_err(),
             "sphere center is too large for f32 (largest 3.4e38), got [0, 0, 1e39]"
         );
-    }
-
-    #[test]
-    fn control_characters_are_escaped_and_nothing_else() {
-        assert_eq!(
-            escape_controls("a\u{1b}[2J\tb\r\n\u{7f}\u{9b}\u{202e}\u{2066}"),
-            "a\\u{1b}[2J\\u{9}b\\u{d}\\u{a}\\u{7f}\\u{9b}\\u{202e}\\u{2066}"
-        );
-        let plain = "sphere 2: got \"é\\n\" [0.1, -1]";
-        assert_eq!(escape_controls(plain), plain);
     }
 
     fn small_scene() -> SceneDesc {

@@ -11,31 +11,36 @@ use std::path::Path;
 /// a name shown in a message cannot forge a line or drive the terminal: the
 /// control characters (C0, DEL and C1, U+0085 NEXT LINE among them), the line
 /// and paragraph separators U+2028 and U+2029, and the bidirectional-text
-/// controls (U+061C, U+200E, U+200F, U+202A to U+202E, U+2066 to U+2069).
+/// controls (U+061C, U+200E, U+200F, U+202A to U+202E, U+2066 to U+2069), and
+/// every other whitespace but the space ([`must_escape`]).
 /// Other text, backslashes included, is unchanged, so escaping twice changes
 /// nothing more.
 #[must_use]
 pub fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
-        let shown_raw = !(c.is_control()
-            || matches!(
-                c,
-                '\u{2028}'
-                    | '\u{2029}'
-                    | '\u{61c}'
-                    | '\u{200e}'
-                    | '\u{200f}'
-                    | '\u{202a}'..='\u{202e}'
-                    | '\u{2066}'..='\u{2069}'
-            ));
-        if shown_raw {
-            out.push(c);
-        } else {
+        if must_escape(c) {
             out.push_str(&format!("\\u{{{:x}}}", u32::from(c)));
+        } else {
+            out.push(c);
         }
     }
     out
+}
+
+/// Whether `c` could end a line or reorder the text around it, for a terminal,
+/// a reader or the compiler's lints (in generated Rust, `tessera bake`): a
+/// control character, a whitespace other than the space, a bidirectional-text
+/// control. Decided here, whatever the Unicode tables of `escape_debug` (which
+/// change between Rust versions) say.
+#[must_use]
+pub(crate) fn must_escape(c: char) -> bool {
+    c.is_control()
+        || (c.is_whitespace() && c != ' ')
+        || matches!(
+            c,
+            '\u{61c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}'
+        )
 }
 
 /// A path as a message shows it: [`Path::display`] through [`escape`].

@@ -22,7 +22,7 @@
 //! The built-in scenes exist as files too (`scenes/NAME.toml`, embedded); see
 //! [`builtin_desc`].
 
-use crate::desc::{DescError, LISTS, MAX_TRIANGLES, SceneDesc, escape_controls, num, too_many};
+use crate::desc::{DescError, LISTS, MAX_TRIANGLES, SceneDesc, num, too_many};
 use serde::Deserialize;
 use std::fmt;
 use std::io::Read;
@@ -64,11 +64,11 @@ pub struct FileError {
 }
 
 /// Control characters of the file name, item and message are escaped (see
-/// [`escape_controls`]): a name from the command line or a string from the file
+/// [`crate::escape`]): a name from the command line or a string from the file
 /// cannot drive the terminal.
 impl fmt::Display for FileError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&escape_controls(&self.file))?;
+        f.write_str(&crate::escape(&self.file))?;
         if let Some(line) = self.line {
             write!(f, ":{line}")?;
             if let Some(column) = self.column {
@@ -77,9 +77,9 @@ impl fmt::Display for FileError {
         }
         f.write_str(": ")?;
         if let Some(item) = &self.item {
-            write!(f, "{}: ", escape_controls(item))?;
+            write!(f, "{}: ", crate::escape(item))?;
         }
-        f.write_str(&escape_controls(&self.message))
+        f.write_str(&crate::escape(&self.message))
     }
 }
 
@@ -343,7 +343,7 @@ fn toml_message(text: &str, e: &toml::de::Error) -> (Option<usize>, Option<usize
     {
         message = format!("duplicate key `{key}`");
     }
-    (line, column, escape_controls(&message))
+    (line, column, crate::escape(&message))
 }
 
 /// The key of a TOML error's `span` (which covers the last part of a key) as
@@ -759,7 +759,7 @@ pub fn warnings(desc: &SceneDesc) -> Vec<String> {
         ));
     }
     out.extend(crate::precision::edge_warnings(desc));
-    out.iter().map(|w| escape_controls(w)).collect()
+    out.iter().map(|w| crate::escape(w)).collect()
 }
 
 /// Checks everything the renderer will check: the core scene, the settings, and
@@ -1567,8 +1567,8 @@ color = [0.9, 0.1, 0.1]
     #[test]
     fn numbers_are_printed_short() {
         assert_eq!(
-            msg(&format!("{HEAD}{}", sphere("-1e-45"))),
-            "t.toml:11: sphere 1: sphere radius must be > 0, got -1e-45"
+            msg(&format!("{HEAD}{}", sphere("-1.5e-30"))),
+            "t.toml:11: sphere 1: sphere radius must be > 0, got -1.5e-30"
         );
         let m = msg(&HEAD.replace("near = 0.1", "near = 1e-15\nfovy = 1e-20"));
         assert!(
