@@ -226,18 +226,6 @@ impl Sphere {
 }
 
 impl Sphere {
-    /// [`Locate::locate`] for a hit of a sphere far larger than the ray's reach
-    /// ([`Sphere::huge_for`]): the re-projected point would be off by ulps of the
-    /// centre and the radius, the ray's is off by ulps of what the ray spans
-    /// ([`Sphere::distance`] then measures how far from the sphere it is).
-    #[cold]
-    #[inline(never)]
-    fn locate_on_ray(&self, ray: &Ray, t: f32) -> (Vec3, Vec3, Vec3) {
-        let p = ray.at(t);
-        let local = p - self.center;
-        (p, local.normalize_or(Vec3::Y), local)
-    }
-
     /// The error bound of a point `x` placed on the ray rather than on the sphere
     /// (see [`Sphere::huge_for`]): its distance from the sphere, `|x - c| - r`
     /// measured in `f64` as `(|x - c|^2 - r^2) / (|x - c| + r)` (no cancellation
@@ -256,6 +244,14 @@ impl Sphere {
         let slack = gamma64(5) * w2 / (len + r) + gamma64(6) * dist.abs();
         w.scaled_up((dist.abs() + slack) / len)
     }
+}
+
+/// `v` normalised, or `+y` (for a huge sphere's hit, see `Sphere::locate`): out
+/// of line and cold, its square root and division kept out of every loop.
+#[cold]
+#[inline(never)]
+fn unit_or_up(v: Vec3) -> Vec3 {
+    v.normalize_or(Vec3::Y)
 }
 
 /// `a - b` as `(s, e)` with `s = fl(a - b)` and `s + e = a - b` exactly (Knuth's
@@ -280,7 +276,12 @@ impl Locate for Sphere {
     #[inline(always)]
     fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3) {
         if self.huge_for(ray, hit.t) {
-            return self.locate_on_ray(ray, hit.t);
+            // The re-projected point would be off by ulps of the centre and the
+            // radius, the ray's is off by ulps of what the ray spans
+            // ([`Sphere::distance`] then measures how far from the sphere it is).
+            let p = ray.at(hit.t);
+            let local = p - self.center;
+            return (p, unit_or_up(local), local);
         }
         let p = ray.at(hit.t);
         // Re-project the point onto the sphere (pbrt-v4): its error is then bounded

@@ -288,9 +288,9 @@ impl Triangle {
         let t = if (z0.to_bits() | z1.to_bits() | z2.to_bits()) >> 31 == 0 {
             t
         } else {
-            let (s, o) = (shear, shear.origin);
-            let frame = [s.sx, s.sy, s.sz, o.x, o.y, o.z];
-            self.straddling_time(s.axes, frame, [b0 * z0, b1 * z1, b2 * z2], t)
+            // The terms' magnitude (b_i >= 0).
+            let m = math::abs(b0 * z0) + math::abs(b1 * z1) + math::abs(b2 * z2);
+            self.straddling_time(shear, t, m)
         };
         // False for NaN.
         if t > 0.0 && t < t_max {
@@ -320,6 +320,7 @@ fn wide_plane(p: [Vec3; 3]) -> (W3, W3, W3) {
 /// `n.(p0 - o) / n.d` in `f64`, whose error is `2^-53` of the triangle's size
 /// times its distance (see [`super::wide`]), rounded to `f32`. `None` for a ray
 /// in the plane.
+#[cold]
 #[inline(never)]
 fn plane_time(p: [Vec3; 3], o: Vec3, d: Vec3) -> Option<f32> {
     let (p0, n, _) = wide_plane(p);
@@ -348,23 +349,41 @@ fn plane_distance(p: [Vec3; 3], x: Vec3) -> Vec3 {
 
 impl Triangle {
     /// [`Triangle::hit_with`]'s time when a vertex lies behind the ray's origin:
-    /// Woop's time `t`, the sum of `terms`, unless their magnitude exceeds it by
-    /// more than [`HUGE`]; then the time in `f64`, where the triangle's plane
-    /// crosses the ray (Woop's test has already decided that the ray crosses the
-    /// triangle), computed in the ray's sheared frame: `axes` and `frame` (`sx,
-    /// sy, sz` and the origin) are the shear's, by value (a reference would keep
-    /// every shear in memory for the sake of this rare call); 0 (no hit) when the
-    /// crossing is within that computation's error of the origin. Out of line
-    /// and not generic: one copy for every loop that tests triangles.
-    #[cold]
-    #[inline(never)]
-    fn straddling_time(&self, axes: u8, frame: [f32; 6], terms: [f32; 3], t: f32) -> f32 {
-        let m = terms.iter().fold(0.0, |m, x| m + math::abs(*x));
+    /// Woop's time `t` unless its terms' magnitude `m` exceeds it by more than
+    /// [`HUGE`]; then [`Triangle::sheared_time`]. Inlined: the call stays in the
+    /// rare branch, with the shear's numbers passed as numbers (a reference would
+    /// keep every shear in memory, an array a slot in every caller's frame).
+    #[inline(always)]
+    fn straddling_time(&self, shear: &Shear, t: f32, m: f32) -> f32 {
         // False for NaN: a NaN time stays what the range test rejects.
         if m <= HUGE * math::abs(t) {
             return t;
         }
-        let [sx, sy, sz, ox, oy, oz] = frame.map(f64::from);
+        let (s, o) = (shear, shear.origin);
+        self.sheared_time(s.axes, s.sx, s.sy, s.sz, o.x, o.y, o.z, t)
+    }
+
+    /// The time of a ray crossing the triangle's plane in `f64`, in the ray's
+    /// sheared frame (`axes`, `sx, sy, sz`, the origin `ox, oy, oz`: Woop's test has
+    /// already decided that the ray crosses the triangle); 0 (no hit) when the
+    /// crossing is within that computation's error of the origin; `t` when it
+    /// cannot tell. Out of line, cold and not generic: one copy for every loop
+    /// that tests triangles.
+    #[cold]
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)] // numbers in registers: see `straddling_time`
+    fn sheared_time(
+        &self,
+        axes: u8,
+        sx: f32,
+        sy: f32,
+        sz: f32,
+        ox: f32,
+        oy: f32,
+        oz: f32,
+        t: f32,
+    ) -> f32 {
+        let [sx, sy, sz, ox, oy, oz] = [sx, sy, sz, ox, oy, oz].map(f64::from);
         let kz = usize::from(axes / 2);
         let kx = if kz == 2 { 0 } else { kz + 1 };
         let ky = if kx == 2 { 0 } else { kx + 1 };
@@ -383,7 +402,7 @@ impl Triangle {
         });
         // In that frame the ray is the z axis and z is the time: the time is
         // where the plane through a, b, c crosses the z axis.
-        let (n, _) = b.sub(a).cross(c.sub(a));
+        let n = b.sub(a).cross_product(c.sub(a));
         let time = n.dot(a) / n.z;
         // The error of that time: the edges are within 2 big (gamma64(4) of it),
         // the normal within 8 big^2 (gamma64(16)), the numerator's terms within
@@ -404,17 +423,6 @@ impl Triangle {
             return 0.0;
         }
         time as f32
-    }
-}
-
-impl Triangle {
-    /// [`Locate::locate`] on the ray, at the time of the plane in `f64`; `aux.z`
-    /// is 1 to tell [`Locate::error`]. `None` for a ray in the plane.
-    #[cold]
-    #[inline(never)]
-    fn locate_on_ray(&self, ray: &Ray, b0: f32, normal: Vec3) -> Option<(Vec3, Vec3, Vec3)> {
-        let t = plane_time([self.p0, self.p1, self.p2], ray.origin, ray.dir)?;
-        Some((ray.at(t), normal, Vec3::new(b0, 0.0, 1.0)))
     }
 }
 
@@ -444,9 +452,10 @@ impl Locate for Triangle {
         let terms = q0.abs() + q1.abs() + q2.abs();
         let reach = ray.origin.abs();
         if terms.x + terms.y + terms.z > HUGE * (reach.x + reach.y + reach.z + hit.t)
-            && let Some(located) = self.locate_on_ray(ray, b0, normal)
+            && let Some(t) = plane_time([self.p0, self.p1, self.p2], ray.origin, ray.dir)
         {
-            return located;
+            // aux.z = 1: the point is the ray's (see `error`).
+            return (ray.at(t), normal, Vec3::new(b0, 0.0, 1.0));
         }
         (q0 + q1 + q2, normal, Vec3::new(b0, 0.0, 0.0))
     }

@@ -72,6 +72,15 @@ impl W3 {
         Self::new(self.x.abs(), self.y.abs(), self.z.abs())
     }
 
+    /// The cross product.
+    pub(crate) fn cross_product(self, o: Self) -> Self {
+        Self::new(
+            self.y * o.z - self.z * o.y,
+            self.z * o.x - self.x * o.z,
+            self.x * o.y - self.y * o.x,
+        )
+    }
+
     /// The cross product and, per component, the sum of the magnitudes of its two
     /// products (what its rounding error is relative to).
     pub(crate) fn cross(self, o: Self) -> (Self, Self) {
