@@ -51,6 +51,15 @@ impl Accuracy {
         share(&self.all, lsb)
     }
 
+    /// The largest difference outside the band, in 8-bit levels.
+    #[must_use]
+    pub fn max_outside(&self) -> u8 {
+        match self.worst_outside.first() {
+            Some(w) => w.2,
+            None => (0..3).rev().find(|&d| self.outside[d] > 0).unwrap_or(0) as u8,
+        }
+    }
+
     /// The project's bar: >= 99.5% of the pixels outside the band within 1 LSB,
     /// 100% within 2 LSB, no NaN or infinity on either side.
     #[must_use]
@@ -282,7 +291,7 @@ const FLIP_BAND_PIXELS: usize = 1 << 20;
 /// Mean LDR-FLIP of `test` against `reference` (sRGB 8-bit, the same size), at
 /// FLIP's default 67 pixels per degree: `ldr_flip(..).statistics().mean` of the
 /// whole images, to the bit, computed a band of rows at a time in bounded memory
-/// (about [`FLIP_BAND_PIXELS`] pixels, whatever the images' size).
+/// (about `FLIP_BAND_PIXELS` pixels, whatever the images' size).
 pub fn mean_flip(reference: &RgbImage, test: &RgbImage) -> Result<f64, HostError> {
     let (radius, feature_radius) = crate::limits::flip_radii();
     let apron = radius.max(feature_radius) as usize;

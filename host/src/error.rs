@@ -12,7 +12,7 @@ use std::path::Path;
 /// control characters (C0, DEL and C1, U+0085 NEXT LINE among them), the line
 /// and paragraph separators U+2028 and U+2029, and the bidirectional-text
 /// controls (U+061C, U+200E, U+200F, U+202A to U+202E, U+2066 to U+2069), and
-/// every other whitespace but the space ([`must_escape`]).
+/// every other whitespace but the space (`must_escape`).
 /// Other text, backslashes included, is unchanged, so escaping twice changes
 /// nothing more.
 #[must_use]

@@ -262,32 +262,25 @@ fn case11_scenes_at_the_limits_render_and_one_step_beyond_is_refused() {
 /// 1e6, and wherever the bar is missed the loader warns (`precision::edge_warnings`).
 #[test]
 fn case13_huge_surfaces_meet_the_bar_or_are_warned_about() {
-    for surface in HugeSurface::ALL {
-        let placements: &[Placement] = if surface.takes_placement() {
-            &Placement::ALL
-        } else {
-            &[Placement::Centre]
-        };
-        for &placement in placements {
-            for ratio in HUGE_RATIOS {
-                let case = format!("{} {} {ratio:e}", surface.name(), placement.name());
-                let h = huge(surface, placement, ratio);
-                let acc = &h.accuracy;
-                assert!(h.covered > 0.3, "{case}: the surface covers {}", h.covered);
-                assert_eq!(acc.core_non_finite + acc.reference_non_finite, 0, "{case}");
-                let warned =
-                    !tessera_host::precision::edge_warnings(&huge_desc(surface, placement, ratio))
-                        .is_empty();
-                if placement != Placement::Edge || ratio <= 1e6 {
-                    assert!(acc.meets_bar(), "{case}:\n{acc}");
-                    // No false alarm below the documented limit.
-                    assert!(!warned || ratio > 1e6, "{case}: warned");
-                }
-                assert!(
-                    acc.meets_bar() || warned,
-                    "{case}: missed and not warned:\n{acc}"
-                );
+    for (surface, placement) in huge_cases() {
+        for ratio in HUGE_RATIOS {
+            let case = format!("{} {} {ratio:e}", surface.name(), placement.name());
+            let h = huge(surface, placement, ratio);
+            let acc = &h.accuracy;
+            assert!(h.covered > 0.3, "{case}: the surface covers {}", h.covered);
+            assert_eq!(acc.core_non_finite + acc.reference_non_finite, 0, "{case}");
+            let warned =
+                !tessera_host::precision::edge_warnings(&huge_desc(surface, placement, ratio))
+                    .is_empty();
+            if placement != Placement::Edge || ratio <= 1e6 {
+                assert!(acc.meets_bar(), "{case}:\n{acc}");
+                // No false alarm below the documented limit.
+                assert!(!warned || ratio > 1e6, "{case}: warned");
             }
+            assert!(
+                acc.meets_bar() || warned,
+                "{case}: missed and not warned:\n{acc}"
+            );
         }
     }
 }

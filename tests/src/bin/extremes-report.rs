@@ -578,37 +578,30 @@ fn case12(md: &mut String) {
 fn case13(md: &mut String) {
     let head: Vec<String> = HUGE_RATIOS.iter().map(|r| format!("{r:.0e}")).collect();
     let mut rows = String::new();
-    for surface in HugeSurface::ALL {
-        let placements: &[Placement] = if surface.takes_placement() {
-            &Placement::ALL
+    for (surface, placement) in huge_cases() {
+        let cells: Vec<String> = HUGE_RATIOS
+            .iter()
+            .map(|&r| {
+                let h = huge(surface, placement, r);
+                let warned =
+                    !tessera_host::precision::edge_warnings(&huge_desc(surface, placement, r))
+                        .is_empty();
+                let mark = if h.accuracy.meets_bar() { "" } else { " ✗" };
+                let warn = if warned { " w" } else { "" };
+                format!("{}{mark}{warn}", h.max_outside)
+            })
+            .collect();
+        let where_ = if surface.takes_placement() {
+            format!(", {}", placement.name())
         } else {
-            &[Placement::Centre]
+            String::new()
         };
-        for &placement in placements {
-            let cells: Vec<String> = HUGE_RATIOS
-                .iter()
-                .map(|&r| {
-                    let h = huge(surface, placement, r);
-                    let warned =
-                        !tessera_host::precision::edge_warnings(&huge_desc(surface, placement, r))
-                            .is_empty();
-                    let mark = if h.accuracy.meets_bar() { "" } else { " ✗" };
-                    let warn = if warned { " w" } else { "" };
-                    format!("{}{mark}{warn}", h.max_outside)
-                })
-                .collect();
-            let where_ = if surface.takes_placement() {
-                format!(", {}", placement.name())
-            } else {
-                String::new()
-            };
-            let _ = writeln!(
-                rows,
-                "| {}{where_} | {} |",
-                surface.name(),
-                cells.join(" | ")
-            );
-        }
+        let _ = writeln!(
+            rows,
+            "| {}{where_} | {} |",
+            surface.name(),
+            cells.join(" | ")
+        );
     }
     let _ = writeln!(
         md,

@@ -9,8 +9,9 @@
 //! renderers see the same surfaces and the ratio is what the picture shows: a
 //! vertex rounded by `f32` at `10^12` would move the surface by thousands of units.
 
-use tessera::{Frame, Viewport};
-use tessera_host::compare::{Accuracy, measure};
+use super::support::compared;
+use tessera::Viewport;
+use tessera_host::compare::Accuracy;
 use tessera_host::desc::SceneDesc;
 
 /// The ratios of the sweep (size over camera distance).
@@ -92,6 +93,23 @@ impl Placement {
             Self::Edge => "near an edge",
         }
     }
+}
+
+/// Every (surface, placement) of case 13: the single triangles at each
+/// placement, the other surfaces at the centre.
+#[must_use]
+pub fn huge_cases() -> Vec<(HugeSurface, Placement)> {
+    HugeSurface::ALL
+        .into_iter()
+        .flat_map(|s| {
+            let placements: &[Placement] = if s.takes_placement() {
+                &Placement::ALL
+            } else {
+                &[Placement::Centre]
+            };
+            placements.iter().map(move |&p| (s, p))
+        })
+        .collect()
 }
 
 /// Figures of one render of case 13.
@@ -197,40 +215,15 @@ pub fn huge_desc(surface: HugeSurface, placement: Placement, ratio: f64) -> Scen
 #[must_use]
 pub fn huge(surface: HugeSurface, placement: Placement, ratio: f64) -> Huge {
     let desc = huge_desc(surface, placement, ratio);
-    let vp = HUGE_VIEWPORT;
-    let settings = desc.settings().unwrap_or_else(|e| panic!("{e}"));
-    let core = desc.to_core().unwrap_or_else(|e| panic!("{e}"));
-    let frame = Frame::try_new(core.camera(), vp, settings).unwrap_or_else(|e| panic!("{e}"));
-    let (image, non_finite) = core.with_view(|view| {
-        let image = tessera_host::render_tiles::<16>(view, &frame, None);
-        let non_finite = (0..vp.height)
-            .flat_map(|y| (0..vp.width).map(move |x| (x, y)))
-            .filter(|&(x, y)| {
-                !frame
-                    .pixel_color(view, u32::from(x), u32::from(y), &mut ())
-                    .is_finite()
-            })
-            .count();
-        (image.unwrap_or_else(|e| panic!("{e}")), non_finite)
-    });
-    let reference =
-        tessera_host::reference::render(&desc, vp, &settings).unwrap_or_else(|e| panic!("{e}"));
-    let ref_img = reference.to_rgb8();
-    let accuracy = measure(
-        &image,
-        non_finite,
-        &ref_img,
-        reference.non_finite(),
-        &reference.signature,
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
-    let sky = [0.1, 0.2, 0.5].map(|v| tessera_host::reference::encode8(v, settings.encoding));
-    let sky = ref_img.pixels().filter(|p| p.0 == sky);
-    let covered = 1.0 - sky.count() as f64 / (vp.width as f64 * vp.height as f64);
-    let max_outside = match accuracy.worst_outside.first() {
-        Some(w) => w.2,
-        None => (0..3).rev().find(|&d| accuracy.outside[d] > 0).unwrap_or(0) as u8,
-    };
+    let c = compared(&desc, HUGE_VIEWPORT).unwrap_or_else(|e| panic!("{e}"));
+    let encoding = desc
+        .settings()
+        .map_or(tessera::Encoding::Srgb, |s| s.encoding);
+    let sky = [0.1, 0.2, 0.5].map(|v| tessera_host::reference::encode8(v, encoding));
+    let sky = c.reference.pixels().filter(|p| p.0 == sky).count();
+    let covered = 1.0 - sky as f64 / f64::from(c.reference.width() * c.reference.height());
+    let max_outside = c.accuracy.max_outside();
+    let accuracy = c.accuracy;
     Huge {
         ratio,
         max_outside,

@@ -6,8 +6,8 @@
 //! by both: each must give the image of the same scene with a zero there, and
 //! they must agree.
 
-use tessera::{Frame, Viewport};
-use tessera_host::compare::measure;
+use super::support::compared;
+use tessera::Viewport;
 use tessera_host::desc::{SceneDesc, TextureDesc};
 
 /// The subnormal values tried: the smallest and the largest of each sign.
@@ -220,24 +220,6 @@ pub fn subnormal_desc(kind: &Kind, x: f64) -> SceneDesc {
     d
 }
 
-/// The core's 8-bit image of `d` (tiles of 16).
-fn core_image(d: &SceneDesc) -> Result<(image::RgbImage, usize), String> {
-    let settings = d.settings().map_err(|e| e.to_string())?;
-    let scene = d.to_core().map_err(|e| e.to_string())?;
-    let frame =
-        Frame::try_new(scene.camera(), SUBNORMAL_VIEWPORT, settings).map_err(|e| e.to_string())?;
-    scene.with_view(|view| {
-        let img =
-            tessera_host::render_tiles::<16>(view, &frame, None).map_err(|e| e.to_string())?;
-        let (w, h) = img.dimensions();
-        let nf = (0..h)
-            .flat_map(|y| (0..w).map(move |x| (x, y)))
-            .filter(|&(x, y)| !frame.pixel_color(view, x, y, &mut ()).is_finite())
-            .count();
-        Ok((img, nf))
-    })
-}
-
 fn differ(a: &image::RgbImage, b: &image::RgbImage) -> usize {
     a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count()
 }
@@ -250,32 +232,22 @@ pub fn subnormal(kind: &Kind, x: f64) -> Subnormal {
         subnormal_desc(kind, x),
         subnormal_desc(kind, 0f64.copysign(x)),
     );
-    let settings = dx.settings().unwrap_or_else(|e| panic!("{e}"));
-    let (cx, c0) = (core_image(&dx), core_image(&d0));
-    let vp = SUBNORMAL_VIEWPORT;
-    let (rx, r0) = (
-        tessera_host::reference::render(&dx, vp, &settings),
-        tessera_host::reference::render(&d0, vp, &settings),
+    let (cx, c0) = (
+        compared(&dx, SUBNORMAL_VIEWPORT),
+        compared(&d0, SUBNORMAL_VIEWPORT),
     );
-    match (cx, c0, rx, r0) {
-        (Ok((cx, nf)), Ok((c0, _)), Ok(rx), Ok(r0)) => {
-            let (ix, i0) = (rx.to_rgb8(), r0.to_rgb8());
-            let acc = measure(&cx, nf, &ix, rx.non_finite(), &rx.signature)
-                .unwrap_or_else(|e| panic!("{e}"));
-            let max_outside = match acc.worst_outside.first() {
-                Some(w) => w.2,
-                None => (0..3).rev().find(|&d| acc.outside[d] > 0).unwrap_or(0) as u8,
-            };
-            Subnormal {
-                value: x,
-                refused: false,
-                core_differ: differ(&cx, &c0),
-                reference_differ: differ(&ix, &i0),
-                max_outside,
-                meets_bar: acc.meets_bar(),
-            }
-        }
-        (Err(_), Err(_), Err(_), Err(_)) => Subnormal {
+    match (cx, c0) {
+        (Ok(cx), Ok(c0)) => Subnormal {
+            value: x,
+            refused: false,
+            core_differ: differ(&cx.core, &c0.core),
+            reference_differ: differ(&cx.reference, &c0.reference),
+            max_outside: cx.accuracy.max_outside(),
+            meets_bar: cx.accuracy.meets_bar(),
+        },
+        // Refused: `compared` asks the core first, and the reference refuses
+        // what the core refuses (`reference::render`).
+        (Err(_), Err(_)) => Subnormal {
             value: x,
             refused: true,
             core_differ: 0,
@@ -283,14 +255,11 @@ pub fn subnormal(kind: &Kind, x: f64) -> Subnormal {
             max_outside: 0,
             meets_bar: true,
         },
-        (cx, c0, rx, r0) => panic!(
-            "{} = {x}: refused by some only: core {:?}, core at 0 {:?}, reference {:?}, \
-             reference at 0 {:?}",
+        (cx, c0) => panic!(
+            "{} = {x}: refused with one value only: {:?}, at 0 {:?}",
             kind.name,
             cx.err(),
-            c0.err(),
-            rx.err(),
-            r0.err()
+            c0.err()
         ),
     }
 }

@@ -2,7 +2,9 @@
 //! [`V3`], with the few conversions the battery needs in [`V3Ext`]), ulps, a seeded
 //! generator, and the battery's rays, built exactly.
 
-use tessera::{Ray, Vec3};
+use tessera::{Frame, Ray, Vec3, Viewport};
+use tessera_host::compare::{Accuracy, measure};
+use tessera_host::desc::SceneDesc;
 pub use tessera_host::reference::vec::V3;
 
 /// No distance limit.
@@ -122,4 +124,42 @@ pub fn exact_ray(o: Vec3, d: Vec3) -> Ray {
         "Ray::new changed a unit direction"
     );
     r
+}
+
+/// A description rendered by the core (tiles of 16, as `tessera compare` does) and
+/// by the f64 reference, and the one measured against the other.
+pub struct Compared {
+    /// The core's image.
+    pub core: image::RgbImage,
+    /// The reference's image.
+    pub reference: image::RgbImage,
+    /// `tessera compare`'s measure of the core against the reference.
+    pub accuracy: Accuracy,
+}
+
+/// [`Compared`] of `desc` at `vp` with its own settings; the message of the
+/// first renderer that refuses it.
+pub fn compared(desc: &SceneDesc, vp: Viewport) -> Result<Compared, String> {
+    let settings = desc.settings().map_err(|e| e.to_string())?;
+    let scene = desc.to_core().map_err(|e| e.to_string())?;
+    let frame = Frame::try_new(scene.camera(), vp, settings).map_err(|e| e.to_string())?;
+    let (core, non_finite) = scene.with_view(|view| {
+        let img =
+            tessera_host::render_tiles::<16>(view, &frame, None).map_err(|e| e.to_string())?;
+        let (w, h) = img.dimensions();
+        let nf = (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .filter(|&(x, y)| !frame.pixel_color(view, x, y, &mut ()).is_finite())
+            .count();
+        Ok::<_, String>((img, nf))
+    })?;
+    let r = tessera_host::reference::render(desc, vp, &settings).map_err(|e| e.to_string())?;
+    let reference = r.to_rgb8();
+    let accuracy = measure(&core, non_finite, &reference, r.non_finite(), &r.signature)
+        .map_err(|e| e.to_string())?;
+    Ok(Compared {
+        core,
+        reference,
+        accuracy,
+    })
 }
