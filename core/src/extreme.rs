@@ -21,9 +21,14 @@ pub enum Extreme {
     SmallGround,
     /// [`Extreme::HugeSphere`] of radius 16: what the huge one costs more.
     SmallSphere,
+    /// [`Extreme::HugeGround`] 1,024 units wide, 256 times its distance: large,
+    /// but below where the `f64` paths take over (`geometry::wide::REACH`).
+    MediumGround,
+    /// [`Extreme::HugeSphere`] of radius 512.
+    MediumSphere,
     /// Case 14: the camera `1e-45` (a subnormal) off the vertical through its
-    /// target, looking straight down: a subnormal decided its roll before the
-    /// rule for subnormal numbers.
+    /// target, looking straight down: without the rule for subnormal numbers, a
+    /// subnormal would decide its roll.
     SubnormalCamera,
     /// Case 14: subnormal numbers in every kind a scene takes (positions,
     /// directions, colours, intensities, weights), read as zeros.
@@ -32,11 +37,13 @@ pub enum Extreme {
 
 impl Extreme {
     /// Every scene.
-    pub const ALL: [Self; 6] = [
+    pub const ALL: [Self; 8] = [
         Self::HugeGround,
         Self::HugeSphere,
         Self::SmallGround,
         Self::SmallSphere,
+        Self::MediumGround,
+        Self::MediumSphere,
         Self::SubnormalCamera,
         Self::SubnormalInputs,
     ];
@@ -49,6 +56,8 @@ impl Extreme {
             Self::HugeSphere => "huge-sphere",
             Self::SmallGround => "small-ground",
             Self::SmallSphere => "small-sphere",
+            Self::MediumGround => "medium-ground",
+            Self::MediumSphere => "medium-sphere",
             Self::SubnormalCamera => "subnormal-camera",
             Self::SubnormalInputs => "subnormal-inputs",
         }
@@ -70,6 +79,8 @@ impl Extreme {
             Self::HugeSphere => ground(HUGE, true)?,
             Self::SmallGround => ground(16.0, false)?,
             Self::SmallSphere => ground(16.0, true)?,
+            Self::MediumGround => ground(512.0, false)?,
+            Self::MediumSphere => ground(512.0, true)?,
             Self::SubnormalCamera => subnormal_camera(TINY)?,
             Self::SubnormalInputs => subnormal_inputs(TINY)?,
         };

@@ -41,7 +41,7 @@ pub fn rust_string(s: &str) -> String {
             '\t' => out.push_str("\\t"),
             '\0' => out.push_str("\\0"),
             ' '..='~' => out.push(c),
-            c if crate::error::must_escape(c) => {
+            c if crate::text::must_escape(c) => {
                 let _ = write!(out, "\\u{{{:x}}}", u32::from(c));
             }
             c => out.extend(c.escape_debug()),
@@ -435,9 +435,9 @@ mod tests {
     /// break or a change of direction, reading back to `s`.
     fn assert_inert(s: &str) {
         let lit = rust_string(s);
-        assert!(!lit.contains(crate::error::must_escape), "{s:?} -> {lit}");
+        assert!(!lit.contains(crate::text::must_escape), "{s:?} -> {lit}");
         assert_eq!(unescape(&lit).as_deref(), Some(s), "{s:?} -> {lit}");
-        assert!(!crate::escape(&lit).contains(crate::error::must_escape));
+        assert!(!crate::escape(&lit).contains(crate::text::must_escape));
     }
 
     #[test]

@@ -215,7 +215,10 @@ impl MeshDesc {
                     // seen from outside): the vertex keeps an up normal, which the
                     // shading turns to the face's side.
                     if len > 0.0 && len.is_finite() {
-                        n.map(|x| x / len)
+                        // A component subnormal in f32 is read as zero, as every
+                        // number of a scene is (the core refuses a baked normal
+                        // that is not).
+                        n.map(|x| flush(x / len))
                     } else {
                         [0.0, 1.0, 0.0]
                     }
@@ -290,11 +293,18 @@ pub struct SceneDesc {
     /// after the file's own `[[triangle]]`s.
     #[serde(default, rename = "mesh")]
     pub meshes: Vec<MeshDesc>,
-    /// The numbers [`SceneDesc::flush_subnormals`] read as zero: never written in a
-    /// file.
+    /// The numbers [`SceneDesc::flush_subnormals`] read as zero, the first
+    /// [`FLUSHED_KEPT`] of them: never written in a file.
     #[serde(skip)]
     pub flushed: Vec<Flushed>,
+    /// How many numbers [`SceneDesc::flush_subnormals`] read as zero in all.
+    #[serde(skip)]
+    pub flushed_count: usize,
 }
+
+/// How many of the numbers read as zero a description remembers by name (an OBJ
+/// file may hold millions; the loader shows a few and counts the rest).
+pub const FLUSHED_KEPT: usize = 64;
 
 /// A number of a scene file read as zero by the rule for subnormal numbers
 /// ([`SceneDesc::flush_subnormals`]).
@@ -615,11 +625,19 @@ fn too_large(what: &str, value: &str) -> String {
     format!("{what} is too large for f32 (largest 3.4e38), got {value}")
 }
 
-/// `x` in `f32`, or `None` when `x` is finite but beyond the `f32` range (the
-/// cast would round it to infinity). NaN and infinities pass unchanged, for the
-/// core to refuse with its own message.
+/// `x` in `f32` (a subnormal result read as a zero of its sign), or `None` when
+/// `x` is finite but beyond the `f32` range (the cast would round it to
+/// infinity). NaN and infinities pass unchanged, for the core to refuse with its
+/// own message.
 fn to_f32(x: f64) -> Option<f32> {
     let y = x as f32;
+    // The rule for subnormal numbers ([`flush`]), also for a description built
+    // in code, which the loader's [`SceneDesc::flush_subnormals`] did not read.
+    let y = if y.is_subnormal() {
+        0f32.copysign(y)
+    } else {
+        y
+    };
     (y.is_finite() || !x.is_finite()).then_some(y)
 }
 
@@ -680,16 +698,19 @@ impl SceneDesc {
     /// each one changed in [`SceneDesc::flushed`] (the loader warns about them, and
     /// an item refused because of one says so).
     pub fn flush_subnormals(&mut self) {
-        let mut out = Vec::new();
+        let (mut out, mut count) = (Vec::new(), 0);
         let mut at = |item: &str, key: &str, xs: &mut [f64]| {
             for x in xs {
                 let y = flush(*x);
                 if y.to_bits() != x.to_bits() {
-                    out.push(Flushed {
-                        item: item.to_string(),
-                        key: key.to_string(),
-                        value: *x,
-                    });
+                    if out.len() < FLUSHED_KEPT {
+                        out.push(Flushed {
+                            item: item.to_string(),
+                            key: key.to_string(),
+                            value: *x,
+                        });
+                    }
+                    count += 1;
                     *x = y;
                 }
             }
@@ -792,6 +813,7 @@ impl SceneDesc {
             }
         }
         self.flushed = out;
+        self.flushed_count = count;
     }
 
     /// The sampler named by `render.sampler`.
@@ -1303,7 +1325,7 @@ mod tests {
             )
         };
         let d = crate::file::parse(
-            &scene("[[sphere]]\ncenter = [0, 1, 0]\nradius = 1\nmaterial = \"m\"\n"),
+            &scene("[[sphere]]\ncenter = [0, -1, 0]\nradius = 1\nmaterial = \"m\"\n"),
             "s.toml",
         )
         .unwrap();
@@ -1320,7 +1342,7 @@ mod tests {
             "{w:?}"
         );
         let e = crate::file::parse(
-            &scene("[[sphere]]\ncenter = [0, 1, 0]\nradius = 1e-40\nmaterial = \"m\"\n"),
+            &scene("[[sphere]]\ncenter = [0, -1, 0]\nradius = 1e-40\nmaterial = \"m\"\n"),
             "s.toml",
         )
         .unwrap_err()
@@ -1330,6 +1352,38 @@ mod tests {
             "s.toml:12: sphere 1: sphere radius must be > 0, got 0: the file's radius 1e-40 \
              is subnormal in f32 and reads as 0"
         );
+    }
+
+    /// A smooth mesh whose computed vertex normals have a component subnormal in
+    /// f32 (every number of the file normal): read as zero, so the core takes the
+    /// mesh (it refuses a subnormal normal) and the reference shades the same.
+    #[test]
+    fn computed_normals_follow_the_subnormal_rule() {
+        let mesh = MeshDesc {
+            obj: "f.obj".into(),
+            material: "m".into(),
+            scale: 1.0,
+            translate: [0.0; 3],
+            smooth: true,
+            faces: vec![[[0.0, 0.0, 0.0], [1000.0, 0.0, 0.0], [0.0, 2e-38, 1000.0]]],
+            degenerate: 0,
+        };
+        let n = mesh.welded().normals;
+        assert!(
+            n.iter()
+                .flatten()
+                .all(|x| flush(*x).to_bits() == x.to_bits()),
+            "{n:?}"
+        );
+        assert_eq!(n[0][2].to_bits(), 0f64.to_bits(), "{n:?}");
+        let mut d = crate::file::parse(
+            "[camera]\nposition = [0, 2, 5]\nlook_at = [0, 0, 0]\nnear = 0.1\nfar = 100\n\
+             [[material]]\nname = \"m\"\n[[light]]\nposition = [1, 4, 2]\nintensity = 20\n",
+            "m.toml",
+        )
+        .unwrap();
+        d.meshes.push(mesh);
+        assert!(d.to_core().is_ok());
     }
 
     #[test]

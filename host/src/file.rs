@@ -208,7 +208,7 @@ fn regular(m: &std::fs::Metadata, what: &str) -> Result<(), String> {
     } else {
         Err(format!(
             "cannot read the {what}: it is {}, not a regular file",
-            crate::output::kind(&m.file_type())
+            crate::text::file_kind(&m.file_type())
         ))
     }
 }
@@ -752,13 +752,13 @@ pub fn warnings(desc: &SceneDesc) -> Vec<String> {
             .take(FLUSHED_SHOWN)
             .map(ToString::to_string),
     );
-    if desc.flushed.len() > FLUSHED_SHOWN {
+    if desc.flushed_count > FLUSHED_SHOWN {
         out.push(format!(
             "{} more subnormal number(s) read as 0 (the first {FLUSHED_SHOWN} are named above)",
-            desc.flushed.len() - FLUSHED_SHOWN
+            desc.flushed_count - FLUSHED_SHOWN
         ));
     }
-    out.extend(crate::precision::edge_warnings(desc));
+    out.extend(crate::precision::warnings(desc));
     out.iter().map(|w| crate::escape(w)).collect()
 }
 
@@ -1318,8 +1318,8 @@ color = [0.9, 0.1, 0.1]
     }
 
     /// A device, a FIFO, a socket or a folder is refused before anything is read
-    /// from it or waits on it (/dev/zero was read up to the limit, a FIFO waited
-    /// for a writer forever).
+    /// from it or waits on it (/dev/zero would be read up to the limit, a FIFO
+    /// would wait for a writer forever).
     #[cfg(unix)]
     #[test]
     fn an_input_that_is_not_a_regular_file_is_refused_unread() {

@@ -40,13 +40,15 @@ pub mod precision;
 pub mod reference;
 pub mod simulate;
 pub mod teapot;
+mod text;
 pub mod trade;
 
-pub use error::{HostError, TempStep, escape, escape_path};
+pub use error::{HostError, TempStep};
 use image::RgbImage;
 use std::io::{Seek, Write};
 use std::path::Path;
 use tessera::{Camera, Frame, RayCount, RenderSettings, SceneView, Tile, TileCoord, Viewport};
+pub use text::{escape, escape_path};
 
 /// The tile sizes the host can render with (the core fixes the size at compile
 /// time; the host instantiates these three).

@@ -8,9 +8,9 @@
 //!   e.g. 5,300 x 5,300): FLIP refuses more than 2^34 filter operations at its
 //!   default 67 pixels per degree. They keep whole images: at its peak `compare`
 //!   holds the f64 reference's colours and signature (32 bytes a pixel) and
-//!   the band it makes of them (1 more): 924,616 KiB at 5342x5342 (`/usr/bin/time
-//!   -v tessera compare --size 5342x5342`, release build; it was 2,934,632 KiB
-//!   before FLIP was measured in bands, [`crate::compare::mean_flip`]). With
+//!   the band it makes of them (1 more), FLIP being measured in bands
+//!   ([`crate::compare::mean_flip`]): 924,616 KiB at 5342x5342 (`/usr/bin/time
+//!   -v tessera compare --size 5342x5342`, release build). With
 //!   the adaptive sampler the reference keeps 48 bytes a pixel more:
 //!   2,234,768 KiB (`--sampler adaptive:2`). `trade` holds about as much at
 //!   most, 35 bytes a pixel (a reference render, its 8-bit image and the

@@ -20,9 +20,8 @@ use tessera::List;
 /// command's peak memory reading a 16 MiB OBJ file is at most 79 MiB: 16 MiB
 /// of `vn 0 0 1` lines (1.86 million normals) peak at 80,764 KiB, of `vt 0 0`
 /// lines at 74,520 KiB, of `v` lines at 50,592 KiB, one face line of 8.4
-/// million vertices (refused) at 37,132 KiB, where it took 340,072 KiB before
-/// the faces were bounded (`/usr/bin/time -v tessera render SCENE --size 16x16`,
-/// release build).
+/// million vertices (refused) at 37,132 KiB (`/usr/bin/time -v tessera render
+/// SCENE --size 16x16`, release build, SCENE a `[[mesh]]` of such a file).
 pub const MAX_OBJ_BYTES: usize = 16 << 20;
 
 /// The `obj` of a mesh that is tessera's own teapot ([`crate::teapot`], at its

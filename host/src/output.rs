@@ -110,32 +110,6 @@ fn refused(path: &Path, reason: impl Into<String>) -> HostError {
     }
 }
 
-/// What a file that is not a regular file is (an output, or an input:
-/// [`crate::file`]).
-pub(crate) fn kind(t: &fs::FileType) -> &'static str {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if t.is_char_device() {
-            return "a character device";
-        }
-        if t.is_block_device() {
-            return "a block device";
-        }
-        if t.is_fifo() {
-            return "a FIFO (named pipe)";
-        }
-        if t.is_socket() {
-            return "a socket";
-        }
-    }
-    if t.is_dir() {
-        "a folder"
-    } else {
-        "not a regular file"
-    }
-}
-
 /// Whether two metadata describe the same file.
 fn same_file(a: &fs::Metadata, a_path: &Path, b: &Path) -> bool {
     #[cfg(unix)]
@@ -202,7 +176,7 @@ impl Target {
                     path,
                     format!(
                         "it is {}{through}, not a regular file",
-                        kind(&m.file_type())
+                        crate::text::file_kind(&m.file_type())
                     ),
                 ));
             }

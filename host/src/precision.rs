@@ -1,5 +1,6 @@
-//! What `f32` cannot place: the loader's warning about triangle edges far longer
-//! than their distance to the camera.
+//! What `f32` and the `f64` paths cannot place: the loader's warnings about
+//! triangle edges far longer than their distance to the camera, and about
+//! surfaces far larger than their distance.
 //!
 //! The core decides whether a ray crosses a triangle with Woop's watertight test,
 //! in `f32`, from the vertices relative to the ray's origin. A vertex `M` away is
@@ -7,8 +8,8 @@
 //! depth along the ray: an edge that recedes far along the view but passes near
 //! the camera is drawn a little off (an edge across the view, however long, is
 //! not: its great extent is not a depth). The extremes battery (case 13 of
-//! `docs/extremes.md`, "near an edge") shows it within the accuracy bar up to ends
-//! 4 million times farther than the edge, and off by whole pixels from 5 million
+//! `docs/extremes.md`, "near an edge") shows it within the accuracy bar with ends
+//! a million times farther than the edge, and off by whole pixels at ten million
 //! (at 96x72; more pixels see it sooner). The hit points and shading of such a
 //! triangle stay exact (they come from `f64` there); only its outline moves. An
 //! edge shared with one other triangle of the same material in the same plane is
@@ -19,9 +20,18 @@
 use crate::desc::{Face, SceneDesc, num};
 use std::collections::HashMap;
 
-/// Above this ratio of an edge's farther end to its distance from the camera, the
-/// loader warns: a quarter of where the battery first leaves the bar.
+/// Above this ratio of an edge's ends' reach along the view to its distance from
+/// the camera, the loader warns: the battery (case 13, "near an edge") meets the
+/// bar at 1e6 and misses it at 1e7.
 pub const EDGE_RATIO: f64 = 1e6;
+
+/// Above this ratio of a triangle's longest edge, or a sphere's radius, to its
+/// distance from the camera, the loader warns: the battery (case 13) meets the bar
+/// with triangles whose longest edge is 1.1e13 times their distance and spheres of
+/// 1e13 times, and misses it at 2.2e13 and 1e14: there the `f64` paths lose the
+/// hits of a ground seen from above (the time of a crossing, within its error
+/// bound of the origin, is no hit).
+pub const SIZE_RATIO: f64 = 1e13;
 
 /// The most such warnings a scene gets (then a count of the rest).
 const MAX_WARNINGS: usize = 4;
@@ -75,7 +85,113 @@ fn in_plane(f: &Face, p: [f64; 3]) -> bool {
     (dot(n, sub(p, f[0])) / length(n)).abs() <= 1e-9 * size
 }
 
-/// The warnings of `desc` about triangle edges, list and mesh faces alike.
+/// The warnings of `desc` about what `f32` and the `f64` paths cannot place:
+/// triangles and spheres too large for their distance ([`SIZE_RATIO`]), then
+/// triangle edges receding along the view ([`EDGE_RATIO`]).
+#[must_use]
+pub fn warnings(desc: &SceneDesc) -> Vec<String> {
+    let mut out = size_warnings(desc);
+    out.extend(edge_warnings(desc));
+    out
+}
+
+/// The point of the triangle `f` nearest to `p` (Ericson, "Real-Time Collision
+/// Detection", 5.1.5).
+fn nearest_on_triangle(p: [f64; 3], f: &Face) -> [f64; 3] {
+    let [a, b, c] = *f;
+    let at = |u: f64, v: f64| [0, 1, 2].map(|i| a[i] + (b[i] - a[i]) * u + (c[i] - a[i]) * v);
+    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));
+    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = sub(p, b);
+    let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return at(d1 / (d1 - d3), 0.0);
+    }
+    let cp = sub(p, c);
+    let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return at(0.0, d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return [0, 1, 2].map(|i| b[i] + (c[i] - b[i]) * w);
+    }
+    let denom = 1.0 / (va + vb + vc);
+    at(vb * denom, vc * denom)
+}
+
+/// The warnings about triangles (list and mesh faces) and spheres larger than
+/// [`SIZE_RATIO`] times their distance from the camera.
+fn size_warnings(desc: &SceneDesc) -> Vec<String> {
+    let cam = desc.camera.position;
+    let mut named: Vec<(String, &str, f64, f64)> = Vec::new();
+    let faces = desc
+        .triangles
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (format!("triangle {}", i + 1), t.vertices));
+    let mesh_faces = desc.meshes.iter().enumerate().flat_map(|(i, m)| {
+        m.faces
+            .iter()
+            .enumerate()
+            .map(move |(j, f)| (format!("mesh {} ({:?}), face {}", i + 1, m.obj, j + 1), *f))
+    });
+    for (name, f) in faces.chain(mesh_faces) {
+        let size = (0..3)
+            .map(|k| length(sub(f[(k + 1) % 3], f[k])))
+            .fold(0.0, f64::max);
+        let distance = length(sub(nearest_on_triangle(cam, &f), cam));
+        named.push((name, "its longest edge", size, distance));
+    }
+    for (i, s) in desc.spheres.iter().enumerate() {
+        let distance = (length(sub(s.center, cam)) - s.radius).abs();
+        named.push((
+            format!("sphere {}", i + 1),
+            "its radius",
+            s.radius,
+            distance,
+        ));
+    }
+    let mut out = Vec::new();
+    let mut more = 0;
+    // False for NaN (a degenerate distance): no warning.
+    let too_large = named
+        .into_iter()
+        .filter(|(_, _, size, distance)| *size > SIZE_RATIO * distance);
+    for (name, what, size, distance) in too_large {
+        if out.len() == MAX_WARNINGS {
+            more += 1;
+            continue;
+        }
+        out.push(format!(
+            "{name}: {what} is {size:.2e}, {:.1e} times its distance from the camera \
+             ({distance:.3e}), above {SIZE_RATIO:.0e}: beyond that its hits may be lost \
+             (they are placed in f64, whose error then exceeds the distance; \
+             docs/extremes.md, case 13); make it smaller or move the camera away",
+            size / distance
+        ));
+    }
+    if more > 0 {
+        out.push(format!(
+            "{more} more surface(s) too large for their distance (the first {MAX_WARNINGS} are named above)"
+        ));
+    }
+    out
+}
+
+/// The warnings about triangle edges, list and mesh faces alike.
 #[must_use]
 pub fn edge_warnings(desc: &SceneDesc) -> Vec<String> {
     let mut tris: Vec<Tri<'_>> = desc
@@ -248,6 +364,40 @@ mod tests {
         // A wedge from a vertex near the camera to the far distance and beyond.
         let wedge = triangle([[0.0, 0.0, 8.0], [5e8, 0.0, -1e9], [-5e8, 0.0, -1e9]], "a");
         assert_eq!(edge_warnings(&scene(100.0, &wedge)), Vec::<String>::new());
+    }
+
+    #[test]
+    fn a_surface_too_large_for_its_distance_is_warned_about() {
+        // The two-triangle ground 2 units below the camera, half-sizes 1e12 and
+        // 1e13: longest edges (the diagonal) 5.7e12 and 5.7e13 times the distance.
+        let ground = |s: f64| {
+            triangle([[-s, 0.0, -s], [s, 0.0, -s], [s, 0.0, s]], "a")
+                + &triangle([[-s, 0.0, -s], [s, 0.0, s], [-s, 0.0, s]], "a")
+        };
+        assert_eq!(warnings(&scene(100.0, &ground(1e12))), Vec::<String>::new());
+        // Triangle 2 lies under the camera; triangle 1's nearest point is 4.6
+        // away, its ratio 6e12.
+        let w = warnings(&scene(100.0, &ground(1e13)));
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].starts_with(
+                "triangle 2: its longest edge is 2.83e13, 1.4e13 times its distance from the \
+                 camera (2.000e0), above 1e13: beyond that its hits may be lost"
+            ),
+            "{w:?}"
+        );
+        // A sphere's radius against its surface's distance.
+        let sphere = |r: f64| {
+            format!(
+                "[[sphere]]\ncenter = [0, {}, 0]\nradius = {r}\nmaterial = \"a\"\n",
+                -r
+            )
+        };
+        assert_eq!(warnings(&scene(100.0, &sphere(1e13))), Vec::<String>::new());
+        assert_eq!(warnings(&scene(100.0, &sphere(1e14))).len(), 1);
+        // The distance is the triangle's, not its plane's: one far to the side.
+        let aside = triangle([[1e15, 0.0, 0.0], [2e15, 0.0, 0.0], [1e15, 0.0, 1e15]], "a");
+        assert_eq!(warnings(&scene(100.0, &aside)), Vec::<String>::new());
     }
 
     #[test]

@@ -51,9 +51,9 @@ fn gif_delays(path: &Path) -> Vec<u16> {
 }
 
 /// A GIF counts its delays in hundredths of a second, at most 65,535: a longer
-/// `--delay-ms` is refused (it was clamped to 655.35 s without a word), and a
+/// `--delay-ms` is refused (not clamped to 655.35 s without a word), and a
 /// delay that is no multiple of 10 ms goes to the nearest hundredth, never to 0
-/// (5 ms became 0, which viewers show at their own pace).
+/// (which viewers show at their own pace).
 #[test]
 fn orbit_delays_are_bounded_and_rounded_to_hundredths() {
     let max = tessera_host::limits::MAX_GIF_DELAY_MS.to_string();
@@ -124,8 +124,8 @@ intensity = 1e36
 ";
 
 /// An orbit whose camera leaves the supported range is refused before any
-/// frame is drawn, with the scene, the frame and the position refused (it said
-/// only `camera position must be in [-2^60, 2^60] ...`).
+/// frame is drawn, with the scene, the frame and the position refused (not only
+/// `camera position must be in [-2^60, 2^60] ...`).
 #[test]
 fn an_orbit_beyond_the_range_names_the_scene_the_frame_and_the_position() {
     let dir = scratch("orbit-range");
@@ -151,7 +151,7 @@ fn an_orbit_beyond_the_range_names_the_scene_the_frame_and_the_position() {
 }
 
 /// A dotted key or a table header of very many parts is refused by the pre-scan
-/// at the part beyond the limit, with its line and column (the parser said
+/// at the part beyond the limit, with its line and column (not the parser's
 /// `dotted.toml: recursion limit`, nowhere).
 #[test]
 fn a_key_of_too_many_parts_is_refused_with_its_line_and_column() {
@@ -182,8 +182,8 @@ fn a_key_of_too_many_parts_is_refused_with_its_line_and_column() {
     }
 }
 
-/// `compare` writes a heat map only when asked (`--heatmap FILE`); it wrote
-/// `compare-heatmap.png` into the current folder every time.
+/// `compare` writes a heat map only when asked (`--heatmap FILE`), never a
+/// `compare-heatmap.png` of its own into the current folder.
 #[test]
 fn compare_writes_no_heat_map_unless_asked() {
     let dir = scratch("no-heatmap");
@@ -218,8 +218,8 @@ fn compare_writes_no_heat_map_unless_asked() {
 }
 
 /// The summary of `render`: the sampler's samples a pixel (for the adaptive
-/// sampler the most a pixel may take: it printed "17 sample(s)/px" while about
-/// 3 rays a pixel were traced) and the rays traced a pixel, measured.
+/// sampler the most a pixel may take, "at most 17", where about 3 rays a pixel
+/// are traced) and the rays traced a pixel, measured.
 #[test]
 fn the_render_summary_says_the_samples_bound_and_the_rays_traced() {
     let dir = scratch("summary");
@@ -438,8 +438,8 @@ fn mesh_scene(dir: &Path, obj: &str) {
     .unwrap();
 }
 
-/// OBJ faces are bounded before tobj reads them (a single 16 MiB face line took
-/// 340 MB): a face of more vertices than a fan the scene could hold, or faces
+/// OBJ faces are bounded before tobj reads them (unbounded, a single 16 MiB face
+/// line takes 340 MB): a face of more vertices than a fan the scene could hold, or faces
 /// making more than twice the triangles the scene holds, are refused at their
 /// line, with the count.
 #[test]
@@ -544,8 +544,8 @@ fn unsafe_char(c: char) -> bool {
 }
 
 /// Paths and names in messages are escaped: a name with a line break or a
-/// terminal escape cannot forge a line or drive the terminal (output paths
-/// were printed raw by `cannot write`, `refusing to write` and the summary).
+/// terminal escape cannot forge a line or drive the terminal (the output paths
+/// of `cannot write`, `refusing to write` and the summary among them).
 #[test]
 fn paths_and_names_in_messages_are_escaped() {
     let dir = scratch("escapes");

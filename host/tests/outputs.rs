@@ -191,7 +191,7 @@ const MESH_SCENES: [(&str, &str); 4] = [
 /// No command writes over the OBJ file of a mesh of its scene, whichever way the
 /// output names it: the same path, another path, a hard link, a symbolic link, an
 /// orbit frame's name, in the scene's folder or not. The file keeps its bytes and
-/// nothing else is left. (Before: each of these cases replaced the OBJ file.)
+/// nothing else is left.
 #[test]
 fn no_output_replaces_a_meshs_obj_file() {
     let ok = "it is the OBJ file ok.obj of mesh 1 (scene m.toml); choose another output";

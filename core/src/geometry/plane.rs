@@ -12,10 +12,13 @@ use crate::vec::Vec3;
 pub struct Plane {
     point: Vec3,
     normal: Vec3,
-    /// `normal . point`, computed once in `f64` with the `f64` unit normal and
-    /// rounded: the plane is `normal . x = offset`, exact where it crosses the line
-    /// through the world's origin along its normal, and off by a few ulps of `|x|`
-    /// at a point `x`, as close as `f32` can hold `x` itself. A hit's time
+    /// The signed distance of the plane from the world's origin: `N . point / |N|`
+    /// for the normal `N` as given, the dot product summed almost exactly in `f64`
+    /// ([`W3::dot_exact`]), then rounded: the plane is `normal . x = offset`,
+    /// within half an ulp of the offset where it crosses the line through the
+    /// world's origin along its normal, and off by a few ulps of `|x|` at a point
+    /// `x` (the rounding of the unit normal), as close as `f32` can hold `x`
+    /// itself. A hit's time
     /// `(offset - n.o) / n.d` then involves the ray's origin and the plane's
     /// distance from the world's origin, never the point the user happened to
     /// give: `(point - o).n` loses ulps of `point`, and a plane through a point
@@ -39,16 +42,18 @@ impl Plane {
     /// );
     /// ```
     pub fn try_new(point: Vec3, normal: Vec3) -> Result<Self, Error> {
-        // Checked (finite, not zero) in `f32`, normalised in `f64`: the plane is
-        // `n . x = n . point` with that `f64` normal, and both are rounded once.
-        let normal = W3::from(unit(normal, Field::PlaneNormal)?);
-        let normal = normal.div(normal.length());
+        // Checked (finite, not zero), normalised in `f64`: the plane is
+        // `N . x = N . point` for the normal `N` as given, its offset summed
+        // almost exactly and divided by `|N|`; both numbers rounded once.
+        unit(normal, Field::PlaneNormal)?;
+        let raw = W3::from(crate::error::flush3(normal));
+        let len = raw.length();
         let point = position(point, Field::PlanePoint)?;
-        let unit = normal.round();
+        let unit = raw.div(len).round();
         Ok(Self {
             point,
             normal: unit,
-            offset: normal.dot(W3::from(point)) as f32,
+            offset: (raw.dot_exact(W3::from(point)) / len) as f32,
             tangents: tangent_basis(unit),
         })
     }

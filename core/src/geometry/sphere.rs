@@ -1,6 +1,6 @@
 //! Sphere: centre and radius.
 
-use super::wide::{W3, gamma64};
+use super::wide::{REACH, W3, gamma64};
 use super::{Candidate, Geom, Locate, Shape, Surface};
 use crate::error::{Error, Field, finite, length, position};
 use crate::math::{self, gamma};
@@ -10,11 +10,6 @@ use core::f32::consts::{FRAC_1_PI, PI};
 
 /// `(1 - gamma(3))^2`: the shrink factor of the cheap miss test, squared.
 const SHRINK2: f32 = (1.0 - gamma(3)) * (1.0 - gamma(3));
-
-/// How much larger than a hit's time plus the ray origin's magnitude the radius
-/// must be for the hit to be computed in `f64` (see `Sphere::huge_for`). Never
-/// the case for a sphere smaller than its distance.
-const HUGE: f32 = 16.0;
 
 /// A sphere of centre `center` and radius `radius > 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -151,7 +146,7 @@ impl Sphere {
         // `f64`. (The fast path above never needs it: its origin is at least r/8
         // off the surface, so its roots are not small beside r.)
         if self.huge_for(ray, math::min(math::abs(t0), math::abs(t1))) {
-            return self.wide_roots(ray).or(Some((t0, t1)));
+            return self.wide_roots(ray, (t0, t1));
         }
         Some((t0, t1))
     }
@@ -164,15 +159,17 @@ impl Sphere {
     fn huge_for(&self, ray: &Ray, t: f32) -> bool {
         // The first test alone settles the common case (t not small beside r).
         let o = ray.origin.abs();
-        self.radius > HUGE * t && self.radius > HUGE * (t + o.x + o.y + o.z)
+        self.radius > REACH * t && self.radius > REACH * (t + o.x + o.y + o.z)
     }
 
     /// Both roots in `f64`, smaller first: Ray Tracing Gems' form (the
     /// discriminant from the centre's distance to the line, the near root as
     /// `c / q`), whose roundings are at `2^-53` of the radius and the distances.
+    /// `None` when the `f64` discriminant says the ray misses (it is the more
+    /// accurate); the `f32` roots `near` when the `f64` ones are not finite.
     #[cold]
     #[inline(never)]
-    fn wide_roots(&self, ray: &Ray) -> Option<(f32, f32)> {
+    fn wide_roots(&self, ray: &Ray, near: (f32, f32)) -> Option<(f32, f32)> {
         let (d, r) = (W3::from(ray.dir), f64::from(self.radius));
         let f = W3::from(ray.origin).sub(W3::from(self.center));
         let dd = d.dot(d);
@@ -186,7 +183,10 @@ impl Sphere {
         let q = b + math::sqrt64(disc).copysign(b);
         let c = f.dot(f) - r * r;
         let (t0, t1) = ((c / q) as f32, (q / dd) as f32);
-        (t0.is_finite() && t1.is_finite()).then_some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+        if !(t0.is_finite() && t1.is_finite()) {
+            return Some(near);
+        }
+        Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
     }
 
     /// The roots with `l` computed almost exactly: `f = o - c` as an unevaluated sum
@@ -237,11 +237,13 @@ impl Sphere {
         let r = f64::from(self.radius);
         let w = W3::from(x).sub(W3::from(self.center));
         let (w2, len) = (w.dot(w), w.length());
-        // w: gamma64(1) per component, so w2 within gamma64(4) of the true square
-        // (r^2 is exact: 48 bits); the difference, the sum below and the division
-        // add gamma64(3) of the result; len within gamma64(3).
+        // w is within gamma64(1) of x - c per component, so w2 within gamma64(5)
+        // of the true square (r^2 is exact: 48 bits); the difference rounds once
+        // more (u of itself), the square root and the sum `len + r` are within
+        // gamma64(5) of the true denominator, the division rounds once: the
+        // distance is within gamma64(5) of w2 / (len + r) plus gamma64(8) of itself.
         let dist = (w2 - r * r) / (len + r);
-        let slack = gamma64(5) * w2 / (len + r) + gamma64(6) * dist.abs();
+        let slack = gamma64(5) * w2 / (len + r) + gamma64(8) * dist.abs();
         w.scaled_up((dist.abs() + slack) / len)
     }
 }

@@ -8,7 +8,7 @@
 //! resolved in `f64`. Neighbouring triangles therefore agree on which side of their
 //! shared edge the ray passes: no ray leaks between them.
 
-use super::wide::{W3, gamma64};
+use super::wide::{CANCELS, REACH, W3, gamma64};
 use super::{Candidate, Geom, Locate, Shape, Surface};
 use crate::error::{Error, Field, position};
 use crate::math;
@@ -83,6 +83,17 @@ macro_rules! with_axes {
 }
 pub(crate) use with_axes;
 
+/// The world axes `(kx, ky)` of the ray frame whose z is the world axis `kz`:
+/// the next two in cyclic order, swapped when the direction is negative along
+/// `kz` (which keeps the winding, hence the sign of the determinant). Shared by
+/// [`Shear::new`] and [`Triangle::sheared_time`] (the `with_axes!` arms spell
+/// the same six frames out as types).
+const fn frame_axes(kz: usize, neg: bool) -> (usize, usize) {
+    let kx = if kz == 2 { 0 } else { kz + 1 };
+    let ky = if kx == 2 { 0 } else { kx + 1 };
+    if neg { (ky, kx) } else { (kx, ky) }
+}
+
 /// Woop's per-ray constants (the ray frame): which axes, the shear `(sx, sy)`, the
 /// scale `sz`, and the ray origin in the frame's axes. Computed once per ray and
 /// shared by every triangle it is tested against.
@@ -103,11 +114,8 @@ impl Shear {
     pub(crate) fn new(ray: &Ray) -> Self {
         // The ray frame: z is the direction's dominant axis, so the shear is bounded.
         let kz = ray.dir.max_dimension();
-        let kx = if kz == 2 { 0 } else { kz + 1 };
-        let ky = if kx == 2 { 0 } else { kx + 1 };
-        // Swapping x and y for a negative z keeps the winding, hence the sign of det.
         let neg = ray.dir.get(kz) < 0.0;
-        let (kx, ky) = if neg { (ky, kx) } else { (kx, ky) };
+        let (kx, ky) = frame_axes(kz, neg);
         let d = ray.dir.permute(kx, ky, kz);
         // The arm of `with_axes!` for (kz, neg).
         let axes = (2 * kz + usize::from(neg)) as u8;
@@ -157,14 +165,14 @@ fn edge_f64(px: f32, py: f32, qx: f32, qy: f32) -> f32 {
     (f64::from(px) * f64::from(qy) - f64::from(py) * f64::from(qx)) as f32
 }
 
-/// The three edge functions of the projected vertices `[ax, ay, bx, by, cx, cy]`
-/// with [`edge_f64`]: out of line and cold (a ray through an edge or a vertex is
+/// The three edge functions of the projected vertices `a, b, c` with
+/// [`edge_f64`]: out of line and cold (a ray through an edge or a vertex is
 /// rare), so that the loops which test triangles keep one call, not the `f64`
-/// code, in each of their copies.
+/// code, in each of their copies (numbers passed as numbers, not an array: no
+/// slot in every caller's frame).
 #[cold]
 #[inline(never)]
-fn edges_f64(p: [f32; 6]) -> (f32, f32, f32) {
-    let [ax, ay, bx, by, cx, cy] = p;
+fn edges_f64(ax: f32, ay: f32, bx: f32, by: f32, cx: f32, cy: f32) -> (f32, f32, f32) {
     (
         edge_f64(cx, cy, bx, by),
         edge_f64(ax, ay, cx, cy),
@@ -244,7 +252,7 @@ impl Triangle {
         if u == 0.0 || v == 0.0 || w == 0.0 {
             // The ray may pass exactly through an edge or vertex: settle each sign
             // exactly, as the paper does, so neighbours cannot both say "outside".
-            (u, v, w) = edges_f64([ax, ay, bx, by, cx, cy]);
+            (u, v, w) = edges_f64(ax, ay, bx, by, cx, cy);
         }
         // Zeros count as inside, so a ray through an edge or vertex hits every
         // triangle touching it.
@@ -301,13 +309,6 @@ impl Triangle {
     }
 }
 
-/// How much larger than the ray's reach (its origin's magnitude plus the hit time)
-/// the terms of a triangle's barycentric point may be before the point is taken
-/// on the ray instead (see `Triangle::locate`); and how much Woop's time's terms
-/// may exceed the time before it comes from `f64` (see `Triangle::hit_with`).
-/// Neither ever holds in a scene of triangles smaller than their distance.
-const HUGE: f32 = 16.0;
-
 /// The plane of the triangle `p` in `f64`: a vertex, the normal `e1 x e2` (not
 /// normalised) and the magnitudes its rounding error is relative to.
 fn wide_plane(p: [Vec3; 3]) -> (W3, W3, W3) {
@@ -340,23 +341,27 @@ fn plane_distance(p: [Vec3; 3], x: Vec3) -> Vec3 {
     let w = W3::from(x).sub(p0);
     let len = n.length();
     // n's components are off by gamma64(4) of `mag` (two differences, a product
-    // and the difference of products), the dot product adds gamma64(4) of its
-    // terms, w gamma64(1); the division by the length gamma64(4) relative.
+    // and the difference of products), so n.w by gamma64(8) of mag.|w| with its
+    // own roundings and w's; |n| by gamma64(4) of |mag| (relative to |n| itself
+    // that is large for a sliver, whose products cancel), and the division
+    // rounds once.
     let dist = n.dot(w) / len;
-    let slack = gamma64(9) * mag.dot(w.abs()) / len + gamma64(5) * dist.abs();
+    let sliver = mag.length() / len;
+    let slack =
+        gamma64(9) * mag.dot(w.abs()) / len + (gamma64(5) + gamma64(5) * sliver) * dist.abs();
     n.scaled_up((dist.abs() + slack) / len)
 }
 
 impl Triangle {
     /// [`Triangle::hit_with`]'s time when a vertex lies behind the ray's origin:
     /// Woop's time `t` unless its terms' magnitude `m` exceeds it by more than
-    /// [`HUGE`]; then [`Triangle::sheared_time`]. Inlined: the call stays in the
+    /// [`CANCELS`]; then [`Triangle::sheared_time`]. Inlined: the call stays in the
     /// rare branch, with the shear's numbers passed as numbers (a reference would
     /// keep every shear in memory, an array a slot in every caller's frame).
     #[inline(always)]
     fn straddling_time(&self, shear: &Shear, t: f32, m: f32) -> f32 {
         // False for NaN: a NaN time stays what the range test rejects.
-        if m <= HUGE * math::abs(t) {
+        if m <= CANCELS * math::abs(t) {
             return t;
         }
         let (s, o) = (shear, shear.origin);
@@ -384,10 +389,9 @@ impl Triangle {
         t: f32,
     ) -> f32 {
         let [sx, sy, sz, ox, oy, oz] = [sx, sy, sz, ox, oy, oz].map(f64::from);
+        // `Shear::axes` is 2 kz + (1 for a negative direction along kz).
         let kz = usize::from(axes / 2);
-        let kx = if kz == 2 { 0 } else { kz + 1 };
-        let ky = if kx == 2 { 0 } else { kx + 1 };
-        let (kx, ky) = if axes % 2 == 1 { (ky, kx) } else { (kx, ky) };
+        let (kx, ky) = frame_axes(kz, axes % 2 == 1);
         let mut big = 0.0f64;
         let [a, b, c] = [self.p0, self.p1, self.p2].map(|p| {
             // Woop's `(ax, ay)` and depth of the vertex, in `f64`: each within
@@ -451,7 +455,7 @@ impl Locate for Triangle {
         // choice only has to be the more accurate one by a wide margin.)
         let terms = q0.abs() + q1.abs() + q2.abs();
         let reach = ray.origin.abs();
-        if terms.x + terms.y + terms.z > HUGE * (reach.x + reach.y + reach.z + hit.t)
+        if terms.x + terms.y + terms.z > REACH * (reach.x + reach.y + reach.z + hit.t)
             && let Some(t) = plane_time([self.p0, self.p1, self.p2], ray.origin, ray.dir)
         {
             // aux.z = 1: the point is the ray's (see `error`).

@@ -21,7 +21,7 @@ pub mod scene;
 pub mod shade;
 pub mod vec;
 
-use crate::desc::{CameraDesc, DescError, SceneDesc};
+use crate::desc::{CameraDesc, DescError, SceneDesc, flush};
 use geometry::Ray;
 use scene::RefScene;
 use shade::{Signature, Tracer};
@@ -98,7 +98,12 @@ impl RefCamera {
         let position = V3::from_array(c.position);
         let forward = match (c.forward, c.look_at) {
             (Some(f), None) => V3::from_array(f),
-            (None, Some(t)) => V3::from_array(t) - position,
+            // The difference too follows the rule for subnormal numbers, as the
+            // core's camera reads its forward direction.
+            (None, Some(t)) => {
+                let f = V3::from_array(t) - position;
+                V3::new(flush(f.x), flush(f.y), flush(f.z))
+            }
             _ => {
                 return Err(DescError {
                     item: "camera".into(),

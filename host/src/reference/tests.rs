@@ -47,6 +47,7 @@ fn empty(camera: CameraDesc) -> SceneDesc {
         boxes: Vec::new(),
         meshes: Vec::new(),
         flushed: Vec::new(),
+        flushed_count: 0,
     }
 }
 

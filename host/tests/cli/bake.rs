@@ -149,8 +149,7 @@ fn compile_and_run(dir: &Path, baked: &Path, literals: &[String]) -> Vec<String>
 /// the baked file compiles without a warning against the real core (the
 /// `compile_error!` in a name would stop it if the name became code), every line
 /// before the `use` is a comment, and the header's string literals are the
-/// names themselves, as the compiler reads them. (Failed before the fix: the
-/// first name's `compile_error!` was on line 4 of the file.)
+/// names themselves, as the compiler reads them.
 #[test]
 fn a_baked_file_with_hostile_names_compiles_and_keeps_them_inert() {
     let dir = scratch("bake-hostile");

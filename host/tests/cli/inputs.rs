@@ -95,8 +95,8 @@ fn odd_inputs(dir: &Path, ext: &str) -> (UnixListener, Vec<(String, &'static str
 
 /// Every odd kind of OBJ file, for each command that reads a scene: refused
 /// within the timeout, status 1, the message naming the scene's mesh, the path
-/// and the kind. (Before: the FIFO hung `compare` forever, /dev/null was read as
-/// an empty mesh, /dev/zero up to the size limit.)
+/// and the kind: a FIFO must not hang the command, /dev/null must not read as an
+/// empty mesh, nor /dev/zero up to the size limit.
 #[test]
 fn an_obj_file_that_is_not_a_regular_file_is_refused_at_once() {
     let dir = scratch("odd-obj");

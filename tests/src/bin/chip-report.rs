@@ -503,8 +503,9 @@ impl Measured {
              [extremes.md](extremes.md)), centre sampling, depth 3, exact backend: a ground \
              (two triangles, or a sphere whose top is the ground) `2^25` units across, seen \
              from 2 units, whose hits take the `f64` paths of `core/src/geometry/wide.rs` \
-             (software on the Cortex-M4F), beside the same scene with a ground 32 units \
-             across; a camera a subnormal off the vertical through its target, and a scene \
+             (software on the Cortex-M4F), beside the same scene with a ground 1,024 units \
+             across (256 times its distance, below where the `f64` paths take over) and 32 \
+             units across; a camera a subnormal off the vertical through its target, and a scene \
              with subnormal numbers in every kind of input (read as zeros). The chip's \
              pixels are the host's (checked above).\n"
         );
@@ -529,8 +530,8 @@ impl Measured {
         let of = |x: Extreme| measured.iter().find(|m| m.0 == x).map(|m| m.1);
         for &(x, instr, cycles) in &measured {
             let twin = match x {
-                Extreme::HugeGround => of(Extreme::SmallGround),
-                Extreme::HugeSphere => of(Extreme::SmallSphere),
+                Extreme::HugeGround | Extreme::MediumGround => of(Extreme::SmallGround),
+                Extreme::HugeSphere | Extreme::MediumSphere => of(Extreme::SmallSphere),
                 _ => None,
             };
             let against = twin.map_or_else(

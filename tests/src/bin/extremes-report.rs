@@ -583,9 +583,8 @@ fn case13(md: &mut String) {
             .iter()
             .map(|&r| {
                 let h = huge(surface, placement, r);
-                let warned =
-                    !tessera_host::precision::edge_warnings(&huge_desc(surface, placement, r))
-                        .is_empty();
+                let warned = !tessera_host::precision::warnings(&huge_desc(surface, placement, r))
+                    .is_empty();
                 let mark = if h.accuracy.meets_bar() { "" } else { " ✗" };
                 let warn = if warned { " w" } else { "" };
                 format!("{}{mark}{warn}", h.max_outside)
@@ -625,9 +624,12 @@ fn case13(md: &mut String) {
          exactly (`host/src/reference/exact.rs`). Woop's test still decides which side \
          of an edge a ray passes, in `f32`, so that meshes stay watertight: an edge whose \
          ends lie millions of times farther along the view than it passes from the \
-         camera is drawn whole pixels off (from about 5e6 here), and the loader warns \
-         from 1e6 for such an edge when it is an outline (not shared with a coplanar \
-         neighbour of the same material) within the far distance.\n\n\
+         camera is drawn whole pixels off (from 1e7 here), and the loader warns from 1e6 \
+         for such an edge when it is an outline (not shared with a coplanar neighbour \
+         of the same material) within the far distance. Beyond 1e12 the `f64` paths \
+         themselves lose the hits of a ground seen from above (a crossing within their \
+         error bound of the origin is no hit), and the loader warns when a triangle's \
+         longest edge or a sphere's radius is more than 1e13 times its distance.\n\n\
          | surface | {} |\n|---|{}\n{rows}",
         HUGE_VIEWPORT.width,
         HUGE_VIEWPORT.height,
@@ -664,7 +666,8 @@ fn case14(md: &mut String) {
          carries fewer bits than the others, and `f32` and `f64` make different things \
          of it (`1e-45` is `1.4e-45` in `f32`; a product with it underflows in `f32` \
          only): a camera 1e-45 off the vertical through its target rolled one way in \
-         the core and another in the reference. One rule now: such a number is read as \
+         the core and another in the reference, without one rule for them. The rule: \
+         such a number is read as \
          a zero of its sign, by the core's checks (`tessera`'s constructors, a material \
          when a scene takes it), by the f64 reference, and by the loader, which warns. \
          Each kind below is set to the value of the column in a description built in \

@@ -15,7 +15,9 @@ use tessera_host::compare::Accuracy;
 use tessera_host::desc::SceneDesc;
 
 /// The ratios of the sweep (size over camera distance).
-pub const HUGE_RATIOS: [f64; 11] = [1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12];
+pub const HUGE_RATIOS: [f64; 16] = [
+    1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17,
+];
 
 /// The viewport of case 13.
 pub const HUGE_VIEWPORT: Viewport = Viewport::new(96, 72);

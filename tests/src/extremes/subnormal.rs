@@ -88,6 +88,16 @@ pub fn kinds() -> Vec<Kind> {
             },
         },
         Kind {
+            name: "camera look_at - position (normal numbers, a subnormal difference)",
+            refused: false,
+            set: |d, x| {
+                // Both normal in f32; their difference is `x` (when `x` is one
+                // of the subnormals tried), which decides the roll.
+                d.camera.position = [0.0, 2.5, 2e-37];
+                d.camera.look_at = Some([0.0, 0.0, 2e-37 + x]);
+            },
+        },
+        Kind {
             name: "camera up (along the view)",
             refused: false,
             set: |d, x| {
