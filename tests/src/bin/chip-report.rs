@@ -511,7 +511,7 @@ impl Measured {
         );
         let _ = writeln!(
             w,
-            "| scene | instr/px | est. cycles/px | against the 32-unit ground |"
+            "| scene | instr/px | est. cycles/px | against the 32-unit ground or sphere |"
         );
         let _ = writeln!(w, "|---|---|---|---|");
         let measured: Vec<(Extreme, f64, f64)> = runs
