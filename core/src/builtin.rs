@@ -26,12 +26,26 @@ pub type ShowcaseScene = Scene<3, 2, 4, 2, 8, 2>;
 #[cfg(feature = "teapot")]
 pub type TeapotScene = Scene<0, 1, 0, 0, 2, 2>;
 
-/// The teapot's mesh and BVH, baked by the host (`tessera bake
-/// scenes/teapot.toml`; a test of the host checks that this file is what it bakes
-/// today).
-#[cfg(feature = "teapot")]
-#[rustfmt::skip]
-mod teapot_data;
+/// The built-in scenes as `static` data (flash on a chip), baked by the host
+/// from their scene files (`scenes/<name>.toml`; a test of the host checks
+/// that each file here is what it bakes today): each module's `SCENE` is a
+/// [`crate::BakedScene`] at the scene's own size and settings, with a constant
+/// per material and the tile loops it needs (`SceneLoops`).
+/// [`Builtin::baked`] gives any of them, checked.
+pub mod baked {
+    /// `scenes/chapter-direct.toml`.
+    #[rustfmt::skip]
+    pub mod chapter_direct; /// `scenes/chapter-reflect.toml`.
+    #[rustfmt::skip]
+    pub mod chapter_reflect; /// `scenes/interference.toml`.
+    #[rustfmt::skip]
+    pub mod interference; /// `scenes/showcase.toml`.
+    #[rustfmt::skip]
+    pub mod showcase; /// `scenes/teapot.toml` (feature `teapot`).
+    #[cfg(feature = "teapot")]
+    #[rustfmt::skip]
+    pub mod teapot;
+}
 
 /// The teapot's mesh (baked `static` data: flash on a chip), to give to a view of
 /// [`teapot`] with [`SceneView::with_meshes`]:
@@ -45,7 +59,7 @@ mod teapot_data;
 /// # }
 /// ```
 #[cfg(feature = "teapot")]
-pub static TEAPOT_MESHES: &[crate::Mesh<'static>] = &teapot_data::MESHES;
+pub static TEAPOT_MESHES: &[crate::Mesh<'static>] = &baked::teapot::MESHES;
 
 /// The built-in scenes, by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -125,6 +139,38 @@ impl Builtin {
         }
     }
 
+    /// The scene's `static` data ([`baked`]), checked: its view (which reads
+    /// the tables where they lie, in flash on a chip) and its frame at the
+    /// scene's own size and [settings](Builtin::settings). The same pixels as
+    /// [`Builtin::with_scene`], with no scene in RAM.
+    ///
+    /// ```
+    /// use tessera::{builtin::Builtin, Tile, TileCoord};
+    /// let (view, frame) = Builtin::Showcase.baked()?;
+    /// let mut tile = Tile::<16>::new();
+    /// frame.render_tile(&view, TileCoord::new(0, 0), &mut tile, &mut ())?;
+    /// # Ok::<(), tessera::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`crate::BakedScene::view`] and [`crate::BakedScene::frame`] (none
+    /// for data the host baked).
+    pub fn baked(self) -> Result<(SceneView<'static>, crate::Frame), Error> {
+        fn both<const S: usize, const P: usize, const T: usize, const B: usize>(
+            s: &crate::BakedScene<'static, S, P, T, B>,
+        ) -> Result<(SceneView<'static>, crate::Frame), Error> {
+            Ok((s.view()?, s.frame()?))
+        }
+        match self {
+            Self::ChapterDirect => both(&baked::chapter_direct::SCENE),
+            Self::ChapterReflect => both(&baked::chapter_reflect::SCENE),
+            Self::Interference => both(&baked::interference::SCENE),
+            Self::Showcase => both(&baked::showcase::SCENE),
+            #[cfg(feature = "teapot")]
+            Self::Teapot => both(&baked::teapot::SCENE),
+        }
+    }
+
     /// Builds the scene (on the stack) and hands its view and camera to `f`.
     pub fn with_scene<R>(self, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Result<R, Error> {
         self.build(0, f)
@@ -188,8 +234,8 @@ fn hand_teapot<R>(k: i32, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Resul
     }
     #[cfg(feature = "testing")]
     {
-        let [mesh] = &teapot_data::MESHES;
-        scaled_teapot(&scene, k, &teapot_data::MESH0_VERTICES, mesh, f)
+        let [mesh] = &baked::teapot::MESHES;
+        scaled_teapot(&scene, k, &baked::teapot::MESH0_VERTICES, mesh, f)
     }
     #[cfg(not(feature = "testing"))]
     Err(Error::BvhMismatch)
@@ -452,6 +498,60 @@ mod tests {
             assert!(b.settings().validate().is_ok());
         }
         assert_eq!(Builtin::from_name("nope"), None);
+    }
+
+    /// Every tile of `frame` over `view`, as bytes.
+    fn pixels(view: &SceneView<'_>, frame: &crate::Frame) -> [u8; 3 * 80 * 60] {
+        let mut out = [0; 3 * 80 * 60];
+        let mut tile = crate::Tile::<16>::new();
+        for ty in 0..4 {
+            for tx in 0..5 {
+                let coord = crate::TileCoord::new(tx, ty);
+                frame.render_tile(view, coord, &mut tile, &mut ()).unwrap();
+                for (y, row) in tile.rows().enumerate() {
+                    for (x, p) in row.iter().enumerate() {
+                        let i = 3 * ((usize::from(ty) * 16 + y) * 80 + usize::from(tx) * 16 + x);
+                        out[i..i + 3].copy_from_slice(&[p.r, p.g, p.b]);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// A built-in scene's static data renders the scene the core builds, byte
+    /// for byte, at the scene's own settings; its size is the scene file's.
+    #[test]
+    fn every_builtin_baked_renders_like_the_built_scene() {
+        let vp = crate::Viewport::new(80, 60);
+        for b in Builtin::ALL {
+            let (view, frame) = b.baked().unwrap();
+            assert_eq!(*frame.settings(), b.settings(), "{}", b.name());
+            assert_eq!(frame.viewport(), crate::Viewport::new(320, 240));
+            let small = crate::Frame::try_new(&frame_camera(b), vp, b.settings()).unwrap();
+            let baked = pixels(&view, &small);
+            let built = b
+                .with_scene(|v, cam| {
+                    let f = crate::Frame::try_new(cam, vp, b.settings()).unwrap();
+                    pixels(v, &f)
+                })
+                .unwrap();
+            assert!(baked == built, "{}", b.name());
+            assert!(baked.iter().any(|&x| x > 40), "{}: a black image", b.name());
+        }
+    }
+
+    /// The baked scene's camera.
+    fn frame_camera(b: Builtin) -> Camera {
+        let c = match b {
+            Builtin::ChapterDirect => baked::chapter_direct::SCENE.camera(),
+            Builtin::ChapterReflect => baked::chapter_reflect::SCENE.camera(),
+            Builtin::Interference => baked::interference::SCENE.camera(),
+            Builtin::Showcase => baked::showcase::SCENE.camera(),
+            #[cfg(feature = "teapot")]
+            Builtin::Teapot => baked::teapot::SCENE.camera(),
+        };
+        c.camera().unwrap()
     }
 
     #[test]

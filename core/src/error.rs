@@ -182,6 +182,15 @@ pub enum Error {
     /// A material's reflectivity and transparency add up to more than 1: it would
     /// send on more light than it receives.
     ReflectionAndTransmissionAboveOne,
+    /// An item of a baked scene ([`crate::BakedScene`]) is not what its
+    /// checked constructor makes of its own numbers: hand-written or altered
+    /// data, never what `tessera bake` writes.
+    BadBaked {
+        /// Its list.
+        list: List,
+        /// Its index in the list, from 0.
+        index: u16,
+    },
 }
 
 impl fmt::Display for Error {
@@ -211,6 +220,12 @@ impl fmt::Display for Error {
                 "a mesh does not hold together (a vertex index out of range, normals not one \
                  unit vector per vertex, 65,536 faces or more, a BVH of other faces, or \
                  meshes given twice)",
+            ),
+            Self::BadBaked { list, index } => write!(
+                f,
+                "baked {} item {index} is not what its constructor makes of its numbers \
+                 (bake the scene again)",
+                list.name()
             ),
             Self::BvhMismatch => {
                 f.write_str("the BVH was not built from this scene's triangles (build it again)")

@@ -45,6 +45,7 @@
 
 // The public API is the re-exports below (and the built-in scenes): the modules
 // are private, so what a firmware author sees in `tessera::` is what they use.
+mod baked;
 pub mod builtin;
 #[cfg(feature = "bvh")]
 mod bvh;
@@ -72,6 +73,7 @@ mod tile;
 mod trace;
 mod vec;
 
+pub use baked::{BakedCamera, BakedScene};
 #[cfg(feature = "bvh")]
 pub use bvh::{
     BakedBvh, Bounded, Bvh, BvhNode, CROSSOVER as BVH_CROSSOVER,

@@ -34,6 +34,18 @@ impl PointLight {
         })
     }
 
+    /// A light of baked data (`static` tables written by `tessera bake`), not
+    /// checked here, in a `const` context: [`crate::BakedScene::view`] checks it
+    /// against [`PointLight::try_new`] before any render takes it.
+    #[must_use]
+    pub const fn baked(position: [f32; 3], color: Color, intensity: f32) -> Self {
+        Self {
+            position: Vec3::new(position[0], position[1], position[2]),
+            color,
+            intensity,
+        }
+    }
+
     /// Position.
     #[must_use]
     pub fn position(&self) -> Vec3 {

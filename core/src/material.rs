@@ -65,6 +65,39 @@ impl Material {
         }
     }
 
+    /// A material of baked data (`static` tables written by `tessera bake`), in
+    /// a `const` context: its numbers as [`Material::texture`],
+    /// [`Material::ambient`] and the other accessors give them, not checked
+    /// here; [`crate::BakedScene::view`] checks it as a scene checks a material
+    /// it takes ([`Material::validate`], and the rule for subnormal numbers).
+    #[must_use]
+    #[allow(clippy::too_many_arguments)]
+    pub const fn baked(
+        texture: Texture,
+        ambient: f32,
+        diffuse: f32,
+        specular: f32,
+        shininess: f32,
+        reflectivity: f32,
+        transparency: f32,
+        ior: f32,
+    ) -> Self {
+        // As with_specular: an integer exponent (any the checks accept fits
+        // in u16) is raised by squaring, anything else by powf.
+        let whole = shininess as u16;
+        Self {
+            texture,
+            ambient,
+            diffuse,
+            specular,
+            shininess,
+            power: if whole as f32 == shininess { whole } else { 0 },
+            reflectivity,
+            transparency,
+            ior,
+        }
+    }
+
     /// Replaces the colour by a texture.
     pub fn with_texture(mut self, texture: Texture) -> Result<Self, Error> {
         texture.validate()?;

@@ -31,6 +31,15 @@ impl SubPixel {
         }
     }
 
+    /// A sub-pixel position of baked data (`static` settings written by
+    /// `tessera bake`), in a `const` context, not checked here:
+    /// [`Sampler::validate`] checks it against [`SubPixel::try_new`], and every
+    /// frame validates its sampler.
+    #[must_use]
+    pub const fn baked(x: f32, y: f32) -> Self {
+        Self { x, y }
+    }
+
     /// The `x` offset.
     #[must_use]
     pub fn x(&self) -> f32 {
@@ -109,6 +118,11 @@ impl Sampler {
             Self::Stratified(k) if k == 0 || k > 64 => Err(Error::BadSampleCount),
             Self::Adaptive { k, .. } if !(2..=64).contains(&k) => Err(Error::BadSampleCount),
             Self::Random(n) if n == 0 || n > 4096 => Err(Error::BadSampleCount),
+            // A baked offset (SubPixel::baked) is what try_new makes of it.
+            Self::Offset(p) if SubPixel::try_new(p.x, p.y)? != p => Err(Error::OutOfRange {
+                field: Field::SubPixelOffset,
+                range: "[0, 1) on each axis, subnormal numbers as 0",
+            }),
             _ => Ok(()),
         }
     }

@@ -36,6 +36,18 @@ impl Vec3 {
         Self::new(v, v, v)
     }
 
+    /// The vector `[x, y, z]`.
+    #[must_use]
+    pub const fn from_array(a: [f32; 3]) -> Self {
+        Self::new(a[0], a[1], a[2])
+    }
+
+    /// The components `[x, y, z]`.
+    #[must_use]
+    pub const fn to_array(self) -> [f32; 3] {
+        [self.x, self.y, self.z]
+    }
+
     /// Dot product.
     #[inline]
     #[must_use]

@@ -1,16 +1,17 @@
-//! Baked scenes: a scene's triangles and meshes, with their BVHs, written out as
-//! Rust `static` data (`tessera bake`), so that a firmware keeps them in flash and
-//! spends no RAM on them. The firmware gives them to a view of the rest of its
-//! scene (built in RAM as usual, with the same materials in the same order) with
-//! [`tessera::SceneView::with_baked`] (the triangle list) and
-//! [`tessera::SceneView::with_meshes`] (the meshes), which check them once.
+//! Baked scenes: a whole scene file written out as Rust `static` data
+//! (`tessera bake`, or [`scene_source`] from a firmware's `build.rs`), so that a
+//! firmware keeps the scene in flash and spends no RAM on it: the camera, the
+//! size and the `[render]` settings, ambient and background, the materials
+//! (each referred to by a constant `MAT_<NAME>`, never a bare index), the
+//! lights, every primitive, the triangles' BVH and the meshes with theirs, in a
+//! [`tessera::BakedScene`] `SCENE`, which checks every item once when a view is
+//! taken. It also writes `SceneLoops`, the tile loops the scene needs at its
+//! settings, so that a firmware links only those.
 //!
-//! The generated file is plain Rust: `TRIANGLES` (the scene's triangles in its
-//! order, each a `Primitive` of `Triangle::baked`) and `BVH` (a `BakedBvh` of the
-//! `NODES` and `ORDER` the host builds for them, as [`tessera::Bvh::build`]
-//! does); `MESHES` (each a `Mesh` of its `MESH{i}_VERTICES`, `_FACES`,
-//! `_NORMALS` and BVH). Numbers are written in Rust's shortest form that reads
-//! back to the same `f32`, so the baked scene is the host's bit for bit.
+//! Numbers are written in Rust's shortest form that reads back to the same
+//! `f32`, each item as the host's checked constructor made it, so the baked
+//! scene renders the host's image byte for byte (a test renders every scene
+//! file both ways).
 
 use crate::desc::{DescError, HostBvh, HostScene, SceneDesc};
 use std::fmt::Write as _;
@@ -194,51 +195,333 @@ fn points(s: &mut String, doc: &str, name: &str, p: &[[f32; 3]]) -> usize {
     size_of_val(p)
 }
 
-/// The Rust source of a scene's baked triangles and meshes, using the core crate
-/// as `krate` (`tessera`, or `crate` inside the core: a path that
+/// A scene file's scene as the baker reads it: the core scene and what the
+/// file says around it.
+pub struct Baking<'a> {
+    /// The core scene (every value checked).
+    pub scene: &'a HostScene,
+    /// The camera's numbers.
+    pub camera: tessera::BakedCamera,
+    /// The scene's `[render]` settings.
+    pub settings: tessera::RenderSettings,
+    /// Its size.
+    pub viewport: tessera::Viewport,
+    /// Its tile size (8, 16 or 32).
+    pub tile: usize,
+    /// Each material's name, in the scene's order.
+    pub names: Vec<String>,
+}
+
+/// `c` as a Rust expression of a [`tessera::Color`].
+fn color(c: tessera::Color) -> String {
+    format!("Color::new({}, {}, {})", lit(c.r), lit(c.g), lit(c.b))
+}
+
+fn v3(p: tessera::Vec3) -> String {
+    vec3(p.to_array())
+}
+
+/// The constant names of the materials: `MAT_` and the name in upper case,
+/// each run of characters that are not ASCII letters or digits as one `_`
+/// (none at either end), at most 32 characters of it; a name with no letter or
+/// digit is `MAT_<index>`; a constant taken already gets `_2`, `_3`... (names
+/// that differ only in case or punctuation).
+#[must_use]
+pub fn material_constants(names: &[String]) -> Vec<String> {
+    let mut taken = std::collections::HashSet::new();
+    names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| {
+            let mut stem = String::new();
+            for c in n.chars() {
+                if c.is_ascii_alphanumeric() {
+                    stem.push(c.to_ascii_uppercase());
+                } else if !stem.is_empty() && !stem.ends_with('_') {
+                    stem.push('_');
+                }
+                if stem.len() == 32 {
+                    break;
+                }
+            }
+            let stem = stem.trim_end_matches('_');
+            let stem = if stem.is_empty() {
+                format!("MAT_{i}")
+            } else {
+                format!("MAT_{stem}")
+            };
+            let mut name = stem.clone();
+            let mut k = 2;
+            while !taken.insert(name.clone()) {
+                name = format!("{stem}_{k}");
+                k += 1;
+            }
+            name
+        })
+        .collect()
+}
+
+/// The `Texture` expression of `t`.
+fn texture(t: &tessera::Texture) -> String {
+    match *t {
+        tessera::Texture::Solid(c) => format!("Texture::Solid({})", color(c)),
+        tessera::Texture::Checker { a, b, scale } => format!(
+            "Texture::Checker {{ a: {}, b: {}, scale: {} }}",
+            color(a),
+            color(b),
+            lit(scale)
+        ),
+        tessera::Texture::Fringes { color: c, spacing } => format!(
+            "Texture::Fringes {{ color: {}, spacing: {} }}",
+            color(c),
+            lit(spacing)
+        ),
+    }
+}
+
+/// The `Sampler` expression of `s`.
+fn sampler(s: tessera::Sampler) -> String {
+    use tessera::Sampler as S;
+    match s {
+        S::Corner => "Sampler::Corner".into(),
+        S::Centre => "Sampler::Centre".into(),
+        S::Offset(p) => format!(
+            "Sampler::Offset(SubPixel::baked({}, {}))",
+            lit(p.x()),
+            lit(p.y())
+        ),
+        S::Stratified(k) => format!("Sampler::Stratified({k})"),
+        S::Random(n) => format!("Sampler::Random({n})"),
+        S::Prefiltered => "Sampler::Prefiltered".into(),
+        S::Adaptive { k, threshold } => {
+            format!("Sampler::Adaptive {{ k: {k}, threshold: {threshold} }}")
+        }
+    }
+}
+
+/// A static table `name` of `items` (each a Rust expression), with `doc`.
+fn table(s: &mut String, doc: &str, name: &str, ty: &str, items: &[String]) {
+    let _ = writeln!(
+        s,
+        "/// {doc}\n#[rustfmt::skip]\npub static {name}: [{ty}; {}] = [",
+        items.len()
+    );
+    for i in items {
+        let _ = writeln!(s, "    {i},");
+    }
+    let _ = writeln!(s, "];\n");
+}
+
+/// The Rust source of a whole scene as `static` data, using the core crate as
+/// `krate` (`tessera`, or `crate` inside the core: a path that
 /// [`check_crate_path`] accepts, checked by the caller); `header`: comment
 /// lines put first (without `//`; a line break or control character in them is
-/// escaped: strings of the input go in as [`rust_string`] literals). Writes
-/// `TRIANGLES` (the triangle list, if any) and its hierarchy `BVH` (`NODES`,
-/// `ORDER`), and for each mesh `i` its `MESH{i}_VERTICES`, `_FACES`,
-/// `_NORMALS`, `_NODES`, `_ORDER`, all in `MESHES`.
+/// escaped: strings of the input go in as [`rust_string`] literals).
+///
+/// Writes a constant `MAT_<NAME>` per material (its reference: primitives use
+/// these, never a bare index), `MATERIALS`, `LIGHTS`, `SPHERES`, `PLANES`,
+/// `TRIANGLES` (with their hierarchy `NODES`, `ORDER` when there are enough
+/// of them for it to pay), `BOXES`, each mesh's `MESH{i}_VERTICES`, `_FACES`,
+/// `_NORMALS`, `_NODES`, `_ORDER` in `MESHES`; `WIDTH`, `HEIGHT` and `TILE`;
+/// `Loops`, the tile loops the scene needs; and `SCENE`, the
+/// [`tessera::BakedScene`] of them all.
 #[must_use]
-pub fn source(scene: &HostScene, krate: &str, header: &[String]) -> String {
+pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
+    let view = b.scene.lists().view();
+    let consts = material_constants(&b.names);
+    let mat = |m: tessera::MaterialId| {
+        consts
+            .get(usize::from(m.0))
+            .cloned()
+            .unwrap_or_else(|| format!("MaterialId({})", m.0))
+    };
     let mut body = String::new();
     let mut bytes = 0;
-    let triangles = scene.lists().view().triangles();
     let mut parts = Vec::new();
-    if !triangles.is_empty() {
+    let mut names: Vec<&str> = vec![
+        "BakedCamera",
+        "BakedScene",
+        "Color",
+        "Encoding",
+        "Loops",
+        "Material",
+        "MaterialId",
+        "PointLight",
+        "Plane",
+        "Primitive",
+        "RenderSettings",
+        "Sampler",
+        "Sphere",
+        "Texture",
+        "Triangle",
+        "Aabb",
+        "Viewport",
+    ];
+    let mut bvh_needed = false;
+
+    // Materials, by name.
+    let _ = writeln!(
+        body,
+        "// The materials: each constant is a material's reference (its place in MATERIALS)."
+    );
+    for (i, (c, n)) in consts.iter().zip(&b.names).enumerate() {
+        let _ = writeln!(
+            body,
+            "/// The material {}.\n#[allow(dead_code)]\npub const {c}: MaterialId = MaterialId({i});",
+            rust_string(n)
+        );
+    }
+    let _ = writeln!(body);
+    let materials: Vec<String> = view
+        .materials()
+        .iter()
+        .zip(&consts)
+        .map(|(m, c)| {
+            format!(
+                "Material::baked( // {c}\n        {},\n        {}, {}, {}, {}, {}, {}, {},\n    )",
+                texture(m.texture()),
+                lit(m.ambient()),
+                lit(m.diffuse()),
+                lit(m.specular()),
+                lit(m.shininess()),
+                lit(m.reflectivity()),
+                lit(m.transparency()),
+                lit(m.ior())
+            )
+        })
+        .collect();
+    table(
+        &mut body,
+        "The materials: texture, ambient, diffuse, specular, shininess, \
+         reflectivity, transparency, index of refraction.",
+        "MATERIALS",
+        "Material",
+        &materials,
+    );
+    bytes += size_of_val(view.materials());
+    let lights: Vec<String> = view
+        .lights()
+        .iter()
+        .map(|l| {
+            format!(
+                "PointLight::baked({}, {}, {})",
+                v3(l.position()),
+                color(l.color()),
+                lit(l.intensity())
+            )
+        })
+        .collect();
+    table(
+        &mut body,
+        "The point lights: position, colour, intensity.",
+        "LIGHTS",
+        "PointLight",
+        &lights,
+    );
+    bytes += size_of_val(view.lights());
+
+    // Primitives.
+    let spheres: Vec<String> = view
+        .spheres()
+        .iter()
+        .map(|p| {
+            let g = &p.geometry;
+            format!(
+                "Primitive {{ geometry: Sphere::baked({}, {}), material: {} }}",
+                v3(g.center()),
+                lit(g.radius()),
+                mat(p.material)
+            )
+        })
+        .collect();
+    table(
+        &mut body,
+        "The spheres: centre, radius.",
+        "SPHERES",
+        "Primitive<Sphere>",
+        &spheres,
+    );
+    bytes += size_of_val(view.spheres());
+    let planes: Vec<String> = view
+        .planes()
+        .iter()
+        .map(|p| {
+            let (point, normal, offset, [t, u]) = p.geometry.parts();
+            format!(
+                "Primitive {{ geometry: Plane::baked({}, {}, {}, [{}, {}]), material: {} }}",
+                vec3(point),
+                vec3(normal),
+                lit(offset),
+                vec3(t),
+                vec3(u),
+                mat(p.material)
+            )
+        })
+        .collect();
+    table(
+        &mut body,
+        "The planes: a point, the unit normal, the offset from the origin along it, \
+         the tangents of the texture's uv.",
+        "PLANES",
+        "Primitive<Plane>",
+        &planes,
+    );
+    bytes += size_of_val(view.planes());
+    let triangles = view.triangles();
+    let tris: Vec<String> = triangles
+        .iter()
+        .map(|p| {
+            let [a, c, d] = p.geometry.vertices();
+            format!("t({}, {}, {}, {})", v3(a), v3(c), v3(d), mat(p.material))
+        })
+        .collect();
+    table(
+        &mut body,
+        "The triangles, in the scene's order.",
+        "TRIANGLES",
+        "Primitive<Triangle>",
+        &tris,
+    );
+    bytes += size_of_val(triangles);
+    let mut with_bvh = String::new();
+    if triangles.len() >= tessera::BVH_CROSSOVER {
         let mut bvh = Box::new(HostBvh::new());
         // The host scene's capacities: 2 T nodes always suffice.
         if bvh.build(triangles).is_ok() {
-            let _ = writeln!(
-                body,
-                "/// How many triangles.\npub const TRIANGLE_COUNT: usize = {};\n\n\
-                 /// The triangles, in the scene's order.\n#[rustfmt::skip]\n\
-                 pub static TRIANGLES: [Primitive<Triangle>; TRIANGLE_COUNT] = [",
-                triangles.len()
-            );
-            for t in triangles {
-                let v = |p: tessera::Vec3| vec3([p.x, p.y, p.z]);
-                let [a, b, c] = t.geometry.vertices();
-                let m = t.material.0;
-                let _ = writeln!(body, "    t({}, {}, {}, {m}),", v(a), v(b), v(c));
-            }
-            let _ = writeln!(body, "];\n");
-            bytes += size_of_val(triangles);
             bytes += hierarchy(&mut body, "", bvh.nodes(), bvh.order());
-            let _ = writeln!(
-                body,
-                "/// The triangles' hierarchy (`SceneView::with_baked(&TRIANGLES, &BVH)`).\n\
-                 pub static BVH: BakedBvh<'static> = BakedBvh::new(&NODES, &ORDER, {});\n",
+            with_bvh = format!(
+                "\n.with_bvh(BakedBvh::new(&NODES, &ORDER, {}))",
                 lit(bvh.reach())
             );
-            parts.push(count(triangles.len(), "triangle", "triangles"));
+            bvh_needed = true;
         }
     }
+    if !triangles.is_empty() {
+        parts.push(count(triangles.len(), "triangle", "triangles"));
+    }
+    let boxes: Vec<String> = view
+        .boxes()
+        .iter()
+        .map(|p| {
+            format!(
+                "Primitive {{ geometry: Aabb::baked({}, {}), material: {} }}",
+                v3(p.geometry.min()),
+                v3(p.geometry.max()),
+                mat(p.material)
+            )
+        })
+        .collect();
+    table(
+        &mut body,
+        "The axis-aligned boxes: min and max corners.",
+        "BOXES",
+        "Primitive<Aabb>",
+        &boxes,
+    );
+    bytes += size_of_val(view.boxes());
+
     let mut meshes = Vec::new();
-    for (i, m) in scene.mesh_parts().enumerate() {
+    for (i, m) in b.scene.mesh_parts().enumerate() {
         let (vertices, faces, normals, material, bvh) =
             (m.vertices, m.faces, m.normals, m.material, m.bvh);
         let name = format!("MESH{i}_");
@@ -271,9 +554,9 @@ pub fn source(scene: &HostScene, krate: &str, header: &[String]) -> String {
         bytes += hierarchy(&mut body, &name, bvh.nodes(), bvh.order());
         meshes.push(format!(
             "    Mesh::new(\n        &{name}VERTICES,\n        &{name}FACES,\n        \
-             &{name}NORMALS,\n        MaterialId({}),\n        \
+             &{name}NORMALS,\n        {},\n        \
              BakedBvh::new(&{name}NODES, &{name}ORDER, {}),\n    ),",
-            material.0,
+            mat(material),
             lit(bvh.reach())
         ));
         parts.push(format!(
@@ -283,121 +566,192 @@ pub fn source(scene: &HostScene, krate: &str, header: &[String]) -> String {
             count(bvh.nodes().len(), "BVH node", "BVH nodes")
         ));
     }
+    let mut with_meshes = String::new();
     if !meshes.is_empty() {
+        names.push("Mesh");
+        bvh_needed = true;
         let _ = writeln!(
             body,
-            "/// The meshes (`SceneView::with_meshes(&MESHES)`).\n\
-             pub static MESHES: [Mesh<'static>; {}] = [\n{}\n];",
+            "/// The meshes.\npub static MESHES: [Mesh<'static>; {}] = [\n{}\n];\n",
             meshes.len(),
             meshes.join("\n")
         );
+        with_meshes = "\n.with_meshes(&MESHES)".into();
     }
+    if bvh_needed {
+        names.extend(["BakedBvh", "BvhNode"]);
+    }
+    if matches!(b.settings.sampler, tessera::Sampler::Offset(_)) {
+        names.push("SubPixel");
+    }
+
+    // Size, settings, loops, the scene.
+    let st = &b.settings;
+    let bounces = st.max_depth > 0 && view.materials().iter().any(tessera::Material::sends_rays);
+    let srgb = st.encoding == tessera::Encoding::Srgb;
+    let adaptive = matches!(st.sampler, tessera::Sampler::Adaptive { .. });
+    let _ = writeln!(
+        body,
+        "/// The width the scene is meant to be rendered at, in pixels.\n\
+         #[allow(dead_code)]\npub const WIDTH: u16 = {};\n\
+         /// Its height.\n#[allow(dead_code)]\npub const HEIGHT: u16 = {};\n\
+         /// Its tile size (the file's `tile`: a `Tile<TILE, _>` buffer).\n\
+         #[allow(dead_code)]\npub const TILE: usize = {};\n",
+        b.viewport.width, b.viewport.height, b.tile
+    );
+    let _ = writeln!(
+        body,
+        "/// The tile loops this scene needs at its settings, for\n\
+         /// `Frame::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.\n\
+         #[allow(dead_code)]\npub enum SceneLoops {{}}\n\n\
+         impl Loops for SceneLoops {{\n    \
+             const DIRECT: bool = {};\n    \
+             const BOUNCES: bool = {bounces};\n    \
+             const LINEAR: bool = {};\n    \
+             const SRGB: bool = {srgb};\n    \
+             const ADAPTIVE: bool = {adaptive};\n}}\n",
+        !bounces, !srgb
+    );
+    let c = &b.camera;
+    let encoding = if srgb { "Srgb" } else { "Linear" };
+    let _ = writeln!(
+        body,
+        "/// The whole scene: `SCENE.view()?` and `SCENE.frame()?` check it once and render it\n\
+         /// from where it lies.\n\
+         #[allow(dead_code)]\npub static SCENE: BakedScene<'static, {}, {}, {}, {}> = BakedScene::new(\n    \
+             BakedCamera {{\n        position: {},\n        forward: {},\n        up: {},\n        \
+             fovy_degrees: {},\n        near: {},\n        far: {},\n    }},\n    \
+             Viewport::new(WIDTH, HEIGHT),\n    \
+             RenderSettings {{\n        sampler: {},\n        max_depth: {},\n        seed: {},\n        \
+             encoding: Encoding::{encoding},\n    }},\n    \
+             {},\n    {},\n    &MATERIALS,\n    &LIGHTS,\n    &SPHERES,\n    &PLANES,\n    \
+             &TRIANGLES,\n    &BOXES,\n){with_bvh}{with_meshes};",
+        spheres.len(),
+        planes.len(),
+        tris.len(),
+        boxes.len(),
+        vec3(c.position),
+        vec3(c.forward),
+        vec3(c.up),
+        lit(c.fovy_degrees),
+        lit(c.near),
+        lit(c.far),
+        sampler(st.sampler),
+        st.max_depth,
+        st.seed,
+        color(view.ambient()),
+        color(view.background()),
+    );
+
     let mut s = String::new();
     for line in header {
         let _ = writeln!(s, "{}", format!("// {}", crate::escape(line)).trim_end());
     }
-    let _ = writeln!(s, "//\n// {}: {bytes} bytes of flash.\n", parts.join("; "));
-    let mut names = vec!["BakedBvh", "BvhNode"];
-    if !triangles.is_empty() {
-        names.extend(["MaterialId", "Primitive", "Triangle"]);
+    let others = [
+        count(view.materials().len(), "material", "materials"),
+        count(view.lights().len(), "light", "lights"),
+        count(view.spheres().len(), "sphere", "spheres"),
+        count(view.planes().len(), "plane", "planes"),
+        count(view.boxes().len(), "box", "boxes"),
+    ];
+    let mut kinds: Vec<String> = others
+        .into_iter()
+        .filter(|p| !p.starts_with("0 "))
+        .collect();
+    kinds.extend(parts.iter().filter(|p| !p.starts_with("mesh ")).cloned());
+    let mut all = vec![kinds.join(", ")];
+    all.extend(parts.into_iter().filter(|p| p.starts_with("mesh ")));
+    let _ = writeln!(s, "//\n// {}: {bytes} bytes of flash.", all.join("; "));
+    if bvh_needed {
+        let _ = writeln!(
+            s,
+            "// Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml)."
+        );
     }
-    if !meshes.is_empty() {
-        names.extend(["MaterialId", "Mesh"]);
-    }
+    let _ = writeln!(s);
     names.sort_unstable();
     names.dedup();
     let _ = writeln!(s, "use {krate}::{{{}}};\n", names.join(", "));
-    if !triangles.is_empty() {
+    if !tris.is_empty() {
         let _ = writeln!(
             s,
             "/// A triangle of material `m`.\n\
-             const fn t(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3], m: u16) -> Primitive<Triangle> {{\n    \
+             const fn t(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3], m: MaterialId) -> Primitive<Triangle> {{\n    \
                  Primitive {{\n        geometry: Triangle::baked(p0, p1, p2),\n        \
-                 material: MaterialId(m),\n    }}\n}}\n"
+                 material: m,\n    }}\n}}\n"
         );
     }
-    let _ = writeln!(
-        s,
-        "/// A node of a hierarchy.\n\
-         const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16, axis: u16) -> BvhNode {{\n    \
-             BvhNode::new(min, max, first, count, axis)\n}}\n"
-    );
+    if bvh_needed {
+        let _ = writeln!(
+            s,
+            "/// A node of a hierarchy.\n\
+             const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16, axis: u16) -> BvhNode {{\n    \
+                 BvhNode::new(min, max, first, count, axis)\n}}\n"
+        );
+    }
     s + body.trim_end() + "\n"
 }
 
-/// The baked source of a scene description's triangles and meshes, with a header
-/// naming the scene and its materials in order (the firmware's scene must have
-/// the same). Errors: the scene's own (as for rendering it), and a scene without
-/// triangles or meshes (nothing to bake).
+/// The baked source of a scene description: the whole scene (see [`source`]),
+/// with a header naming the scene file. Errors: the scene's own (as for
+/// rendering it: its camera, settings and every item checked).
 pub fn scene_source(desc: &SceneDesc, name: &str, krate: &str) -> Result<String, DescError> {
     let scene = desc.to_core()?;
-    if scene.lists().view().triangles().is_empty() && scene.mesh_count() == 0 {
-        return Err(DescError {
-            item: "scene".to_string(),
-            message: "it has no triangles or meshes: nothing to bake".to_string(),
-        });
-    }
-    // The scene's path and its materials' names are written as Rust string
-    // literals: a line break or a bidirectional-text control in them cannot
-    // end the comment or reorder the code around it.
-    let mut header = vec![
-        format!(
-            "Baked by `tessera bake` from {}: generated, do not edit.",
-            rust_string(name)
-        ),
-        "They use the scene's materials by index:".to_string(),
-    ];
-    for (i, m) in desc.materials.iter().enumerate() {
-        header.push(format!("  {i}: {}", rust_string(&m.name)));
-    }
-    let others = [
-        ("sphere", "spheres", desc.spheres.len()),
-        ("plane", "planes", desc.planes.len()),
-        ("box", "boxes", desc.boxes.len()),
-        ("light", "lights", desc.lights.len()),
-    ];
-    let rest: Vec<String> = others
-        .iter()
-        .filter(|(_, _, n)| *n > 0)
-        .map(|(one, many, n)| count(*n, one, many))
-        .collect();
-    header.push(format!(
-        "Not baked (build them in the firmware's scene): {}the camera.",
-        rest.iter().map(|r| format!("{r}, ")).collect::<String>()
-    ));
-    Ok(source(&scene, krate, &header))
+    let baking = Baking {
+        scene: &scene,
+        camera: desc.camera_numbers()?,
+        settings: desc.settings()?,
+        viewport: desc.viewport(),
+        tile: desc.render.tile,
+        names: desc.materials.iter().map(|m| m.name.clone()).collect(),
+    };
+    // The scene's path is written as a Rust string literal: a line break or a
+    // bidirectional-text control in it cannot end the comment or reorder the
+    // code around it.
+    let header = vec![format!(
+        "Baked by `tessera bake` from {}: generated, do not edit.",
+        rust_string(name)
+    )];
+    Ok(source(&baking, krate, &header))
 }
 
-/// The source of the core's baked teapot (`core/src/builtin/teapot_data.rs`):
-/// the built-in scene file `scenes/teapot.toml` baked for use inside the core.
+/// The source of a built-in scene baked for use inside the core
+/// (`core/src/builtin/baked/<name>.rs`): its scene file `scenes/<name>.toml` baked
+/// with the crate path `crate`.
 #[must_use]
-pub fn teapot_source() -> String {
-    let desc = crate::file::builtin_desc(tessera::builtin::Builtin::Teapot);
-    scene_source(&desc, "scenes/teapot.toml", "crate")
-        .unwrap_or_else(|e| panic!("the built-in teapot scene does not bake: {e}"))
+pub fn builtin_source(b: tessera::builtin::Builtin) -> String {
+    let desc = crate::file::builtin_desc(b);
+    let name = format!("scenes/{}.toml", b.name());
+    scene_source(&desc, &name, "crate")
+        .unwrap_or_else(|e| panic!("the built-in scene {name} does not bake: {e}"))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The core's baked teapot is what the host bakes from `scenes/teapot.toml`
-    /// today (run with `TESSERA_BLESS=1` to write it after a deliberate change).
+    /// The core's baked built-in scenes (`core/src/builtin/baked/<name>.rs`) are
+    /// what the host bakes from their scene files today (run with
+    /// `TESSERA_BLESS=1` to write them after a deliberate change).
     #[test]
-    fn the_cores_baked_teapot_is_current() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../core/src/builtin/teapot_data.rs");
-        let want = teapot_source();
-        if std::env::var_os("TESSERA_BLESS").is_some() {
-            std::fs::write(&path, &want).unwrap();
+    fn the_cores_baked_scenes_are_current() {
+        for b in tessera::builtin::Builtin::ALL {
+            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!(
+                "../core/src/builtin/baked/{}.rs",
+                b.name().replace('-', "_")
+            ));
+            let want = builtin_source(b);
+            if std::env::var_os("TESSERA_BLESS").is_some() {
+                std::fs::write(&path, &want).unwrap();
+            }
+            let have = std::fs::read_to_string(&path).unwrap_or_default();
+            assert!(
+                have == want,
+                "{} is not what the host bakes: run `TESSERA_BLESS=1 cargo test -p \
+                 tessera-host --lib bake` and rebuild",
+                path.display()
+            );
         }
-        let have = std::fs::read_to_string(&path).unwrap();
-        assert!(
-            have == want,
-            "{} is not what the host bakes: run `TESSERA_BLESS=1 cargo test -p \
-             tessera-host --lib bake` and rebuild",
-            path.display()
-        );
     }
 
     /// What the compiler reads from a literal that `rust_string` writes: its
@@ -468,23 +822,61 @@ mod tests {
     }
 
     #[test]
+    fn material_constants_are_identifiers_one_per_material() {
+        let names: Vec<String> = [
+            "floor",
+            "Floor",
+            "floor!",
+            "glass pane",
+            "2d",
+            "",
+            "--",
+            "émail",
+            "a\nb",
+            "a very long material name that goes on and on",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        assert_eq!(
+            material_constants(&names),
+            [
+                "MAT_FLOOR",
+                "MAT_FLOOR_2",
+                "MAT_FLOOR_3",
+                "MAT_GLASS_PANE",
+                "MAT_2D",
+                "MAT_5",
+                "MAT_6",
+                "MAT_MAIL",
+                "MAT_A_B",
+                "MAT_A_VERY_LONG_MATERIAL_NAME_THAT_G",
+            ]
+        );
+    }
+
+    #[test]
     fn a_header_line_stays_a_comment() {
         assert_eq!(
             crate::escape("a\nb\u{202e}c \"d\""),
             "a\\u{a}b\\u{202e}c \"d\""
         );
-        let text = source(
-            &teapot_scene(),
-            "crate",
-            &["one\npub static X: u8 = 0;".into()],
+        let desc = crate::file::builtin_desc(tessera::builtin::Builtin::Teapot);
+        let scene = desc.to_core().unwrap();
+        let baking = Baking {
+            scene: &scene,
+            camera: desc.camera_numbers().unwrap(),
+            settings: desc.settings().unwrap(),
+            viewport: desc.viewport(),
+            tile: desc.render.tile,
+            names: vec!["a\nb".into(), "c".into()],
+        };
+        let text = source(&baking, "crate", &["one\npub static X: u8 = 0;".into()]);
+        assert!(
+            text.contains("/// The material \"a\\nb\".\n#[allow(dead_code)]\npub const MAT_A_B"),
+            "{text}"
         );
         assert!(text.starts_with("// one\\u{a}pub static X"), "{text}");
-    }
-
-    fn teapot_scene() -> HostScene {
-        crate::file::builtin_desc(tessera::builtin::Builtin::Teapot)
-            .to_core()
-            .unwrap()
     }
 
     #[test]

@@ -856,8 +856,10 @@ impl SceneDesc {
         self.materials.iter().position(|m| m.name == name)
     }
 
-    /// The core camera (checked).
-    pub fn core_camera(&self) -> Result<Camera, DescError> {
+    /// The camera's numbers in `f32`, as the core's [`Camera::try_new`] takes
+    /// them (`look_at` made a direction), not yet checked by it: what a baked
+    /// scene keeps ([`tessera::BakedCamera`]).
+    pub fn camera_numbers(&self) -> Result<tessera::BakedCamera, DescError> {
         let c = &self.camera;
         let item = Item::new("camera");
         let position = item.v3(c.position, Field::CameraPosition)?;
@@ -870,7 +872,22 @@ impl SceneDesc {
             (None, Some(t)) => v3(t, "camera look_at").map_err(|m| item.fail(m))? - position,
             _ => return Err(item.fail("give exactly one of `forward` and `look_at`".into())),
         };
-        Camera::try_new(position, forward, up, fovy, near, far).map_err(|e| {
+        Ok(tessera::BakedCamera {
+            position: position.to_array(),
+            forward: forward.to_array(),
+            up: up.to_array(),
+            fovy_degrees: fovy,
+            near,
+            far,
+        })
+    }
+
+    /// The core camera (checked).
+    pub fn core_camera(&self) -> Result<Camera, DescError> {
+        let c = &self.camera;
+        let item = Item::new("camera");
+        let n = self.camera_numbers()?;
+        n.camera().map_err(|e| {
             let value = match e {
                 tessera::Error::NotPositive(_) => Some(show(&[c.near])),
                 tessera::Error::NearNotBeforeFar => {

@@ -47,6 +47,17 @@ impl Aabb {
         Ok(Self { min, max })
     }
 
+    /// A box of baked data (`static` tables written by `tessera bake`), not
+    /// checked here, in a `const` context: [`crate::BakedScene::view`] checks it
+    /// against [`Aabb::try_new`] before any render takes it.
+    #[must_use]
+    pub const fn baked(min: [f32; 3], max: [f32; 3]) -> Self {
+        Self {
+            min: Vec3::new(min[0], min[1], min[2]),
+            max: Vec3::new(max[0], max[1], max[2]),
+        }
+    }
+
     /// The min corner.
     #[must_use]
     pub fn min(&self) -> Vec3 {

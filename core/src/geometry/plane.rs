@@ -58,6 +58,70 @@ impl Plane {
         })
     }
 
+    /// A plane of baked data (`static` tables written by `tessera bake`): the
+    /// numbers [`Plane::parts`] gives, not checked here, in a `const` context.
+    /// [`crate::BakedScene::view`] checks them before any render takes the plane
+    /// ([`Plane::check_baked`]).
+    #[must_use]
+    pub const fn baked(
+        point: [f32; 3],
+        normal: [f32; 3],
+        offset: f32,
+        tangents: [[f32; 3]; 2],
+    ) -> Self {
+        Self {
+            point: Vec3::from_array(point),
+            normal: Vec3::from_array(normal),
+            offset,
+            tangents: (Vec3::from_array(tangents[0]), Vec3::from_array(tangents[1])),
+        }
+    }
+
+    /// The numbers [`Plane::baked`] takes: the point, the unit normal, the
+    /// offset along it from the world's origin and the two tangents of the uv.
+    #[must_use]
+    pub fn parts(&self) -> ([f32; 3], [f32; 3], f32, [[f32; 3]; 2]) {
+        (
+            self.point.to_array(),
+            self.normal.to_array(),
+            self.offset,
+            [self.tangents.0.to_array(), self.tangents.1.to_array()],
+        )
+    }
+
+    /// Checks a plane made by [`Plane::baked`]: what [`Plane::try_new`] makes
+    /// of its point and normal, but for the offset and the normal's last
+    /// bits, which `try_new` computes from the normal as the user gave it: the
+    /// normal must be a unit vector to a few ulps, the tangents
+    /// [`tangent_basis`] of it, and the offset the plane's distance from the
+    /// world's origin, `normal . point` to a few ulps of `|point|`.
+    ///
+    /// # Errors
+    /// `try_new`'s error for a point or a normal it refuses;
+    /// [`Error::BadBaked`] (with index 0: the caller names the plane) otherwise.
+    pub(crate) fn check_baked(&self) -> Result<(), Error> {
+        Self::try_new(self.point, self.normal)?;
+        let bad = Err(Error::BadBaked {
+            list: crate::List::Planes,
+            index: 0,
+        });
+        let n = W3::from(self.normal);
+        // |n| = 1 to 4 ulps (try_new rounds each component once).
+        if (n.length() - 1.0).abs() > 4.0 * f64::from(f32::EPSILON) {
+            return bad;
+        }
+        if self.tangents != tangent_basis(self.normal) {
+            return bad;
+        }
+        let p = W3::from(self.point);
+        let scale = p.x.abs() + p.y.abs() + p.z.abs();
+        let slack = 8.0 * f64::from(f32::EPSILON) * (scale + f64::from(self.offset).abs());
+        if !self.offset.is_finite() || (n.dot(p) - f64::from(self.offset)).abs() > slack {
+            return bad;
+        }
+        Ok(())
+    }
+
     /// A point of the plane.
     #[must_use]
     pub fn point(&self) -> Vec3 {

@@ -43,6 +43,17 @@ impl Sphere {
         Ok(Self { center, radius })
     }
 
+    /// A sphere of baked data (`static` tables written by `tessera bake`), not
+    /// checked here, in a `const` context: [`crate::BakedScene::view`] checks it
+    /// against [`Sphere::try_new`] before any render takes it.
+    #[must_use]
+    pub const fn baked(center: [f32; 3], radius: f32) -> Self {
+        Self {
+            center: Vec3::new(center[0], center[1], center[2]),
+            radius,
+        }
+    }
+
     /// The centre.
     #[must_use]
     pub fn center(&self) -> Vec3 {

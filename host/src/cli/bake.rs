@@ -1,5 +1,5 @@
-//! `tessera bake`: a scene's triangles and their BVH as Rust `static` data for a
-//! firmware (see the host library's `bake` module).
+//! `tessera bake`: a whole scene as Rust `static` data for a firmware (see the
+//! host library's `bake` module).
 
 use super::{Error, Source};
 use clap::Args;
@@ -9,8 +9,7 @@ use tessera_host::output::{self, Pending};
 
 #[derive(Args)]
 pub struct BakeArgs {
-    /// A built-in scene name (see `tessera scenes`) or a .toml scene file with
-    /// triangles or meshes
+    /// A built-in scene name (see `tessera scenes`) or a .toml scene file
     scene: String,
     /// Output Rust file (a symbolic link is followed)
     #[arg(short, long)]

@@ -79,10 +79,12 @@ enum Command {
     /// setting (tab-separated), host ns/pixel on one thread and accuracy against a
     /// converged f64 reference.
     Trade(trade::TradeArgs),
-    /// Write a scene's triangles and meshes with their BVHs as Rust `static` data for
-    /// a firmware (flash, not RAM): give them to the firmware's view of the rest of
-    /// the scene with `SceneView::with_baked` (TRIANGLES, BVH) and
-    /// `SceneView::with_meshes` (MESHES).
+    /// Write a whole scene as Rust `static` data for a firmware (flash, not RAM):
+    /// `SCENE` (a `tessera::BakedScene`: camera, size, settings, materials, lights,
+    /// every primitive, meshes and BVHs), a constant per material (`MAT_<NAME>`),
+    /// `WIDTH`, `HEIGHT`, `TILE` and `SceneLoops` (the tile loops the scene needs).
+    /// Render it with `SCENE.view()?` and `SCENE.frame()?`. A scene with meshes or
+    /// 100 triangles or more needs the core's feature `bvh` (the file says so).
     #[command(after_long_help = OUTPUT_HELP)]
     Bake(bake::BakeArgs),
     /// List the built-in scenes.

@@ -85,12 +85,12 @@ fn check_target_dir() -> PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join("bake-check")
 }
 
-/// Builds and runs, with `cargo run --offline` and `-D warnings`, a program in
-/// `dir` that includes the baked file `baked`, uses its `TRIANGLES`, `BVH` and
-/// `MESHES`, and prints the bytes of each of `literals` (Rust string literals);
-/// returns the printed lines. Panics with cargo's output if it does not compile
-/// cleanly.
-fn compile_and_run(dir: &Path, baked: &Path, literals: &[String]) -> Vec<String> {
+/// Builds and runs, with `cargo run --offline` and `-D warnings`, the program
+/// `main` (the source of its `main.rs`) in a crate `dir/check` that depends on
+/// the core with its feature `bvh`, in release when `release`; returns its
+/// standard output. Panics with cargo's output if it does not compile cleanly
+/// or fails.
+fn cargo_run(dir: &Path, main: &str, release: bool) -> String {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let core = root.join("core");
     let project = dir.join("check");
@@ -107,26 +107,15 @@ fn compile_and_run(dir: &Path, baked: &Path, literals: &[String]) -> Vec<String>
     .unwrap();
     // The workspace's lock: the same versions of the core's dependencies, offline.
     std::fs::copy(root.join("Cargo.lock"), project.join("Cargo.lock")).unwrap();
-    std::fs::write(
-        project.join("src/main.rs"),
-        format!(
-            "#[path = {:?}]\nmod baked;\n\n\
-             const LITERALS: &[&str] = &[\n{}];\n\n\
-             fn main() {{\n    \
-                 std::hint::black_box((&baked::TRIANGLES, &baked::BVH, &baked::MESHES));\n    \
-                 for s in LITERALS {{\n        println!(\"{{:?}}\", s.as_bytes());\n    }}\n}}\n",
-            baked.to_str().unwrap(),
-            literals
-                .iter()
-                .map(|l| format!("    {l},\n"))
-                .collect::<String>()
-        ),
-    )
-    .unwrap();
+    std::fs::write(project.join("src/main.rs"), main).unwrap();
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut args = vec!["run", "--offline", "--quiet"];
+    if release {
+        args.push("--release");
+    }
     let out = Command::new(cargo)
         .current_dir(&project)
-        .args(["run", "--offline", "--quiet"])
+        .args(args)
         .env("CARGO_TARGET_DIR", check_target_dir())
         .env("RUSTFLAGS", "-D warnings")
         .env_remove("CARGO_ENCODED_RUSTFLAGS")
@@ -137,12 +126,143 @@ fn compile_and_run(dir: &Path, baked: &Path, literals: &[String]) -> Vec<String>
     let stderr = text(&out.stderr);
     assert!(
         out.status.success(),
-        "the baked file does not compile cleanly:\n{stderr}\n--- {}:\n{}",
-        baked.display(),
-        std::fs::read_to_string(baked).unwrap_or_default()
+        "the program with the baked files does not compile cleanly or fails:\n{stderr}\n\
+         --- main.rs:\n{main}"
     );
     assert!(!stderr.contains("warning"), "{stderr}");
-    text(&out.stdout).lines().map(str::to_string).collect()
+    text(&out.stdout)
+}
+
+/// Builds and runs a program in `dir` that includes the baked file `baked`,
+/// checks its `SCENE` (a view and a frame), and prints the bytes of each of
+/// `literals` (Rust string literals); returns the printed lines.
+fn compile_and_run(dir: &Path, baked: &Path, literals: &[String]) -> Vec<String> {
+    let main = format!(
+        "#[path = {:?}]\nmod baked;\n\n\
+         const LITERALS: &[&str] = &[\n{}];\n\n\
+         fn main() {{\n    \
+             let view = baked::SCENE.view().expect(\"the baked scene is valid\");\n    \
+             std::hint::black_box((view, baked::SCENE.frame().expect(\"its frame\")));\n    \
+             for s in LITERALS {{\n        println!(\"{{:?}}\", s.as_bytes());\n    }}\n}}\n",
+        baked.to_str().unwrap(),
+        literals
+            .iter()
+            .map(|l| format!("    {l},\n"))
+            .collect::<String>()
+    );
+    cargo_run(dir, &main, false)
+        .lines()
+        .map(str::to_string)
+        .collect()
+}
+
+/// The scene files of `scenes/` and `scenes/examples/`, sorted.
+fn scene_files() -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for dir in [
+        super::common::scenes(),
+        super::common::scenes().join("examples"),
+    ] {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "toml") {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// Every scene file, baked by `tessera bake` and rendered from its `static`
+/// tables by the core (at the file's size, settings and tile size, through the
+/// tile loops the baker chose, `SceneLoops`), equals `tessera render FILE`
+/// byte for byte.
+#[test]
+fn every_scene_file_baked_renders_like_tessera_render() {
+    let dir = scratch("bake-every");
+    let files = scene_files();
+    assert!(files.len() >= 25, "{files:?}");
+    let mut mods = String::new();
+    let mut calls = String::new();
+    for (i, file) in files.iter().enumerate() {
+        let baked = dir.join(format!("s{i}.rs"));
+        let out = bin()
+            .arg("bake")
+            .arg(file)
+            .arg("-o")
+            .arg(&baked)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            file.display(),
+            text(&out.stderr)
+        );
+        mods += &format!("#[path = {:?}]\nmod s{i};\n", baked.to_str().unwrap());
+        calls += &format!(
+            "    render::<{{ s{i}::TILE }}, s{i}::SceneLoops, _, _, _, _>(&s{i}::SCENE, \"s{i}\");\n"
+        );
+    }
+    let out_dir = dir.join("pixels");
+    std::fs::create_dir(&out_dir).unwrap();
+    let main = format!(
+        "{mods}\n\
+         use tessera::{{BakedScene, Loops, Tile, TileCoord}};\n\n\
+         /// The scene at its own size, settings and tile size, as RGB bytes in a file.\n\
+         fn render<const N: usize, L: Loops, const S: usize, const P: usize, const T: usize, const B: usize>(\n    \
+             scene: &BakedScene<'static, S, P, T, B>,\n    name: &str,\n) {{\n    \
+             let view = scene.view().expect(\"a valid scene\");\n    \
+             let frame = scene.frame().expect(\"a valid frame\");\n    \
+             let vp = scene.viewport();\n    \
+             let (w, h) = (usize::from(vp.width), usize::from(vp.height));\n    \
+             let mut rgb = vec![0u8; 3 * w * h];\n    \
+             let mut tile = Tile::<N>::new();\n    \
+             let (cols, rows) = frame.tile_grid(N);\n    \
+             for ty in 0..rows {{\n        for tx in 0..cols {{\n            \
+                 frame.render_tile_in::<L, N, _, _>(&view, TileCoord::new(tx, ty), &mut tile, &mut ())\n                \
+                     .expect(\"the loops it needs\");\n            \
+                 let (x0, y0) = tile.origin();\n            \
+                 for (y, row) in tile.rows().enumerate() {{\n                \
+                     for (x, p) in row.iter().enumerate() {{\n                    \
+                         let i = 3 * ((y0 as usize + y) * w + x0 as usize + x);\n                    \
+                         rgb[i..i + 3].copy_from_slice(&[p.r, p.g, p.b]);\n                \
+                     }}\n                }}\n            }}\n        }}\n    \
+             std::fs::write(format!(\"{{}}/{{name}}.rgb\", {:?}), rgb).expect(\"written\");\n}}\n\n\
+         fn main() {{\n{calls}}}\n",
+        out_dir.to_str().unwrap()
+    );
+    cargo_run(&dir, &main, true);
+    for (i, file) in files.iter().enumerate() {
+        let png = dir.join(format!("s{i}.png"));
+        let out = bin()
+            .arg("render")
+            .arg(file)
+            .arg("-o")
+            .arg(&png)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            file.display(),
+            text(&out.stderr)
+        );
+        let want = image::open(&png).unwrap().to_rgb8();
+        let have = std::fs::read(out_dir.join(format!("s{i}.rgb"))).unwrap();
+        assert_eq!(have.len(), want.as_raw().len(), "{}: size", file.display());
+        let differ = have
+            .iter()
+            .zip(want.as_raw())
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(
+            differ == 0,
+            "{}: {differ} bytes differ between the baked scene and `tessera render`",
+            file.display()
+        );
+    }
 }
 
 /// Hostile material names and a scene path with a line break in a folder name:
@@ -179,12 +299,17 @@ fn a_baked_file_with_hostile_names_compiles_and_keeps_them_inert() {
             "not a comment: {line:?}"
         );
     }
-    assert!(
-        !source
-            .lines()
-            .any(|l| l.contains("INJECTED") && !l.starts_with("//")),
-        "{source}"
-    );
+    // Outside comments, the injected text is only ever part of a material's
+    // constant (an identifier of letters, digits and `_`).
+    for line in source.lines().filter(|l| !l.trim_start().starts_with("//")) {
+        let code = line.split("//").next().unwrap_or("");
+        for token in code.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_')) {
+            assert!(
+                !token.contains("INJECTED") || token.starts_with("MAT_"),
+                "{line:?} in\n{source}"
+            );
+        }
+    }
     // Nothing in the file that a reader or a lint would take as a line break or
     // a reordering of the text.
     let forbidden = |c: char| {
@@ -194,8 +319,9 @@ fn a_baked_file_with_hostile_names_compiles_and_keeps_them_inert() {
     assert!(!source.contains(forbidden), "{source}");
     // One of each kind: in the singular.
     assert!(
-        source.contains("// Not baked (build them in the firmware's scene): 1 light, the camera.")
-            && source.contains("// 11 triangles; mesh 0: 3 vertices, 1 face, 1 BVH node;"),
+        source.contains(
+            "// 11 materials, 1 light, 11 triangles; mesh 0: 3 vertices, 1 face, 1 BVH node;"
+        ),
         "{source}"
     );
     let literals = literals_in_comments(&source);

@@ -1,17 +1,63 @@
 // Baked by `tessera bake` from "scenes/teapot.toml": generated, do not edit.
-// They use the scene's materials by index:
-//   0: "floor"
-//   1: "glaze"
-// Not baked (build them in the firmware's scene): 1 plane, 2 lights, the camera.
 //
-// mesh 0: 580 vertices, 1088 faces, 1125 BVH nodes: 58624 bytes of flash.
+// 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 1125 BVH nodes: 58864 bytes of flash.
+// Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml).
 
-use crate::{BakedBvh, BvhNode, MaterialId, Mesh};
+use crate::{Aabb, BakedBvh, BakedCamera, BakedScene, BvhNode, Color, Encoding, Loops, Material, MaterialId, Mesh, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, Triangle, Viewport};
 
 /// A node of a hierarchy.
 const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16, axis: u16) -> BvhNode {
     BvhNode::new(min, max, first, count, axis)
 }
+
+// The materials: each constant is a material's reference (its place in MATERIALS).
+/// The material "floor".
+#[allow(dead_code)]
+pub const MAT_FLOOR: MaterialId = MaterialId(0);
+/// The material "glaze".
+#[allow(dead_code)]
+pub const MAT_GLAZE: MaterialId = MaterialId(1);
+
+/// The materials: texture, ambient, diffuse, specular, shininess, reflectivity, transparency, index of refraction.
+#[rustfmt::skip]
+pub static MATERIALS: [Material; 2] = [
+    Material::baked( // MAT_FLOOR
+        Texture::Checker { a: Color::new(0.8, 0.8, 0.8), b: Color::new(0.25, 0.25, 0.25), scale: 0.5 },
+        1.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0,
+    ),
+    Material::baked( // MAT_GLAZE
+        Texture::Solid(Color::new(0.8, 0.2, 0.12)),
+        1.0, 1.0, 0.5, 40.0, 0.0, 0.0, 1.0,
+    ),
+];
+
+/// The point lights: position, colour, intensity.
+#[rustfmt::skip]
+pub static LIGHTS: [PointLight; 2] = [
+    PointLight::baked([-2.0, 5.0, 3.0], Color::new(1.0, 0.95, 0.9), 30.0),
+    PointLight::baked([4.0, 3.0, -1.0], Color::new(0.5, 0.6, 0.8), 10.0),
+];
+
+/// The spheres: centre, radius.
+#[rustfmt::skip]
+pub static SPHERES: [Primitive<Sphere>; 0] = [
+];
+
+/// The planes: a point, the unit normal, the offset from the origin along it, the tangents of the texture's uv.
+#[rustfmt::skip]
+pub static PLANES: [Primitive<Plane>; 1] = [
+    Primitive { geometry: Plane::baked([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.0, [[1.0, -0.0, -0.0], [-0.0, 0.0, -1.0]]), material: MAT_FLOOR },
+];
+
+/// The triangles, in the scene's order.
+#[rustfmt::skip]
+pub static TRIANGLES: [Primitive<Triangle>; 0] = [
+];
+
+/// The axis-aligned boxes: min and max corners.
+#[rustfmt::skip]
+pub static BOXES: [Primitive<Aabb>; 0] = [
+];
 
 /// The vertices.
 #[rustfmt::skip]
@@ -2573,13 +2619,66 @@ pub static MESH0_ORDER: [u16; 1088] = [
     920, 921, 923, 924, 922, 926, 927, 925, 959, 958, 956, 957, 955, 953, 952, 954,
 ];
 
-/// The meshes (`SceneView::with_meshes(&MESHES)`).
+/// The meshes.
 pub static MESHES: [Mesh<'static>; 1] = [
     Mesh::new(
         &MESH0_VERTICES,
         &MESH0_FACES,
         &MESH0_NORMALS,
-        MaterialId(1),
+        MAT_GLAZE,
         BakedBvh::new(&MESH0_NODES, &MESH0_ORDER, 6.648764),
     ),
 ];
+
+/// The width the scene is meant to be rendered at, in pixels.
+#[allow(dead_code)]
+pub const WIDTH: u16 = 320;
+/// Its height.
+#[allow(dead_code)]
+pub const HEIGHT: u16 = 240;
+/// Its tile size (the file's `tile`: a `Tile<TILE, _>` buffer).
+#[allow(dead_code)]
+pub const TILE: usize = 16;
+
+/// The tile loops this scene needs at its settings, for
+/// `Frame::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.
+#[allow(dead_code)]
+pub enum SceneLoops {}
+
+impl Loops for SceneLoops {
+    const DIRECT: bool = true;
+    const BOUNCES: bool = false;
+    const LINEAR: bool = false;
+    const SRGB: bool = true;
+    const ADAPTIVE: bool = false;
+}
+
+/// The whole scene: `SCENE.view()?` and `SCENE.frame()?` check it once and render it
+/// from where it lies.
+#[allow(dead_code)]
+pub static SCENE: BakedScene<'static, 0, 1, 0, 0> = BakedScene::new(
+    BakedCamera {
+        position: [2.0, 1.6, 3.0],
+        forward: [-1.85, -1.1500001, -3.0],
+        up: [0.0, 1.0, 0.0],
+        fovy_degrees: 60.0,
+        near: 0.1,
+        far: 100.0,
+    },
+    Viewport::new(WIDTH, HEIGHT),
+    RenderSettings {
+        sampler: Sampler::Centre,
+        max_depth: 0,
+        seed: 0,
+        encoding: Encoding::Srgb,
+    },
+    Color::new(0.1, 0.1, 0.1),
+    Color::new(0.55, 0.7, 0.9),
+    &MATERIALS,
+    &LIGHTS,
+    &SPHERES,
+    &PLANES,
+    &TRIANGLES,
+    &BOXES,
+)
+.with_meshes(&MESHES);

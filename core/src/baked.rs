@@ -1,0 +1,538 @@
+//! A whole scene as `static` data: camera, settings, materials, lights and
+//! every primitive in tables that a firmware keeps in flash (`tessera bake`
+//! writes them from a scene file). The renderer reads the tables where they
+//! lie; a [`BakedScene`] takes no RAM of its own.
+//!
+//! The tables are made in a `const` context, where the checked constructors
+//! cannot run: each item is made by its kind's `baked` constructor (its numbers
+//! as the host computed them), and [`BakedScene::view`] checks every item once,
+//! against what the checked constructor makes of the same numbers, before a
+//! render can take it. A baked scene that gives a view is a valid scene, as a
+//! [`crate::Scene`] is.
+
+use crate::camera::{Camera, Viewport};
+use crate::color::Color;
+use crate::error::{Error, List};
+use crate::geometry::{Aabb, Plane, Sphere, Triangle};
+use crate::light::PointLight;
+use crate::material::{Material, MaterialId};
+use crate::scene::{Primitive, SceneView};
+use crate::tile::{Frame, RenderSettings};
+use crate::vec::Vec3;
+
+/// A camera as a scene file gives it, before [`Camera::try_new`] checks and
+/// normalises it: a baked scene keeps these numbers and makes its camera when
+/// a frame is made ([`BakedScene::frame`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BakedCamera {
+    /// Where the camera is.
+    pub position: [f32; 3],
+    /// Where it looks (any non-zero length).
+    pub forward: [f32; 3],
+    /// Its up direction (any non-zero length).
+    pub up: [f32; 3],
+    /// The vertical opening angle, in degrees.
+    pub fovy_degrees: f32,
+    /// The near distance.
+    pub near: f32,
+    /// The far distance.
+    pub far: f32,
+}
+
+impl BakedCamera {
+    /// The checked camera ([`Camera::try_new`]).
+    ///
+    /// # Errors
+    /// As [`Camera::try_new`].
+    pub fn camera(&self) -> Result<Camera, Error> {
+        Camera::try_new(
+            Vec3::from_array(self.position),
+            Vec3::from_array(self.forward),
+            Vec3::from_array(self.up),
+            self.fovy_degrees,
+            self.near,
+            self.far,
+        )
+    }
+}
+
+/// A whole scene in `static` tables, with the settings and the size it is
+/// meant to be rendered at: `S` spheres, `P` planes, `T` triangles and `B`
+/// boxes (the lengths of its arrays), and any number of materials and lights.
+///
+/// Made in a `const` context (a `static` in flash) with [`BakedScene::new`],
+/// its triangles' hierarchy and its meshes added with
+/// [`BakedScene::with_bvh`] and [`BakedScene::with_meshes`] (feature `bvh`);
+/// rendered through [`BakedScene::view`] and [`BakedScene::frame`], which
+/// check it first:
+///
+/// ```
+/// use tessera::{
+///     BakedCamera, BakedScene, Color, Encoding, Material, MaterialId, PointLight, Primitive,
+///     RenderSettings, Sampler, Sphere, Tile, TileCoord, Viewport,
+/// };
+///
+/// const RED: MaterialId = MaterialId(0);
+/// static MATERIALS: [Material; 1] = [Material::matte(Color::new(0.9, 0.1, 0.1))];
+/// static LIGHTS: [PointLight; 1] = [PointLight::baked([2.0, 4.0, 3.0], Color::WHITE, 1.0)];
+/// static SPHERES: [Primitive<Sphere>; 1] =
+///     [Primitive { geometry: Sphere::baked([0.0, 0.0, 0.0], 1.0), material: RED }];
+/// static SCENE: BakedScene<'static, 1, 0, 0, 0> = BakedScene::new(
+///     BakedCamera {
+///         position: [0.0, 0.0, 5.0],
+///         forward: [0.0, 0.0, -1.0],
+///         up: [0.0, 1.0, 0.0],
+///         fovy_degrees: 60.0,
+///         near: 0.1,
+///         far: 100.0,
+///     },
+///     Viewport::new(32, 32),
+///     RenderSettings { sampler: Sampler::Centre, max_depth: 0, seed: 0, encoding: Encoding::Srgb },
+///     Color::BLACK,
+///     Color::BLACK,
+///     &MATERIALS,
+///     &LIGHTS,
+///     &SPHERES,
+///     &[],
+///     &[],
+///     &[],
+/// );
+///
+/// let view = SCENE.view()?;
+/// let frame = SCENE.frame()?;
+/// let mut tile = Tile::<16>::new();
+/// frame.render_tile(&view, TileCoord::new(0, 0), &mut tile, &mut ())?;
+/// # Ok::<(), tessera::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct BakedScene<'a, const S: usize, const P: usize, const T: usize, const B: usize> {
+    camera: BakedCamera,
+    viewport: Viewport,
+    settings: RenderSettings,
+    ambient: Color,
+    background: Color,
+    materials: &'a [Material],
+    lights: &'a [PointLight],
+    spheres: &'a [Primitive<Sphere>; S],
+    planes: &'a [Primitive<Plane>; P],
+    triangles: &'a [Primitive<Triangle>; T],
+    boxes: &'a [Primitive<Aabb>; B],
+    #[cfg(feature = "bvh")]
+    bvh: Option<crate::bvh::BakedBvh<'a>>,
+    #[cfg(feature = "bvh")]
+    meshes: &'a [crate::mesh::Mesh<'a>],
+}
+
+impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
+    BakedScene<'a, S, P, T, B>
+{
+    /// A baked scene of these tables, not checked here ([`BakedScene::view`]
+    /// and [`BakedScene::frame`] check it). Primitives refer to materials by
+    /// their index in `materials`.
+    #[must_use]
+    #[allow(clippy::too_many_arguments)]
+    pub const fn new(
+        camera: BakedCamera,
+        viewport: Viewport,
+        settings: RenderSettings,
+        ambient: Color,
+        background: Color,
+        materials: &'a [Material],
+        lights: &'a [PointLight],
+        spheres: &'a [Primitive<Sphere>; S],
+        planes: &'a [Primitive<Plane>; P],
+        triangles: &'a [Primitive<Triangle>; T],
+        boxes: &'a [Primitive<Aabb>; B],
+    ) -> Self {
+        Self {
+            camera,
+            viewport,
+            settings,
+            ambient,
+            background,
+            materials,
+            lights,
+            spheres,
+            planes,
+            triangles,
+            boxes,
+            #[cfg(feature = "bvh")]
+            bvh: None,
+            #[cfg(feature = "bvh")]
+            meshes: &[],
+        }
+    }
+
+    /// The same scene, its triangles searched through `bvh` (the hierarchy
+    /// `tessera bake` builds over them).
+    #[cfg(feature = "bvh")]
+    #[must_use]
+    pub const fn with_bvh(self, bvh: crate::bvh::BakedBvh<'a>) -> Self {
+        Self {
+            bvh: Some(bvh),
+            ..self
+        }
+    }
+
+    /// The same scene with `meshes`, after every other primitive (as
+    /// [`SceneView::with_meshes`]).
+    #[cfg(feature = "bvh")]
+    #[must_use]
+    pub const fn with_meshes(self, meshes: &'a [crate::mesh::Mesh<'a>]) -> Self {
+        Self { meshes, ..self }
+    }
+
+    /// The camera as baked.
+    #[must_use]
+    pub const fn camera(&self) -> &BakedCamera {
+        &self.camera
+    }
+
+    /// The size the scene is meant to be rendered at.
+    #[must_use]
+    pub const fn viewport(&self) -> Viewport {
+        self.viewport
+    }
+
+    /// The settings the scene is meant to be rendered with.
+    #[must_use]
+    pub const fn settings(&self) -> RenderSettings {
+        self.settings
+    }
+
+    /// The frame of the scene's camera at its own size and settings.
+    ///
+    /// # Errors
+    /// As [`Frame::try_new`] (the camera, the viewport and the settings
+    /// checked).
+    pub fn frame(&self) -> Result<Frame, Error> {
+        self.frame_at(self.viewport, self.settings)
+    }
+
+    /// The frame of the scene's camera over `viewport` with `settings`.
+    ///
+    /// # Errors
+    /// As [`Frame::try_new`].
+    pub fn frame_at(&self, viewport: Viewport, settings: RenderSettings) -> Result<Frame, Error> {
+        Frame::try_new(&self.camera.camera()?, viewport, settings)
+    }
+
+    /// The view the renderer reads, borrowing the tables where they lie (no
+    /// copy). Checked here, in time linear in the scene: the ambient light and
+    /// the background, each material and light, each primitive against what
+    /// its checked constructor makes of the same numbers, every material
+    /// reference, the triangles' hierarchy and the meshes (as
+    /// [`SceneView::with_baked`] and [`SceneView::with_meshes`] check them).
+    ///
+    /// # Errors
+    /// The checked constructor's own error for a value it refuses;
+    /// [`Error::BadBaked`] for an item that is not what it makes of its
+    /// numbers; [`Error::MaterialOutOfRange`]; the hierarchy's and the
+    /// meshes' errors.
+    pub fn view(&self) -> Result<SceneView<'a>, Error> {
+        // Read by the rule for subnormal numbers, as a scene's setters do.
+        let ambient = crate::error::color(self.ambient, crate::error::Field::AmbientLight)?;
+        let background = crate::error::color(self.background, crate::error::Field::Background)?;
+        let count = self.materials.len();
+        if count > usize::from(u16::MAX) {
+            return Err(Error::CapacityExceeded {
+                list: List::Materials,
+                capacity: usize::from(u16::MAX),
+            });
+        }
+        for (i, m) in self.materials.iter().enumerate() {
+            m.validate()?;
+            if m.flushed() != *m {
+                return Err(bad(List::Materials, i));
+            }
+        }
+        for (i, l) in self.lights.iter().enumerate() {
+            same(
+                PointLight::try_new(l.position(), l.color(), l.intensity())?,
+                *l,
+                List::Lights,
+                i,
+            )?;
+        }
+        for (i, p) in self.spheres.iter().enumerate() {
+            material(p.material, count)?;
+            let g = &p.geometry;
+            same(
+                Sphere::try_new(g.center(), g.radius())?,
+                *g,
+                List::Spheres,
+                i,
+            )?;
+        }
+        for (i, p) in self.planes.iter().enumerate() {
+            material(p.material, count)?;
+            p.geometry.check_baked().map_err(|e| match e {
+                Error::BadBaked { list, .. } => bad(list, i),
+                e => e,
+            })?;
+        }
+        for (i, p) in self.boxes.iter().enumerate() {
+            material(p.material, count)?;
+            let g = &p.geometry;
+            same(Aabb::try_new(g.min(), g.max())?, *g, List::Boxes, i)?;
+        }
+        let view = SceneView {
+            spheres: self.spheres,
+            planes: self.planes,
+            triangles: &[],
+            boxes: self.boxes,
+            materials: self.materials,
+            lights: self.lights,
+            ambient,
+            background,
+            secondary: self.materials.iter().any(Material::sends_rays),
+            tile_lists: crate::cull::lend::<S, P, T, B>,
+            triangle_hull: None,
+            #[cfg(feature = "bvh")]
+            bvh: None,
+            #[cfg(feature = "bvh")]
+            sphere_bvh: None,
+            #[cfg(feature = "bvh")]
+            meshes: &[],
+            #[cfg(feature = "bvh")]
+            through: false,
+        };
+        #[cfg(feature = "bvh")]
+        let view = match &self.bvh {
+            Some(bvh) => view.with_baked(self.triangles, bvh)?,
+            None => self.flat_triangles(view)?,
+        };
+        #[cfg(not(feature = "bvh"))]
+        let view = self.flat_triangles(view)?;
+        #[cfg(feature = "bvh")]
+        let view = if self.meshes.is_empty() {
+            view
+        } else {
+            view.with_meshes(self.meshes)?
+        };
+        Ok(view)
+    }
+
+    /// `view` with the triangles as a flat list (culled per tile), each checked.
+    fn flat_triangles(&self, view: SceneView<'a>) -> Result<SceneView<'a>, Error> {
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for (i, p) in self.triangles.iter().enumerate() {
+            material(p.material, self.materials.len())?;
+            let [a, b, c] = p.geometry.vertices();
+            same(Triangle::try_new(a, b, c)?, p.geometry, List::Triangles, i)?;
+            for v in [a, b, c] {
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+        }
+        Ok(SceneView {
+            triangles: self.triangles,
+            triangle_hull: crate::cull::Hull::new(lo, hi),
+            ..view
+        })
+    }
+}
+
+/// [`Error::BadBaked`] for item `i` of `list`.
+fn bad(list: List, i: usize) -> Error {
+    Error::BadBaked {
+        list,
+        index: u16::try_from(i).unwrap_or(u16::MAX),
+    }
+}
+
+/// `Ok` when the checked constructor made the baked item again (equal numbers).
+fn same<X: PartialEq>(made: X, baked: X, list: List, i: usize) -> Result<(), Error> {
+    if made == baked {
+        Ok(())
+    } else {
+        Err(bad(list, i))
+    }
+}
+
+/// Checks a material reference against `count` materials.
+fn material(id: MaterialId, count: usize) -> Result<(), Error> {
+    if usize::from(id.0) < count {
+        Ok(())
+    } else {
+        Err(Error::MaterialOutOfRange {
+            id: id.0,
+            count: u16::try_from(count).unwrap_or(u16::MAX),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sample::Sampler;
+    use crate::texture::Texture;
+
+    const CAM: BakedCamera = BakedCamera {
+        position: [0.0, 1.0, 5.0],
+        forward: [0.0, 0.0, -1.0],
+        up: [0.0, 1.0, 0.0],
+        fovy_degrees: 60.0,
+        near: 0.1,
+        far: 100.0,
+    };
+    const SETTINGS: RenderSettings = RenderSettings {
+        sampler: Sampler::Centre,
+        max_depth: 2,
+        seed: 0,
+        encoding: crate::Encoding::Srgb,
+    };
+    const MATTE: Material = Material::matte(Color::new(0.5, 0.5, 0.5));
+    static MATERIALS: [Material; 1] = [MATTE];
+    static LIGHTS: [PointLight; 1] = [PointLight::baked([0.0, 5.0, 0.0], Color::WHITE, 1.0)];
+
+    fn sphere(center: [f32; 3], radius: f32, m: u16) -> [Primitive<Sphere>; 1] {
+        [Primitive {
+            geometry: Sphere::baked(center, radius),
+            material: MaterialId(m),
+        }]
+    }
+
+    /// A scene of one sphere (and `materials`, `planes`).
+    fn scene<'a>(
+        materials: &'a [Material],
+        spheres: &'a [Primitive<Sphere>; 1],
+        planes: &'a [Primitive<Plane>; 1],
+    ) -> BakedScene<'a, 1, 1, 0, 0> {
+        BakedScene::new(
+            CAM,
+            Viewport::new(8, 8),
+            SETTINGS,
+            Color::BLACK,
+            Color::BLACK,
+            materials,
+            &LIGHTS,
+            spheres,
+            planes,
+            &[],
+            &[],
+        )
+    }
+
+    fn floor(normal: [f32; 3], offset: f32) -> [Primitive<Plane>; 1] {
+        let made = Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap();
+        let (point, _, _, tangents) = made.parts();
+        [Primitive {
+            geometry: Plane::baked(point, normal, offset, tangents),
+            material: MaterialId(0),
+        }]
+    }
+
+    #[test]
+    fn a_baked_scene_equal_to_the_checked_one_gives_a_view() {
+        let s = sphere([0.0, 0.0, 0.0], 1.0, 0);
+        let p = floor([0.0, 1.0, 0.0], 0.0);
+        let view = scene(&MATERIALS, &s, &p).view().unwrap();
+        assert_eq!(view.spheres().len(), 1);
+        assert!(scene(&MATERIALS, &s, &p).frame().is_ok());
+    }
+
+    #[test]
+    fn every_altered_item_is_refused() {
+        let ok_s = sphere([0.0, 0.0, 0.0], 1.0, 0);
+        let ok_p = floor([0.0, 1.0, 0.0], 0.0);
+        let bad_radius = sphere([0.0, 0.0, 0.0], -1.0, 0);
+        assert_eq!(
+            scene(&MATERIALS, &bad_radius, &ok_p).view().err(),
+            Some(Error::NotPositive(crate::Field::SphereRadius))
+        );
+        // A subnormal centre: try_new reads it as 0, so the item is not what it
+        // makes of its numbers.
+        let subnormal = sphere([1e-42, 0.0, 0.0], 1.0, 0);
+        assert_eq!(
+            scene(&MATERIALS, &subnormal, &ok_p).view().err(),
+            Some(Error::BadBaked {
+                list: List::Spheres,
+                index: 0
+            })
+        );
+        let no_material = sphere([0.0, 0.0, 0.0], 1.0, 1);
+        assert_eq!(
+            scene(&MATERIALS, &no_material, &ok_p).view().err(),
+            Some(Error::MaterialOutOfRange { id: 1, count: 1 })
+        );
+        for plane in [
+            floor([0.0, 2.0, 0.0], 0.0),
+            floor([0.0, 1.0, 0.0], 0.5),
+            floor([0.0, 1.0, 0.0], f32::NAN),
+        ] {
+            assert_eq!(
+                scene(&MATERIALS, &ok_s, &plane).view().err(),
+                Some(Error::BadBaked {
+                    list: List::Planes,
+                    index: 0
+                })
+            );
+        }
+        let glow = [Material::baked(
+            Texture::Solid(Color::WHITE),
+            2.0,
+            1.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+            1.0,
+        )];
+        assert!(scene(&glow, &ok_s, &ok_p).view().is_err());
+        let tiny = [Material::baked(
+            Texture::Solid(Color::WHITE),
+            1e-40,
+            1.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+            1.0,
+        )];
+        assert_eq!(
+            scene(&tiny, &ok_s, &ok_p).view().err(),
+            Some(Error::BadBaked {
+                list: List::Materials,
+                index: 0
+            })
+        );
+        let mut camera = scene(&MATERIALS, &ok_s, &ok_p);
+        camera.camera.near = 200.0;
+        assert_eq!(camera.frame().err(), Some(Error::NearNotBeforeFar));
+    }
+
+    #[test]
+    fn a_baked_material_is_the_one_its_builders_make() {
+        let built = Material::matte(Color::WHITE)
+            .with_specular(0.4, 48.0)
+            .and_then(|m| m.with_reflectivity(0.3))
+            .unwrap();
+        let baked = Material::baked(
+            Texture::Solid(Color::WHITE),
+            1.0,
+            1.0,
+            0.4,
+            48.0,
+            0.3,
+            0.0,
+            1.0,
+        );
+        assert_eq!(baked, built);
+        let odd = Material::matte(Color::WHITE)
+            .with_specular(0.4, 2.5)
+            .unwrap();
+        let baked = Material::baked(
+            Texture::Solid(Color::WHITE),
+            1.0,
+            1.0,
+            0.4,
+            2.5,
+            0.0,
+            0.0,
+            1.0,
+        );
+        assert_eq!(baked, odd);
+    }
+}

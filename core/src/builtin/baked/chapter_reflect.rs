@@ -1,0 +1,130 @@
+// Baked by `tessera bake` from "scenes/chapter-reflect.toml": generated, do not edit.
+//
+// 5 materials, 1 light, 4 spheres, 1 plane: 484 bytes of flash.
+
+use crate::{Aabb, BakedCamera, BakedScene, Color, Encoding, Loops, Material, MaterialId, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, Triangle, Viewport};
+
+// The materials: each constant is a material's reference (its place in MATERIALS).
+/// The material "floor".
+#[allow(dead_code)]
+pub const MAT_FLOOR: MaterialId = MaterialId(0);
+/// The material "blue".
+#[allow(dead_code)]
+pub const MAT_BLUE: MaterialId = MaterialId(1);
+/// The material "red".
+#[allow(dead_code)]
+pub const MAT_RED: MaterialId = MaterialId(2);
+/// The material "green".
+#[allow(dead_code)]
+pub const MAT_GREEN: MaterialId = MaterialId(3);
+/// The material "yellow".
+#[allow(dead_code)]
+pub const MAT_YELLOW: MaterialId = MaterialId(4);
+
+/// The materials: texture, ambient, diffuse, specular, shininess, reflectivity, transparency, index of refraction.
+#[rustfmt::skip]
+pub static MATERIALS: [Material; 5] = [
+    Material::baked( // MAT_FLOOR
+        Texture::Solid(Color::new(0.75, 0.75, 0.75)),
+        1.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0,
+    ),
+    Material::baked( // MAT_BLUE
+        Texture::Solid(Color::new(0.1, 0.25, 0.95)),
+        1.0, 1.0, 0.4, 48.0, 0.0, 0.0, 1.0,
+    ),
+    Material::baked( // MAT_RED
+        Texture::Solid(Color::new(0.9, 0.15, 0.1)),
+        1.0, 0.85, 0.4, 48.0, 0.15, 0.0, 1.0,
+    ),
+    Material::baked( // MAT_GREEN
+        Texture::Solid(Color::new(0.15, 0.8, 0.2)),
+        1.0, 0.2, 0.4, 48.0, 0.8, 0.0, 1.0,
+    ),
+    Material::baked( // MAT_YELLOW
+        Texture::Solid(Color::new(0.95, 0.8, 0.1)),
+        1.0, 1.0, 0.4, 48.0, 0.0, 0.0, 1.0,
+    ),
+];
+
+/// The point lights: position, colour, intensity.
+#[rustfmt::skip]
+pub static LIGHTS: [PointLight; 1] = [
+    PointLight::baked([0.0, 7.0, 1.0], Color::new(1.0, 1.0, 1.0), 40.0),
+];
+
+/// The spheres: centre, radius.
+#[rustfmt::skip]
+pub static SPHERES: [Primitive<Sphere>; 4] = [
+    Primitive { geometry: Sphere::baked([0.0, 1.0, 0.0], 1.0), material: MAT_BLUE },
+    Primitive { geometry: Sphere::baked([-2.3, 0.8, 0.4], 0.8), material: MAT_RED },
+    Primitive { geometry: Sphere::baked([2.2, 0.9, -0.3], 0.9), material: MAT_GREEN },
+    Primitive { geometry: Sphere::baked([0.9, 0.35, 1.9], 0.35), material: MAT_YELLOW },
+];
+
+/// The planes: a point, the unit normal, the offset from the origin along it, the tangents of the texture's uv.
+#[rustfmt::skip]
+pub static PLANES: [Primitive<Plane>; 1] = [
+    Primitive { geometry: Plane::baked([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.0, [[1.0, -0.0, -0.0], [-0.0, 0.0, -1.0]]), material: MAT_FLOOR },
+];
+
+/// The triangles, in the scene's order.
+#[rustfmt::skip]
+pub static TRIANGLES: [Primitive<Triangle>; 0] = [
+];
+
+/// The axis-aligned boxes: min and max corners.
+#[rustfmt::skip]
+pub static BOXES: [Primitive<Aabb>; 0] = [
+];
+
+/// The width the scene is meant to be rendered at, in pixels.
+#[allow(dead_code)]
+pub const WIDTH: u16 = 320;
+/// Its height.
+#[allow(dead_code)]
+pub const HEIGHT: u16 = 240;
+/// Its tile size (the file's `tile`: a `Tile<TILE, _>` buffer).
+#[allow(dead_code)]
+pub const TILE: usize = 16;
+
+/// The tile loops this scene needs at its settings, for
+/// `Frame::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.
+#[allow(dead_code)]
+pub enum SceneLoops {}
+
+impl Loops for SceneLoops {
+    const DIRECT: bool = false;
+    const BOUNCES: bool = true;
+    const LINEAR: bool = false;
+    const SRGB: bool = true;
+    const ADAPTIVE: bool = false;
+}
+
+/// The whole scene: `SCENE.view()?` and `SCENE.frame()?` check it once and render it
+/// from where it lies.
+#[allow(dead_code)]
+pub static SCENE: BakedScene<'static, 4, 1, 0, 0> = BakedScene::new(
+    BakedCamera {
+        position: [0.0, 1.8, 7.0],
+        forward: [0.0, -0.9, -7.0],
+        up: [0.0, 1.0, 0.0],
+        fovy_degrees: 60.0,
+        near: 0.1,
+        far: 100.0,
+    },
+    Viewport::new(WIDTH, HEIGHT),
+    RenderSettings {
+        sampler: Sampler::Centre,
+        max_depth: 1,
+        seed: 0,
+        encoding: Encoding::Srgb,
+    },
+    Color::new(0.12, 0.12, 0.12),
+    Color::new(0.08, 0.09, 0.14),
+    &MATERIALS,
+    &LIGHTS,
+    &SPHERES,
+    &PLANES,
+    &TRIANGLES,
+    &BOXES,
+);

@@ -1,0 +1,97 @@
+// Baked by `tessera bake` from "scenes/interference.toml": generated, do not edit.
+//
+// 1 material, 1 plane: 120 bytes of flash.
+
+use crate::{Aabb, BakedCamera, BakedScene, Color, Encoding, Loops, Material, MaterialId, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, Triangle, Viewport};
+
+// The materials: each constant is a material's reference (its place in MATERIALS).
+/// The material "screen".
+#[allow(dead_code)]
+pub const MAT_SCREEN: MaterialId = MaterialId(0);
+
+/// The materials: texture, ambient, diffuse, specular, shininess, reflectivity, transparency, index of refraction.
+#[rustfmt::skip]
+pub static MATERIALS: [Material; 1] = [
+    Material::baked( // MAT_SCREEN
+        Texture::Fringes { color: Color::new(0.0, 1.0, 0.6), spacing: 0.00075 },
+        1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0,
+    ),
+];
+
+/// The point lights: position, colour, intensity.
+#[rustfmt::skip]
+pub static LIGHTS: [PointLight; 0] = [
+];
+
+/// The spheres: centre, radius.
+#[rustfmt::skip]
+pub static SPHERES: [Primitive<Sphere>; 0] = [
+];
+
+/// The planes: a point, the unit normal, the offset from the origin along it, the tangents of the texture's uv.
+#[rustfmt::skip]
+pub static PLANES: [Primitive<Plane>; 1] = [
+    Primitive { geometry: Plane::baked([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.0, [[1.0, -0.0, -0.0], [-0.0, 1.0, -0.0]]), material: MAT_SCREEN },
+];
+
+/// The triangles, in the scene's order.
+#[rustfmt::skip]
+pub static TRIANGLES: [Primitive<Triangle>; 0] = [
+];
+
+/// The axis-aligned boxes: min and max corners.
+#[rustfmt::skip]
+pub static BOXES: [Primitive<Aabb>; 0] = [
+];
+
+/// The width the scene is meant to be rendered at, in pixels.
+#[allow(dead_code)]
+pub const WIDTH: u16 = 320;
+/// Its height.
+#[allow(dead_code)]
+pub const HEIGHT: u16 = 240;
+/// Its tile size (the file's `tile`: a `Tile<TILE, _>` buffer).
+#[allow(dead_code)]
+pub const TILE: usize = 16;
+
+/// The tile loops this scene needs at its settings, for
+/// `Frame::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.
+#[allow(dead_code)]
+pub enum SceneLoops {}
+
+impl Loops for SceneLoops {
+    const DIRECT: bool = true;
+    const BOUNCES: bool = false;
+    const LINEAR: bool = false;
+    const SRGB: bool = true;
+    const ADAPTIVE: bool = false;
+}
+
+/// The whole scene: `SCENE.view()?` and `SCENE.frame()?` check it once and render it
+/// from where it lies.
+#[allow(dead_code)]
+pub static SCENE: BakedScene<'static, 0, 1, 0, 0> = BakedScene::new(
+    BakedCamera {
+        position: [0.0, 0.0, 0.1],
+        forward: [0.0, 0.0, -1.0],
+        up: [0.0, 1.0, 0.0],
+        fovy_degrees: 4.0,
+        near: 0.01,
+        far: 1.0,
+    },
+    Viewport::new(WIDTH, HEIGHT),
+    RenderSettings {
+        sampler: Sampler::Centre,
+        max_depth: 0,
+        seed: 0,
+        encoding: Encoding::Srgb,
+    },
+    Color::new(1.0, 1.0, 1.0),
+    Color::new(0.0, 0.0, 0.0),
+    &MATERIALS,
+    &LIGHTS,
+    &SPHERES,
+    &PLANES,
+    &TRIANGLES,
+    &BOXES,
+);
