@@ -156,18 +156,35 @@ impl Builtin {
     /// As [`crate::BakedScene::view`] and [`crate::BakedScene::frame`] (none
     /// for data the host baked).
     pub fn baked(self) -> Result<(SceneView<'static>, crate::Frame), Error> {
-        fn both<const S: usize, const P: usize, const T: usize, const B: usize>(
-            s: &crate::BakedScene<'static, S, P, T, B>,
-        ) -> Result<(SceneView<'static>, crate::Frame), Error> {
-            Ok((s.view()?, s.frame()?))
+        self.with_baked_scene(|view, camera| {
+            let frame = crate::Frame::try_new(camera, baked_viewport(self), self.settings())?;
+            Ok((*view, frame))
+        })?
+    }
+
+    /// [`Builtin::with_scene`] from the scene's `static` data ([`baked`]): its
+    /// checked view, which reads the tables where they lie, and its camera.
+    ///
+    /// # Errors
+    /// As [`crate::BakedScene::view`] and its camera's check (none for data the
+    /// host baked).
+    pub fn with_baked_scene<R>(
+        self,
+        f: impl FnOnce(&SceneView<'static>, &Camera) -> R,
+    ) -> Result<R, Error> {
+        fn hand<const S: usize, const P: usize, const T: usize, const B: usize, R>(
+            s: &'static crate::BakedScene<'static, S, P, T, B>,
+            f: impl FnOnce(&SceneView<'static>, &Camera) -> R,
+        ) -> Result<R, Error> {
+            Ok(f(&s.view()?, &s.camera().camera()?))
         }
         match self {
-            Self::ChapterDirect => both(&baked::chapter_direct::SCENE),
-            Self::ChapterReflect => both(&baked::chapter_reflect::SCENE),
-            Self::Interference => both(&baked::interference::SCENE),
-            Self::Showcase => both(&baked::showcase::SCENE),
+            Self::ChapterDirect => hand(&baked::chapter_direct::SCENE, f),
+            Self::ChapterReflect => hand(&baked::chapter_reflect::SCENE, f),
+            Self::Interference => hand(&baked::interference::SCENE, f),
+            Self::Showcase => hand(&baked::showcase::SCENE, f),
             #[cfg(feature = "teapot")]
-            Self::Teapot => both(&baked::teapot::SCENE),
+            Self::Teapot => hand(&baked::teapot::SCENE, f),
         }
     }
 
@@ -197,6 +214,18 @@ impl Builtin {
             #[cfg(feature = "teapot")]
             Self::Teapot => hand_teapot(k, f),
         }
+    }
+}
+
+/// The size a built-in scene's file gives (each is 320x240).
+fn baked_viewport(b: Builtin) -> crate::Viewport {
+    match b {
+        Builtin::ChapterDirect => baked::chapter_direct::SCENE.viewport(),
+        Builtin::ChapterReflect => baked::chapter_reflect::SCENE.viewport(),
+        Builtin::Interference => baked::interference::SCENE.viewport(),
+        Builtin::Showcase => baked::showcase::SCENE.viewport(),
+        #[cfg(feature = "teapot")]
+        Builtin::Teapot => baked::teapot::SCENE.viewport(),
     }
 }
 
@@ -528,8 +557,17 @@ mod tests {
             let (view, frame) = b.baked().unwrap();
             assert_eq!(*frame.settings(), b.settings(), "{}", b.name());
             assert_eq!(frame.viewport(), crate::Viewport::new(320, 240));
-            let small = crate::Frame::try_new(&frame_camera(b), vp, b.settings()).unwrap();
-            let baked = pixels(&view, &small);
+            let baked = b
+                .with_baked_scene(|v, cam| {
+                    let f = crate::Frame::try_new(cam, vp, b.settings()).unwrap();
+                    pixels(v, &f)
+                })
+                .unwrap();
+            assert!(
+                core::ptr::eq(view.spheres(), baked_spheres(b)),
+                "{}",
+                b.name()
+            );
             let built = b
                 .with_scene(|v, cam| {
                     let f = crate::Frame::try_new(cam, vp, b.settings()).unwrap();
@@ -541,17 +579,16 @@ mod tests {
         }
     }
 
-    /// The baked scene's camera.
-    fn frame_camera(b: Builtin) -> Camera {
-        let c = match b {
-            Builtin::ChapterDirect => baked::chapter_direct::SCENE.camera(),
-            Builtin::ChapterReflect => baked::chapter_reflect::SCENE.camera(),
-            Builtin::Interference => baked::interference::SCENE.camera(),
-            Builtin::Showcase => baked::showcase::SCENE.camera(),
+    /// The baked scene's sphere table, where it lies.
+    fn baked_spheres(b: Builtin) -> &'static [crate::Primitive<crate::Sphere>] {
+        match b {
+            Builtin::ChapterDirect => &baked::chapter_direct::SPHERES,
+            Builtin::ChapterReflect => &baked::chapter_reflect::SPHERES,
+            Builtin::Interference => &baked::interference::SPHERES,
+            Builtin::Showcase => &baked::showcase::SPHERES,
             #[cfg(feature = "teapot")]
-            Builtin::Teapot => baked::teapot::SCENE.camera(),
-        };
-        c.camera().unwrap()
+            Builtin::Teapot => &baked::teapot::SPHERES,
+        }
     }
 
     #[test]

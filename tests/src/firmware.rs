@@ -222,7 +222,7 @@ impl SceneRef {
     #[must_use]
     pub fn settings(self) -> tessera::RenderSettings {
         match self {
-            Self::Builtin(b) => b.settings(),
+            Self::Builtin(b) | Self::Baked(b) => b.settings(),
             Self::Extreme(_) => tessera::RenderSettings::default(),
         }
     }

@@ -13,7 +13,7 @@ use tessera::builtin::Builtin;
 use tessera::testing::Extreme;
 use tessera::{Sampler, Sampler::*};
 use tessera_tests::baseline;
-use tessera_tests::firmware::{self, Output, Run};
+use tessera_tests::firmware::{self, Output, Run, SceneRef};
 
 /// The exact-math firmware, built once for every test of this binary.
 fn elf() -> PathBuf {
@@ -30,10 +30,15 @@ fn run(runs: &[Run]) -> Output {
     firmware::run(&elf(), runs).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// The host build of the core, same settings and tile size.
+/// The host build of the core, same settings and tile size; a baked scene
+/// (its `static` tables on the chip) as the host builds it in RAM.
 fn host(run: &Run) -> RgbImage {
     let vp = Viewport::new(run.width, run.height);
-    run.scene
+    let scene = match run.scene {
+        SceneRef::Baked(b) => SceneRef::Builtin(b),
+        s => s,
+    };
+    scene
         .with_scaled_scene(run.scale, |view, cam| {
             tessera_host::render(view, cam, vp, run.settings(), run.tile)
         })
@@ -80,6 +85,11 @@ fn firmware_pixels_equal_the_host_build_byte_for_byte() {
             encoding: tessera::Encoding::Linear,
             ..with(b, sampler, 5, 77, 53)
         });
+    }
+    // The built-in scenes from their baked `static` tables (flash), at their
+    // own settings: the chip's pixels equal the host's scene built in RAM.
+    for b in Builtin::ALL {
+        runs.push(Run::of(SceneRef::Baked(b), 64, 48));
     }
     // The extremes battery's scenes (cases 13 and 14): surfaces far larger than
     // their distance, whose hits take the f64 paths (software on this chip), and

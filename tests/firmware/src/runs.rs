@@ -15,11 +15,15 @@ use tessera::builtin::Builtin;
 use tessera::testing::Extreme;
 use tessera::{Camera, Encoding, RenderSettings, Sampler, SceneView};
 
-/// What a run renders: a built-in scene, or a scene of the extremes battery.
+/// What a run renders: a built-in scene, built in RAM or from its `static`
+/// data, or a scene of the extremes battery.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SceneRef {
     /// A built-in scene (which a run may scale).
     Builtin(Builtin),
+    /// A built-in scene from its baked `static` tables
+    /// (`Builtin::with_baked_scene`), named `baked-<name>`.
+    Baked(Builtin),
     /// A scene of the extremes battery (`tessera::testing::Extreme`).
     Extreme(Extreme),
 }
@@ -42,6 +46,13 @@ impl SceneRef {
     pub fn name(self) -> &'static str {
         match self {
             Self::Builtin(b) => b.name(),
+            Self::Baked(b) => match b {
+                Builtin::ChapterDirect => "baked-chapter-direct",
+                Builtin::ChapterReflect => "baked-chapter-reflect",
+                Builtin::Interference => "baked-interference",
+                Builtin::Showcase => "baked-showcase",
+                Builtin::Teapot => "baked-teapot",
+            },
             Self::Extreme(e) => e.name(),
         }
     }
@@ -49,14 +60,17 @@ impl SceneRef {
     /// The scene of a name.
     #[must_use]
     pub fn from_name(name: &str) -> Option<Self> {
-        Builtin::from_name(name)
-            .map(Self::Builtin)
-            .or_else(|| Extreme::from_name(name).map(Self::Extreme))
+        match name.strip_prefix("baked-") {
+            Some(b) => Builtin::from_name(b).map(Self::Baked),
+            None => Builtin::from_name(name)
+                .map(Self::Builtin)
+                .or_else(|| Extreme::from_name(name).map(Self::Extreme)),
+        }
     }
 
     /// `f` of the scene's view and camera, a built-in scene scaled by `2^k`
-    /// (`Builtin::with_scaled_scene`; an extreme scene is not scaled: `k` must
-    /// be 0).
+    /// (`Builtin::with_scaled_scene`; a baked or an extreme scene is not
+    /// scaled: `k` must be 0).
     ///
     /// # Errors
     /// The scene's own, and `Error::OutOfRange` for an extreme scene asked scaled.
@@ -67,10 +81,11 @@ impl SceneRef {
     ) -> Result<R, tessera::Error> {
         match self {
             Self::Builtin(b) => b.with_scaled_scene(k, f),
+            Self::Baked(b) if k == 0 => b.with_baked_scene(f),
             Self::Extreme(e) if k == 0 => e.with_scene(f),
-            Self::Extreme(_) => Err(tessera::Error::OutOfRange {
+            Self::Baked(_) | Self::Extreme(_) => Err(tessera::Error::OutOfRange {
                 field: tessera::Field::CameraPosition,
-                range: "an extreme scene at its own scale (no @k)",
+                range: "a baked or extreme scene at its own scale (no @k)",
             }),
         }
     }

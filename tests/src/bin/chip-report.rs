@@ -524,7 +524,7 @@ impl Measured {
                     e.instructions_per_pixel(),
                     *c as f64 / e.pixels_count.max(1) as f64,
                 )),
-                SceneRef::Builtin(_) => None,
+                SceneRef::Builtin(_) | SceneRef::Baked(_) => None,
             })
             .collect();
         let of = |x: Extreme| measured.iter().find(|m| m.0 == x).map(|m| m.1);
