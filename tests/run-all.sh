@@ -66,6 +66,9 @@ run cargo lint-fast
 for feature in fast-rsqrt fast-recip fast-pow; do
   run cargo clippy -p tessera --all-targets --features "$feature" -- -D warnings
 done
+# The host library without its command (a firmware's build-dependency: scene
+# reader and baker; tests/lite_deps.rs checks its dependencies).
+run cargo clippy -p tessera-host --no-default-features --all-targets -- -D warnings
 
 say "rustdoc: no warnings (broken or private links, unclosed HTML tags)"
 run env RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps

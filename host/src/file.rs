@@ -846,6 +846,7 @@ pub fn builtin_desc(b: Builtin) -> SceneDesc {
 mod tests {
     use super::*;
     use std::path::PathBuf;
+    #[cfg(feature = "cli")]
     use tessera::Viewport;
 
     fn scenes_dir() -> PathBuf {
@@ -868,6 +869,7 @@ mod tests {
     }
 
     /// Renders a description at `vp` with its own settings and tile size.
+    #[cfg(feature = "cli")]
     fn render_desc(d: &SceneDesc, vp: Viewport) -> image::RgbImage {
         let s = d.to_core().unwrap();
         s.with_view(|v| crate::render(v, s.camera(), vp, d.settings().unwrap(), d.render.tile))
@@ -875,6 +877,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "cli")] // renders
     fn every_scene_file_parses_validates_and_renders() {
         let mut files = Vec::new();
         toml_files(&scenes_dir(), &mut files);
@@ -897,6 +900,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "cli")] // renders
     fn builtin_files_render_exactly_like_the_core_scenes() {
         for b in Builtin::ALL {
             let d = builtin_desc(b);

@@ -89,6 +89,7 @@ pub fn threads(n: usize) -> Result<usize, String> {
 /// degree: the spatial (colour) filter's and the feature filter's (flip-rs
 /// computes them in f32 as here). A pixel's error depends on no pixel farther
 /// away.
+#[cfg(feature = "cli")]
 #[must_use]
 pub fn flip_radii() -> (u64, u64) {
     use std::f32::consts::PI;
@@ -100,6 +101,7 @@ pub fn flip_radii() -> (u64, u64) {
 
 /// The most pixels FLIP measures at the default pixels per degree: its filter
 /// work, `pixels x (16 x spatial taps + 14 x feature taps)`, is at most 2^34.
+#[cfg(feature = "cli")]
 #[must_use]
 pub fn flip_pixels() -> u64 {
     let (radius, feature_radius) = flip_radii();
@@ -113,6 +115,7 @@ fn pixels(vp: Viewport) -> u64 {
 }
 
 /// Checks that `command` (compare, trade) can measure a `vp` image with FLIP.
+#[cfg(feature = "cli")]
 pub fn measured(command: &str, vp: Viewport) -> Result<(), HostError> {
     let (n, max) = (pixels(vp), flip_pixels());
     if n > max {

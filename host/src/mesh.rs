@@ -277,6 +277,7 @@ impl BufRead for Consumed<'_> {
 #[cfg(test)]
 mod tests {
     use crate::file::{self, FileError};
+    #[cfg(feature = "cli")]
     use std::path::Path;
 
     /// A scene with one material and `items` after it.
@@ -311,6 +312,7 @@ mod tests {
         }
     }
 
+    #[cfg(feature = "cli")]
     fn icosahedron() -> String {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/examples/icosahedron.obj");
         std::fs::read_to_string(path).unwrap()
@@ -319,6 +321,7 @@ mod tests {
     /// A mesh is its faces written as `[[triangle]]`s: the same core triangles in
     /// the same order, hence the same pixels; scale then translate.
     #[test]
+    #[cfg(feature = "cli")] // renders
     fn a_mesh_is_the_triangles_of_its_faces() {
         let obj = icosahedron();
         let mesh = "[[mesh]]\nobj = \"ico.obj\"\nmaterial = \"m\"\nscale = 0.5\ntranslate = [1, -2, 0.25]\n";
