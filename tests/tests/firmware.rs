@@ -259,8 +259,8 @@ fn extreme_scales_render_the_same_bits_on_the_chip() {
 }
 
 /// The teapot alone (`tests/firmware/src/teapot.rs`, a firmware as a user would
-/// write it: the scene's lists on the stack, the mesh and BVH in flash, one 16x16
-/// tile buffer) renders the host's pixels and needs at most 8 KiB of RAM beyond its
+/// write it: the whole scene baked in flash, one 16x16 tile buffer) renders the
+/// host's pixels (the scene built in RAM on the host) and needs at most 8 KiB of RAM beyond its
 /// tile buffer: statics (from the ELF) plus the peak stack of the whole program.
 #[test]
 fn the_teapot_alone_needs_under_8_kib_beyond_its_tile() {

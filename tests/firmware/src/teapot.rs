@@ -1,6 +1,7 @@
 //! A firmware that renders only the built-in teapot, as a firmware engineer would
-//! write it: the scene's few lists on the stack, its mesh and BVH in flash
-//! (`tessera::builtin::TEAPOT_MESHES`), one 16x16 tile buffer in `.bss`. It renders
+//! write it: the whole scene baked in flash (`tessera::builtin::baked::teapot`,
+//! what `tessera bake scenes/teapot.toml` writes: no byte of the scene in RAM), one
+//! 16x16 tile buffer in `.bss`. It renders
 //! 64x64 tile after tile and prints
 //!
 //! `teapot pixels=<n> checksum=<fnv-1a of the RGB bytes, row-major> stack=<bytes>
@@ -31,8 +32,8 @@ mod clock;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
-use tessera::builtin::{self, Builtin};
-use tessera::{Frame, Tile, TileCoord, Viewport};
+use tessera::builtin::baked::teapot::SCENE;
+use tessera::{Tile, TileCoord, Viewport};
 
 /// The image: 64x64 in 16x16 tiles.
 const SIZE: u16 = 64;
@@ -83,13 +84,9 @@ fn main() -> ! {
 /// the preview and of the tiles.
 #[inline(never)]
 fn draw(tile: &mut Tile<N>) -> Result<(u32, u64, u64), tessera::Error> {
-    let scene = builtin::teapot()?;
-    let view = scene.view().with_meshes(builtin::TEAPOT_MESHES)?;
-    let frame = Frame::try_new(
-        scene.camera(),
-        Viewport::new(SIZE, SIZE),
-        Builtin::Teapot.settings(),
-    )?;
+    // The scene's tables where they lie (checked once), at its own settings.
+    let view = SCENE.view()?;
+    let frame = SCENE.frame_at(Viewport::new(SIZE, SIZE), SCENE.settings())?;
     let t0 = clock::now();
     let mut blocks = 0u32;
     for by in 0..u32::from(SIZE).div_ceil(4) {
