@@ -181,8 +181,28 @@ fn scene_files() -> Vec<PathBuf> {
 #[test]
 fn every_scene_file_baked_renders_like_tessera_render() {
     let dir = scratch("bake-every");
-    let files = scene_files();
+    let mut files = scene_files();
     assert!(files.len() >= 25, "{files:?}");
+    // And a list of triangles long enough for its BVH (baked with it).
+    let mut fan = String::from(
+        "[camera]\nposition = [0, 0, 3]\nlook_at = [0, 0, 0]\nnear = 0.1\nfar = 100\n\n\
+         [render]\nwidth = 96\nheight = 72\n\n\
+         [[material]]\nname = \"fan\"\ncolor = [0.9, 0.6, 0.2]\n\n\
+         [[light]]\nposition = [1, 2, 4]\nintensity = 20\n\n",
+    );
+    for i in 0..120 {
+        let (a, b) = (i as f64 * 0.05, (i + 1) as f64 * 0.05);
+        fan += &format!(
+            "[[triangle]]\nvertices = [[0, 0, 0], [{:.6}, {:.6}, 0], [{:.6}, {:.6}, 0]]\n\
+             material = \"fan\"\n\n",
+            a.cos(),
+            a.sin(),
+            b.cos(),
+            b.sin()
+        );
+    }
+    std::fs::write(dir.join("fan.toml"), fan).unwrap();
+    files.push(dir.join("fan.toml"));
     let mut mods = String::new();
     let mut calls = String::new();
     for (i, file) in files.iter().enumerate() {
@@ -201,6 +221,13 @@ fn every_scene_file_baked_renders_like_tessera_render() {
             text(&out.stderr)
         );
         mods += &format!("#[path = {:?}]\nmod s{i};\n", baked.to_str().unwrap());
+        if file.ends_with("fan.toml") {
+            let text = std::fs::read_to_string(&baked).unwrap();
+            assert!(
+                text.contains(".with_bvh(BakedBvh::new(&NODES, &ORDER"),
+                "{text}"
+            );
+        }
         calls += &format!(
             "    render::<{{ s{i}::TILE }}, s{i}::SceneLoops, _, _, _, _>(&s{i}::SCENE, \"s{i}\");\n"
         );
