@@ -205,10 +205,11 @@ const fn srgb_next() -> [u32; 256] {
 /// its first bit pattern (832 bytes of flash). The thresholds are at least 2^16.6
 /// patterns apart (100,925: the first values of codes 189 and 190, near 0.51), so
 /// a bucket of 2^17 holds at most two after its start: [`srgb8`] finishes with two
-/// comparisons instead of a binary search's eight (the encoding costs 46
+/// comparisons instead of a binary search's eight (the encoding costs 45
 /// instructions a pixel on chapter-direct, docs/chip-cost.md; the binary search
-/// cost 104, measured once by hand with the same firmware). Made at compile time from the thresholds, which also checks
-/// the two-at-most (the build fails otherwise).
+/// cost 104, measured once by hand with the same firmware). Made at compile time
+/// from the thresholds, which also checks the two-at-most (the build fails
+/// otherwise).
 static SRGB_STARTS: [u8; SRGB_BUCKETS] = srgb_starts();
 
 // Compile-time only: an index out of range or a bucket with three thresholds
@@ -328,6 +329,16 @@ impl Rgb8 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The tables' sizes the docs give: 832 bytes of buckets, 1 KiB of thresholds
+    /// (1,020 bytes), 1.8 KiB in all.
+    #[test]
+    fn srgb_tables_have_the_documented_sizes() {
+        let starts = core::mem::size_of_val(&SRGB_STARTS);
+        let thresholds = core::mem::size_of_val(&SRGB_THRESHOLDS);
+        assert_eq!((starts, thresholds), (832, 1_020));
+        assert_eq!(((starts + thresholds) * 10 + 512) / 1024, 18);
+    }
 
     #[test]
     fn quantize_rounds_and_saturates() {

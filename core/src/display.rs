@@ -5,6 +5,11 @@
 //! so a driver that streams an address window (ST7789, ILI9341, ...) receives a
 //! whole tile per window. There is no framebuffer: the RAM is one tile buffer plus
 //! the renderer's stack. Errors of the display are returned, never swallowed.
+//!
+//! The links to `embedded-graphics-core`'s items are to docs.rs: a documentation
+//! built with `--no-deps` has no local page for them to resolve to.
+//!
+//! [`DrawTarget`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/draw_target/trait.DrawTarget.html
 
 use crate::color::Rgb8;
 use crate::dither::Dither;
@@ -53,8 +58,12 @@ where
 ///
 /// Its size ([`OriginDimensions`]) is the viewport's, at the origin; draw it through
 /// a translated or clipped target to place it, like any other drawable. Drawing
-/// renders: the pixel memory is one tile on the stack of `draw` (`3 N^2` bytes, 768
-/// for 16), sent with one `fill_contiguous` per tile.
+/// renders: the pixel memory is one [`Tile<N>`](Tile) on the stack of `draw`
+/// (`3 N^2 + 8` bytes: a tile of 16x16 is 776 bytes), sent with one
+/// `fill_contiguous` per tile.
+///
+/// [`Drawable`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/trait.Drawable.html
+/// [`OriginDimensions`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/geometry/trait.OriginDimensions.html
 #[derive(Clone, Copy, Debug)]
 pub struct Rendering<'a, C, const N: usize> {
     frame: &'a Frame,
@@ -95,6 +104,8 @@ impl Frame {
     /// assert_eq!(display.0, 40 * 30);
     /// # Ok::<(), tessera::Error>(())
     /// ```
+    ///
+    /// [`Drawable`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/trait.Drawable.html
     #[must_use]
     pub fn drawable<'a, C, const N: usize>(&'a self, scene: &SceneView<'a>) -> Rendering<'a, C, N> {
         Rendering {
@@ -215,6 +226,8 @@ where
 ///
 /// `L` is the set of tile loops it links ([`Loops`]): every one unless
 /// [`DitheredRendering::linking`] says fewer.
+///
+/// [`Drawable`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/trait.Drawable.html
 pub struct DitheredRendering<'a, C, const N: usize, L = AllLoops> {
     rendering: Rendering<'a, C, N>,
     dither: Dither,
@@ -547,6 +560,30 @@ mod tests {
         let r = frame.drawable::<_, 16>(&scene.view()).draw(&mut d);
         assert_eq!(r, Err("bus error"));
         assert_eq!(d.fills.len(), 2);
+    }
+
+    /// The sizes of panel tiles the docs give (`TilePixel`, `Tile::blank`,
+    /// `DitheredRendering`'s `draw`) and README.md's: `2 N^2 + 8` bytes in
+    /// `Rgb565` (`Rgb555` too), `N^2 + 8` in `Gray8`.
+    #[test]
+    fn panel_tile_sizes_match_the_docs() {
+        use core::mem::size_of;
+        use embedded_graphics_core::pixelcolor::{Gray8, Rgb555};
+        let rgb565 = [
+            size_of::<Tile<8, Rgb565>>(),
+            size_of::<Tile<16, Rgb565>>(),
+            size_of::<Tile<32, Rgb565>>(),
+        ];
+        assert_eq!(rgb565, [136, 520, 2_056]);
+        assert_eq!(size_of::<Tile<16, Rgb555>>(), 520);
+        let gray8 = [
+            size_of::<Tile<8, Gray8>>(),
+            size_of::<Tile<16, Gray8>>(),
+            size_of::<Tile<32, Gray8>>(),
+        ];
+        assert_eq!(gray8, [72, 264, 1_032]);
+        // The pixels alone of a 16x16 `Rgb565` tile.
+        assert_eq!(size_of::<[[Rgb565; 16]; 16]>(), 512);
     }
 
     /// A tile rendered in a panel's colour is the 8-bit tile dithered pixel by

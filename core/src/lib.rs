@@ -6,7 +6,7 @@
 //! no panicking path and a single audited `unsafe` spot (the Cortex-M4F `vsqrt.f32`).
 //!
 //! Why this shape: a 240x240 RGB framebuffer is 169 KiB, more than most small MCUs
-//! have. A tile of 16x16 pixels is 768 bytes; the caller owns it, renders tile
+//! have. A tile of 16x16 pixels is 776 bytes; the caller owns it, renders tile
 //! `(tx, ty)` into it and sends it to the display before rendering the next one. A
 //! pixel depends only on the scene, the camera, the settings and its coordinates, so
 //! tiles may be rendered in any order, at any size, on any number of cores.
@@ -99,6 +99,13 @@ pub use shade::{RayCount, RayCounter};
 pub use texture::Texture;
 pub use tile::{AllLoops, Frame, Loops, RenderSettings, Tile, TileCoord, TilePixel};
 pub use vec::Vec3;
+
+/// The Rust examples of the repository's README.md, compiled by `cargo test -p
+/// tessera --doc`: under `cfg(doctest)` only, so not part of the API (and
+/// README.md, outside this package, is read only by the doctests).
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeExamples;
 
 /// Internals that the test crates check on their own (the extremes battery, the
 /// benchmarks, the firmware test image's scaled scenes), with the feature `testing`

@@ -204,6 +204,20 @@ mod tests {
     extern crate std;
     use std::vec::Vec as StdVec;
 
+    /// The memory the module docs give: 12 bytes a vertex (24 with its normal), 6
+    /// a face, 32 a BVH node (as [`BvhNode`]'s docs say), 2 a face for the BVH's
+    /// order, 40 a triangle of the flat list.
+    #[test]
+    fn sizes_match_the_docs() {
+        use core::mem::size_of;
+        let vertex = size_of::<[f32; 3]>();
+        assert_eq!((vertex, 2 * vertex), (12, 24));
+        assert_eq!(size_of::<[u16; 3]>(), 6);
+        assert_eq!(size_of::<BvhNode>(), 32);
+        assert_eq!(size_of::<u16>(), 2);
+        assert_eq!(size_of::<Primitive<Triangle>>(), 40);
+    }
+
     /// Vertices, faces, normals.
     type Parts = (StdVec<[f32; 3]>, StdVec<[u16; 3]>, StdVec<[f32; 3]>);
 

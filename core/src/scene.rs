@@ -311,8 +311,12 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
 
 /// A scene as the renderer sees it: slices, no capacities, so the renderer is
 /// compiled once whatever the scene's capacities. The one thing that depends on the
-/// capacities, the storage of a tile's culling lists, is lent by a small function of
-/// the scene's type (see the module `cull` of the sources).
+/// capacities is the room for a tile's culling lists (the primitives that may reach
+/// the tile, listed before its pixels: `6 (S + P + T + B)` bytes and their lengths
+/// on the stack of [`Frame::render_tile`](crate::Frame::render_tile), for `S`
+/// spheres, `P` planes, `T` triangles and `B` boxes); [`Scene::view`] gives the
+/// view a small function of the scene's type that lends that room, so the
+/// capacities never reach the renderer's code.
 #[derive(Clone, Copy)]
 pub struct SceneView<'a> {
     pub(crate) spheres: &'a [Primitive<Sphere>],

@@ -268,7 +268,7 @@ impl<'a> SceneView<'a> {
     /// With bounces, two calls that never nest: [`SceneView::primary`] (the camera
     /// ray's own hit, with its searches inlined) and, only when that hit sends
     /// rays, [`SceneView::bounce`]. The deepest stack is the bounce's, not the sum
-    /// of both (a tile stays within 2 KiB on the chip). Without bounces nothing
+    /// of both. Without bounces nothing
     /// else is called, and the camera ray's hit is inlined here
     /// ([`SceneView::primary_in`]).
     ///

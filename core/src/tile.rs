@@ -5,17 +5,19 @@
 //! frame to render tile `(tx, ty)` into it, in any order. No allocation, no
 //! framebuffer: the RAM is one tile buffer plus the renderer's stack.
 //!
-//! | tile | buffer (`size_of::<Tile<N>>()`) |
-//! |------|---------------------------------|
-//! | 8x8  | 200 bytes                       |
-//! | 16x16| 776 bytes                       |
-//! | 32x32| 3080 bytes                      |
+//! | tile  | buffer (`size_of::<Tile<N>>()`) |
+//! |-------|---------------------------------|
+//! | 8x8   | 200 bytes                       |
+//! | 16x16 | 776 bytes                       |
+//! | 32x32 | 3,080 bytes                     |
 //!
-//! (3 bytes a pixel plus 8 bytes of coordinates; checked by a unit test.) The
+//! (3 bytes a pixel plus 8 bytes of coordinates; a unit test checks these sizes
+//! and `tests/tests/docs.rs` checks them against `docs/chip-cost.md`.) The
 //! renderer's stack does not depend on `N`: measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md`), `render_tile` needs 1,312 to 1,912 bytes (1.3
-//! to 1.9 KiB) below its caller, the tile's culling lists (module `cull`) and the shader's pending-ray
-//! stack (`MAX_DEPTH + 1` rays) included.
+//! painting; `docs/chip-cost.md`), `render_tile` needs 1,384 to 2,056 bytes (1.4
+//! to 2.0 KiB) below its caller, the tile's culling lists (the primitives that may
+//! reach the tile, [`crate::cull`]) and the shader's pending-ray stack
+//! (`MAX_DEPTH + 1` rays) included.
 
 use crate::camera::{Camera, CameraBasis, Viewport};
 use crate::color::{Color, Encoding, Rgb8};
@@ -72,7 +74,8 @@ impl RenderSettings {
 /// [`crate::DitheredRendering::linking`]). The render settings are values, so
 /// [`Frame::render_tile`] links a pixel loop for every case they can select
 /// ([`AllLoops`]); a firmware whose settings are fixed names the ones it needs and
-/// the others are left out of the image (the board example: 74 KB less code). A
+/// the others are left out of the image (the board example's README,
+/// `examples/blackpill-st7789`, measures the flash this saves). A
 /// render whose settings need a loop left out is refused ([`Error::NotLinked`]),
 /// never drawn wrong.
 ///
@@ -962,11 +965,21 @@ mod tests {
     use core::mem::size_of;
     extern crate std;
 
+    /// The module docs' table, the crate docs' and [`crate::Rendering`]'s 776
+    /// bytes: `3 N^2 + 8`.
     #[test]
     fn tile_buffer_sizes_match_the_docs() {
         assert_eq!(size_of::<Tile<8>>(), 8 * 8 * 3 + 8);
         assert_eq!(size_of::<Tile<16>>(), 16 * 16 * 3 + 8);
         assert_eq!(size_of::<Tile<32>>(), 32 * 32 * 3 + 8);
+        assert_eq!(
+            [
+                size_of::<Tile<8>>(),
+                size_of::<Tile<16>>(),
+                size_of::<Tile<32>>()
+            ],
+            [200, 776, 3_080]
+        );
     }
 
     #[test]

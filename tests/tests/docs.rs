@@ -10,6 +10,11 @@
 //! significant digits unless the rounding is exact, and must not differ otherwise.
 //! Every occurrence of a pattern is checked, and a pattern the README no longer
 //! contains is a failure too: rewording such a sentence means updating it here.
+//!
+//! The core's doc comments (`///` and `//!` in `core/src/**/*.rs`, what rustdoc
+//! shows) quote some of the same figures: `render_tile`'s stack, the tile buffers'
+//! sizes, the cost of the sRGB encoding. They are checked the same way, file by
+//! file, and each of their patterns must occur in some file.
 
 use std::fmt;
 use std::path::PathBuf;
@@ -402,26 +407,47 @@ impl Readme {
             }
         };
         for numbers in found {
-            assert_eq!(
-                numbers.len(),
-                truths.len(),
-                "`{pattern}`: one truth per {{}}"
+            compare(
+                "README",
+                pattern,
+                &numbers,
+                source,
+                truths,
+                &mut self.failures,
             );
-            for (written, truth) in numbers.iter().zip(truths) {
-                let quoted = Dec::parse(written).expect("a number");
-                let rounded = truth.round(quoted.exp);
-                if !quoted.same(&rounded) {
-                    self.failures.push(format!(
-                        "README `{pattern}`: says {written}, {source} says {truth} (to the README's \
-                         precision: {rounded})"
-                    ));
-                } else if !quoted.same(truth) && quoted.significant() < 2 {
-                    self.failures.push(format!(
-                        "README `{pattern}`: {written} rounds {source}'s {truth} to fewer than two \
-                         significant digits"
-                    ));
-                }
-            }
+        }
+    }
+}
+
+/// Whether the numbers `written` in an occurrence of `pattern` in `place` are
+/// `truths` from `source`, each as written or rounded (half up, to at least two
+/// significant digits unless exact); what differs goes to `failures`.
+fn compare(
+    place: &str,
+    pattern: &str,
+    written: &[String],
+    source: &str,
+    truths: &[Dec],
+    failures: &mut Vec<String>,
+) {
+    assert_eq!(
+        written.len(),
+        truths.len(),
+        "`{pattern}`: one truth per {{}}"
+    );
+    for (written, truth) in written.iter().zip(truths) {
+        let quoted = Dec::parse(written).expect("a number");
+        let rounded = truth.round(quoted.exp);
+        if !quoted.same(&rounded) {
+            failures.push(format!(
+                "{place} `{pattern}`: says {written}, {source} says {truth} (to the text's \
+                 precision: {rounded})"
+            ));
+        } else if !quoted.same(truth) && quoted.significant() < 2 {
+            failures.push(format!(
+                "{place} `{pattern}`: {written} rounds {source}'s {truth} to fewer than two \
+                 significant digits"
+            ));
         }
     }
 }
@@ -461,6 +487,15 @@ fn kib(bytes: &Dec) -> Dec {
     Dec::of(bytes.to_f64() / 1024.0)
 }
 
+/// The least and the most stack `render_tile` needs over every scene, exact and
+/// fast-math, from `docs/chip-cost.md`.
+fn render_tile_stack(cost_text: &str) -> (Dec, Dec) {
+    let stack = table(cost_text, "docs/chip-cost.md", "## Stack");
+    let mut render_tile = stack.all("exact: render_tile");
+    render_tile.extend(stack.all("fast-math: render_tile"));
+    (smallest(&render_tile), largest(&render_tile))
+}
+
 fn check(readme_text: &str) -> Vec<String> {
     let mut readme = Readme::new(readme_text);
 
@@ -479,10 +514,7 @@ fn check(readme_text: &str) -> Vec<String> {
         &[flash.clone(), kib(&flash), kib(&text), kib(&rodata)],
     );
     readme.quotes("`.bss` {} bytes ({} KiB:", src, &[bss.clone(), kib(&bss)]);
-    let stack = table(&cost_text, src, "## Stack");
-    let mut render_tile = stack.all("exact: render_tile");
-    render_tile.extend(stack.all("fast-math: render_tile"));
-    let (low, high) = (smallest(&render_tile), largest(&render_tile));
+    let (low, high) = render_tile_stack(&cost_text);
     readme.quotes(
         "`render_tile` needs {} to {} bytes",
         src,
@@ -731,6 +763,173 @@ fn check(readme_text: &str) -> Vec<String> {
     );
 
     readme.failures
+}
+
+/// Every `.rs` file under `core/src`, in path order: its path from the root and
+/// its doc comments (`///`, `//!`; not `////`) as one line.
+fn core_docs() -> Vec<(String, String)> {
+    fn walk(dir: &std::path::Path, out: &mut Vec<PathBuf>) {
+        for entry in std::fs::read_dir(dir).expect("core/src is readable") {
+            let path = entry.expect("a core/src entry").path();
+            if path.is_dir() {
+                walk(&path, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                out.push(path);
+            }
+        }
+    }
+    let mut paths = Vec::new();
+    walk(&root().join("core").join("src"), &mut paths);
+    paths.sort();
+    assert!(paths.len() > 10, "core/src: {paths:?}");
+    paths
+        .iter()
+        .map(|path| {
+            let source = std::fs::read_to_string(path).expect("a core source is readable");
+            let docs: Vec<&str> = source
+                .lines()
+                .filter_map(|line| {
+                    let line = line.trim_start();
+                    let doc = line
+                        .strip_prefix("///")
+                        .or_else(|| line.strip_prefix("//!"))?;
+                    (!line.starts_with("////")).then_some(doc)
+                })
+                .collect();
+            let name = path
+                .strip_prefix(root())
+                .expect("under the root")
+                .display()
+                .to_string();
+            (name, one_line(&docs.join("\n")))
+        })
+        .collect()
+}
+
+/// What is wrong with the figures the core's doc comments (`files`, from
+/// [`core_docs`]) quote from the reports.
+fn check_rustdoc(files: &[(String, String)]) -> Vec<String> {
+    let src = "docs/chip-cost.md";
+    let cost_text = read(src);
+    let (low, high) = render_tile_stack(&cost_text);
+    let buffers = in_report(&cost_text, src, "32x32: {} + {} + {} bytes)");
+    let encoding = table(&cost_text, src, "## The output encoding");
+    let direct = encoding.figure(&[("scene", "chapter-direct")], "srgb - linear");
+    let quotes: [(&str, Vec<Dec>); 8] = [
+        (
+            "`render_tile` needs {} to {} bytes",
+            vec![low.clone(), high.clone()],
+        ),
+        (
+            "`render_tile` needs {} to {} bytes ({} to {} KiB)",
+            vec![low.clone(), high.clone(), kib(&low), kib(&high)],
+        ),
+        ("| 8x8 | {} bytes |", vec![buffers[0].clone()]),
+        ("| 16x16 | {} bytes |", vec![buffers[1].clone()]),
+        ("| 32x32 | {} bytes |", vec![buffers[2].clone()]),
+        (
+            "A tile of 16x16 pixels is {} bytes",
+            vec![buffers[1].clone()],
+        ),
+        ("a tile of 16x16 is {} bytes", vec![buffers[1].clone()]),
+        (
+            "the encoding costs {} instructions a pixel on chapter-direct",
+            vec![direct],
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (pattern, truths) in &quotes {
+        let mut quoted = false;
+        for (path, docs) in files {
+            if let Ok(found) = find(docs, pattern) {
+                quoted = true;
+                for numbers in found {
+                    compare(path, pattern, &numbers, src, truths, &mut failures);
+                }
+            }
+        }
+        if !quoted {
+            failures.push(format!(
+                "core/src: no doc comment has `{pattern}` (any more; quoting {src})"
+            ));
+        }
+    }
+    failures
+}
+
+#[test]
+fn rustdoc_figures_are_the_reports() {
+    let failures = check_rustdoc(&core_docs());
+    assert!(
+        failures.is_empty(),
+        "{} figure(s) of the core's doc comments differ from the reports (update the doc \
+         comment, or tests/tests/docs.rs if a sentence was reworded):\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+/// The check of the doc comments is not vacuous either.
+#[test]
+fn a_wrong_rustdoc_figure_fails() {
+    let files = core_docs();
+    assert_eq!(check_rustdoc(&files), Vec::<String>::new());
+    for (file, right, wrong, figure) in [
+        (
+            "core/src/tile.rs",
+            "needs 1,384 to",
+            "needs 1,312 to",
+            "1,312",
+        ),
+        (
+            "core/src/tile.rs",
+            "(1.4 to 2.0 KiB)",
+            "(1.4 to 1.9 KiB)",
+            "1.9",
+        ),
+        (
+            "core/src/tile.rs",
+            "| 16x16 | 776 bytes",
+            "| 16x16 | 768 bytes",
+            "768",
+        ),
+        (
+            "core/src/lib.rs",
+            "pixels is 776 bytes",
+            "pixels is 768 bytes",
+            "768",
+        ),
+        (
+            "core/src/display.rs",
+            "16x16 is 776 bytes",
+            "16x16 is 768 bytes",
+            "768",
+        ),
+        (
+            "core/src/color.rs",
+            "costs 45 instructions",
+            "costs 46 instructions",
+            "46",
+        ),
+    ] {
+        let mut changed = files.clone();
+        let (_, docs) = changed
+            .iter_mut()
+            .find(|(path, _)| path == file)
+            .unwrap_or_else(|| panic!("no {file}"));
+        assert!(
+            docs.contains(right),
+            "{file}'s doc comments no longer contain `{right}`: update this test"
+        );
+        *docs = docs.replacen(right, wrong, 1);
+        let failures = check_rustdoc(&changed);
+        assert!(
+            failures
+                .iter()
+                .any(|f| f.contains(file) && f.contains(figure)),
+            "`{wrong}` for `{right}` in {file} was not caught as {figure}: {failures:?}"
+        );
+    }
 }
 
 #[test]

@@ -6,7 +6,10 @@
 //! fastest the peripheral gives, under the ST7789's write limit); DC is PB0, RES PB1,
 //! the backlight BLK PB10. The panel is driven by `mipidsi` (model ST7789, colours
 //! inverted, as the common 1.3" module needs) through an `embedded-hal-bus`
-//! exclusive SPI device without a chip select.
+//! exclusive SPI device without a chip select. Other ST7789 panels (a CS pin,
+//! 240x320, 135x240 or 240x280 with an offset) need the changes the README's
+//! "Other panels" lists: [`PanelCs`], [`PANEL_SIZE`], [`PANEL_OFFSET`],
+//! [`ROTATION`].
 //!
 //! The picture is drawn progressively (`Frame::drawable_progressive`): first one
 //! ray per 4x4 block, each block one `fill_solid`, so a rough teapot appears in a
@@ -29,7 +32,7 @@ use embedded_hal::digital::{ErrorType, OutputPin};
 use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
 use mipidsi::interface::SpiInterface;
 use mipidsi::models::ST7789;
-use mipidsi::options::ColorInversion;
+use mipidsi::options::{ColorInversion, Orientation, Rotation};
 use mipidsi::{Builder, Display};
 use stm32f4xx_hal::gpio::{self, Output, PinState, Speed};
 use stm32f4xx_hal::pac;
@@ -37,7 +40,8 @@ use stm32f4xx_hal::prelude::*;
 use stm32f4xx_hal::rcc::{Config, Rcc};
 use stm32f4xx_hal::spi::Spi;
 use stm32f4xx_hal::timer::SysDelay;
-use tessera::{Dither, Loops, RenderSettings, Viewport, builtin};
+use tessera::builtin::{self, Builtin};
+use tessera::{Dither, Loops, Viewport};
 
 /// The crystal of the Black Pill, in MHz.
 const HSE_MHZ: u32 = 25;
@@ -46,8 +50,25 @@ const SYSCLK_MHZ: u32 = 100;
 /// The SPI clock asked for, in MHz: APB2 (100 MHz) / 2, the fastest SPI1 gives,
 /// under the ST7789's ~62 MHz limit for writes.
 const SPI_MHZ: u32 = 50;
-/// The panel's width and height in pixels.
-const SIZE: u16 = 240;
+/// The panel's width and height in pixels in its own (portrait) orientation, as
+/// mipidsi's `display_size` takes them: 240x240 for the 1.3" module; 240x320,
+/// 135x240 or 240x280 for the other common ST7789 panels.
+const PANEL_SIZE: (u16, u16) = (240, 240);
+/// Where the panel's pixels start in the ST7789's 240x320 memory, in the same
+/// orientation (mipidsi's `display_offset`): none for 240x240 and 240x320 panels;
+/// (52, 40) is usual for 135x240, (0, 20) for 240x280. mipidsi moves it for the
+/// other rotations.
+const PANEL_OFFSET: (u16, u16) = (0, 0);
+/// How the picture is turned on the panel: `Deg0` in the panel's own orientation;
+/// `Deg90` and `Deg270` swap its width and height (320x240 on a 240x320 panel).
+const ROTATION: Rotation = Rotation::Deg0;
+/// The picture's width and height in pixels: [`PANEL_SIZE`], swapped by a
+/// quarter turn.
+const PICTURE: (u16, u16) = if ROTATION.is_horizontal() {
+    PANEL_SIZE
+} else {
+    (PANEL_SIZE.1, PANEL_SIZE.0)
+};
 /// The tile size: 16x16 pixels, 512 bytes of `Rgb565` a tile.
 const TILE: usize = 16;
 /// The preview's block: one ray per 4x4 pixels.
@@ -60,8 +81,11 @@ const BLINK_MS: u32 = 200;
 
 /// The SPI bus to the panel: SPI1, full duplex, 8-bit words (MISO unused).
 type PanelBus = Spi<pac::SPI1>;
-/// The panel's SPI device: the whole bus, no chip select.
-type PanelSpi = ExclusiveDevice<PanelBus, NoCs, NoDelay>;
+/// The panel's chip select: none on the 1.3" module ([`NoCs`]). A panel with a
+/// CS pin: a GPIO output, such as `gpio::PA4<Output>`, made in `main`.
+type PanelCs = NoCs;
+/// The panel's SPI device: the whole bus, and its chip select.
+type PanelSpi = ExclusiveDevice<PanelBus, PanelCs, NoDelay>;
 /// The panel: an ST7789 through mipidsi's SPI interface, DC on PB0, RES on PB1.
 type Panel<'b> = Display<SpiInterface<'b, PanelSpi, gpio::PB0<Output>>, ST7789, gpio::PB1<Output>>;
 
@@ -118,6 +142,8 @@ impl OutputPin for NoCs {
 
 /// The pins of the panel besides the SPI bus.
 struct PanelPins {
+    /// Chip select ([`PanelCs`]): none here.
+    cs: PanelCs,
     /// Data/command select (PB0).
     dc: gpio::PB0<Output>,
     /// Reset, active low (PB1).
@@ -150,6 +176,7 @@ fn main() -> ! {
     let mut led = gpioc.pc13.into_push_pull_output_in_state(PinState::High);
     let bus = panel_bus(dp.SPI1, gpioa.pa5, gpioa.pa7, &mut rcc);
     let pins = PanelPins {
+        cs: NoCs,
         dc: gpiob.pb0.into_push_pull_output(),
         rst: gpiob.pb1.into_push_pull_output_in_state(PinState::High),
         blk: gpiob.pb10.into_push_pull_output(),
@@ -186,7 +213,7 @@ fn show_teapot(
     buffer: &mut [u8],
     delay: &mut SysDelay,
 ) -> Result<(), Failure> {
-    let mut panel = init_panel(bus, pins.dc, pins.rst, buffer, delay)?;
+    let mut panel = init_panel(bus, pins.cs, pins.dc, pins.rst, buffer, delay)?;
     // The panel's memory holds noise after a reset: clear it before lighting it.
     panel
         .clear(Rgb565::BLACK)
@@ -195,18 +222,22 @@ fn show_teapot(
     draw_teapot(&mut panel)
 }
 
-/// The ST7789 240x240 panel on `bus`, reset through `rst` and initialised with
+/// The ST7789 panel of [`PANEL_SIZE`] at [`PANEL_OFFSET`] on `bus` (selected by
+/// `cs`), turned by [`ROTATION`], reset through `rst` and initialised with
 /// inverted colours (the 1.3" module's panel shows the complement otherwise).
 fn init_panel<'b>(
     bus: PanelBus,
+    cs: PanelCs,
     dc: gpio::PB0<Output>,
     rst: gpio::PB1<Output>,
     buffer: &'b mut [u8],
     delay: &mut SysDelay,
 ) -> Result<Panel<'b>, Failure> {
-    let Ok(spi) = ExclusiveDevice::new_no_delay(bus, NoCs);
+    let Ok(spi) = ExclusiveDevice::new_no_delay(bus, cs);
     Builder::new(ST7789, SpiInterface::new(spi, dc, buffer))
-        .display_size(SIZE, SIZE)
+        .display_size(PANEL_SIZE.0, PANEL_SIZE.1)
+        .display_offset(PANEL_OFFSET.0, PANEL_OFFSET.1)
+        .orientation(Orientation::new().rotate(ROTATION))
         .invert_colors(ColorInversion::Inverted)
         .reset_pin(rst)
         .init(delay)
@@ -214,8 +245,9 @@ fn init_panel<'b>(
 }
 
 /// Ray traces the built-in teapot onto `display` with the README's API: the
-/// scene's frame at 240x240 with the default settings, drawn progressively
-/// (a preview of one ray per 4x4 block, then the 16x16 tiles, Bayer 4x4 dithered).
+/// scene's frame of [`PICTURE`] (240x240) with the scene's own settings, drawn
+/// progressively (a preview of one ray per 4x4 block, then the 16x16 tiles,
+/// Bayer 4x4 dithered).
 fn draw_teapot<D>(display: &mut D) -> Result<(), Failure>
 where
     D: DrawTarget<Color = Rgb565>,
@@ -223,7 +255,9 @@ where
     let scene = builtin::teapot()?;
     // The mesh and its BVH stay in flash; the view only refers to them.
     let view = scene.view().with_meshes(builtin::TEAPOT_MESHES)?;
-    let frame = scene.frame(Viewport::new(SIZE, SIZE), RenderSettings::default())?;
+    // Centre sampling, depth 0 and sRGB: what `tessera render teapot` uses.
+    let settings = Builtin::Teapot.settings();
+    let frame = scene.frame(Viewport::new(PICTURE.0, PICTURE.1), settings)?;
     frame
         .drawable_progressive::<Rgb565, TILE>(&view, Dither::Bayer4, PREVIEW_BLOCK)
         .linking::<TeapotLoops>()?
@@ -233,8 +267,8 @@ where
 
 /// The only tile loop the teapot needs with these settings: direct light (it
 /// has no mirror or glass), sRGB, centre sampling. The others are left out of
-/// the image (`tessera::Loops`: about 74 KB of code); settings that needed one
-/// would be refused by `linking`, not drawn wrong.
+/// the image (`tessera::Loops`; the README gives the flash this saves); settings
+/// that needed one would be refused by `linking`, not drawn wrong.
 enum TeapotLoops {}
 
 impl Loops for TeapotLoops {
