@@ -40,8 +40,8 @@ use stm32f4xx_hal::prelude::*;
 use stm32f4xx_hal::rcc::{Config, Rcc};
 use stm32f4xx_hal::spi::Spi;
 use stm32f4xx_hal::timer::SysDelay;
-use tessera::builtin::{self, Builtin};
-use tessera::{Dither, Loops, Viewport};
+use tessera::builtin::baked::teapot::{SCENE, SceneLoops};
+use tessera::{Dither, Viewport};
 
 /// The crystal of the Black Pill, in MHz.
 const HSE_MHZ: u32 = 25;
@@ -245,38 +245,27 @@ fn init_panel<'b>(
 }
 
 /// Ray traces the built-in teapot onto `display` with the README's API: the
-/// scene's frame of [`PICTURE`] (240x240) with the scene's own settings, drawn
-/// progressively (a preview of one ray per 4x4 block, then the 16x16 tiles,
-/// Bayer 4x4 dithered).
+/// whole scene baked in flash (`tessera::builtin::baked::teapot`, what `tessera
+/// bake scenes/teapot.toml` writes: no byte of it in RAM), its frame of
+/// [`PICTURE`] (240x240) with the scene's own settings (centre sampling, depth
+/// 0, sRGB: what `tessera render teapot` uses), drawn progressively (a preview
+/// of one ray per 4x4 block, then the 16x16 tiles, Bayer 4x4 dithered).
+///
+/// It links only the tile loops the scene needs (`SceneLoops`, which the baker
+/// writes: direct light, sRGB, no adaptive sampler); the others are left out
+/// of the image (`tessera::Loops`; the README gives the flash this saves), and
+/// settings that needed one would be refused by `linking`, not drawn wrong.
 fn draw_teapot<D>(display: &mut D) -> Result<(), Failure>
 where
     D: DrawTarget<Color = Rgb565>,
 {
-    let scene = builtin::teapot()?;
-    // The mesh and its BVH stay in flash; the view only refers to them.
-    let view = scene.view().with_meshes(builtin::TEAPOT_MESHES)?;
-    // Centre sampling, depth 0 and sRGB: what `tessera render teapot` uses.
-    let settings = Builtin::Teapot.settings();
-    let frame = scene.frame(Viewport::new(PICTURE.0, PICTURE.1), settings)?;
+    let view = SCENE.view()?;
+    let frame = SCENE.frame_at(Viewport::new(PICTURE.0, PICTURE.1), SCENE.settings())?;
     frame
         .drawable_progressive::<Rgb565, TILE>(&view, Dither::Bayer4, PREVIEW_BLOCK)
-        .linking::<TeapotLoops>()?
+        .linking::<SceneLoops>()?
         .draw(display)
         .map_err(|_| Failure::PanelWrite)
-}
-
-/// The only tile loop the teapot needs with these settings: direct light (it
-/// has no mirror or glass), sRGB, centre sampling. The others are left out of
-/// the image (`tessera::Loops`; the README gives the flash this saves); settings
-/// that needed one would be refused by `linking`, not drawn wrong.
-enum TeapotLoops {}
-
-impl Loops for TeapotLoops {
-    const DIRECT: bool = true;
-    const BOUNCES: bool = false;
-    const LINEAR: bool = false;
-    const SRGB: bool = true;
-    const ADAPTIVE: bool = false;
 }
 
 /// Blinks `led` (active low) `count` times, pauses, and again, forever.
