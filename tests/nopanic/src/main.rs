@@ -1,8 +1,8 @@
 //! A link-time proof that no panic is reachable from tessera's rendering path on the
-//! Cortex-M4F (issue 10, "Panics on the chip").
+//! Cortex-M4F.
 //!
 //! The image renders every built-in scene ([`Builtin::ALL`]) through the core's
-//! public tile API (`Builtin::with_scaled_scene`, `Frame::try_new`,
+//! public tile API (`Builtin::with_scaled_scene`, `Builtin::with_baked_scene`, `Frame::try_new`,
 //! `Frame::tile_grid`, `Frame::render_tile` for 8, 16 and 32 pixel tiles), with
 //! every sampler, and writes each pixel to a volatile sink. Its panic handler calls
 //! a function that exists nowhere, [`panic_is_reachable`]: the optimiser (fat LTO,
@@ -36,7 +36,9 @@
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use tessera::builtin::Builtin;
-use tessera::{Frame, RenderSettings, Sampler, SubPixel, Tile, TileCoord, Viewport};
+use tessera::{
+    Camera, Frame, RenderSettings, Sampler, SceneView, SubPixel, Tile, TileCoord, Viewport,
+};
 
 /// One render. Read with a volatile load: its values are unknown to the compiler.
 #[derive(Clone, Copy)]
@@ -63,6 +65,9 @@ struct Job {
     offset: [f32; 2],
     /// sRGB (else linear) output.
     srgb: bool,
+    /// The scene from its baked `static` tables (`Builtin::with_baked_scene`:
+    /// `BakedScene::view`'s checks), else built in RAM.
+    baked: bool,
 }
 
 const fn job(scene: u8, sampler: u8, count: u16, depth: u8, tile: u8, scale: i32) -> Job {
@@ -78,13 +83,22 @@ const fn job(scene: u8, sampler: u8, count: u16, depth: u8, tile: u8, scale: i32
         scale,
         seed: 7,
         offset: [0.25, 0.75],
+        baked: false,
+    }
+}
+
+/// [`job`] of the scene's baked `static` tables (its own scale).
+const fn baked(scene: u8, sampler: u8, count: u16, depth: u8, tile: u8) -> Job {
+    Job {
+        baked: true,
+        ..job(scene, sampler, count, depth, tile, 0)
     }
 }
 
 /// The renders: every built-in scene at its own settings, and every sampler, tile
-/// size, encoding and a scaled scene somewhere (small frames: a run under qemu
-/// takes a second).
-static JOBS: [Job; 9] = [
+/// size, encoding, a scaled scene and a baked scene somewhere (small frames: a run
+/// under qemu takes a second).
+static JOBS: [Job; 11] = [
     job(0, 1, 1, 0, 16, 0), // chapter-direct, centre
     job(1, 1, 1, 1, 16, 0), // chapter-reflect, centre
     job(2, 5, 1, 0, 8, 0),  // interference, prefiltered
@@ -94,6 +108,8 @@ static JOBS: [Job; 9] = [
     job(2, 0, 1, 0, 16, 0), // interference, corner
     job(0, 2, 1, 0, 8, -3), // chapter-direct /8, offset
     job(1, 6, 3, 1, 16, 0), // chapter-reflect, adaptive:3
+    baked(3, 1, 1, 5, 16),  // showcase from flash, centre
+    baked(0, 3, 2, 0, 8),   // chapter-direct from flash, stratified 2x2
 ];
 
 /// Where every rendered pixel is stored (volatile).
@@ -161,9 +177,9 @@ fn render_all() -> Result<(), Failure> {
         };
         let viewport = Viewport::new(j.width, j.height);
         lit |= match j.tile {
-            8 => render(scene, j.scale, viewport, settings, &mut Tile::<8>::new()),
-            16 => render(scene, j.scale, viewport, settings, &mut Tile::<16>::new()),
-            _ => render(scene, j.scale, viewport, settings, &mut Tile::<32>::new()),
+            8 => render(scene, &j, viewport, settings, &mut Tile::<8>::new()),
+            16 => render(scene, &j, viewport, settings, &mut Tile::<16>::new()),
+            _ => render(scene, &j, viewport, settings, &mut Tile::<32>::new()),
         }?;
     }
     if lit { Ok(()) } else { Err(Failure::Black) }
@@ -172,12 +188,12 @@ fn render_all() -> Result<(), Failure> {
 /// Renders one frame tile after tile into `tile`; true when some pixel is not black.
 fn render<const N: usize>(
     scene: Builtin,
-    scale: i32,
+    job: &Job,
     viewport: Viewport,
     settings: RenderSettings,
     tile: &mut Tile<N>,
 ) -> Result<bool, Failure> {
-    scene.with_scaled_scene(scale, |view, camera| {
+    let draw = |view: &SceneView<'_>, camera: &Camera| {
         let frame = Frame::try_new(camera, viewport, settings)?;
         let (across, down) = frame.tile_grid(N);
         let mut lit = false;
@@ -194,7 +210,12 @@ fn render<const N: usize>(
             }
         }
         Ok::<bool, Failure>(lit)
-    })?
+    };
+    if job.baked {
+        scene.with_baked_scene(draw)?
+    } else {
+        scene.with_scaled_scene(job.scale, draw)?
+    }
 }
 
 /// The panic handler: a call of a function that no object defines. It survives the
