@@ -94,6 +94,13 @@ say "board example (examples/blackpill-st7789): format and clippy"
 run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
 run cargo clippy --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
 
+# The firmware to copy (a scene file on qemu's Cortex-M4F): its own workspace; the
+# tests `qemu_example::...` in `cargo test-all` build it in its folder, as a user
+# does, and run it.
+say "qemu example (examples/qemu-m4f): format and clippy"
+run cargo fmt --manifest-path examples/qemu-m4f/Cargo.toml -- --check
+run cargo clippy --manifest-path examples/qemu-m4f/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+
 say "no-panic proof (tests/nopanic): format and clippy, both backends"
 run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check
 run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings

@@ -160,6 +160,26 @@ pub fn build(features: &[&str]) -> Result<PathBuf, String> {
     )
 }
 
+/// A cargo command (the cargo running the tests, if any) without the
+/// environment's build flags and folders: flags would change the code the figures
+/// are of, a target folder from it would mix the images, and a build target from
+/// it would override a firmware's own.
+#[must_use]
+pub fn cargo() -> Command {
+    let mut cmd = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+    for var in [
+        "RUSTFLAGS",
+        "CARGO_ENCODED_RUSTFLAGS",
+        "CARGO_BUILD_RUSTFLAGS",
+        "CARGO_TARGET_DIR",
+        "CARGO_BUILD_TARGET",
+        "CARGO_BUILD_TARGET_DIR",
+    ] {
+        cmd.env_remove(var);
+    }
+    cmd
+}
+
 /// Builds the binaries of the firmware crate `manifest` (release, for [`TARGET`],
 /// the crate's `features`) into `target_dir` and returns the path of the ELF of
 /// `bin`; `what` names it in errors. Cargo runs from the repository root so that
@@ -171,8 +191,7 @@ pub fn build_elf(
     bin: &str,
     what: &str,
 ) -> Result<PathBuf, String> {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let mut cmd = Command::new(cargo);
+    let mut cmd = cargo();
     cmd.current_dir(repo_root())
         .args(["build", "--release", "--target", TARGET])
         .arg("--manifest-path")
@@ -181,18 +200,6 @@ pub fn build_elf(
         .arg(target_dir);
     if !features.is_empty() {
         cmd.arg("--features").arg(features.join(","));
-    }
-    // Flags from the environment would change the code the figures are of, and a
-    // target folder from it would mix the images.
-    for var in [
-        "RUSTFLAGS",
-        "CARGO_ENCODED_RUSTFLAGS",
-        "CARGO_BUILD_RUSTFLAGS",
-        "CARGO_TARGET_DIR",
-        "CARGO_BUILD_TARGET",
-        "CARGO_BUILD_TARGET_DIR",
-    ] {
-        cmd.env_remove(var);
     }
     checked(
         &mut cmd,
@@ -347,7 +354,13 @@ pub fn run_with(elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, St
 /// `hard fault` line is an `Err` with qemu's output.
 pub fn run_alone(elf: &Path) -> Result<String, String> {
     let dir = TempDir::new()?;
-    Ok(qemu(&dir.0, elf, &[], None)?.0)
+    run_in(dir.path(), elf)
+}
+
+/// [`run_alone`] in the folder `dir`, where the files the firmware writes over
+/// semihosting stay (with qemu's output, `qemu.stdout` and `qemu.stderr`).
+pub fn run_in(dir: &Path, elf: &Path) -> Result<String, String> {
+    Ok(qemu(dir, elf, &[], None)?.0)
 }
 
 /// Runs qemu on `elf` in `dir` (`extra` arguments before `-kernel`) to its end and
@@ -561,6 +574,47 @@ pub fn sections(elf: &Path) -> Result<Sizes, String> {
         *slot += sec.size();
     }
     Ok(s)
+}
+
+/// A symbol of an ELF's symbol table.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Symbol {
+    /// Its name demangled, without the hash (`qemu_m4f::scene::SCENE`).
+    pub name: String,
+    /// Its address.
+    pub address: u64,
+    /// Its size in bytes.
+    pub size: u64,
+    /// The name of its section (`.rodata`), if it has one.
+    pub section: Option<String>,
+}
+
+/// The data and function symbols of `elf` (read with the `object` crate).
+pub fn symbols(elf: &Path) -> Result<Vec<Symbol>, String> {
+    use object::{Object, ObjectSection, ObjectSymbol, SymbolKind, SymbolSection};
+    let bytes = std::fs::read(elf).map_err(|e| format!("cannot read {}: {e}", elf.display()))?;
+    let file = object::File::parse(&*bytes)
+        .map_err(|e| format!("{} is not an object file: {e}", elf.display()))?;
+    Ok(file
+        .symbols()
+        .filter(|s| matches!(s.kind(), SymbolKind::Data | SymbolKind::Text))
+        .filter_map(|s| {
+            let name = format!("{:#}", rustc_demangle::demangle(s.name().ok()?));
+            let section = match s.section() {
+                SymbolSection::Section(i) => file
+                    .section_by_index(i)
+                    .ok()
+                    .and_then(|sec| sec.name().ok().map(str::to_string)),
+                _ => None,
+            };
+            Some(Symbol {
+                name,
+                address: s.address(),
+                size: s.size(),
+                section,
+            })
+        })
+        .collect())
 }
 
 /// The FLASH and RAM lengths of `tests/firmware/memory.x`, bytes.

@@ -9,6 +9,8 @@
 
 pub mod firmware;
 
+pub mod readme;
+
 pub mod extremes;
 
 pub mod cycles;

@@ -4,36 +4,13 @@
 
 use std::path::PathBuf;
 use tessera_tests::firmware::{self, Sizes};
+use tessera_tests::readme::{figure_after, table_figure, within};
 use tessera_tests::thousands;
 
 fn example() -> PathBuf {
     firmware::repo_root()
         .join("examples")
         .join("blackpill-st7789")
-}
-
-/// The number in a README cell or after a label: digits and thousands commas.
-fn number(text: &str) -> Option<u64> {
-    let digits: String = text
-        .trim_start()
-        .chars()
-        .take_while(|c| c.is_ascii_digit() || *c == ',')
-        .filter(char::is_ascii_digit)
-        .collect();
-    digits.parse().ok()
-}
-
-/// The README's figure in the table row of `section` (`| `.text` | 218,688 | ...`).
-fn table_figure(readme: &str, section: &str) -> Option<u64> {
-    let row = format!("| `{section}` |");
-    let line = readme.lines().find(|l| l.starts_with(&row))?;
-    number(&line[row.len()..])
-}
-
-/// The figure right after `label` in the README.
-fn figure_after(readme: &str, label: &str) -> Option<u64> {
-    let at = readme.find(label)? + label.len();
-    number(&readme[at..])
 }
 
 #[test]
@@ -64,7 +41,7 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
     // differently (the crates' paths enter their symbol hashes, which moves code
     // alignment: 128 bytes of `.text` measured); a stale figure is further off.
     let mut expect = |what: &str, said: Option<u64>, truth: u64| {
-        if said.is_none_or(|s| s.abs_diff(truth) * 100 > truth) {
+        if !within(said, truth, 1) {
             wrong.push(format!("{what}: the README says {said:?}, the ELF {truth}"));
         }
     };

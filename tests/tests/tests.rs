@@ -13,5 +13,6 @@ mod firmware;
 mod frustum;
 mod golden;
 mod interference;
+mod qemu_example;
 mod reference;
 mod tiles;

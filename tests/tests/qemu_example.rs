@@ -1,0 +1,402 @@
+//! The firmware a user copies (`examples/qemu-m4f`): built as a user builds it
+//! (`cargo build --release` in its folder, another scene file named by
+//! `TESSERA_SCENE`) and run under qemu, it writes the picture that the host
+//! renders of the same scene file, byte for byte, and prints its checksum; the
+//! scene's tables lie in flash, the RAM holds little more than the tile buffer;
+//! the README's figures are the build's.
+//!
+//! These tests need `qemu-system-arm` and the `thumbv7em-none-eabihf` target;
+//! without them they fail and say to run `bash tests/run-all.sh`, which installs
+//! both.
+
+use image::RgbImage;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+use tessera_tests::firmware::{self, Sizes, Symbol, TempDir};
+use tessera_tests::readme::{figure_after, table_row, within};
+
+/// The default scene file, built without `TESSERA_SCENE`: the showcase with an
+/// OBJ mesh.
+const DEFAULT: &str = "scene.toml";
+
+/// The scene files built, as `TESSERA_SCENE` names them (relative to the
+/// example's folder): the teapot (1,000 triangles in a mesh), the showcase (no
+/// mesh, no BVH) and the default last, so that the ELF left in the example's
+/// target folder is the one a user builds there.
+const SCENES: [&str; 3] = [
+    "../../scenes/teapot.toml",
+    "../../scenes/showcase.toml",
+    DEFAULT,
+];
+
+/// The picture's file, in qemu's working folder.
+const PICTURE: &str = "tessera.ppm";
+
+/// The ELF, in the example's own target folder.
+const ELF: &str = "target/thumbv7em-none-eabihf/release/qemu-m4f";
+
+fn example() -> PathBuf {
+    firmware::repo_root().join("examples").join("qemu-m4f")
+}
+
+/// One scene file built and run.
+struct Run {
+    /// The scene file as `TESSERA_SCENE` names it.
+    scene: &'static str,
+    /// The firmware's output.
+    stdout: String,
+    /// The picture it wrote.
+    picture: RgbImage,
+    /// Its sections.
+    sizes: Sizes,
+    /// Its symbols.
+    symbols: Vec<Symbol>,
+}
+
+/// Every scene of [`SCENES`] built and run, one after the other (they share the
+/// example's target folder and so its ELF), once for every test of this binary.
+fn runs() -> &'static [Run] {
+    static RUNS: OnceLock<Result<Vec<Run>, String>> = OnceLock::new();
+    RUNS.get_or_init(|| {
+        firmware::qemu_version()?;
+        SCENES.iter().map(|&scene| build_and_run(scene)).collect()
+    })
+    .as_deref()
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Builds the example for `scene` as a user does (`cargo build --release` in its
+/// folder, no flags: its `.cargo/config.toml` names the target) and runs it under
+/// qemu in a scratch folder.
+fn build_and_run(scene: &'static str) -> Result<Run, String> {
+    let dir = example();
+    let mut cmd = firmware::cargo();
+    cmd.current_dir(&dir).args(["build", "--release"]);
+    if scene == DEFAULT {
+        cmd.env_remove("TESSERA_SCENE");
+    } else {
+        cmd.env("TESSERA_SCENE", scene);
+    }
+    firmware::checked(
+        &mut cmd,
+        "cargo to build examples/qemu-m4f",
+        &format!(
+            "building examples/qemu-m4f for {scene} failed; is the {} target installed? ({})",
+            firmware::TARGET,
+            firmware::INSTALL_HINT
+        ),
+    )?;
+    let elf = dir.join(ELF);
+    let scratch = TempDir::new()?;
+    let stdout = firmware::run_in(scratch.path(), &elf)?;
+    let path = scratch.path().join(PICTURE);
+    let bytes = std::fs::read(&path).map_err(|e| format!("{scene}: no {PICTURE}: {e}"))?;
+    let picture = ppm(&bytes).map_err(|e| format!("{scene}: {PICTURE}: {e}"))?;
+    Ok(Run {
+        scene,
+        stdout,
+        picture,
+        sizes: firmware::sections(&elf)?,
+        symbols: firmware::symbols(&elf)?,
+    })
+}
+
+/// The pixels of a binary PPM as the firmware writes it: the header `P6`, the
+/// size, 255, each followed by one line break, then the RGB bytes.
+fn ppm(bytes: &[u8]) -> Result<RgbImage, String> {
+    let mut lines = bytes.splitn(4, |&b| b == b'\n');
+    let mut next = || std::str::from_utf8(lines.next().unwrap_or_default()).unwrap_or("");
+    let (magic, size, max) = (next(), next(), next());
+    let (w, h) = size.split_once(' ').unwrap_or_default();
+    let (w, h) = (w.parse().unwrap_or(0), h.parse().unwrap_or(0));
+    if magic != "P6" || max != "255" || w == 0 || h == 0 {
+        return Err(format!(
+            "not the header of a picture: {magic:?} {size:?} {max:?}"
+        ));
+    }
+    let pixels = lines.next().unwrap_or_default().to_vec();
+    let n = pixels.len();
+    RgbImage::from_raw(w, h, pixels)
+        .filter(|_| n == (w * h * 3) as usize)
+        .ok_or_else(|| format!("{n} bytes of pixels for {w}x{h}"))
+}
+
+/// The host's picture of the scene file `path` (its size, settings and tile
+/// size), as `tessera render` makes it.
+fn host(path: &Path) -> RgbImage {
+    let desc = tessera_host::file::load(path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = desc.to_core().unwrap();
+    let settings = desc.settings().unwrap();
+    scene
+        .with_view(|view| {
+            tessera_host::render(
+                view,
+                scene.camera(),
+                desc.viewport(),
+                settings,
+                desc.render.tile,
+            )
+        })
+        .unwrap()
+}
+
+/// The FNV-1a 64 hash of the picture's RGB bytes in the order the firmware
+/// renders them: tile after tile (left to right, top to bottom), each tile's rows
+/// top to bottom.
+fn tile_order_fnv1a64(img: &RgbImage, tile: u32) -> u64 {
+    let mut hash = 0xcbf2_9ce4_8422_2325_u64;
+    for ty in (0..img.height()).step_by(tile as usize) {
+        for tx in (0..img.width()).step_by(tile as usize) {
+            for y in ty..(ty + tile).min(img.height()) {
+                for x in tx..(tx + tile).min(img.width()) {
+                    for &b in &img.get_pixel(x, y).0 {
+                        hash = (hash ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+                    }
+                }
+            }
+        }
+    }
+    hash
+}
+
+/// The value of `key=` in the firmware's output.
+fn field<'a>(stdout: &'a str, key: &str) -> &'a str {
+    stdout
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix(key)?.strip_prefix('='))
+        .unwrap_or_else(|| panic!("no {key}= in {stdout:?}"))
+}
+
+fn number(stdout: &str, key: &str) -> u64 {
+    field(stdout, key)
+        .parse()
+        .unwrap_or_else(|_| panic!("{key}= is not a number in {stdout:?}"))
+}
+
+#[test]
+fn the_qemu_example_writes_the_hosts_picture_of_each_scene_file() {
+    let dir = example();
+    let mut bad = Vec::new();
+    for run in runs() {
+        let path = dir.join(run.scene);
+        let want = host(&path);
+        let tile = tessera_host::file::load(&path).unwrap().render.tile;
+        let out = &run.stdout;
+        assert!(
+            out.starts_with(&format!("tessera: {}, ", run.scene)),
+            "{}: {out}",
+            run.scene
+        );
+        assert_eq!(
+            field(out, "size"),
+            format!("{}x{}", want.width(), want.height()),
+            "{}",
+            run.scene
+        );
+        assert_eq!(
+            field(out, "checksum"),
+            format!("{:016x}", tile_order_fnv1a64(&run.picture, tile as u32)),
+            "{}: the printed checksum is not the picture's",
+            run.scene
+        );
+        assert!(
+            number(out, "instructions") > 0 && number(out, "stack") > 0,
+            "{out}"
+        );
+        println!("{}: {}", run.scene, out.replace('\n', "; "));
+        if run.picture.as_raw() != want.as_raw() {
+            let name = run.scene.rsplit('/').next().unwrap_or("scene");
+            let images = tessera_tests::output_dir();
+            let _ = run
+                .picture
+                .save(images.join(format!("qemu-m4f-{name}-chip.png")));
+            let _ = want.save(images.join(format!("qemu-m4f-{name}-host.png")));
+            let differ = want
+                .pixels()
+                .zip(run.picture.pixels())
+                .filter(|(a, b)| a != b)
+                .count();
+            bad.push(format!("{}: {differ} pixels differ", run.scene));
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "the firmware's pictures differ from the host's (images in target/test-images): {bad:#?}"
+    );
+}
+
+#[test]
+fn the_qemu_example_keeps_its_scenes_in_flash_and_its_tile_in_ram() {
+    let (flash, ram) = firmware::memory_regions(&example().join("memory.x")).unwrap();
+    let tile = size_of::<tessera::Tile<16>>() as u64;
+    for run in runs() {
+        let s = &run.sizes;
+        assert!(s.flash() <= flash && s.ram() <= ram, "{}: {s:?}", run.scene);
+        let tables = tables(run);
+        let mut need = vec!["SCENE", "MATERIALS", "LIGHTS"];
+        if run.scene.ends_with("showcase.toml") {
+            need.extend(["SPHERES", "PLANES", "TRIANGLES", "BOXES"]);
+        } else {
+            need.extend(["MESHES", "MESH0_VERTICES", "MESH0_FACES", "MESH0_NODES"]);
+        }
+        for name in need {
+            let found = tables
+                .iter()
+                .find(|s| s.name == format!("qemu_m4f::scene::{name}"));
+            assert!(
+                found.is_some_and(|s| s.size > 0),
+                "{}: no table {name} in the ELF's symbols",
+                run.scene
+            );
+        }
+        // memory.x's FLASH starts at 0, its RAM at 0x2000_0000.
+        for t in &tables {
+            assert!(
+                t.section.as_deref() == Some(".rodata") && t.address + t.size <= flash,
+                "{}: {t:?} is not in flash",
+                run.scene
+            );
+        }
+        let bytes: u64 = tables.iter().map(|t| t.size).sum();
+        println!(
+            "{}: flash {} bytes, RAM (.data + .bss) {} bytes, the scene's tables {bytes} \
+             bytes in flash",
+            run.scene,
+            s.flash(),
+            s.ram()
+        );
+        // The RAM is the tile buffer and a few words of the firmware's own
+        // (SysTick's wrap count, the flags of what was taken).
+        assert!(
+            s.ram() <= tile + 64 && s.ram() < bytes,
+            "{}: {} bytes of RAM, the {tile}-byte tile and the scene's {bytes} bytes",
+            run.scene,
+            s.ram()
+        );
+    }
+}
+
+/// The run of the default scene.
+fn default_run() -> &'static Run {
+    runs()
+        .iter()
+        .find(|r| r.scene == DEFAULT)
+        .expect("the default scene is built")
+}
+
+/// The scene's tables: the statics of the firmware's module `scene`.
+fn tables(run: &Run) -> Vec<&Symbol> {
+    run.symbols
+        .iter()
+        .filter(|s| s.name.starts_with("qemu_m4f::scene::"))
+        .collect()
+}
+
+/// The README's table of each scene (flash, RAM, stack, instructions, the
+/// scene's tables), its default scene's output and its `llvm-nm` excerpt are the build's. Within 1 %
+/// (2 % for the instructions): the same sources built in another folder link a
+/// little differently (the crates' paths enter their symbol hashes, which moves
+/// code alignment); a stale figure is further off.
+#[test]
+fn the_qemu_example_readme_has_its_figures() {
+    let readme = std::fs::read_to_string(example().join("README.md")).unwrap();
+    let mut wrong = Vec::new();
+    for run in runs() {
+        let cells = table_row(&readme, run.scene).unwrap_or_default();
+        let cell = |i: usize| cells.get(i).and_then(|c| tessera_tests::readme::number(c));
+        let out = &run.stdout;
+        for (what, i, truth, percent) in [
+            ("flash", 1, run.sizes.flash(), 1),
+            ("RAM", 2, run.sizes.ram(), 1),
+            ("stack", 3, number(out, "stack"), 1),
+            ("instructions", 4, number(out, "instructions"), 2),
+            ("tables", 5, tables(run).iter().map(|t| t.size).sum(), 1),
+        ] {
+            if !within(cell(i), truth, percent) {
+                wrong.push(format!(
+                    "{}: {what}: the README says {:?}, the build {truth}",
+                    run.scene,
+                    cell(i)
+                ));
+            }
+        }
+    }
+    // The output shown is the default scene's.
+    let out = &default_run().stdout;
+    for key in ["size", "checksum"] {
+        let line = out.lines().find(|l| l.starts_with(&format!("{key}=")));
+        if !line.is_some_and(|l| readme.lines().any(|r| r == l)) {
+            wrong.push(format!("the README lacks the output line {line:?}"));
+        }
+    }
+    for (key, percent) in [("instructions", 2), ("stack", 1)] {
+        let said = figure_after(&readme, &format!("\n{key}="));
+        if !within(said, number(out, key), percent) {
+            wrong.push(format!(
+                "output: {key}: the README says {said:?}, the firmware {}",
+                number(out, key)
+            ));
+        }
+    }
+    // The llvm-nm excerpt: `address size r qemu_m4f::scene::NAME`, each table of
+    // the default scene at its size, in flash.
+    let mut excerpt = 0;
+    for line in readme.lines() {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        let [address, size, kind, name] = w[..] else {
+            continue;
+        };
+        if !name.starts_with("qemu_m4f::scene::") {
+            continue;
+        }
+        // llvm-nm -C keeps the hash of a Rust symbol (`::h` and 16 hex digits).
+        let name = match name.rsplit_once("::h") {
+            Some((base, hash)) if hash.len() == 16 => base,
+            _ => name,
+        };
+        excerpt += 1;
+        let address = u64::from_str_radix(address, 16).unwrap_or(u64::MAX);
+        let size = u64::from_str_radix(size, 16).ok();
+        let truth = default_run().symbols.iter().find(|s| s.name == name);
+        if kind != "r" || address >= 0x2000_0000 || truth.map(|s| s.size) != size {
+            wrong.push(format!(
+                "the README's llvm-nm line {line:?}: the ELF has {truth:?}"
+            ));
+        }
+    }
+    if excerpt == 0 {
+        wrong.push("the README shows no llvm-nm line of the scene's tables".into());
+    }
+    assert!(
+        wrong.is_empty(),
+        "examples/qemu-m4f/README.md is not the build's: {wrong:#?}"
+    );
+}
+
+/// `cargo run --release` in the example's folder (its `.cargo/config.toml`'s
+/// runner) starts qemu as these tests do.
+#[test]
+fn the_qemu_examples_runner_is_the_tests_qemu() {
+    let path = example().join(".cargo").join("config.toml");
+    let config = std::fs::read_to_string(&path).unwrap();
+    let runner = config
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("runner = "))
+        .expect("a runner line")
+        .trim_matches('"');
+    let words: Vec<&str> = runner.split_whitespace().collect();
+    let ours: Vec<&str> = std::iter::once(firmware::QEMU)
+        .chain(firmware::QEMU_ARGS)
+        .collect();
+    assert_eq!(
+        words,
+        ours,
+        "{} and firmware::QEMU_ARGS differ",
+        path.display()
+    );
+    assert!(
+        config.contains(&format!("target = \"{}\"", firmware::TARGET)),
+        "{}",
+        path.display()
+    );
+}
