@@ -15,8 +15,8 @@ use crate::color::Color;
 use crate::error::{Error, List};
 use crate::geometry::{Aabb, Plane, Sphere, Triangle};
 use crate::light::PointLight;
-use crate::material::{Material, MaterialId};
-use crate::scene::{Primitive, SceneView};
+use crate::material::Material;
+use crate::scene::{Lists, Primitive, SceneView, check_material};
 use crate::tile::{Frame, RenderSettings};
 use crate::vec::Vec3;
 
@@ -62,7 +62,7 @@ impl BakedCamera {
 ///
 /// Made in a `const` context (a `static` in flash) with [`BakedScene::new`],
 /// its triangles' hierarchy and its meshes added with
-/// [`BakedScene::with_bvh`] and [`BakedScene::with_meshes`] (feature `bvh`);
+/// `BakedScene::with_bvh` and `BakedScene::with_meshes` (feature `bvh`);
 /// rendered through [`BakedScene::view`] and [`BakedScene::frame`], which
 /// check it first:
 ///
@@ -222,7 +222,8 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
     /// the background, each material and light, each primitive against what
     /// its checked constructor makes of the same numbers, every material
     /// reference, the triangles' hierarchy and the meshes (as
-    /// [`SceneView::with_baked`] and [`SceneView::with_meshes`] check them).
+    /// `SceneView::with_baked` and `SceneView::with_meshes` check them, feature
+    /// `bvh`).
     ///
     /// # Errors
     /// The checked constructor's own error for a value it refuses;
@@ -255,7 +256,7 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
             )?;
         }
         for (i, p) in self.spheres.iter().enumerate() {
-            material(p.material, count)?;
+            check_material(p.material, count)?;
             let g = &p.geometry;
             same(
                 Sphere::try_new(g.center(), g.radius())?,
@@ -265,38 +266,26 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
             )?;
         }
         for (i, p) in self.planes.iter().enumerate() {
-            material(p.material, count)?;
+            check_material(p.material, count)?;
             p.geometry.check_baked().map_err(|e| match e {
                 Error::BadBaked { list, .. } => bad(list, i),
                 e => e,
             })?;
         }
         for (i, p) in self.boxes.iter().enumerate() {
-            material(p.material, count)?;
+            check_material(p.material, count)?;
             let g = &p.geometry;
             same(Aabb::try_new(g.min(), g.max())?, *g, List::Boxes, i)?;
         }
-        let view = SceneView {
+        let view = Lists {
             spheres: self.spheres,
             planes: self.planes,
             triangles: &[],
             boxes: self.boxes,
             materials: self.materials,
             lights: self.lights,
-            ambient,
-            background,
-            secondary: self.materials.iter().any(Material::sends_rays),
-            tile_lists: crate::cull::lend::<S, P, T, B>,
-            triangle_hull: None,
-            #[cfg(feature = "bvh")]
-            bvh: None,
-            #[cfg(feature = "bvh")]
-            sphere_bvh: None,
-            #[cfg(feature = "bvh")]
-            meshes: &[],
-            #[cfg(feature = "bvh")]
-            through: false,
-        };
+        }
+        .view::<S, P, T, B>(ambient, background, None);
         #[cfg(feature = "bvh")]
         let view = match &self.bvh {
             Some(bvh) => view.with_baked(self.triangles, bvh)?,
@@ -318,7 +307,7 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
         for (i, p) in self.triangles.iter().enumerate() {
-            material(p.material, self.materials.len())?;
+            check_material(p.material, self.materials.len())?;
             let [a, b, c] = p.geometry.vertices();
             same(Triangle::try_new(a, b, c)?, p.geometry, List::Triangles, i)?;
             for v in [a, b, c] {
@@ -351,21 +340,10 @@ fn same<X: PartialEq>(made: X, baked: X, list: List, i: usize) -> Result<(), Err
     }
 }
 
-/// Checks a material reference against `count` materials.
-fn material(id: MaterialId, count: usize) -> Result<(), Error> {
-    if usize::from(id.0) < count {
-        Ok(())
-    } else {
-        Err(Error::MaterialOutOfRange {
-            id: id.0,
-            count: u16::try_from(count).unwrap_or(u16::MAX),
-        })
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::MaterialId;
     use crate::sample::Sampler;
     use crate::texture::Texture;
 

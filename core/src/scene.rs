@@ -128,14 +128,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
     }
 
     fn check_material(&self, id: MaterialId) -> Result<(), Error> {
-        if usize::from(id.0) < self.materials.len() {
-            Ok(())
-        } else {
-            Err(Error::MaterialOutOfRange {
-                id: id.0,
-                count: u16::try_from(self.materials.len()).unwrap_or(u16::MAX),
-            })
-        }
+        check_material(id, self.materials.len())
     }
 
     /// Adds a sphere made of `material`.
@@ -283,20 +276,57 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
     /// A borrowed, capacity-free view of the scene: what the renderer reads.
     #[must_use]
     pub fn view(&self) -> SceneView<'_> {
-        SceneView {
+        Lists {
             spheres: &self.spheres,
             planes: &self.planes,
             triangles: &self.triangles,
             boxes: &self.boxes,
             materials: &self.materials,
             lights: &self.lights,
-            ambient: self.ambient,
-            background: self.background,
+        }
+        .view::<S, P, T, B>(
+            self.ambient,
+            self.background,
+            crate::cull::Hull::new(self.triangle_bounds.0, self.triangle_bounds.1),
+        )
+    }
+}
+
+/// A scene's lists, which a view borrows ([`Scene::view`], and a baked scene's
+/// `view`).
+pub(crate) struct Lists<'a> {
+    pub(crate) spheres: &'a [Primitive<Sphere>],
+    pub(crate) planes: &'a [Primitive<Plane>],
+    pub(crate) triangles: &'a [Primitive<Triangle>],
+    pub(crate) boxes: &'a [Primitive<Aabb>],
+    pub(crate) materials: &'a [Material],
+    pub(crate) lights: &'a [PointLight],
+}
+
+impl<'a> Lists<'a> {
+    /// The view of these lists searched flat (no hierarchy, no meshes), each
+    /// tile's culling lists sized by the capacities `S`, `P`, `T`, `B`, the
+    /// triangles within `triangle_hull`.
+    pub(crate) fn view<const S: usize, const P: usize, const T: usize, const B: usize>(
+        self,
+        ambient: Color,
+        background: Color,
+        triangle_hull: Option<crate::cull::Hull>,
+    ) -> SceneView<'a> {
+        SceneView {
+            spheres: self.spheres,
+            planes: self.planes,
+            triangles: self.triangles,
+            boxes: self.boxes,
+            materials: self.materials,
+            lights: self.lights,
+            ambient,
+            background,
             // Model only what the scene requires: without a mirror or a transparent
             // material no secondary ray can exist, so the tracer skips that work.
             secondary: self.materials.iter().any(Material::sends_rays),
             tile_lists: crate::cull::lend::<S, P, T, B>,
-            triangle_hull: crate::cull::Hull::new(self.triangle_bounds.0, self.triangle_bounds.1),
+            triangle_hull,
             #[cfg(feature = "bvh")]
             bvh: None,
             #[cfg(feature = "bvh")]
@@ -306,6 +336,18 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             #[cfg(feature = "bvh")]
             through: false,
         }
+    }
+}
+
+/// Checks a material reference against `count` materials.
+pub(crate) fn check_material(id: MaterialId, count: usize) -> Result<(), Error> {
+    if usize::from(id.0) < count {
+        Ok(())
+    } else {
+        Err(Error::MaterialOutOfRange {
+            id: id.0,
+            count: u16::try_from(count).unwrap_or(u16::MAX),
+        })
     }
 }
 

@@ -60,8 +60,10 @@ impl Plane {
 
     /// A plane of baked data (`static` tables written by `tessera bake`): the
     /// numbers [`Plane::parts`] gives, not checked here, in a `const` context.
-    /// [`crate::BakedScene::view`] checks them before any render takes the plane
-    /// ([`Plane::check_baked`]).
+    /// [`crate::BakedScene::view`] checks them before any render takes the plane:
+    /// the point and the normal as [`Plane::try_new`] does, the normal a unit
+    /// vector to a few ulps, the tangents those of the normal, and the offset the
+    /// plane's distance from the world's origin to a few ulps.
     #[must_use]
     pub const fn baked(
         point: [f32; 3],

@@ -85,10 +85,27 @@ fn check_target_dir() -> PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join("bake-check")
 }
 
+/// The core's features for a program that must render like this build's
+/// `tessera`: `bvh`, and the math backend's features this package was built with.
+fn core_features() -> Vec<&'static str> {
+    let mut f = vec!["bvh"];
+    for (on, name) in [
+        (cfg!(feature = "fast-math"), "fast-math"),
+        (cfg!(feature = "fast-rsqrt"), "fast-rsqrt"),
+        (cfg!(feature = "fast-recip"), "fast-recip"),
+        (cfg!(feature = "fast-pow"), "fast-pow"),
+    ] {
+        if on {
+            f.push(name);
+        }
+    }
+    f
+}
+
 /// Builds and runs, with `cargo run --offline` and `-D warnings`, the program
 /// `main` (the source of its `main.rs`) in a crate `dir/check` that depends on
-/// the core with its feature `bvh`, in release when `release`; returns its
-/// standard output. Panics with cargo's output if it does not compile cleanly
+/// the core with its feature `bvh` and this build's math backend
+/// ([`core_features`]), in release when `release`; returns its standard output. Panics with cargo's output if it does not compile cleanly
 /// or fails.
 fn cargo_run(dir: &Path, main: &str, release: bool) -> String {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
@@ -100,8 +117,9 @@ fn cargo_run(dir: &Path, main: &str, release: bool) -> String {
         format!(
             "[package]\nname = \"bake-check\"\nversion = \"0.0.0\"\nedition = \"2024\"\n\
              publish = false\n\n[dependencies]\n\
-             tessera = {{ path = {:?}, features = [\"bvh\"] }}\n\n[workspace]\n",
-            core.to_str().unwrap()
+             tessera = {{ path = {:?}, features = {:?} }}\n\n[workspace]\n",
+            core.to_str().unwrap(),
+            core_features()
         ),
     )
     .unwrap();
