@@ -534,7 +534,7 @@ fn check(readme_text: &str) -> Vec<String> {
     let budget = in_report(
         &cost_text,
         src,
-        "memory.x`): {} KiB of flash, {} KiB of RAM",
+        "mps2-an386.x`): {} KiB of flash, {} KiB of RAM",
     );
     readme.quotes("within a {} KiB flash / {} KiB RAM budget", src, &budget);
     let teapot = [("scene", "teapot"), ("depth", "0"), ("sampler", "centre")];

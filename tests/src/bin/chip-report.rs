@@ -335,7 +335,7 @@ impl Measured {
         );
         let _ = writeln!(
             w,
-            "- Budget (`tests/firmware/memory.x`): {} of flash, {} of RAM; the link fails \
+            "- Budget (`tests/firmware/memory/mps2-an386.x`): {} of flash, {} of RAM; the link fails \
          if the image does not fit.",
             kib(flash),
             kib(ram)
