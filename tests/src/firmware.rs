@@ -802,7 +802,7 @@ fn parse_output(stdout: &str, runs: &[Run], dir: &Path, tick: TickRate) -> Resul
 pub struct Sizes {
     /// `.vector_table` (flash).
     pub vector_table: u64,
-    /// `.text` (flash).
+    /// `.text` (flash; on RISC-V with riscv-rt's `.init.rust`).
     pub text: u64,
     /// `.rodata` (flash).
     pub rodata: u64,
@@ -837,7 +837,8 @@ pub fn sections(elf: &Path) -> Result<Sizes, String> {
     for sec in file.sections() {
         let slot = match sec.name().unwrap_or("") {
             ".vector_table" => &mut s.vector_table,
-            ".text" => &mut s.text,
+            // riscv-rt's start-up code lies in `.init.rust`, beside `.text`.
+            ".text" | ".init.rust" => &mut s.text,
             ".rodata" => &mut s.rodata,
             ".data" => &mut s.data,
             ".bss" => &mut s.bss,
