@@ -18,12 +18,15 @@
 //! not correctly rounded there.
 //!
 //! The instruction counts of the guarded runs are compared with
-//! `tests/chip-baseline.txt` (printed); `--bless-baseline` rewrites that file from
-//! this run's counts (commit it with a message that says why).
+//! `tests/chip-baseline.txt` and, on the other cores, `tests/chip-baseline-cores.txt`
+//! (printed); `--bless-baseline` rewrites both files from this run's counts,
+//! `--bless-cores-baseline` the second alone (commit them with a message that says
+//! why).
 //!
 //! ```sh
 //! cargo run -p tessera-tests --release --bin chip-report
 //! cargo run -p tessera-tests --release --bin chip-report -- --bless-baseline
+//! cargo run -p tessera-tests --release --bin chip-report -- --bless-cores-baseline
 //! ```
 
 use image::RgbImage;
@@ -43,16 +46,34 @@ const SAMPLERS: [Sampler; 5] = [Corner, Centre, Stratified(2), Stratified(4), Ra
 const SIZE: u16 = 64;
 const TILE: usize = 16;
 
+/// Which baseline files to rewrite from this run's counts.
+#[derive(Clone, Copy, Debug, Default)]
+struct Bless {
+    /// `tests/chip-baseline.txt` (the Cortex-M4F).
+    m4f: bool,
+    /// `tests/chip-baseline-cores.txt` (the other cores).
+    cores: bool,
+}
+
 fn main() -> ExitCode {
-    let mut bless = false;
+    let mut bless = Bless::default();
     for arg in std::env::args().skip(1) {
         match arg.as_str() {
-            "--bless-baseline" => bless = true,
+            "--bless-baseline" => {
+                bless = Bless {
+                    m4f: true,
+                    cores: true,
+                }
+            }
+            "--bless-cores-baseline" => bless.cores = true,
             _ => {
                 eprintln!(
-                    "chip-report: unknown argument {arg:?} (the only option is \
-                     --bless-baseline: rewrite {})",
-                    baseline::FILE
+                    "chip-report: unknown argument {arg:?} (the options are \
+                     --bless-baseline: rewrite {} and {}, and --bless-cores-baseline: \
+                     rewrite {} alone)",
+                    baseline::FILE,
+                    baseline::CORES_FILE,
+                    baseline::CORES_FILE
                 );
                 return ExitCode::FAILURE;
             }
@@ -274,13 +295,14 @@ fn kib(bytes: u64) -> String {
     format!("{:.1} KiB", bytes as f64 / 1024.0)
 }
 /// Measures, checks, and writes `docs/chip-cost.md`; returns its path.
-fn report(bless: bool) -> Result<PathBuf, String> {
+fn report(bless: Bless) -> Result<PathBuf, String> {
     let qemu = firmware::qemu_version()?;
     let rustc = tessera_tests::tool_version("rustc");
     let (flash, ram) = firmware::memory_budget()?;
     let runs = runs();
     let (exact, fast, prof, cores) = measure_all(&runs)?;
-    let est = check(&runs, &exact, &prof, bless)?;
+    let est = check(&runs, &exact, &prof, bless.m4f)?;
+    guard_cores(&cores, bless.cores)?;
     let m4f_sqrt = firmware::check_sqrt(&firmware::CORTEX_M4F, &exact.elf)?;
     if m4f_sqrt != firmware::SqrtReport::host() {
         return Err(format!("Cortex-M4F: sqrt {m4f_sqrt:?}"));
@@ -915,6 +937,43 @@ impl Measured {
             repo_relative(&fast.elf)
         );
     }
+}
+
+/// Compares the other cores' counts of the guarded runs with their baseline file
+/// and prints the table; with `bless`, rewrites the file from these counts instead.
+fn guard_cores(cores: &[CoreMeasure], bless: bool) -> Result<(), String> {
+    let mut now = Vec::new();
+    for c in cores {
+        for g in baseline::runs() {
+            let i = core_runs()
+                .iter()
+                .position(|r| *r == g)
+                .ok_or_else(|| format!("the guarded run {g} is not in the per-core runs"))?;
+            now.push((baseline::key(&c.core, &g), c.out.runs[i].instructions));
+        }
+    }
+    let path = baseline::cores_path();
+    if bless {
+        std::fs::write(&path, baseline::render_cores(&now))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        println!(
+            "wrote {} (commit it with a message that says why)",
+            path.display()
+        );
+        return Ok(());
+    }
+    match std::fs::read_to_string(&path) {
+        Ok(text) => {
+            let base = baseline::parse(&text)?;
+            println!(
+                "instruction counts of the other cores against {}:\n{}",
+                baseline::CORES_FILE,
+                baseline::Comparison::new(&base, &now).table()
+            );
+        }
+        Err(e) => println!("no baseline to compare with ({}: {e})", path.display()),
+    }
+    Ok(())
 }
 
 /// Compares the guarded runs' counts with the baseline file and prints the table;
