@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Runs every check and test of tessera, installing what a fresh machine lacks first:
-# the thumbv7em-none-eabihf target (the core is cross-built for a Cortex-M4F),
-# qemu-system-arm (the firmware tests run under emulation) and the minimum supported
-# Rust (Cargo.toml's rust-version, checked with a minimal toolchain).
+# the targets of the firmware test image's cores (thumbv7em-none-eabihf: Cortex-M4F
+# and M7; thumbv8m.main-none-eabihf: Cortex-M33 and M55; riscv32imafc-unknown-none-elf),
+# qemu-system-arm and qemu-system-misc (qemu-system-riscv32: the firmware tests run
+# under emulation) and the minimum supported Rust (Cargo.toml's rust-version, checked
+# with a minimal toolchain).
 #
 # The workspace commands are the cargo aliases of .cargo/config.toml (`cargo lint`,
 # `cargo lint-fast`, `cargo fw-core`, `cargo test-all`): they are defined there only.
@@ -37,20 +39,24 @@ finish() {
 trap finish EXIT
 
 say "toolchain: $(rustc --version)"
-if ! rustup target list --installed | grep -qx thumbv7em-none-eabihf; then
-  say "installing the thumbv7em-none-eabihf target"
-  rustup target add thumbv7em-none-eabihf
-fi
+targets=(thumbv7em-none-eabihf thumbv8m.main-none-eabihf riscv32imafc-unknown-none-elf)
+for target in "${targets[@]}"; do
+  if ! rustup target list --installed | grep -qx "$target"; then
+    say "installing the $target target"
+    rustup target add "$target"
+  fi
+done
 rustup component list --installed | grep -q '^clippy' || rustup component add clippy
 rustup component list --installed | grep -q '^rustfmt' || rustup component add rustfmt
-if ! command -v qemu-system-arm >/dev/null 2>&1; then
-  say "installing qemu-system-arm"
+if ! command -v qemu-system-arm >/dev/null 2>&1 || ! command -v qemu-system-riscv32 >/dev/null 2>&1; then
+  say "installing qemu-system-arm and qemu-system-misc (qemu-system-riscv32)"
   sudo_cmd=""
   [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
   $sudo_cmd apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq qemu-system-arm >/dev/null
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq qemu-system-arm qemu-system-misc >/dev/null
 fi
 qemu-system-arm --version | head -n 1
+qemu-system-riscv32 --version | head -n 1
 msrv=$(sed -n 's/^rust-version = "\([0-9.]*\)"$/\1/p' Cargo.toml)
 if ! rustup toolchain list | grep -q "^$msrv-"; then
   say "installing Rust $msrv (the minimum supported version), minimal profile"
@@ -82,10 +88,14 @@ run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera --no-deps
 say "minimum supported Rust: cargo +$msrv check (Cargo.toml's rust-version)"
 run cargo "+$msrv" check --workspace --all-targets
 
-say "firmware test image (tests/firmware): format and clippy, both backends"
+say "firmware test image (tests/firmware): format and clippy, both backends, every core's target and board"
 run cargo fmt --manifest-path tests/firmware/Cargo.toml -- --check
 run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
 run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
+run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf --features mps2-an500 -- -D warnings
+run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
+run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv8m.main-none-eabihf --features mps3-an547 -- -D warnings
+run cargo clippy --manifest-path tests/firmware/Cargo.toml --target riscv32imafc-unknown-none-elf -- -D warnings
 
 # The board example (an STM32F411 Black Pill and an ST7789 panel): its own
 # workspace; the test `board::...` in `cargo test-all` links it and checks the
@@ -106,9 +116,11 @@ run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check
 run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
 run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
 
-say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends"
+say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends; for the other FPU targets"
 run cargo fw-core
 run cargo fw-core --features fast-math
+run cargo build -p tessera --release --target thumbv8m.main-none-eabihf
+run cargo build -p tessera --release --target riscv32imafc-unknown-none-elf
 
 # The image renders every built-in scene through the tile API and its panic handler
 # calls an undefined symbol: the link fails ("undefined symbol:

@@ -3,7 +3,8 @@
 //! `tessera` renders a ray-traced scene one fixed-size **tile** at a time, with `f32`
 //! math and fixed-capacity scene lists, so that a chip with a few KiB of RAM and no
 //! framebuffer can draw straight onto its display. There is no allocator, no `std`,
-//! no panicking path and a single audited `unsafe` spot (the Cortex-M4F `vsqrt.f32`).
+//! no panicking path and two audited `unsafe` spots (the FPU square roots, Arm's
+//! `vsqrt.f32` and RISC-V's `fsqrt.s`).
 //!
 //! Why this shape: a 240x240 RGB framebuffer is 169 KiB, more than most small MCUs
 //! have. A tile of 16x16 pixels is 776 bytes; the caller owns it, renders tile
@@ -119,6 +120,9 @@ pub mod testing {
     pub use crate::bvh::visits;
     pub use crate::extreme::Extreme;
     pub use crate::geometry::{Candidate, Shape, Surface};
+    /// The square root of every per-pixel path (`math::sqrt`): the firmware test
+    /// image checks on each core that it is correctly rounded.
+    pub use crate::math::sqrt;
     pub use crate::ray::offset_origin;
     pub use crate::shade::refract;
 }

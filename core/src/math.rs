@@ -4,9 +4,12 @@
 //! Free functions, never method syntax: on the host `x.sqrt()` would silently resolve
 //! to `std` and the host would no longer compute what the chip computes.
 //!
-//! The default math is **exact**: `libm`, except `sqrt` on Cortex-M4F, which uses the
-//! FPU's `vsqrt.f32`. Both are correctly rounded (IEEE 754), so the host and the chip
-//! give the same bits. Each approximation is a cargo feature of its own, measured on
+//! The default math is **exact**: `libm`, except `sqrt` on a core whose FPU has a
+//! square root: `vsqrt.f32` on every Arm hard-float core (Cortex-M4F, M7, M33, M55),
+//! `fsqrt.s` on RISC-V with the F extension (`cfg(tessera_riscv_f)`, from
+//! core/build.rs). All are correctly rounded (IEEE 754), so the host and the chip
+//! give the same bits (the firmware test image checks each core: its hard cases
+//! and its renders). Each approximation is a cargo feature of its own, measured on
 //! its own (worst error over its input range: docs/math-report.md, from `cargo run -p
 //! tessera-tests --release --bin math-report`; cycles and image error: the trade
 //! report, docs/trade.md):
@@ -60,7 +63,11 @@ pub fn sqrt(x: f32) -> f32 {
     {
         vsqrt(x)
     }
-    #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+    #[cfg(tessera_riscv_f)]
+    {
+        fsqrt(x)
+    }
+    #[cfg(not(any(all(target_arch = "arm", target_abi = "eabihf"), tessera_riscv_f)))]
     {
         libm::sqrtf(x)
     }
@@ -394,22 +401,25 @@ pub fn pow_schlick(x: f32, n: f32) -> f32 {
     x / (n - n * x + x)
 }
 
-/// The single audited `unsafe` spot of the core: the Cortex-M4F FPU square root.
+/// One of the two audited `unsafe` spots of the core: the Arm FPU square root
+/// (the other is [`fsqrt`], RISC-V's).
 ///
 /// Why asm: `libm::sqrtf` is a software loop (hundreds of cycles); the FPU does it
-/// in 14 cycles. `core` has no stable `f32::sqrt`, and on stable Rust 1.95 the
-/// `sreg` register class (operands in FPU registers) is refused for
-/// `thumbv7em-none-eabihf` (rustc only knows the FPU there as LLVM's `vfp2sp`, which
-/// it does not expose), so the value moves through a core register and `s0` is
-/// named as clobbered, which rustc accepts: the compiler keeps nothing live in `s0`
-/// across the block (checked in the disassembly: a value held in `s0` is moved out
-/// first) and no push or pop is needed.
+/// in 14 cycles on a Cortex-M4F. `core` has no stable `f32::sqrt`, and on stable
+/// Rust 1.95 the `sreg` register class (operands in FPU registers) is refused for
+/// `thumbv7em-none-eabihf` and `thumbv8m.main-none-eabihf` (rustc only knows their
+/// FPUs as LLVM features it does not expose), so the value moves through a core
+/// register and `s0` is named as clobbered, which rustc accepts: the compiler keeps
+/// nothing live in `s0` across the block (checked in the disassembly: a value held
+/// in `s0` is moved out first) and no push or pop is needed.
 ///
 /// Soundness: the block reads one core register and writes another and `s0`, which
 /// is declared clobbered; it touches no memory and no stack (`nomem`, `nostack`).
-/// Every ARM hard-float (`eabihf`) target has a VFP unit with `vsqrt.f32`. IEEE 754
-/// requires sqrt to be correctly rounded, so it returns the same bits as
-/// `libm::sqrtf` on the host (checked by the firmware test against the host).
+/// Every ARM hard-float (`eabihf`) target has a VFP unit with `vsqrt.f32` (the
+/// Cortex-M4F's FPv4, the M7's, M33's and M55's FPv5). IEEE 754 requires sqrt to
+/// be correctly rounded, so it returns the same bits as `libm::sqrtf` on the host
+/// (checked on each core by the firmware test image: `tessera-sqrt` and the
+/// renders against the host's).
 #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
 #[allow(unsafe_code)]
 #[inline]
@@ -429,6 +439,39 @@ fn vsqrt(x: f32) -> f32 {
         );
     }
     f32::from_bits(r)
+}
+
+/// The other audited `unsafe` spot of the core: the RISC-V F extension's square
+/// root, `fsqrt.s` (see [`vsqrt`] for why asm).
+///
+/// Here the operands can live in FPU registers: rustc accepts the `freg` class on
+/// `riscv32imafc-unknown-none-elf`, whose ABI (`ilp32f`) passes `f32`s in them, so
+/// the block is the one instruction.
+///
+/// Soundness: the block reads one FPU register and writes another; it touches no
+/// memory and no stack (`nomem`, `nostack`). `cfg(tessera_riscv_f)` is set only for
+/// targets with F (core/build.rs), so the instruction exists. It rounds by the
+/// dynamic rounding mode, `frm`, which is round-to-nearest-even from reset and
+/// which nothing in the crate changes (every other float instruction the compiler
+/// emits rounds by it too); the result is then the correctly rounded root, the
+/// same bits as `libm::sqrtf` on the host (checked under qemu by the firmware test
+/// image).
+#[cfg(tessera_riscv_f)]
+#[allow(unsafe_code)]
+#[inline]
+fn fsqrt(x: f32) -> f32 {
+    let r: f32;
+    // SAFETY: see the function documentation.
+    unsafe {
+        core::arch::asm!(
+            "fsqrt.s {r}, {x}",
+            x = in(freg) x,
+            r = lateout(freg) r,
+            // Not `preserves_flags`: fsqrt.s may set the `fflags` exception flags.
+            options(pure, nomem, nostack)
+        );
+    }
+    r
 }
 
 #[cfg(test)]

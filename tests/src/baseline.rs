@@ -2,8 +2,11 @@
 //! of the firmware, the exact instruction count (SysTick) measured when it was
 //! last regenerated (`chip-report --bless-baseline`); the firmware test fails when
 //! a count rises by more than [`TOLERANCE_PERCENT`] % over it.
+//! `tests/chip-baseline-cores.txt` ([`CORES_FILE`]) holds the same runs on the
+//! other cores with an FPU, each line prefixed by the core's name ([`key`]),
+//! guarded by their tests (`tests/tests/cores.rs`).
 
-use crate::firmware::{self, Run};
+use crate::firmware::{self, CORTEX_M4F, Core, Run};
 use std::path::PathBuf;
 use tessera::Sampler;
 use tessera::builtin::Builtin;
@@ -17,10 +20,33 @@ pub const FILE: &str = "tests/chip-baseline.txt";
 pub const BLESS: &str =
     "cargo run -p tessera-tests --release --bin chip-report -- --bless-baseline";
 
+/// The other cores' file, relative to the repository root.
+pub const CORES_FILE: &str = "tests/chip-baseline-cores.txt";
+/// The command that rewrites the other cores' file alone.
+pub const BLESS_CORES: &str =
+    "cargo run -p tessera-tests --release --bin chip-report -- --bless-cores-baseline";
+
 /// The baseline file's path.
 #[must_use]
 pub fn path() -> PathBuf {
     firmware::repo_root().join(FILE)
+}
+
+/// The other cores' baseline file's path.
+#[must_use]
+pub fn cores_path() -> PathBuf {
+    firmware::repo_root().join(CORES_FILE)
+}
+
+/// A run's name in the baseline files: its run-list line, after the core's name
+/// for a core other than the Cortex-M4F (`cortex-m7 chapter-direct centre ...`).
+#[must_use]
+pub fn key(core: &Core, run: &Run) -> String {
+    if *core == CORTEX_M4F {
+        run.to_string()
+    } else {
+        format!("{} {run}", core.name)
+    }
 }
 
 /// The guarded runs: each built-in scene at 64x64 with its own settings (centre
@@ -44,6 +70,24 @@ pub fn render(entries: &[(String, u64)]) -> String {
          # and its instruction count. The firmware test `instruction_counts_stay_within_the_baseline`\n\
          # fails when a count rises by more than {TOLERANCE_PERCENT}% over this file.\n\
          # Written by `{BLESS}`.\n\
+         # It changes only in a commit that says why (a speed-up, or a cost accepted).\n",
+    );
+    for (line, n) in entries {
+        s.push_str(&format!("{line} {n}\n"));
+    }
+    s
+}
+
+/// The other cores' file's text for `(core and run line, instructions)` pairs.
+#[must_use]
+pub fn render_cores(entries: &[(String, u64)]) -> String {
+    let mut s = format!(
+        "# Exact instruction counts of the firmware on the cores with an FPU other than the\n\
+         # Cortex-M4F (its clock, inside render_tile), one run a line: the core's name, the\n\
+         # run-list line (<scene> <sampler> <depth> <tile> <width> <height> <seed> <encoding>)\n\
+         # and its instruction count. The tests `cores::*` fail when a count rises by more than\n\
+         # {TOLERANCE_PERCENT}% over this file.\n\
+         # Written by `{BLESS}` (with {FILE}) or `{BLESS_CORES}`.\n\
          # It changes only in a commit that says why (a speed-up, or a cost accepted).\n",
     );
     for (line, n) in entries {
@@ -187,9 +231,24 @@ mod tests {
         ];
         let text = render(&entries);
         assert_eq!(parse(&text).unwrap(), entries);
-        // The committed file is what `render` writes for its own entries.
+        // The committed files are what `render` and `render_cores` write for their
+        // own entries.
         let file = std::fs::read_to_string(path()).unwrap();
         assert_eq!(render(&parse(&file).unwrap()), file);
+        let cores = std::fs::read_to_string(cores_path()).unwrap();
+        assert_eq!(render_cores(&parse(&cores).unwrap()), cores);
+        // Every other core has every guarded run.
+        let cores = parse(&cores).unwrap();
+        for core in firmware::FPU_CORES {
+            for run in runs() {
+                let k = key(&core, &run);
+                assert!(
+                    cores.iter().any(|(l, _)| *l == k),
+                    "{k} is not in {CORES_FILE}"
+                );
+            }
+        }
+        assert_eq!(key(&CORTEX_M4F, &runs()[0]), runs()[0].to_string());
         let now = vec![
             ("chapter-direct centre 0 16 64 64 0".to_string(), 1021),
             ("showcase centre 5 16 64 64 0".to_string(), 4800),

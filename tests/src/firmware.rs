@@ -1,5 +1,6 @@
 //! The firmware test image (`tests/firmware`, package `tessera-fw`): building it for
-//! the Cortex-M4F and running it under qemu's `mps2-an386` board.
+//! a core ([`Core`]: the Cortex-M4F on qemu's `mps2-an386` board, [`CORTEX_M4F`],
+//! and the other cores with an FPU, [`FPU_CORES`]) and running it under qemu.
 //!
 //! Protocol: [`run`] writes the run list to `tessera-fw.runs` in a fresh temporary
 //! folder, one [`Run`] per line (`<scene>[@k] <sampler> <depth> <tile> <width>
@@ -12,9 +13,11 @@
 //! [`parse_run`], `tests/firmware/src/runs.rs`) are compiled into both.
 //!
 //! Instruction counts: with `-icount shift=0` a guest instruction takes 1 ns of
-//! virtual time and SysTick (processor clock, 25 MHz) ticks every 40 instructions;
-//! the firmware counts ticks only inside `render_tile`, so `instructions` is
-//! `ticks x 40`, exact to 40 instructions per tile, and repeatable bit for bit.
+//! virtual time and SysTick (processor clock, 25 MHz on `mps2-an386`) ticks every
+//! 40 instructions; the firmware counts ticks only inside `render_tile`, so
+//! `instructions` is `ticks x 40`, exact to 40 instructions per tile, and
+//! repeatable bit for bit. Each core's rate is its [`Core::tick`] (one tick is one
+//! instruction on RISC-V, where the clock is the `minstret` CSR).
 
 use image::RgbImage;
 use std::io::ErrorKind;
@@ -29,11 +32,12 @@ use std::time::{Duration, Instant};
 mod protocol;
 pub use protocol::*;
 
-/// The firmware's target.
+/// The Cortex-M4F firmware's target.
 pub const TARGET: &str = "thumbv7em-none-eabihf";
-/// The emulator.
+/// The Arm emulator.
 pub const QEMU: &str = "qemu-system-arm";
-/// qemu's arguments before the ELF (the same as the runner in `.cargo/config.toml`).
+/// qemu's arguments before the ELF for the Cortex-M4F (the same as the runner in
+/// `.cargo/config.toml`).
 pub const QEMU_ARGS: [&str; 10] = [
     "-cpu",
     "cortex-m4",
@@ -46,11 +50,260 @@ pub const QEMU_ARGS: [&str; 10] = [
     "shift=0",
     "-kernel",
 ];
-/// A qemu run taking longer than this is killed and reported as an error.
+/// A qemu run taking longer than this is killed and reported as an error (a
+/// firmware that faults into a loop, say, on a core without the instructions it
+/// was built for).
 pub const TIMEOUT: Duration = Duration::from_secs(300);
-/// What to do when qemu is missing.
-pub const INSTALL_HINT: &str =
-    "run `bash tests/run-all.sh`, which installs qemu-system-arm and the thumbv7em target";
+/// What to do when qemu or a target is missing.
+pub const INSTALL_HINT: &str = "run `bash tests/run-all.sh`, which installs qemu-system-arm, \
+     qemu-system-misc (qemu-system-riscv32) and the targets";
+
+/// A core the firmware test image runs on: how to build it (Rust target, flags,
+/// the board's feature of `tessera-fw`) and how qemu runs it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Core {
+    /// Its name in reports and in the images' folders (`cortex-m7`).
+    pub name: &'static str,
+    /// Its name in prose (`Cortex-M7`).
+    pub title: &'static str,
+    /// The Rust target.
+    pub target: &'static str,
+    /// Flags for rustc (the CPU, where the target does not say it).
+    pub rustflags: &'static [&'static str],
+    /// The qemu board, also the name of its memory map `tests/firmware/memory/<board>.x`.
+    pub board: &'static str,
+    /// The features of `tessera-fw` that choose the board (see its build.rs).
+    pub board_features: &'static [&'static str],
+    /// The emulator.
+    pub qemu: &'static str,
+    /// qemu's arguments before the ELF, the last one `-kernel`.
+    pub qemu_args: &'static [&'static str],
+    /// Guest instructions per tick of the firmware's clock on the board.
+    pub tick: TickRate,
+}
+
+/// The Cortex-M4F (`mps2-an386`): the reference core of the reports and of the
+/// instruction-count baseline.
+pub const CORTEX_M4F: Core = Core {
+    name: "cortex-m4f",
+    title: "Cortex-M4F",
+    target: TARGET,
+    rustflags: &[],
+    board: "mps2-an386",
+    board_features: &[],
+    qemu: QEMU,
+    qemu_args: &QEMU_ARGS,
+    tick: MPS2_AN386,
+};
+
+/// The Cortex-M7 (`mps2-an500`): `thumbv7em-none-eabihf` for that CPU, whose FPU
+/// LLVM takes as FPv5 with double precision (`vadd.f64` and the like in the image).
+pub const CORTEX_M7: Core = Core {
+    name: "cortex-m7",
+    title: "Cortex-M7",
+    target: "thumbv7em-none-eabihf",
+    rustflags: &["-C", "target-cpu=cortex-m7"],
+    board: "mps2-an500",
+    board_features: &["mps2-an500"],
+    qemu: QEMU,
+    qemu_args: &[
+        "-cpu",
+        "cortex-m7",
+        "-machine",
+        "mps2-an500",
+        "-nographic",
+        "-semihosting-config",
+        "enable=on,target=native",
+        "-icount",
+        "shift=0",
+        "-kernel",
+    ],
+    tick: MPS2_AN500,
+};
+
+/// The Cortex-M33 (`mps2-an505`, booting in the secure state): Armv8-M Mainline
+/// with its single-precision FPU (FPv5).
+pub const CORTEX_M33: Core = Core {
+    name: "cortex-m33",
+    title: "Cortex-M33",
+    target: "thumbv8m.main-none-eabihf",
+    rustflags: &[],
+    board: "mps2-an505",
+    board_features: &[],
+    qemu: QEMU,
+    qemu_args: &[
+        "-machine",
+        "mps2-an505",
+        "-nographic",
+        "-semihosting-config",
+        "enable=on,target=native",
+        "-icount",
+        "shift=0",
+        "-kernel",
+    ],
+    tick: MPS2_AN505,
+};
+
+/// The Cortex-M55 (`mps3-an547`): Armv8.1-M for that CPU, whose FPU has double
+/// precision and whose vector extension (MVE, Helium) LLVM may use.
+pub const CORTEX_M55: Core = Core {
+    name: "cortex-m55",
+    title: "Cortex-M55",
+    target: "thumbv8m.main-none-eabihf",
+    rustflags: &["-C", "target-cpu=cortex-m55"],
+    board: "mps3-an547",
+    board_features: &["mps3-an547"],
+    qemu: QEMU,
+    qemu_args: &[
+        "-machine",
+        "mps3-an547",
+        "-nographic",
+        "-semihosting-config",
+        "enable=on,target=native",
+        "-icount",
+        "shift=0",
+        "-kernel",
+    ],
+    tick: MPS3_AN547,
+};
+
+/// An rv32imafc core (qemu's `virt` board, its default CPU, without firmware:
+/// `-bios none`), single precision in hardware.
+pub const RV32IMAFC: Core = Core {
+    name: "rv32imafc",
+    title: "rv32imafc",
+    target: "riscv32imafc-unknown-none-elf",
+    rustflags: &[],
+    board: "riscv-virt",
+    board_features: &[],
+    qemu: "qemu-system-riscv32",
+    qemu_args: &[
+        "-machine",
+        "virt",
+        "-bios",
+        "none",
+        "-nographic",
+        "-semihosting-config",
+        "enable=on,target=native",
+        "-icount",
+        "shift=0",
+        "-kernel",
+    ],
+    tick: RISCV_VIRT,
+};
+
+/// Every core with an FPU beside the Cortex-M4F.
+pub const FPU_CORES: [Core; 4] = [CORTEX_M7, CORTEX_M33, CORTEX_M55, RV32IMAFC];
+
+/// Every core the firmware runs on, the Cortex-M4F first.
+pub const CORES: [Core; 5] = [CORTEX_M4F, CORTEX_M7, CORTEX_M33, CORTEX_M55, RV32IMAFC];
+
+impl Core {
+    /// The core's memory map, `tests/firmware/memory/<board>.x`.
+    #[must_use]
+    pub fn memory_map(&self) -> PathBuf {
+        firmware_dir()
+            .join("memory")
+            .join(format!("{}.x", self.board))
+    }
+
+    /// The FLASH and RAM lengths of its memory map, bytes.
+    pub fn memory_budget(&self) -> Result<(u64, u64), String> {
+        memory_regions(&self.memory_map())
+    }
+
+    /// The first line of `<qemu> --version`, or an error saying how to install it.
+    pub fn qemu_version(&self) -> Result<String, String> {
+        tool_version(self.qemu)
+    }
+
+    /// Builds the firmware for this core with the core features `features` (as
+    /// [`build`]) and returns the ELF's path. The Cortex-M4F's images keep their
+    /// folders (`tests/firmware/target/<image name>`); another core's are
+    /// `tests/firmware/target/<core>-<image name>`.
+    pub fn build(&self, features: &[&str]) -> Result<PathBuf, String> {
+        let backend = image_name(features)?;
+        let folder = if *self == CORTEX_M4F {
+            backend.clone()
+        } else {
+            format!("{}-{backend}", self.name)
+        };
+        let target_dir = firmware_dir().join("target").join(folder);
+        let what = format!("the firmware for the {} ({backend})", self.title);
+        let mut all: Vec<&str> = self.board_features.to_vec();
+        all.extend_from_slice(features);
+        self.build_elf(
+            &firmware_dir().join("Cargo.toml"),
+            &target_dir,
+            &all,
+            "tessera-fw",
+            &what,
+        )
+    }
+
+    /// Builds the binaries of the firmware crate `manifest` for this core (release,
+    /// its target and flags, the crate's `features`) into `target_dir` and returns
+    /// the path of the ELF of `bin`; `what` names it in errors. Cargo runs from the
+    /// repository root so that the root `.cargo/config.toml` applies.
+    pub fn build_elf(
+        &self,
+        manifest: &Path,
+        target_dir: &Path,
+        features: &[&str],
+        bin: &str,
+        what: &str,
+    ) -> Result<PathBuf, String> {
+        let mut cmd = cargo();
+        cmd.current_dir(repo_root())
+            .args(["build", "--release", "--target", self.target])
+            .arg("--manifest-path")
+            .arg(manifest)
+            .arg("--target-dir")
+            .arg(target_dir);
+        if !features.is_empty() {
+            cmd.arg("--features").arg(features.join(","));
+        }
+        if !self.rustflags.is_empty() {
+            cmd.env("CARGO_ENCODED_RUSTFLAGS", self.rustflags.join("\x1f"));
+        }
+        let target = self.target;
+        checked(
+            &mut cmd,
+            &format!("cargo to build {what}"),
+            &format!("building {what} failed; is the {target} target installed? ({INSTALL_HINT})"),
+        )?;
+        let elf = target_dir.join(target).join("release").join(bin);
+        if elf.is_file() {
+            Ok(elf)
+        } else {
+            Err(format!(
+                "the build of {what} left no ELF at {}",
+                elf.display()
+            ))
+        }
+    }
+
+    /// Runs `runs` on this core's firmware `elf` under qemu (one qemu process for
+    /// the whole list), as [`run`].
+    pub fn run(&self, elf: &Path, runs: &[Run]) -> Result<Output, String> {
+        self.run_with(elf, runs, &[])
+    }
+
+    /// [`Core::run`] with `extra` qemu arguments placed before `-kernel`.
+    pub fn run_with(&self, elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, String> {
+        let dir = TempDir::new()?;
+        let list = write_run_list(&dir.0, runs)?;
+        let (stdout, fail) = self.qemu(&dir.0, elf, extra, Some(&list))?;
+        parse_output(&stdout, runs, &dir.0, self.tick).map_err(fail)
+    }
+
+    /// Runs an ELF that needs no run list and returns its standard output, as
+    /// [`run_alone`].
+    pub fn run_alone(&self, elf: &Path) -> Result<String, String> {
+        let dir = TempDir::new()?;
+        Ok(self.qemu(&dir.0, elf, &[], None)?.0)
+    }
+}
 
 /// The repository's root folder.
 #[must_use]
@@ -79,7 +332,12 @@ pub fn firmware_dir() -> PathBuf {
 /// The first line of `qemu-system-arm --version`, or an error saying how to
 /// install qemu.
 pub fn qemu_version() -> Result<String, String> {
-    match Command::new(QEMU).arg("--version").output() {
+    tool_version(QEMU)
+}
+
+/// The first line of `<qemu> --version`, or an error saying how to install it.
+fn tool_version(qemu: &str) -> Result<String, String> {
+    match Command::new(qemu).arg("--version").output() {
         Ok(out) if out.status.success() => Ok(String::from_utf8_lossy(&out.stdout)
             .lines()
             .next()
@@ -87,13 +345,13 @@ pub fn qemu_version() -> Result<String, String> {
             .trim()
             .to_string()),
         Ok(out) => Err(format!(
-            "`{QEMU} --version` failed ({}): {INSTALL_HINT}",
+            "`{qemu} --version` failed ({}): {INSTALL_HINT}",
             out.status
         )),
         Err(e) if e.kind() == ErrorKind::NotFound => {
-            Err(format!("{QEMU} is not installed: {INSTALL_HINT}"))
+            Err(format!("{qemu} is not installed: {INSTALL_HINT}"))
         }
-        Err(e) => Err(format!("cannot run {QEMU}: {e}; {INSTALL_HINT}")),
+        Err(e) => Err(format!("cannot run {qemu}: {e}; {INSTALL_HINT}")),
     }
 }
 
@@ -140,24 +398,15 @@ pub fn image_name(features: &[&str]) -> Result<String, String> {
     })
 }
 
-/// Builds the firmware (release profile of `tests/firmware`) with the core
-/// features `features` (features of `tessera-fw`, which forwards them to the core:
-/// `&[]` is the exact math, `&["fast-math"]` the fast-math backend) and returns the
-/// ELF's path. Each set of features has its own target folder under
+/// Builds the Cortex-M4F firmware (release profile of `tests/firmware`) with the
+/// core features `features` (features of `tessera-fw`, which forwards them to the
+/// core: `&[]` is the exact math, `&["fast-math"]` the fast-math backend) and
+/// returns the ELF's path. Each set of features has its own target folder under
 /// `tests/firmware/target/` ([`image_name`]), so the images exist side by side.
 /// Cargo runs from the repository root so that the root `.cargo/config.toml`
-/// (linker script) applies.
+/// applies. [`Core::build`] builds for another core.
 pub fn build(features: &[&str]) -> Result<PathBuf, String> {
-    let backend = image_name(features)?;
-    let target_dir = firmware_dir().join("target").join(&backend);
-    let what = format!("the firmware ({backend})");
-    build_elf(
-        &firmware_dir().join("Cargo.toml"),
-        &target_dir,
-        features,
-        "tessera-fw",
-        &what,
-    )
+    CORTEX_M4F.build(features)
 }
 
 /// A cargo command (the cargo running the tests, if any) without the
@@ -182,8 +431,7 @@ pub fn cargo() -> Command {
 
 /// Builds the binaries of the firmware crate `manifest` (release, for [`TARGET`],
 /// the crate's `features`) into `target_dir` and returns the path of the ELF of
-/// `bin`; `what` names it in errors. Cargo runs from the repository root so that
-/// the root `.cargo/config.toml` (linker script) applies.
+/// `bin`; `what` names it in errors ([`Core::build_elf`] of the Cortex-M4F).
 pub fn build_elf(
     manifest: &Path,
     target_dir: &Path,
@@ -191,30 +439,65 @@ pub fn build_elf(
     bin: &str,
     what: &str,
 ) -> Result<PathBuf, String> {
-    let mut cmd = cargo();
-    cmd.current_dir(repo_root())
-        .args(["build", "--release", "--target", TARGET])
-        .arg("--manifest-path")
-        .arg(manifest)
-        .arg("--target-dir")
-        .arg(target_dir);
-    if !features.is_empty() {
-        cmd.arg("--features").arg(features.join(","));
+    CORTEX_M4F.build_elf(manifest, target_dir, features, bin, what)
+}
+
+/// The square root's check (`tessera-sqrt`): its inputs and exact test, the
+/// firmware's own `tests/firmware/src/sqrt_check.rs`, included here.
+#[path = "../firmware/src/sqrt_check.rs"]
+pub mod sqrt_check;
+
+/// What `tessera-sqrt` reported: the number of inputs, how many roots were not
+/// correctly rounded, and the hash of the results.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SqrtReport {
+    /// Inputs checked.
+    pub cases: u64,
+    /// Results that were not correctly rounded.
+    pub wrong: u64,
+    /// FNV-1a of the results' bits ([`sqrt_check::hash`]).
+    pub hash: u32,
+}
+
+impl SqrtReport {
+    /// The host's: the core's `sqrt` built for this machine, on the same inputs.
+    #[must_use]
+    pub fn host() -> Self {
+        let inputs = || sqrt_check::inputs();
+        let wrong = inputs()
+            .filter(|&x| !sqrt_check::correctly_rounded(x, tessera::testing::sqrt(x)))
+            .count();
+        Self {
+            cases: inputs().count() as u64,
+            wrong: wrong as u64,
+            hash: sqrt_check::hash(inputs().map(tessera::testing::sqrt)),
+        }
     }
-    checked(
-        &mut cmd,
-        &format!("cargo to build {what}"),
-        &format!("building {what} failed; is the {TARGET} target installed? ({INSTALL_HINT})"),
-    )?;
-    let elf = target_dir.join(TARGET).join("release").join(bin);
-    if elf.is_file() {
-        Ok(elf)
-    } else {
-        Err(format!(
-            "the build of {what} left no ELF at {}",
-            elf.display()
-        ))
-    }
+}
+
+/// Runs `tessera-sqrt` (beside `elf`, the core's `tessera-fw`) on `core` and reads
+/// its report line.
+pub fn check_sqrt(core: &Core, elf: &Path) -> Result<SqrtReport, String> {
+    let sqrt = elf.with_file_name("tessera-sqrt");
+    let out = core.run_alone(&sqrt)?;
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("sqrt cases="))
+        .ok_or_else(|| format!("no `sqrt cases=` line from {}:\n{out}", sqrt.display()))?;
+    let hash = field(line, "hash")?;
+    Ok(SqrtReport {
+        cases: number(line, "cases")?,
+        wrong: number(line, "wrong")?,
+        hash: u32::from_str_radix(hash, 16)
+            .map_err(|_| format!("hash={hash} is not hexadecimal in {line:?}"))?,
+    })
+    .and_then(|r| {
+        if r.wrong == 0 {
+            Ok(r)
+        } else {
+            Err(format!("{} on the {}:\n{out}", line, core.title))
+        }
+    })
 }
 
 /// The run list's line, written here ([`Run`]'s `Display`) and read by the
@@ -260,9 +543,10 @@ impl Run {
 pub struct RunResult {
     /// The frame.
     pub pixels: RgbImage,
-    /// SysTick ticks inside `render_tile`.
+    /// Clock ticks inside `render_tile` (SysTick on Arm, `minstret` on RISC-V).
     pub ticks: u64,
-    /// `ticks x 40`: guest instructions inside `render_tile`.
+    /// Guest instructions inside `render_tile`: `ticks x 40` on the Cortex-M4F,
+    /// `ticks` at the core's [`Core::tick`] rate.
     pub instructions: u64,
     /// Pixels of the frame.
     pub pixels_count: u64,
@@ -334,66 +618,91 @@ impl Drop for TempDir {
     }
 }
 
-/// Runs `runs` on the firmware `elf` under qemu (one qemu process for the whole
-/// list). A qemu failure, a timeout, an `error:`/`panic:` report or a missing
-/// result is an `Err` carrying qemu's output.
+/// Runs `runs` on the Cortex-M4F firmware `elf` under qemu (one qemu process for
+/// the whole list). A qemu failure, a timeout, an `error:`/`panic:` report or a
+/// missing result is an `Err` carrying qemu's output.
 pub fn run(elf: &Path, runs: &[Run]) -> Result<Output, String> {
-    run_with(elf, runs, &[])
+    CORTEX_M4F.run(elf, runs)
 }
 
 /// [`run`] with `extra` qemu arguments placed before `-kernel` (a `-plugin`, say).
 pub fn run_with(elf: &Path, runs: &[Run], extra: &[String]) -> Result<Output, String> {
-    let dir = TempDir::new()?;
-    let list = write_run_list(&dir.0, runs)?;
-    let (stdout, fail) = qemu(&dir.0, elf, extra, Some(&list))?;
-    parse_output(&stdout, runs, &dir.0).map_err(fail)
+    CORTEX_M4F.run_with(elf, runs, extra)
 }
 
-/// Runs an ELF that needs no run list (the teapot alone, `tessera-teapot`) and
-/// returns its standard output; a qemu failure, a timeout or an `error:`/`panic:`/
-/// `hard fault` line is an `Err` with qemu's output.
+/// Runs a Cortex-M4F ELF that needs no run list (the teapot alone,
+/// `tessera-teapot`) and returns its standard output; a qemu failure, a timeout
+/// or an `error:`/`panic:`/`hard fault` line is an `Err` with qemu's output.
 pub fn run_alone(elf: &Path) -> Result<String, String> {
-    let dir = TempDir::new()?;
-    run_in(dir.path(), elf)
+    CORTEX_M4F.run_alone(elf)
 }
 
 /// [`run_alone`] in the folder `dir`, where the files the firmware writes over
 /// semihosting stay (with qemu's output, `qemu.stdout` and `qemu.stderr`).
 pub fn run_in(dir: &Path, elf: &Path) -> Result<String, String> {
-    Ok(qemu(dir, elf, &[], None)?.0)
+    Ok(CORTEX_M4F.qemu(dir, elf, &[], None)?.0)
 }
 
 /// Runs qemu on `elf` in `dir` (`extra` arguments before `-kernel`) to its end and
 /// returns its standard output, with the way to report a later failure (qemu's
 /// outputs and the run list `list`, if any, appended); a qemu failure, a timeout
 /// or an `error:`/`panic:`/`hard fault` line is an `Err` so reported.
-fn qemu(
-    dir: &Path,
-    elf: &Path,
-    extra: &[String],
-    list: Option<&str>,
-) -> Result<(String, impl Fn(String) -> String), String> {
-    let status = wait_for_qemu(start_qemu(dir, elf, extra)?);
-    let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap_or_default();
-    let (stdout, stderr) = (read("qemu.stdout"), read("qemu.stderr"));
-    let list = list.map_or_else(String::new, |l| format!("--- run list\n{l}"));
-    let (out, elf) = (stdout.clone(), elf.display().to_string());
-    let fail = move |why: String| {
-        format!(
-            "firmware run of {elf} failed: {why}\n{list}--- qemu stdout\n{out}--- qemu stderr\n{stderr}"
-        )
-    };
-    let status = status.map_err(&fail)?;
-    if !status.success() {
-        return Err(fail(format!("qemu exited with {status}")));
+impl Core {
+    fn qemu(
+        &self,
+        dir: &Path,
+        elf: &Path,
+        extra: &[String],
+        list: Option<&str>,
+    ) -> Result<(String, impl Fn(String) -> String + use<>), String> {
+        let status = wait_for_qemu(self.start_qemu(dir, elf, extra)?);
+        let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap_or_default();
+        let (stdout, stderr) = (read("qemu.stdout"), read("qemu.stderr"));
+        let list = list.map_or_else(String::new, |l| format!("--- run list\n{l}"));
+        let (out, elf) = (stdout.clone(), elf.display().to_string());
+        let fail = move |why: String| {
+            format!(
+                "firmware run of {elf} failed: {why}\n{list}--- qemu stdout\n{out}--- qemu stderr\n{stderr}"
+            )
+        };
+        let status = status.map_err(&fail)?;
+        if !status.success() {
+            return Err(fail(format!("qemu exited with {status}")));
+        }
+        if let Some(l) = stdout.lines().find(|l| {
+            l.starts_with("error:") || l.starts_with("panic:") || l.starts_with("hard fault")
+        }) {
+            return Err(fail(l.to_string()));
+        }
+        Ok((stdout, fail))
     }
-    if let Some(l) = stdout
-        .lines()
-        .find(|l| l.starts_with("error:") || l.starts_with("panic:") || l.starts_with("hard fault"))
-    {
-        return Err(fail(l.to_string()));
+
+    /// Starts qemu on `elf` in `dir` ([`Core::qemu_args`], `extra` before `-kernel`),
+    /// its output to `qemu.stdout` and `qemu.stderr` there.
+    fn start_qemu(&self, dir: &Path, elf: &Path, extra: &[String]) -> Result<Child, String> {
+        let file = |name: &str| {
+            std::fs::File::create(dir.join(name)).map_err(|e| format!("cannot create {name}: {e}"))
+        };
+        let (kernel, before) = self.qemu_args.split_last().unwrap_or((&"-kernel", &[]));
+        let qemu = self.qemu;
+        Command::new(qemu)
+            .args(before)
+            .args(extra)
+            .arg(kernel)
+            .arg(elf)
+            .current_dir(dir)
+            .stdin(Stdio::null())
+            .stdout(file("qemu.stdout")?)
+            .stderr(file("qemu.stderr")?)
+            .spawn()
+            .map_err(|e| {
+                if e.kind() == ErrorKind::NotFound {
+                    format!("{qemu} is not installed: {INSTALL_HINT}")
+                } else {
+                    format!("cannot start {qemu}: {e}")
+                }
+            })
     }
-    Ok((stdout, fail))
 }
 
 /// Writes the run list of `runs` to [`RUNS_FILE`] in `dir` and returns it; an error
@@ -413,32 +722,6 @@ fn write_run_list(dir: &Path, runs: &[Run]) -> Result<String, String> {
     std::fs::write(dir.join(RUNS_FILE), list.as_bytes())
         .map_err(|e| format!("cannot write {RUNS_FILE}: {e}"))?;
     Ok(list)
-}
-
-/// Starts qemu on `elf` in `dir` ([`QEMU_ARGS`], `extra` before `-kernel`), its
-/// output to `qemu.stdout` and `qemu.stderr` there.
-fn start_qemu(dir: &Path, elf: &Path, extra: &[String]) -> Result<Child, String> {
-    let file = |name: &str| {
-        std::fs::File::create(dir.join(name)).map_err(|e| format!("cannot create {name}: {e}"))
-    };
-    let (kernel, before) = QEMU_ARGS.split_last().unwrap_or((&"-kernel", &[]));
-    Command::new(QEMU)
-        .args(before)
-        .args(extra)
-        .arg(kernel)
-        .arg(elf)
-        .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(file("qemu.stdout")?)
-        .stderr(file("qemu.stderr")?)
-        .spawn()
-        .map_err(|e| {
-            if e.kind() == ErrorKind::NotFound {
-                format!("{QEMU} is not installed: {INSTALL_HINT}")
-            } else {
-                format!("cannot start {QEMU}: {e}")
-            }
-        })
 }
 
 /// Waits for qemu to exit; kills it after [`TIMEOUT`].
@@ -471,7 +754,7 @@ fn number(line: &str, key: &str) -> Result<u64, String> {
         .map_err(|_| format!("{key}={v} is not a number in {line:?}"))
 }
 
-fn parse_output(stdout: &str, runs: &[Run], dir: &Path) -> Result<Output, String> {
+fn parse_output(stdout: &str, runs: &[Run], dir: &Path, tick: TickRate) -> Result<Output, String> {
     let line = |prefix: &str| {
         stdout
             .lines()
@@ -493,8 +776,11 @@ fn parse_output(stdout: &str, runs: &[Run], dir: &Path) -> Result<Output, String
         }
         let ticks = number(l, "ticks")?;
         let instructions = number(l, "instructions")?;
-        if instructions != ticks * INSTRUCTIONS_PER_TICK {
-            return Err(format!("run {i}: instructions != ticks x 40 in {l:?}"));
+        if instructions != tick.instructions(ticks) {
+            return Err(format!(
+                "run {i}: instructions != ticks x {}/{} in {l:?}",
+                tick.instructions, tick.ticks
+            ));
         }
         let name = format!("{FRAME_PREFIX}{i}{FRAME_SUFFIX}");
         let bytes =
@@ -529,7 +815,7 @@ fn parse_output(stdout: &str, runs: &[Run], dir: &Path) -> Result<Output, String
 pub struct Sizes {
     /// `.vector_table` (flash).
     pub vector_table: u64,
-    /// `.text` (flash).
+    /// `.text` (flash; on RISC-V with riscv-rt's `.init.rust`).
     pub text: u64,
     /// `.rodata` (flash).
     pub rodata: u64,
@@ -564,7 +850,8 @@ pub fn sections(elf: &Path) -> Result<Sizes, String> {
     for sec in file.sections() {
         let slot = match sec.name().unwrap_or("") {
             ".vector_table" => &mut s.vector_table,
-            ".text" => &mut s.text,
+            // riscv-rt's start-up code lies in `.init.rust`, beside `.text`.
+            ".text" | ".init.rust" => &mut s.text,
             ".rodata" => &mut s.rodata,
             ".data" => &mut s.data,
             ".bss" => &mut s.bss,
@@ -617,9 +904,10 @@ pub fn symbols(elf: &Path) -> Result<Vec<Symbol>, String> {
         .collect())
 }
 
-/// The FLASH and RAM lengths of `tests/firmware/memory.x`, bytes.
+/// The FLASH and RAM lengths of the Cortex-M4F's memory map
+/// (`tests/firmware/memory/mps2-an386.x`), bytes.
 pub fn memory_budget() -> Result<(u64, u64), String> {
-    memory_regions(&firmware_dir().join("memory.x"))
+    CORTEX_M4F.memory_budget()
 }
 
 /// The FLASH and RAM lengths of the linker memory file `path`, bytes.
@@ -706,6 +994,41 @@ mod tests {
             parse_run("chapter-reflect centre 1 16 8 8 0 srgb 1"),
             Err("too many fields")
         );
+    }
+
+    /// The exact test of a square root agrees with `f64`'s (correctly rounded
+    /// to `f32`: 53 >= 2 x 24 + 2 bits, so the double rounding is harmless) on
+    /// every input, and refuses the neighbours of the right result; the host's
+    /// `sqrt` passes it.
+    #[test]
+    fn the_square_root_check_is_exact() {
+        let mut n = 0;
+        for x in sqrt_check::inputs() {
+            let want = (f64::from(x)).sqrt() as f32;
+            assert!(sqrt_check::correctly_rounded(x, want), "{:#x}", x.to_bits());
+            if want.is_finite() && want > 0.0 {
+                for wrong in [next(want, -1), next(want, 1)] {
+                    assert!(
+                        !sqrt_check::correctly_rounded(x, wrong),
+                        "{:#x}: {:#x} accepted",
+                        x.to_bits(),
+                        wrong.to_bits()
+                    );
+                }
+            }
+            n += 1;
+        }
+        assert_eq!(n, SqrtReport::host().cases);
+        assert!(!sqrt_check::correctly_rounded(-1.0, 0.0));
+        assert!(!sqrt_check::correctly_rounded(-0.0, 0.0));
+        assert!(sqrt_check::correctly_rounded(-0.0, -0.0));
+        assert!(sqrt_check::correctly_rounded(f32::NAN, f32::NAN));
+        assert_eq!(SqrtReport::host().wrong, 0);
+    }
+
+    /// The float `steps` ulps from a positive finite `x`.
+    fn next(x: f32, steps: i32) -> f32 {
+        f32::from_bits(x.to_bits().wrapping_add_signed(steps))
     }
 
     /// The image names (target folders) of the feature sets: the exact image and

@@ -32,7 +32,7 @@ fn run(runs: &[Run]) -> Output {
 
 /// The host build of the core, same settings and tile size; a baked scene
 /// (its `static` tables on the chip) as the host builds it in RAM.
-fn host(run: &Run) -> RgbImage {
+pub(crate) fn host(run: &Run) -> RgbImage {
     let vp = Viewport::new(run.width, run.height);
     let scene = match run.scene {
         SceneRef::Baked(b) => SceneRef::Builtin(b),
@@ -54,8 +54,10 @@ fn with(scene: Builtin, sampler: Sampler, seed: u32, width: u16, height: u16) ->
     }
 }
 
-#[test]
-fn firmware_pixels_equal_the_host_build_byte_for_byte() {
+/// The renders whose pixels must equal the host's on every core: each built-in
+/// scene with four samplers, every tile size, both encodings, the baked scenes,
+/// the extremes battery.
+pub(crate) fn identity_runs() -> Vec<Run> {
     let mut runs = Vec::new();
     for b in Builtin::ALL {
         let adaptive = Adaptive { k: 2, threshold: 8 };
@@ -97,7 +99,13 @@ fn firmware_pixels_equal_the_host_build_byte_for_byte() {
     for e in Extreme::ALL {
         runs.push(Run::of(e, 48, 36));
     }
-    let out = run(&runs);
+    runs
+}
+
+/// The runs whose chip pixels differ from the host's, one line each; both images
+/// of each are saved in target/test-images as `<prefix>-<i>-chip.png` and
+/// `<prefix>-<i>-host.png`.
+pub(crate) fn differences(prefix: &str, runs: &[Run], out: &Output) -> Vec<String> {
     let mut bad = Vec::new();
     for (i, (r, chip)) in runs.iter().zip(&out.runs).enumerate() {
         let want = host(r);
@@ -108,16 +116,34 @@ fn firmware_pixels_equal_the_host_build_byte_for_byte() {
                 .filter(|(a, b)| a != b)
                 .count();
             let dir = tessera_tests::output_dir();
-            let _ = chip.pixels.save(dir.join(format!("firmware-{i}-chip.png")));
-            let _ = want.save(dir.join(format!("firmware-{i}-host.png")));
+            let _ = chip.pixels.save(dir.join(format!("{prefix}-{i}-chip.png")));
+            let _ = want.save(dir.join(format!("{prefix}-{i}-host.png")));
             bad.push(format!("run {i} ({r}): {differ} pixels differ"));
         }
     }
+    bad
+}
+
+#[test]
+fn firmware_pixels_equal_the_host_build_byte_for_byte() {
+    let runs = identity_runs();
+    let out = run(&runs);
+    let bad = differences("firmware", &runs, &out);
     assert!(
         bad.is_empty(),
         "chip and host differ (images in target/test-images):\n{}",
         bad.join("\n")
     );
+}
+
+/// The core's square root (`vsqrt.f32`) is correctly rounded on the chip: hard
+/// cases, special values and pseudo-random inputs (`tessera-sqrt`), the same bits
+/// as the host's.
+#[test]
+fn sqrt_is_correctly_rounded_on_the_chip() {
+    let sqrt =
+        firmware::check_sqrt(&firmware::CORTEX_M4F, &elf()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(sqrt, firmware::SqrtReport::host());
 }
 
 #[test]

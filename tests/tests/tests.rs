@@ -5,6 +5,7 @@ mod analytic;
 mod board;
 mod builtin_images;
 mod convergence;
+mod cores;
 mod culling;
 mod docs;
 mod extremes;

@@ -1,16 +1,33 @@
 //! Instruction counting with SysTick.
 //!
 //! qemu runs with `-icount shift=0`: one guest instruction advances virtual time by
-//! 1 ns. SysTick on mps2-an386, clocked from the processor clock (25 MHz), then
-//! decrements once every 40 instructions, whatever the host does. The counter is 24
-//! bits; the SysTick exception counts its wraps, so [`now`] is a 64-bit tick count.
+//! 1 ns. SysTick, clocked from the processor clock, then decrements at a fixed
+//! rate in instructions, whatever the host does: once every 40 on mps2-an386
+//! (25 MHz), and [`RATE`] on each board. The counter is 24 bits; the SysTick
+//! exception counts its wraps, so [`now`] is a 64-bit tick count.
 
 use core::sync::atomic::{AtomicU32, Ordering};
 use cortex_m::peripheral::SYST;
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_rt::exception;
 
+use crate::protocol::{self, TickRate};
+
 const RELOAD: u32 = 0x00FF_FFFF;
+
+/// Guest instructions per tick on this board (build.rs sets `board`; the harness
+/// checks the rate against the calibration loop).
+#[cfg(board = "mps2-an386")]
+pub const RATE: TickRate = protocol::MPS2_AN386;
+/// See above.
+#[cfg(board = "mps2-an500")]
+pub const RATE: TickRate = protocol::MPS2_AN500;
+/// See above.
+#[cfg(board = "mps2-an505")]
+pub const RATE: TickRate = protocol::MPS2_AN505;
+/// See above.
+#[cfg(board = "mps3-an547")]
+pub const RATE: TickRate = protocol::MPS3_AN547;
 
 static WRAPS: AtomicU32 = AtomicU32::new(0);
 
@@ -47,7 +64,7 @@ pub fn now() -> u64 {
 
 /// Runs a loop of exactly `2 * iterations` instructions (`subs` + `bne`) and
 /// returns the ticks it took, to check
-/// [`INSTRUCTIONS_PER_TICK`](crate::protocol::INSTRUCTIONS_PER_TICK).
+/// [`RATE`].
 pub fn calibrate(iterations: u32) -> u64 {
     let t0 = now();
     let mut n = iterations.max(1);

@@ -1,4 +1,8 @@
-//! Firmware test image of tessera for qemu's mps2-an386 (Cortex-M4F with FPU).
+//! Firmware test image of tessera, for the cores with an FPU that qemu emulates:
+//! `mps2-an386` (Cortex-M4F), `mps2-an500` (Cortex-M7), `mps2-an505` (Cortex-M33),
+//! `mps3-an547` (Cortex-M55) and `virt` (rv32imafc). One source; the core's clock,
+//! fault handlers and runtime are chosen by target (`clock`, `faults`: on RISC-V
+//! the files under `riscv/`), the memory map by build.rs.
 //!
 //! Protocol (all I/O over semihosting, files relative to qemu's working directory):
 //! 1. reads the run list `tessera-fw.runs` (see [`runs`]; the file names and limits
@@ -10,9 +14,10 @@
 //!    in row-major image order, 3 bytes (R, G, B) each, no header (each tile row is
 //!    written at its offset with SYS_SEEK);
 //! 4. prints `run <i> scene=<name> sampler=<s> depth=<d> tile=<n> size=<w>x<h>
-//!    seed=<seed> ticks=<t> instructions=<t*40> pixels=<w*h> stack=<bytes>
-//!    base=<bytes> render=<bytes>`, where ticks are SysTick ticks spent inside
-//!    `render_tile` only, `stack` is the peak stack of the whole firmware during
+//!    seed=<seed> ticks=<t> instructions=<t*k> pixels=<w*h> stack=<bytes>
+//!    base=<bytes> render=<bytes>`, where ticks are clock ticks (SysTick on Arm,
+//!    `minstret` on RISC-V) spent inside `render_tile` only, `k` the board's
+//!    instructions per tick ([`clock::RATE`]: 40 on mps2-an386), `stack` is the peak stack of the whole firmware during
 //!    the run (from the top of RAM), `base` the stack in use when the run started
 //!    (the harness) and `render` the peak below the tile loop's stack pointer (what
 //!    `render_tile` itself needs);
@@ -29,18 +34,33 @@
 #![no_std]
 #![no_main]
 
+#[cfg_attr(target_arch = "riscv32", path = "riscv/clock.rs")]
 mod clock;
+#[cfg_attr(target_arch = "riscv32", path = "riscv/faults.rs")]
 mod faults;
+// The tick rates of the other boards are the harness's.
+#[allow(dead_code)]
 mod protocol;
 mod runs;
 mod semihost;
 mod stack;
 
 use core::fmt::{self, Write as _};
+#[cfg(target_arch = "arm")]
 use cortex_m_rt::entry;
-use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
-use cortex_m_semihosting::hprintln;
+#[cfg(target_arch = "arm")]
+use cortex_m_semihosting::{
+    debug::{self, EXIT_FAILURE, EXIT_SUCCESS},
+    hprintln,
+};
 use protocol::{FRAME_PATTERN, FRAME_PREFIX, FRAME_SUFFIX, RUNS_FILE, RUNS_MAX};
+#[cfg(target_arch = "riscv32")]
+use riscv_rt::entry;
+#[cfg(target_arch = "riscv32")]
+use riscv_semihosting::{
+    debug::{self, EXIT_FAILURE, EXIT_SUCCESS},
+    hprintln,
+};
 use semihost::{HostFile, IoError};
 use tessera::{Frame, Tile, TileCoord, Viewport};
 
@@ -100,13 +120,21 @@ fn main() -> ! {
     };
     debug::exit(status);
     loop {
+        #[cfg(target_arch = "arm")]
         cortex_m::asm::bkpt();
+        #[cfg(target_arch = "riscv32")]
+        riscv::asm::wfi();
     }
 }
 
 fn run_all() -> Result<(), FwError> {
-    let p = cortex_m::Peripherals::take().ok_or(FwError::Init("the core peripherals"))?;
-    clock::start(p.SYST);
+    #[cfg(target_arch = "arm")]
+    {
+        let p = cortex_m::Peripherals::take().ok_or(FwError::Init("the core peripherals"))?;
+        clock::start(p.SYST);
+    }
+    #[cfg(target_arch = "riscv32")]
+    clock::start();
 
     let (buf, mut tiles) = statics()?;
     let text = read_runs(buf)?;
@@ -143,7 +171,7 @@ fn run_all() -> Result<(), FwError> {
             run.height,
             run.seed,
             ticks,
-            ticks * protocol::INSTRUCTIONS_PER_TICK,
+            clock::RATE.instructions(ticks),
             u32::from(run.width) * u32::from(run.height),
             used,
             base,
@@ -166,10 +194,14 @@ fn run_all() -> Result<(), FwError> {
 /// stay under the renders.
 #[inline(never)]
 fn statics() -> Result<(&'static mut [u8; RUNS_MAX], Tiles), FwError> {
-    let buf = cortex_m::singleton!(: [u8; RUNS_MAX] = [0; RUNS_MAX]);
-    let t8 = cortex_m::singleton!(: Tile<8> = Tile::new());
-    let t16 = cortex_m::singleton!(: Tile<16> = Tile::new());
-    let t32 = cortex_m::singleton!(: Tile<32> = Tile::new());
+    #[cfg(target_arch = "arm")]
+    use cortex_m::singleton;
+    #[cfg(target_arch = "riscv32")]
+    use riscv::singleton;
+    let buf = singleton!(: [u8; RUNS_MAX] = [0; RUNS_MAX]);
+    let t8 = singleton!(: Tile<8> = Tile::new());
+    let t16 = singleton!(: Tile<16> = Tile::new());
+    let t32 = singleton!(: Tile<32> = Tile::new());
     match (buf, t8, t16, t32) {
         (Some(buf), Some(t8), Some(t16), Some(t32)) => Ok((buf, Tiles { t8, t16, t32 })),
         _ => Err(FwError::Init("the static buffers")),
@@ -232,16 +264,25 @@ fn render_tiles<const N: usize>(
 /// instruction-profiling qemu plugin (`tests/profiler/insn_profile.c`, used by
 /// `chip-profile`) starts counting when its first instruction executes. The host
 /// finds it by name in the ELF's symbol table. Its body is an empty `asm!` (no
-/// instruction: the function is a lone `bx lr`), which the compiler must assume
-/// has effects, so the call is kept; the comment in it differs between the two
-/// markers so that they are not merged into one address.
+/// instruction: the function is a lone `bx lr`, `ret` on RISC-V), which the
+/// compiler must assume has effects, so the call is kept; the comment in it
+/// differs between the two markers so that they are not merged into one address.
 #[inline(never)]
 #[unsafe(no_mangle)]
 pub extern "C" fn tessera_profile_begin() {
     // SAFETY: an assembler comment, no instruction: touches no register or memory.
+    #[cfg(target_arch = "arm")]
     unsafe {
         core::arch::asm!(
             "@ tessera_profile_begin",
+            options(nomem, nostack, preserves_flags)
+        )
+    }
+    // SAFETY: as above.
+    #[cfg(target_arch = "riscv32")]
+    unsafe {
+        core::arch::asm!(
+            "# tessera_profile_begin",
             options(nomem, nostack, preserves_flags)
         )
     }
@@ -253,9 +294,18 @@ pub extern "C" fn tessera_profile_begin() {
 #[unsafe(no_mangle)]
 pub extern "C" fn tessera_profile_end() {
     // SAFETY: an assembler comment, no instruction: touches no register or memory.
+    #[cfg(target_arch = "arm")]
     unsafe {
         core::arch::asm!(
             "@ tessera_profile_end",
+            options(nomem, nostack, preserves_flags)
+        )
+    }
+    // SAFETY: as above.
+    #[cfg(target_arch = "riscv32")]
+    unsafe {
+        core::arch::asm!(
+            "# tessera_profile_end",
             options(nomem, nostack, preserves_flags)
         )
     }

@@ -2,9 +2,14 @@
 //!
 //! `cortex-m-semihosting`'s `hio` only writes to the console, so files go through
 //! its `syscall!` macro (ARM semihosting SYS_OPEN, SYS_FLEN, SYS_READ, SYS_SEEK,
-//! SYS_WRITE, SYS_CLOSE). File names are relative to qemu's working directory.
+//! SYS_WRITE, SYS_CLOSE). On RISC-V `riscv-semihosting` has the same macro and
+//! operation numbers (the RISC-V semihosting specification reuses Arm's). File
+//! names are relative to qemu's working directory.
 
+#[cfg(target_arch = "arm")]
 use cortex_m_semihosting::{nr, syscall};
+#[cfg(target_arch = "riscv32")]
+use riscv_semihosting::{nr, syscall};
 
 /// An open host file; closed when dropped.
 pub struct HostFile {

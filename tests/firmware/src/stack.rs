@@ -3,6 +3,7 @@
 //!
 //! cortex-m-rt puts the stack at the top of RAM (`_stack_start`) growing down to
 //! `_stack_end`, the end of `.bss`/`.uninit` (nothing else lives there: no heap).
+//! riscv-rt does the same; memory-riscv-virt.x gives its symbols cortex-m-rt's names.
 
 const PATTERN: u32 = 0xDEAD_C0DE;
 
@@ -29,9 +30,20 @@ pub fn limit() -> usize {
 }
 
 /// The current stack pointer.
+#[cfg(target_arch = "arm")]
 #[inline(always)]
 pub fn sp() -> usize {
     cortex_m::register::msp::read() as usize
+}
+
+/// The current stack pointer.
+#[cfg(target_arch = "riscv32")]
+#[inline(always)]
+pub fn sp() -> usize {
+    let sp: usize;
+    // SAFETY: copies the stack pointer into a register; touches no memory.
+    unsafe { core::arch::asm!("mv {}, sp", out(reg) sp, options(nomem, nostack, preserves_flags)) };
+    sp
 }
 
 /// Bytes of stack in use now (top minus the current SP).
@@ -43,7 +55,7 @@ pub fn in_use() -> usize {
 /// Paints every word between [`limit`] and a little below the current SP.
 #[inline(never)]
 pub fn paint() {
-    let sp = cortex_m::register::msp::read() as usize;
+    let sp = sp();
     // Leave the words this function may still use (it calls nothing).
     let end = sp.saturating_sub(64) & !3;
     let mut p = limit();

@@ -10,8 +10,9 @@
 //! where `stack` is the peak stack of the whole program from the top of RAM (painted
 //! before rendering), so that the host can state the RAM it takes beyond the tile
 //! buffer: its statics (from the ELF) plus this stack; `preview` the instructions
-//! (SysTick under `-icount shift=0`, 40 a tick) of a progressive first picture (one
-//! ray per 4x4 block, `Frame::preview_color`) and `render` those of the tiles.
+//! (the clock under `-icount shift=0`: SysTick, 40 a tick on mps2-an386) of a
+//! progressive first picture (one ray per 4x4 block, `Frame::preview_color`) and
+//! `render` those of the tiles.
 #![no_std]
 #![no_main]
 
@@ -21,17 +22,35 @@
 mod stack;
 
 // The test image's fault and panic handlers.
-#[path = "faults.rs"]
+#[cfg_attr(target_arch = "arm", path = "faults.rs")]
+#[cfg_attr(target_arch = "riscv32", path = "riscv/faults.rs")]
 mod faults;
 
-// SysTick instruction counting, as the test image's.
-#[path = "clock.rs"]
+// The clocks' tick rates.
+#[path = "protocol.rs"]
+#[allow(dead_code)]
+mod protocol;
+
+// Instruction counting, as the test image's.
+#[cfg_attr(target_arch = "arm", path = "clock.rs")]
+#[cfg_attr(target_arch = "riscv32", path = "riscv/clock.rs")]
 #[allow(dead_code)]
 mod clock;
 
+#[cfg(target_arch = "arm")]
 use cortex_m_rt::entry;
-use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
-use cortex_m_semihosting::hprintln;
+#[cfg(target_arch = "arm")]
+use cortex_m_semihosting::{
+    debug::{self, EXIT_FAILURE, EXIT_SUCCESS},
+    hprintln,
+};
+#[cfg(target_arch = "riscv32")]
+use riscv_rt::entry;
+#[cfg(target_arch = "riscv32")]
+use riscv_semihosting::{
+    debug::{self, EXIT_FAILURE, EXIT_SUCCESS},
+    hprintln,
+};
 use tessera::builtin::baked::teapot::SCENE;
 use tessera::{Tile, TileCoord, Viewport};
 
@@ -39,6 +58,7 @@ use tessera::{Tile, TileCoord, Viewport};
 const SIZE: u16 = 64;
 const N: usize = 16;
 
+#[cfg(target_arch = "arm")]
 #[entry]
 fn main() -> ! {
     let peripherals = cortex_m::Peripherals::take();
@@ -54,8 +74,8 @@ fn main() -> ! {
                         u32::from(SIZE) * u32::from(SIZE),
                         sum,
                         stack::top() - lowest,
-                        preview * 40,
-                        render * 40
+                        clock::RATE.instructions(preview),
+                        clock::RATE.instructions(render)
                     );
                     EXIT_SUCCESS
                 }
@@ -74,6 +94,44 @@ fn main() -> ! {
     debug::exit(status);
     loop {
         cortex_m::asm::bkpt();
+    }
+}
+
+#[cfg(target_arch = "riscv32")]
+#[entry]
+fn main() -> ! {
+    let status = match riscv::singleton!(: Tile<N> = Tile::new()) {
+        Some(tile) => {
+            clock::start();
+            stack::paint();
+            let drawn = draw(tile);
+            match (drawn, stack::lowest()) {
+                (Ok((sum, preview, render)), Some(lowest)) => {
+                    hprintln!(
+                        "teapot pixels={} checksum={:08x} stack={} preview={} render={}",
+                        u32::from(SIZE) * u32::from(SIZE),
+                        sum,
+                        stack::top() - lowest,
+                        clock::RATE.instructions(preview),
+                        clock::RATE.instructions(render)
+                    );
+                    EXIT_SUCCESS
+                }
+                (Err(e), _) => {
+                    hprintln!("error: tessera: {}", e);
+                    EXIT_FAILURE
+                }
+                (_, None) => {
+                    hprintln!("error: the stack reached the statics");
+                    EXIT_FAILURE
+                }
+            }
+        }
+        None => EXIT_FAILURE,
+    };
+    debug::exit(status);
+    loop {
+        riscv::asm::wfi();
     }
 }
 

@@ -1,4 +1,5 @@
-//! `chip-report`: measures tessera on a Cortex-M4F and writes `docs/chip-cost.md`.
+//! `chip-report`: measures tessera on a Cortex-M4F, and on the other cores with an
+//! FPU, and writes `docs/chip-cost.md`.
 //!
 //! Builds the firmware test image with both math backends, runs every built-in
 //! scene with five samplers at 64x64 (chapter-reflect also at depths 0, 1 and 3)
@@ -9,13 +10,23 @@
 //! plugin (`tests/profiler/`): its counts must agree with SysTick's, and its
 //! instruction mix gives the estimated cycles per pixel ([`tessera_tests::cycles`]).
 //!
+//! The same image is then built for every other core with an FPU
+//! (`firmware::FPU_CORES`: Cortex-M7, M33, M55, rv32imafc) and runs each built-in
+//! scene at 64x64 with centre and stratified:4 sampling, twice, on its qemu board:
+//! instructions per pixel per core, flash, `render_tile`'s stack. Fails if a core's
+//! counts do not repeat, its pixels differ from the host's or its square root is
+//! not correctly rounded there.
+//!
 //! The instruction counts of the guarded runs are compared with
-//! `tests/chip-baseline.txt` (printed); `--bless-baseline` rewrites that file from
-//! this run's counts (commit it with a message that says why).
+//! `tests/chip-baseline.txt` and, on the other cores, `tests/chip-baseline-cores.txt`
+//! (printed); `--bless-baseline` rewrites both files from this run's counts,
+//! `--bless-cores-baseline` the second alone (commit them with a message that says
+//! why).
 //!
 //! ```sh
 //! cargo run -p tessera-tests --release --bin chip-report
 //! cargo run -p tessera-tests --release --bin chip-report -- --bless-baseline
+//! cargo run -p tessera-tests --release --bin chip-report -- --bless-cores-baseline
 //! ```
 
 use image::RgbImage;
@@ -27,24 +38,42 @@ use tessera::builtin::Builtin;
 use tessera::testing::Extreme;
 use tessera::{Encoding, Viewport};
 use tessera::{Sampler, Sampler::*};
-use tessera_tests::firmware::{self, Output, Run, SceneRef, Sizes, repo_relative};
-use tessera_tests::{baseline, cycles, profile, thousands};
+use tessera_tests::firmware::{self, Core, Output, Run, SceneRef, Sizes, repo_relative};
+use tessera_tests::{baseline, cycles, profile, thousands, thousands_rounded};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin chip-report";
 const SAMPLERS: [Sampler; 5] = [Corner, Centre, Stratified(2), Stratified(4), Random(4)];
 const SIZE: u16 = 64;
 const TILE: usize = 16;
 
+/// Which baseline files to rewrite from this run's counts.
+#[derive(Clone, Copy, Debug, Default)]
+struct Bless {
+    /// `tests/chip-baseline.txt` (the Cortex-M4F).
+    m4f: bool,
+    /// `tests/chip-baseline-cores.txt` (the other cores).
+    cores: bool,
+}
+
 fn main() -> ExitCode {
-    let mut bless = false;
+    let mut bless = Bless::default();
     for arg in std::env::args().skip(1) {
         match arg.as_str() {
-            "--bless-baseline" => bless = true,
+            "--bless-baseline" => {
+                bless = Bless {
+                    m4f: true,
+                    cores: true,
+                }
+            }
+            "--bless-cores-baseline" => bless.cores = true,
             _ => {
                 eprintln!(
-                    "chip-report: unknown argument {arg:?} (the only option is \
-                     --bless-baseline: rewrite {})",
-                    baseline::FILE
+                    "chip-report: unknown argument {arg:?} (the options are \
+                     --bless-baseline: rewrite {} and {}, and --bless-cores-baseline: \
+                     rewrite {} alone)",
+                    baseline::FILE,
+                    baseline::CORES_FILE,
+                    baseline::CORES_FILE
                 );
                 return ExitCode::FAILURE;
             }
@@ -98,6 +127,76 @@ fn runs() -> Vec<Run> {
         });
     }
     runs
+}
+
+/// The runs of the per-core table: each scene at 64x64 with its own settings,
+/// centre and stratified:4 sampling (both in [`runs`], so the Cortex-M4F's come
+/// from its exact backend).
+fn core_runs() -> Vec<Run> {
+    let mut runs = Vec::new();
+    for b in Builtin::ALL {
+        for sampler in [Centre, Stratified(4)] {
+            runs.push(Run {
+                sampler,
+                tile: TILE,
+                ..Run::of(b, SIZE, SIZE)
+            });
+        }
+    }
+    runs
+}
+
+/// One core's image and what it measured ([`core_runs`]).
+struct CoreMeasure {
+    core: Core,
+    elf: PathBuf,
+    sizes: Sizes,
+    out: Output,
+    flash_budget: u64,
+    ram_budget: u64,
+}
+
+/// Builds the exact image for `core`, runs [`core_runs`] on it twice (the counts
+/// must repeat), checks its pixels against the host's and its square root.
+fn measure_core(core: Core) -> Result<CoreMeasure, String> {
+    let runs = core_runs();
+    core.qemu_version()?;
+    let elf = core.build(&[])?;
+    let first = core.run(&elf, &runs)?;
+    let second = core.run(&elf, &runs)?;
+    for (i, (a, b)) in first.runs.iter().zip(&second.runs).enumerate() {
+        if a.ticks != b.ticks || a.stack != b.stack || a.pixels.as_raw() != b.pixels.as_raw() {
+            return Err(format!(
+                "{}: run {i} ({}) is not repeatable: {} vs {} ticks",
+                core.title, runs[i], a.ticks, b.ticks
+            ));
+        }
+    }
+    for (r, res) in runs.iter().zip(&first.runs) {
+        if host(r)?.as_raw() != res.pixels.as_raw() {
+            return Err(format!(
+                "{}: {r}: the chip's pixels differ from the host's",
+                core.title
+            ));
+        }
+    }
+    let sqrt = firmware::check_sqrt(&core, &elf)?;
+    if sqrt != firmware::SqrtReport::host() {
+        return Err(format!(
+            "{}: sqrt {sqrt:?}, the host's {:?}",
+            core.title,
+            firmware::SqrtReport::host()
+        ));
+    }
+    let (flash_budget, ram_budget) = core.memory_budget()?;
+    Ok(CoreMeasure {
+        core,
+        sizes: firmware::sections(&elf)?,
+        elf,
+        out: first,
+        flash_budget,
+        ram_budget,
+    })
 }
 
 /// One backend's image and what it measured.
@@ -196,13 +295,18 @@ fn kib(bytes: u64) -> String {
     format!("{:.1} KiB", bytes as f64 / 1024.0)
 }
 /// Measures, checks, and writes `docs/chip-cost.md`; returns its path.
-fn report(bless: bool) -> Result<PathBuf, String> {
+fn report(bless: Bless) -> Result<PathBuf, String> {
     let qemu = firmware::qemu_version()?;
     let rustc = tessera_tests::tool_version("rustc");
     let (flash, ram) = firmware::memory_budget()?;
     let runs = runs();
-    let (exact, fast, prof) = measure_all(&runs)?;
-    let est = check(&runs, &exact, &prof, bless)?;
+    let (exact, fast, prof, cores) = measure_all(&runs)?;
+    let est = check(&runs, &exact, &prof, bless.m4f)?;
+    guard_cores(&cores, bless.cores)?;
+    let m4f_sqrt = firmware::check_sqrt(&firmware::CORTEX_M4F, &exact.elf)?;
+    if m4f_sqrt != firmware::SqrtReport::host() {
+        return Err(format!("Cortex-M4F: sqrt {m4f_sqrt:?}"));
+    }
     let m = Measured {
         qemu,
         rustc,
@@ -212,6 +316,7 @@ fn report(bless: bool) -> Result<PathBuf, String> {
         exact,
         fast,
         est,
+        cores,
     };
     let mut d = String::new();
     m.setup(&mut d);
@@ -221,15 +326,22 @@ fn report(bless: bool) -> Result<PathBuf, String> {
     m.extremes(&mut d);
     m.image_size(&mut d);
     m.stack(&mut d);
+    m.cores(&mut d);
     m.regenerate(&mut d);
     let path = firmware::repo_root().join("docs").join("chip-cost.md");
     std::fs::write(&path, d).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     Ok(path)
 }
 
+/// What [`measure_all`] measured: both backends of the Cortex-M4F, the exact one's
+/// profiles, and the other cores.
+type Measures = (Backend, Backend, Vec<Profiled>, Vec<CoreMeasure>);
+
 /// Builds both firmware images and measures them on three threads: each backend
-/// twice ([`measure`]), and the exact one under the profiling plugin ([`profiled`]).
-fn measure_all(runs: &[Run]) -> Result<(Backend, Backend, Vec<Profiled>), String> {
+/// twice ([`measure`]), and the exact one under the profiling plugin
+/// ([`profiled`]); then builds and measures the other cores, two at a time
+/// ([`measure_core`]).
+fn measure_all(runs: &[Run]) -> Result<Measures, String> {
     println!("building the firmware (exact and fast-math)...");
     let exact_elf = firmware::build(&[])?;
     let fast_elf = firmware::build(&["fast-math"])?;
@@ -243,10 +355,6 @@ fn measure_all(runs: &[Run]) -> Result<(Backend, Backend, Vec<Profiled>), String
         let e = s.spawn(|| timed(|| measure(exact_elf.clone(), runs)));
         let f = s.spawn(|| timed(|| measure(fast_elf, runs)));
         let p = s.spawn(|| timed(|| profiled(&exact_elf, runs)));
-        fn join<T>(h: std::thread::ScopedJoinHandle<'_, Result<T, String>>) -> Result<T, String> {
-            h.join()
-                .unwrap_or_else(|_| Err("a measuring thread panicked".into()))
-        }
         (join(e), join(f), join(p))
     });
     let ((exact, te), (fast, tf), (prof, tp)) = (exact?, fast?, prof?);
@@ -258,7 +366,35 @@ fn measure_all(runs: &[Run]) -> Result<(Backend, Backend, Vec<Profiled>), String
         tf.as_secs_f64(),
         tp.as_secs_f64()
     );
-    Ok((exact, fast, prof))
+    println!(
+        "building and measuring the other cores ({})...",
+        firmware::FPU_CORES.map(|c| c.title).join(", ")
+    );
+    let started = Instant::now();
+    let mut cores = Vec::new();
+    for pair in firmware::FPU_CORES.chunks(2) {
+        let measured: Vec<_> = std::thread::scope(|s| {
+            let handles: Vec<_> = pair
+                .iter()
+                .map(|&c| s.spawn(move || measure_core(c)))
+                .collect();
+            handles.into_iter().map(join).collect()
+        });
+        for m in measured {
+            cores.push(m?);
+        }
+    }
+    println!(
+        "the other cores measured in {:.0} s",
+        started.elapsed().as_secs_f64()
+    );
+    Ok((exact, fast, prof, cores))
+}
+
+/// The result of a measuring thread; a panic is an error.
+fn join<T>(h: std::thread::ScopedJoinHandle<'_, Result<T, String>>) -> Result<T, String> {
+    h.join()
+        .unwrap_or_else(|_| Err("a measuring thread panicked".into()))
 }
 
 /// The checks on the measurements: the plugin's counts agree with SysTick's, the
@@ -297,6 +433,7 @@ struct Measured {
     exact: Backend,
     fast: Backend,
     est: Vec<u64>,
+    cores: Vec<CoreMeasure>,
 }
 
 impl Measured {
@@ -335,7 +472,7 @@ impl Measured {
         );
         let _ = writeln!(
             w,
-            "- Budget (`tests/firmware/memory.x`): {} of flash, {} of RAM; the link fails \
+            "- Budget (`tests/firmware/memory/mps2-an386.x`): {} of flash, {} of RAM; the link fails \
          if the image does not fit.",
             kib(flash),
             kib(ram)
@@ -653,6 +790,138 @@ impl Measured {
         );
     }
 
+    /// The table per core: instructions per pixel of [`core_runs`] on every core
+    /// with an FPU, the images' flash and `render_tile`'s stack.
+    fn cores(&self, w: &mut String) {
+        let Self {
+            runs,
+            exact,
+            flash,
+            ram,
+            cores,
+            ..
+        } = self;
+        let m4f = CoreMeasure {
+            core: firmware::CORTEX_M4F,
+            elf: exact.elf.clone(),
+            sizes: exact.sizes,
+            out: Output {
+                runs: core_runs()
+                    .iter()
+                    .filter_map(|c| {
+                        runs.iter()
+                            .position(|r| r == c)
+                            .map(|i| exact.out.runs[i].clone())
+                    })
+                    .collect(),
+                ..exact.out.clone()
+            },
+            flash_budget: *flash,
+            ram_budget: *ram,
+        };
+        let all: Vec<&CoreMeasure> = std::iter::once(&m4f).chain(cores).collect();
+        let _ = writeln!(w, "\n## Every core with an FPU\n");
+        let _ = writeln!(
+            w,
+            "The same firmware image built for each core with an FPU that qemu emulates \
+             and run on its board (`tessera_tests::firmware::CORES`): each built-in scene \
+             at {SIZE}x{SIZE} with its own settings, tiles of {TILE}x{TILE}, exact math, \
+             centre and stratified:4 sampling, twice (the counts repeat exactly). On every \
+             core these renders' pixels are byte-identical to the host's (checked here; \
+             `tests/tests/cores.rs` checks the Cortex-M4F's whole identity list on each \
+             core in CI), and the square root is correctly rounded there (`tessera-sqrt`: \
+             {} inputs, hard cases among them). Instructions per pixel, and against the \
+             Cortex-M4F:\n",
+            thousands(firmware::SqrtReport::host().cases)
+        );
+        let mut head = String::from("| scene | depth | sampler |");
+        let mut rule = String::from("|---|---|---|");
+        for c in &all {
+            head.push_str(&format!(" {} |", c.core.title));
+            rule.push_str("---|");
+        }
+        let _ = writeln!(w, "{head}\n{rule}");
+        for (i, r) in core_runs().iter().enumerate() {
+            let mut row = format!("| {} | {} | {} |", r.scene.name(), r.depth, r.sampler);
+            let base = all[0].out.runs[i].instructions_per_pixel();
+            for (k, c) in all.iter().enumerate() {
+                let px = c.out.runs[i].instructions_per_pixel();
+                if k == 0 {
+                    row.push_str(&format!(" {} |", thousands_rounded(px)));
+                } else {
+                    row.push_str(&format!(
+                        " {} ({:.2}x) |",
+                        thousands_rounded(px),
+                        px / base.max(1.0)
+                    ));
+                }
+            }
+            let _ = writeln!(w, "{row}");
+        }
+        let _ = writeln!(
+            w,
+            "\n| core | target (rustc flags) | qemu | instructions a tick | flash, bytes | \
+             static RAM, bytes | `render_tile` stack, bytes |"
+        );
+        let _ = writeln!(w, "|---|---|---|---|---|---|---|");
+        for c in &all {
+            let k = c.core;
+            let flags = if k.rustflags.is_empty() {
+                String::new()
+            } else {
+                format!(" (`{}`)", k.rustflags.join(" "))
+            };
+            let tick = if k.tick.ticks == 1 {
+                k.tick.instructions.to_string()
+            } else {
+                format!("{}/{}", k.tick.instructions, k.tick.ticks)
+            };
+            let stack = c.out.runs.iter().map(|x| x.stack_render).max().unwrap_or(0);
+            let _ = writeln!(
+                w,
+                "| {} | `{}`{flags} | `{}` | {tick} | {} ({:.1}% of {}) | {} (of {}) | {} |",
+                k.title,
+                k.target,
+                k.board,
+                thousands(c.sizes.flash()),
+                100.0 * c.sizes.flash() as f64 / c.flash_budget.max(1) as f64,
+                kib(c.flash_budget),
+                thousands(c.sizes.ram()),
+                kib(c.ram_budget),
+                thousands(stack)
+            );
+        }
+        let _ = writeln!(
+            w,
+            "\nThese are instructions, not cycles: the cores differ in what an instruction \
+             costs (the Cortex-M7 issues two a cycle at best, the M55's vector \
+             instructions take beats); no cycle estimate is made for them here. Where the \
+             counts differ the code differs: the FPv5 FPUs of the Cortex-M7, M33 and M55 \
+             have `vminnm`/`vmaxnm` and `vsel`, which LLVM uses for some comparisons and \
+             selects; with `target-cpu` the Cortex-M7's and M55's FPUs have double \
+             precision, so the `f64` paths (`geometry::wide`, `Frame::try_new`) are \
+             instructions rather than library calls (an image for a part whose FPU has \
+             single precision only needs a build without that flag); LLVM vectorises \
+             some loops with the M55's MVE; RISC-V has no conditional select and more \
+             registers. No core calls a software `f32` routine (`__aeabi_f*`, `__*sf3`) \
+             or a software square root: `math::sqrt` is `vsqrt.f32` on the Arm cores and \
+             `fsqrt.s` on RISC-V, division `vdiv.f32`/`fdiv.s`, and no image has a fused \
+             multiply-add (`vfma`, `fmadd.s`: Rust does not contract `a * b + c`). The \
+             Cortex-M4F, M33 and rv32imafc do their `f64` in software, as the \
+             Cortex-M4F always has (the rare wide hits, once-a-frame set-up). On \
+             `mps3-an547` SysTick ticks every 31.25 instructions (32 MHz), so its counts \
+             are within 32 instructions a tile; on RISC-V the clock is the `minstret` \
+             CSR, exact. The RISC-V map's flash is 1 MiB (`memory/riscv-virt.x`): the \
+             image does not fit in 512 KiB. Flash and static RAM as in \
+             [the image size](#image-size-elf-sections-bytes); the stack is the largest \
+             `render_tile` peak over these renders."
+        );
+        let _ = writeln!(w, "\nThe other cores' ELFs:\n");
+        for c in cores {
+            let _ = writeln!(w, "- {}: `{}`", c.core.title, repo_relative(&c.elf));
+        }
+    }
+
     /// How to regenerate the document.
     fn regenerate(&self, w: &mut String) {
         let Self { exact, fast, .. } = self;
@@ -660,12 +929,51 @@ impl Measured {
         let _ = writeln!(w, "```sh\n{COMMAND}\n```");
         let _ = writeln!(
             w,
-            "\nIt needs `qemu-system-arm` and the `thumbv7em-none-eabihf` target (`bash \
-         tests/run-all.sh` installs both). ELFs: `{}` and `{}`.",
+            "\nIt needs `qemu-system-arm`, `qemu-system-riscv32` and the targets \
+         `thumbv7em-none-eabihf`, `thumbv8m.main-none-eabihf` and \
+         `riscv32imafc-unknown-none-elf` (`bash tests/run-all.sh` installs them). \
+         ELFs: `{}` and `{}`.",
             repo_relative(&exact.elf),
             repo_relative(&fast.elf)
         );
     }
+}
+
+/// Compares the other cores' counts of the guarded runs with their baseline file
+/// and prints the table; with `bless`, rewrites the file from these counts instead.
+fn guard_cores(cores: &[CoreMeasure], bless: bool) -> Result<(), String> {
+    let mut now = Vec::new();
+    for c in cores {
+        for g in baseline::runs() {
+            let i = core_runs()
+                .iter()
+                .position(|r| *r == g)
+                .ok_or_else(|| format!("the guarded run {g} is not in the per-core runs"))?;
+            now.push((baseline::key(&c.core, &g), c.out.runs[i].instructions));
+        }
+    }
+    let path = baseline::cores_path();
+    if bless {
+        std::fs::write(&path, baseline::render_cores(&now))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        println!(
+            "wrote {} (commit it with a message that says why)",
+            path.display()
+        );
+        return Ok(());
+    }
+    match std::fs::read_to_string(&path) {
+        Ok(text) => {
+            let base = baseline::parse(&text)?;
+            println!(
+                "instruction counts of the other cores against {}:\n{}",
+                baseline::CORES_FILE,
+                baseline::Comparison::new(&base, &now).table()
+            );
+        }
+        Err(e) => println!("no baseline to compare with ({}: {e})", path.display()),
+    }
+    Ok(())
 }
 
 /// Compares the guarded runs' counts with the baseline file and prints the table;
