@@ -14,5 +14,6 @@ mod firmware;
 mod frustum;
 mod golden;
 mod interference;
+mod nofpu;
 mod reference;
 mod tiles;
