@@ -198,7 +198,7 @@ pub const RV32IMAFC: Core = Core {
 /// the Cortex-M0's, not their cycles.
 pub const CORTEX_M0_ON_M3: Core = Core {
     name: "cortex-m0-on-m3",
-    title: "Cortex-M0 (Armv6-M on a Cortex-M3)",
+    title: "Armv6-M (Cortex-M0/M0+)",
     target: "thumbv6m-none-eabi",
     rustflags: &[],
     board: "mps2-an385",
