@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every check and test of tessera, installing what a fresh machine lacks first:
 # the targets of the firmware test image's cores (thumbv7em-none-eabihf: Cortex-M4F
-# and M7; thumbv8m.main-none-eabihf: Cortex-M33 and M55; riscv32imafc-unknown-none-elf),
+# and M7; thumbv8m.main-none-eabihf: Cortex-M33 and M55; riscv32imafc-unknown-none-elf;
+# without an FPU thumbv6m-none-eabi and riscv32imc-unknown-none-elf),
 # qemu-system-arm and qemu-system-misc (qemu-system-riscv32: the firmware tests run
 # under emulation) and the minimum supported Rust (Cargo.toml's rust-version, checked
 # with a minimal toolchain).
@@ -39,7 +40,8 @@ finish() {
 trap finish EXIT
 
 say "toolchain: $(rustc --version)"
-targets=(thumbv7em-none-eabihf thumbv8m.main-none-eabihf riscv32imafc-unknown-none-elf)
+targets=(thumbv7em-none-eabihf thumbv8m.main-none-eabihf riscv32imafc-unknown-none-elf
+  thumbv6m-none-eabi riscv32imc-unknown-none-elf)
 for target in "${targets[@]}"; do
   if ! rustup target list --installed | grep -qx "$target"; then
     say "installing the $target target"
@@ -96,6 +98,8 @@ run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-no
 run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
 run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv8m.main-none-eabihf --features mps3-an547 -- -D warnings
 run cargo clippy --manifest-path tests/firmware/Cargo.toml --target riscv32imafc-unknown-none-elf -- -D warnings
+run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv6m-none-eabi -- -D warnings
+run cargo clippy --manifest-path tests/firmware/Cargo.toml --target riscv32imc-unknown-none-elf -- -D warnings
 
 # The board example (an STM32F411 Black Pill and an ST7789 panel): its own
 # workspace; the test `board::...` in `cargo test-all` links it and checks the
@@ -116,11 +120,13 @@ run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check
 run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
 run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
 
-say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends; for the other FPU targets"
+say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends; for the other targets"
 run cargo fw-core
 run cargo fw-core --features fast-math
 run cargo build -p tessera --release --target thumbv8m.main-none-eabihf
 run cargo build -p tessera --release --target riscv32imafc-unknown-none-elf
+run cargo build -p tessera --release --target thumbv6m-none-eabi --features teapot
+run cargo build -p tessera --release --target riscv32imc-unknown-none-elf --features teapot
 
 # The image renders every built-in scene through the tile API and its panic handler
 # calls an undefined symbol: the link fails ("undefined symbol:

@@ -92,6 +92,19 @@ pub fn visits() -> (usize, usize) {
     (VISITS.0.load(Relaxed), VISITS.1.load(Relaxed))
 }
 
+/// Adds one to a counter of [`VISITS`]. A target without read-modify-write atomics
+/// (`thumbv6m-none-eabi`, `riscv32imc-unknown-none-elf`: single-core chips) adds
+/// with a load and a store.
+#[cfg(feature = "testing")]
+#[inline(always)]
+fn count_visit(counter: &core::sync::atomic::AtomicUsize) {
+    use core::sync::atomic::Ordering::Relaxed;
+    #[cfg(target_has_atomic = "ptr")]
+    counter.fetch_add(1, Relaxed);
+    #[cfg(not(target_has_atomic = "ptr"))]
+    counter.store(counter.load(Relaxed).wrapping_add(1), Relaxed);
+}
+
 /// The largest index a node's `u16` fields hold, plus one.
 const INDEXABLE: usize = 1 << 16;
 
@@ -914,10 +927,10 @@ fn bvh_walk(
     // A node is visited at most once: a bounded loop (which also lets the compiler
     // see that the search returns, and so treat its callers as before).
     #[cfg(feature = "testing")]
-    VISITS.1.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
+    count_visit(&VISITS.1);
     for _ in 0..bvh.nodes.len() {
         #[cfg(feature = "testing")]
-        VISITS.0.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
+        count_visit(&VISITS.0);
         if let Some(n) = bvh.nodes.get(node)
             && n.may_hit(at.origin, at.inv, at.clear, *t_max)
         {

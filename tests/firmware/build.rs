@@ -7,7 +7,10 @@
 //!   with the feature `mps2-an500`;
 //! - `thumbv8m.main-none-eabihf`: `mps2-an505` (Cortex-M33); `mps3-an547`
 //!   (Cortex-M55) with the feature `mps3-an547`;
-//! - `riscv32imafc-unknown-none-elf`: qemu's `virt`.
+//! - `riscv32imafc-unknown-none-elf`: qemu's `virt`;
+//! - `thumbv6m-none-eabi` (no FPU): `mps2-an385` (a Cortex-M3, which runs the
+//!   Armv6-M code of a Cortex-M0/M0+);
+//! - `riscv32imc-unknown-none-elf` (no FPU): qemu's `virt`, its CPU without F and D.
 //!
 //! No file named `memory.x` lies in the package's folder: the linker, which runs
 //! there, would find it before the one in `OUT_DIR`.
@@ -26,19 +29,31 @@ fn main() {
         ("thumbv8m.main-none-eabihf", false, false) => "mps2-an505",
         ("thumbv8m.main-none-eabihf", false, true) => "mps3-an547",
         ("riscv32imafc-unknown-none-elf", false, false) => "riscv-virt",
+        ("thumbv6m-none-eabi", false, false) => "mps2-an385",
+        ("riscv32imc-unknown-none-elf", false, false) => "riscv-virt",
         _ => panic!(
             "tessera-fw builds for thumbv7em-none-eabihf (mps2-an386; mps2-an500 with the \
              feature mps2-an500), thumbv8m.main-none-eabihf (mps2-an505; mps3-an547 with \
-             the feature mps3-an547) and riscv32imafc-unknown-none-elf (virt): not \
+             the feature mps3-an547), riscv32imafc-unknown-none-elf (virt), \
+             thumbv6m-none-eabi (mps2-an385) and riscv32imc-unknown-none-elf (virt): not \
              {target} with mps2-an500 {an500}, mps3-an547 {an547}"
         ),
     };
     // The board for the code: `clock` takes its tick rate by it.
     println!(
-        "cargo::rustc-check-cfg=cfg(board, values(\"mps2-an386\", \"mps2-an500\", \
-         \"mps2-an505\", \"mps3-an547\", \"riscv-virt\"))"
+        "cargo::rustc-check-cfg=cfg(board, values(\"mps2-an385\", \"mps2-an386\", \
+         \"mps2-an500\", \"mps2-an505\", \"mps3-an547\", \"riscv-virt\"))"
     );
     println!("cargo::rustc-cfg=board=\"{board}\"");
+    // A target without an FPU (floating point in software): `main` reports the
+    // RISC-V CPU's extensions there.
+    println!("cargo::rustc-check-cfg=cfg(nofpu)");
+    if matches!(
+        target.as_str(),
+        "thumbv6m-none-eabi" | "riscv32imc-unknown-none-elf"
+    ) {
+        println!("cargo::rustc-cfg=nofpu");
+    }
     let map = PathBuf::from("memory").join(format!("{board}.x"));
     let text = fs::read(&map).unwrap_or_else(|e| panic!("cannot read {}: {e}", map.display()));
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));

@@ -192,6 +192,64 @@ pub const RV32IMAFC: Core = Core {
     tick: RISCV_VIRT,
 };
 
+/// A Cortex-M0/M0+ (Armv6-M, no FPU: `thumbv6m-none-eabi`, floating point in
+/// software), run on `mps2-an385`, whose Cortex-M3 executes the same Thumb code
+/// (qemu has no Cortex-M0 board with enough memory): the instructions counted are
+/// the Cortex-M0's, not their cycles.
+pub const CORTEX_M0_ON_M3: Core = Core {
+    name: "cortex-m0-on-m3",
+    title: "Armv6-M (Cortex-M0/M0+)",
+    target: "thumbv6m-none-eabi",
+    rustflags: &[],
+    board: "mps2-an385",
+    board_features: &[],
+    qemu: QEMU,
+    qemu_args: &[
+        "-cpu",
+        "cortex-m3",
+        "-machine",
+        "mps2-an385",
+        "-nographic",
+        "-semihosting-config",
+        "enable=on,target=native",
+        "-icount",
+        "shift=0",
+        "-kernel",
+    ],
+    tick: MPS2_AN385,
+};
+
+/// An rv32imc core (no FPU: `riscv32imc-unknown-none-elf`, floating point in
+/// software) on qemu's `virt` board, its CPU without the F and D extensions (an
+/// F instruction traps).
+pub const RV32IMC: Core = Core {
+    name: "rv32imc",
+    title: "rv32imc",
+    target: "riscv32imc-unknown-none-elf",
+    rustflags: &[],
+    board: "riscv-virt",
+    board_features: &[],
+    qemu: "qemu-system-riscv32",
+    qemu_args: &[
+        "-machine",
+        "virt",
+        "-cpu",
+        "rv32,f=false,d=false",
+        "-bios",
+        "none",
+        "-nographic",
+        "-semihosting-config",
+        "enable=on,target=native",
+        "-icount",
+        "shift=0",
+        "-kernel",
+    ],
+    tick: RISCV_VIRT,
+};
+
+/// The cores without an FPU.
+pub const NOFPU_CORES: [Core; 2] = [CORTEX_M0_ON_M3, RV32IMC];
+
 /// Every core with an FPU beside the Cortex-M4F.
 pub const FPU_CORES: [Core; 4] = [CORTEX_M7, CORTEX_M33, CORTEX_M55, RV32IMAFC];
 

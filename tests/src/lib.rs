@@ -4,8 +4,9 @@
 //! ([`firmware`]), its instruction profile ([`profile`], attributed to source
 //! functions by [`dwarf`], weighted by the cycle model [`cycles`]), the guarded
 //! instruction counts ([`baseline`]), the host's profile under callgrind
-//! ([`callgrind`]), the sections of the profile document ([`profile_doc`]) and the
-//! speed/accuracy trade report ([`trade_report`]).
+//! ([`callgrind`]), the sections of the profile document ([`profile_doc`]), the
+//! speed/accuracy trade report ([`trade_report`]) and the profile of the chips
+//! without an FPU by routine ([`nofpu`]).
 
 pub mod firmware;
 
@@ -26,6 +27,8 @@ pub mod callgrind;
 pub mod profile_doc;
 
 pub mod trade_report;
+
+pub mod nofpu;
 
 use std::path::PathBuf;
 use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};

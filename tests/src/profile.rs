@@ -6,12 +6,12 @@
 //!
 //! [`build_plugin`] compiles the plugin with the system's C compiler, [`markers`]
 //! finds the markers in the ELF's symbol table, [`run`] runs one render under qemu
-//! with the plugin and returns the firmware's own result (with the SysTick count)
-//! and the profile, and [`check_total`] checks the two counts against each other
-//! ([`agree`]).
+//! with the plugin ([`run_on`] on another core than the Cortex-M4F) and returns the
+//! firmware's own result (with the SysTick count) and the profile, and
+//! [`check_total`] checks the two counts against each other ([`agree`]).
 
 use crate::cycles::Insn;
-use crate::firmware::{self, Run, RunResult, TempDir};
+use crate::firmware::{self, Core, Run, RunResult, TempDir};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -162,6 +162,17 @@ pub fn run(
     markers: Markers,
     run: &Run,
 ) -> Result<(RunResult, Profile), String> {
+    run_on(&firmware::CORTEX_M4F, elf, plugin, markers, run)
+}
+
+/// [`run`] on `core`'s firmware `elf`.
+pub fn run_on(
+    core: &Core,
+    elf: &Path,
+    plugin: &Path,
+    markers: Markers,
+    run: &Run,
+) -> Result<(RunResult, Profile), String> {
     let dir = TempDir::new()?;
     let out = dir.path().join("profile.txt");
     let arg = format!(
@@ -176,7 +187,7 @@ pub fn run(
             "qemu's -plugin cannot take a path with a comma: {arg}"
         ));
     }
-    let output = firmware::run_with(elf, std::slice::from_ref(run), &["-plugin".into(), arg])?;
+    let output = core.run_with(elf, std::slice::from_ref(run), &["-plugin".into(), arg])?;
     let text = std::fs::read_to_string(&out)
         .map_err(|e| format!("the plugin wrote no profile ({}): {e}", out.display()))?;
     let profile = Profile::parse(&text).map_err(|e| format!("{run}: {e}"))?;

@@ -14,6 +14,7 @@ mod firmware;
 mod frustum;
 mod golden;
 mod interference;
+mod nofpu;
 mod qemu_example;
 mod reference;
 mod tiles;

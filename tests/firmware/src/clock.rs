@@ -20,6 +20,9 @@ const RELOAD: u32 = 0x00FF_FFFF;
 #[cfg(board = "mps2-an386")]
 pub const RATE: TickRate = protocol::MPS2_AN386;
 /// See above.
+#[cfg(board = "mps2-an385")]
+pub const RATE: TickRate = protocol::MPS2_AN385;
+/// See above.
 #[cfg(board = "mps2-an500")]
 pub const RATE: TickRate = protocol::MPS2_AN500;
 /// See above.
@@ -33,7 +36,15 @@ static WRAPS: AtomicU32 = AtomicU32::new(0);
 
 #[exception]
 fn SysTick() {
+    // Armv6-M has no read-modify-write atomics; this handler is the only writer, so
+    // a load and a store count the same there.
+    #[cfg(target_has_atomic = "32")]
     WRAPS.fetch_add(1, Ordering::Relaxed);
+    #[cfg(not(target_has_atomic = "32"))]
+    WRAPS.store(
+        WRAPS.load(Ordering::Relaxed).wrapping_add(1),
+        Ordering::Relaxed,
+    );
 }
 
 /// Starts SysTick: processor clock, reload 2^24 - 1, exception on each wrap.

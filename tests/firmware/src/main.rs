@@ -1,13 +1,17 @@
 //! Firmware test image of tessera, for the cores with an FPU that qemu emulates:
 //! `mps2-an386` (Cortex-M4F), `mps2-an500` (Cortex-M7), `mps2-an505` (Cortex-M33),
-//! `mps3-an547` (Cortex-M55) and `virt` (rv32imafc). One source; the core's clock,
+//! `mps3-an547` (Cortex-M55) and `virt` (rv32imafc); and for two without one:
+//! Armv6-M (a Cortex-M0/M0+, run on `mps2-an385`'s Cortex-M3) and rv32imc (`virt`
+//! without F and D), floating point in software. One source; the core's clock,
 //! fault handlers and runtime are chosen by target (`clock`, `faults`: on RISC-V
 //! the files under `riscv/`), the memory map by build.rs.
 //!
 //! Protocol (all I/O over semihosting, files relative to qemu's working directory):
 //! 1. reads the run list `tessera-fw.runs` (see [`runs`]; the file names and limits
 //!    are in [`protocol`], shared with the host-side harness);
-//! 2. prints `calibration instructions=<n> ticks=<t>` (a loop of known length);
+//! 2. prints `calibration instructions=<n> ticks=<t>` (a loop of known length),
+//!    and on RISC-V without an FPU (`riscv32imc`) `misa=<hex>` (the CPU's
+//!    extensions: bit 5 is F, bit 3 D);
 //! 3. for run `i` (counted over non-blank, non-comment lines, from 0) renders the
 //!    built-in scene tile after tile, row-major, into a static tile buffer of the
 //!    run's size, and writes the frame to `tessera-fw-<i>.rgb`: the image's pixels
@@ -145,6 +149,8 @@ fn run_all() -> Result<(), FwError> {
         2 * u64::from(CALIBRATION_LOOPS),
         ticks
     );
+    #[cfg(all(target_arch = "riscv32", nofpu))]
+    hprintln!("misa={:#x}", riscv::register::misa::read().bits());
 
     let mut index = 0usize;
     let mut peak = 0usize;

@@ -44,6 +44,13 @@ pub const MPS2_AN386: TickRate = TickRate {
     ticks: 1,
 };
 
+/// `mps2-an385` (the Cortex-M3 that runs the Armv6-M image): SysTick at 25 MHz, 40
+/// instructions a tick.
+pub const MPS2_AN385: TickRate = TickRate {
+    instructions: 40,
+    ticks: 1,
+};
+
 /// `mps2-an500` (Cortex-M7): SysTick at 25 MHz, 40 instructions a tick.
 pub const MPS2_AN500: TickRate = TickRate {
     instructions: 40,
