@@ -42,7 +42,10 @@
 //! `atan2` and `acos` only for textured spheres (none of the built-in scenes has one).
 //! Per-pixel paths use only `sqrt`, `powf`, `floor` and the polynomial
 //! [`cos_turns`] (libm's `sinf`/`cosf` go through `f64`, which is software on an
-//! M4F).
+//! M4F). The hardware root does not reach inside libm: libm's `powf` returns its
+//! own software `sqrtf` for an exponent of exactly 0.5 (a shininess of 0.5), and
+//! its `acosf` (textured spheres) calls that `sqrtf` too; every other root is
+//! [`sqrt`]'s.
 #![allow(clippy::disallowed_methods)] // the one home of libm calls (core/clippy.toml)
 
 /// Square root of an `f64`, correctly rounded (libm; software on the Cortex-M4F,

@@ -903,10 +903,13 @@ impl Measured {
              instructions rather than library calls (an image for a part whose FPU has \
              single precision only needs a build without that flag); LLVM vectorises \
              some loops with the M55's MVE; RISC-V has no conditional select and more \
-             registers. No core calls a software `f32` routine (`__aeabi_f*`, `__*sf3`) \
-             or a software square root: `math::sqrt` is `vsqrt.f32` on the Arm cores and \
-             `fsqrt.s` on RISC-V, division `vdiv.f32`/`fdiv.s`, and no image has a fused \
-             multiply-add (`vfma`, `fmadd.s`: Rust does not contract `a * b + c`). The \
+             registers. No image links a software `f32` arithmetic routine (`__aeabi_f*`, \
+             `__*sf3`): division is `vdiv.f32`/`fdiv.s`, and `math::sqrt`, every root \
+             the core takes itself, is `vsqrt.f32` on the Arm cores and `fsqrt.s` on \
+             RISC-V (libm's software `sqrtf` stays linked for libm's own use: its `powf` \
+             with an exponent of exactly 0.5, its `acosf` for textured spheres; no \
+             built-in scene calls either). No image has a fused multiply-add (`vfma`, \
+             `fmadd.s`: Rust does not contract `a * b + c`). The \
              Cortex-M4F, M33 and rv32imafc do their `f64` in software, as the \
              Cortex-M4F always has (the rare wide hits, once-a-frame set-up). On \
              `mps3-an547` SysTick ticks every 31.25 instructions (32 MHz), so its counts \
