@@ -267,10 +267,9 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
         }
         for (i, p) in self.planes.iter().enumerate() {
             check_material(p.material, count)?;
-            p.geometry.check_baked().map_err(|e| match e {
-                Error::BadBaked { list, .. } => bad(list, i),
-                e => e,
-            })?;
+            if !p.geometry.check_baked()? {
+                return Err(bad(List::Planes, i));
+            }
         }
         for (i, p) in self.boxes.iter().enumerate() {
             check_material(p.material, count)?;

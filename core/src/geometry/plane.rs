@@ -98,30 +98,22 @@ impl Plane {
     /// [`tangent_basis`] of it, and the offset the plane's distance from the
     /// world's origin, `normal . point` to a few ulps of `|point|`.
     ///
+    /// `Ok(true)` when the plane holds together, `Ok(false)` when it is not
+    /// what `try_new` makes of its numbers (the caller names the item).
+    ///
     /// # Errors
-    /// `try_new`'s error for a point or a normal it refuses;
-    /// [`Error::BadBaked`] (with index 0: the caller names the plane) otherwise.
-    pub(crate) fn check_baked(&self) -> Result<(), Error> {
+    /// `try_new`'s error for a point or a normal it refuses.
+    pub(crate) fn check_baked(&self) -> Result<bool, Error> {
         Self::try_new(self.point, self.normal)?;
-        let bad = Err(Error::BadBaked {
-            list: crate::List::Planes,
-            index: 0,
-        });
         let n = W3::from(self.normal);
-        // |n| = 1 to 4 ulps (try_new rounds each component once).
-        if (n.length() - 1.0).abs() > 4.0 * f64::from(f32::EPSILON) {
-            return bad;
-        }
-        if self.tangents != tangent_basis(self.normal) {
-            return bad;
-        }
         let p = W3::from(self.point);
         let scale = p.x.abs() + p.y.abs() + p.z.abs();
         let slack = 8.0 * f64::from(f32::EPSILON) * (scale + f64::from(self.offset).abs());
-        if !self.offset.is_finite() || (n.dot(p) - f64::from(self.offset)).abs() > slack {
-            return bad;
-        }
-        Ok(())
+        // |n| = 1 to 4 ulps (try_new rounds each component once).
+        Ok((n.length() - 1.0).abs() <= 4.0 * f64::from(f32::EPSILON)
+            && self.tangents == tangent_basis(self.normal)
+            && self.offset.is_finite()
+            && (n.dot(p) - f64::from(self.offset)).abs() <= slack)
     }
 
     /// A point of the plane.
