@@ -14,7 +14,7 @@
 //! `riscv32imafc-unknown-none-elf`; without them they fail and say to run `bash
 //! tests/run-all.sh`, which installs them.
 
-use crate::firmware::{differences, identity_runs};
+use crate::firmware::{assert_clock, differences, identity_runs};
 use tessera_tests::baseline;
 use tessera_tests::firmware::{self, Core, SqrtReport};
 
@@ -29,21 +29,7 @@ fn renders_like_the_host(core: &Core) {
     let identity = runs.len();
     runs.extend(baseline::runs());
     let out = core.run(&elf, &runs).unwrap_or_else(|e| fail(e));
-    // The clock counts instructions at the core's rate: the calibration loop's
-    // known length, to a tick (and the few instructions of reading the clock).
-    let tick = core.tick;
-    let measured = tick.instructions(out.calibration_ticks);
-    assert!(
-        measured.abs_diff(out.calibration_instructions)
-            <= tick.instructions.div_ceil(tick.ticks) + 8,
-        "{}: a loop of {} instructions took {} ticks, {} instructions at {}/{} a tick",
-        core.title,
-        out.calibration_instructions,
-        out.calibration_ticks,
-        measured,
-        tick.instructions,
-        tick.ticks
-    );
+    assert_clock(core, &out);
     let bad = differences(core.name, &runs[..identity], &out);
     assert!(
         bad.is_empty(),

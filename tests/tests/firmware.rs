@@ -102,6 +102,25 @@ pub(crate) fn identity_runs() -> Vec<Run> {
     runs
 }
 
+/// The clock of `core`'s image counts instructions at the core's rate: the
+/// calibration loop's known length, to a tick (and the few instructions of
+/// reading the clock).
+pub(crate) fn assert_clock(core: &firmware::Core, out: &Output) {
+    let tick = core.tick;
+    let measured = tick.instructions(out.calibration_ticks);
+    assert!(
+        measured.abs_diff(out.calibration_instructions)
+            <= tick.instructions.div_ceil(tick.ticks) + 8,
+        "{}: a loop of {} instructions took {} ticks, {} instructions at {}/{} a tick",
+        core.title,
+        out.calibration_instructions,
+        out.calibration_ticks,
+        measured,
+        tick.instructions,
+        tick.ticks
+    );
+}
+
 /// The runs whose chip pixels differ from the host's, one line each; both images
 /// of each are saved in target/test-images as `<prefix>-<i>-chip.png` and
 /// `<prefix>-<i>-host.png`.

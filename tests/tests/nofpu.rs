@@ -14,7 +14,7 @@
 //! `thumbv6m-none-eabi` and `riscv32imc-unknown-none-elf`; without them they fail
 //! and say to run `bash tests/run-all.sh`, which installs them.
 
-use crate::firmware::differences;
+use crate::firmware::{assert_clock, differences};
 use tessera::Sampler;
 use tessera::builtin::Builtin;
 use tessera_tests::firmware::{self, Core, Run, SceneRef, SqrtReport};
@@ -43,21 +43,7 @@ fn renders_like_the_host(core: &Core) {
 
     let runs = nofpu_runs();
     let out = core.run(&elf, &runs).unwrap_or_else(|e| fail(e));
-    // The clock counts instructions at the core's rate: the calibration loop's
-    // known length, to a tick (and the few instructions of reading the clock).
-    let tick = core.tick;
-    let measured = tick.instructions(out.calibration_ticks);
-    assert!(
-        measured.abs_diff(out.calibration_instructions)
-            <= tick.instructions.div_ceil(tick.ticks) + 8,
-        "{}: a loop of {} instructions took {} ticks, {} instructions at {}/{} a tick",
-        core.title,
-        out.calibration_instructions,
-        out.calibration_ticks,
-        measured,
-        tick.instructions,
-        tick.ticks
-    );
+    assert_clock(core, &out);
     // No F or D extension on the RISC-V CPU (qemu's `f=false,d=false` in force):
     // an F instruction would trap.
     if core.target.starts_with("riscv") {
