@@ -85,7 +85,15 @@ fn shading(c: &mut Criterion) {
     let basis = CameraBasis::try_new(scene.camera(), Viewport::new(240, 240)).unwrap();
     let (ray, t_far) = basis.ray(120.5, 118.5);
     c.bench_function("shade a hit (blue sphere, depth 1)", |b| {
-        b.iter(|| black_box(view.trace(black_box(ray), t_far, 1, &mut ())))
+        b.iter(|| {
+            black_box(tessera::trace::trace(
+                &view,
+                black_box(ray),
+                t_far,
+                1,
+                &mut (),
+            ))
+        })
     });
 }
 

@@ -16,9 +16,10 @@ use crate::error::{Error, List};
 use crate::geometry::{Aabb, Plane, Sphere, Triangle};
 use crate::light::PointLight;
 use crate::material::Material;
-use crate::scene::{Lists, Primitive, SceneView, check_material};
+use crate::primitive::Primitive;
 use crate::tile::{Frame, RenderSettings};
 use crate::vec::Vec3;
+use crate::view::{Lists, SceneView, check_material};
 
 /// A camera as a scene file gives it, before [`Camera::try_new`] checks and
 /// normalises it: a baked scene keeps these numbers and makes its camera when

@@ -10,10 +10,11 @@ use crate::geometry::{Aabb, Plane, Sphere, Triangle};
 use crate::light::PointLight;
 use crate::material::Material;
 use crate::sample::Sampler;
-use crate::scene::{Scene, SceneView};
+use crate::scene::Scene;
 use crate::texture::Texture;
 use crate::tile::RenderSettings;
 use crate::vec::Vec3;
+use crate::view::SceneView;
 
 /// The chapter's pictures: four spheres on a floor, one light.
 pub type ChapterScene = Scene<4, 1, 0, 0, 5, 1>;
@@ -282,7 +283,7 @@ fn scaled_teapot<const V: usize, R>(
     mesh: &crate::Mesh<'_>,
     f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
 ) -> Result<R, Error> {
-    use crate::scene::Primitive;
+    use crate::primitive::Primitive;
     let scene = scene.scaled_pow2(k)?;
     let s = libm::ldexpf(1.0, k.clamp(-200, 200));
     let moved = vertices.map(|[x, y, z]| [x * s, y * s, z * s]);

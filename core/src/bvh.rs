@@ -29,14 +29,9 @@
 //!   and so keeps the smallest `(t, index)`: a triangle at the current best time
 //!   replaces a later triangle, never a sphere or a plane found before.
 
-use crate::cull::MARGIN;
 use crate::error::{Error, List};
-use crate::geometry::triangle::{Axes, Shear, with_axes};
-use crate::geometry::{Candidate, Sphere, Triangle, aabb_inverse};
-use crate::mesh::{MAX_MESHES, Mesh};
-use crate::ray::Ray;
-use crate::scene::{Primitive, SceneView};
-use crate::trace::{Kind, Nearest, Skip};
+use crate::geometry::{Sphere, Triangle};
+use crate::primitive::Primitive;
 use crate::vec::Vec3;
 use heapless::Vec;
 
@@ -76,7 +71,7 @@ pub const SPHERE_CROSSOVER: usize = 200;
 
 /// Node tests and searches through a BVH so far (feature `testing` only).
 #[cfg(feature = "testing")]
-static VISITS: (
+pub(crate) static VISITS: (
     core::sync::atomic::AtomicUsize,
     core::sync::atomic::AtomicUsize,
 ) = (
@@ -97,7 +92,7 @@ pub fn visits() -> (usize, usize) {
 /// with a load and a store.
 #[cfg(feature = "testing")]
 #[inline(always)]
-fn count_visit(counter: &core::sync::atomic::AtomicUsize) {
+pub(crate) fn count_visit(counter: &core::sync::atomic::AtomicUsize) {
     use core::sync::atomic::Ordering::Relaxed;
     #[cfg(target_has_atomic = "ptr")]
     counter.fetch_add(1, Relaxed);
@@ -235,6 +230,12 @@ fn union(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> (Vec3, Vec3) {
 }
 
 const EMPTY: (Vec3, Vec3) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+
+/// The bounds of every geometry of `list` (empty bounds for an empty list).
+pub(crate) fn list_bounds<G: Bounded>(list: &[Primitive<G>]) -> (Vec3, Vec3) {
+    list.iter()
+        .fold(EMPTY, |b, t| union(b, bounds(&t.geometry)))
+}
 
 /// Component `axis` of `v`.
 fn along(v: Vec3, axis: usize) -> f32 {
@@ -710,444 +711,6 @@ impl BvhNode {
     }
 }
 
-impl<'a> SceneView<'a> {
-    /// The same view with baked triangles and their hierarchy, kept where they lie
-    /// (in flash: `static` data written by `tessera bake`), searched through the
-    /// hierarchy. The view's own scene must have no triangles; the baked ones
-    /// follow its other primitives and use its materials by index.
-    ///
-    /// Checked once here (time linear in the triangles; no memory beyond a
-    /// small bitmap): each triangle as [`Triangle::try_new`] makes it, each
-    /// material in range, and the hierarchy's structure and bounds (every leaf's
-    /// triangles within it, every node within its parent, each triangle in
-    /// exactly one leaf), so that every search finds what the flat list would.
-    ///
-    /// # Errors
-    /// [`Error::BvhMismatch`] when the scene has triangles of its own or the
-    /// hierarchy does not fit the triangles; [`Error::MaterialOutOfRange`];
-    /// the triangle's own error for a vertex [`Triangle::try_new`] refuses.
-    pub fn with_baked(
-        &self,
-        triangles: &'a [Primitive<Triangle>],
-        bvh: &BakedBvh<'a>,
-    ) -> Result<Self, Error> {
-        if !self.triangles.is_empty() {
-            return Err(Error::BvhMismatch);
-        }
-        let face = |i: usize| triangles.get(i).copied().ok_or(Error::BvhMismatch);
-        check_faces(triangles.len(), face, self.materials.len(), bvh)?;
-        let all = triangles
-            .iter()
-            .fold(EMPTY, |b, t| union(b, bounds(&t.geometry)));
-        Ok(Self {
-            triangles,
-            triangle_hull: crate::cull::Hull::new(all.0, all.1),
-            // A view with a BVH builds no tile lists: lend none (no stack).
-            tile_lists: crate::cull::lend_none,
-            bvh: (!triangles.is_empty()).then_some(bvh.view()),
-            ..*self
-        }
-        .settled())
-    }
-
-    /// The same view with `meshes` (at most [`MAX_MESHES`]) among its primitives,
-    /// after every list: at equal times a mesh's face is found only where no
-    /// other primitive is, and among faces the mesh listed first, then the face
-    /// listed first, is. Each mesh is checked once here ([`Mesh::new`] says what),
-    /// in time linear in its faces.
-    ///
-    /// # Errors
-    /// [`Error::CapacityExceeded`] for [`List::Meshes`] beyond [`MAX_MESHES`];
-    /// [`Error::BadMesh`] when a mesh's faces, normals or hierarchy do not fit, or
-    /// the view has meshes already;
-    /// [`Error::MaterialOutOfRange`]; a face's own error ([`Triangle::try_new`]).
-    pub fn with_meshes(&self, meshes: &'a [Mesh<'a>]) -> Result<Self, Error> {
-        if !self.meshes.is_empty() {
-            return Err(Error::BadMesh);
-        }
-        if meshes.len() > MAX_MESHES {
-            return Err(Error::CapacityExceeded {
-                list: List::Meshes,
-                capacity: MAX_MESHES,
-            });
-        }
-        for m in meshes {
-            m.check(self.materials.len())?;
-        }
-        Ok(Self {
-            meshes,
-            // A view with meshes builds no tile lists: lend none (no stack).
-            tile_lists: crate::cull::lend_none,
-            ..*self
-        }
-        .settled())
-    }
-
-    /// [`SceneView::nearest`] of a scene with a BVH: the other kinds as the flat
-    /// search does, then the triangles through the BVH, with the flat search's
-    /// precedence at equal times (it visits spheres, planes, triangles, boxes, a
-    /// later kind replacing only a strictly nearer hit): a triangle at the time of
-    /// a box replaces it, at the time of a sphere or a plane does not.
-    #[inline(never)]
-    pub(crate) fn nearest_through(&self, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
-        // The spheres first (the flat search's first list): a later kind replaces
-        // a sphere only when strictly nearer.
-        let sphere = match &self.sphere_bvh {
-            Some(bvh) => sphere_nearest(bvh, self.spheres, ray, skip, t_max),
-            None => None,
-        };
-        let t0 = sphere.as_ref().map_or(t_max, |n| n.hit.t);
-        let mut best = self.others().nearest_flat(ray, t0, skip).or(sphere);
-        if let Some(bvh) = &self.bvh {
-            let (t, box_first) = match &best {
-                Some(n) => (n.hit.t, n.kind == Kind::Box),
-                None => (t_max, false),
-            };
-            let sk = skip.index(Kind::Triangle);
-            if let Some((index, hit)) = bvh_nearest(bvh, self.triangles, ray, sk, t, box_first) {
-                best = Some(Nearest {
-                    kind: Kind::Triangle,
-                    index,
-                    hit,
-                });
-            }
-        }
-        let sk = skip.index(Kind::Mesh);
-        for (m, mesh) in self.meshes.iter().enumerate() {
-            let t = best.as_ref().map_or(t_max, |n| n.hit.t);
-            // The face to skip, if it is one of this mesh's.
-            let face = if sk >> 16 == m {
-                sk & 0xffff
-            } else {
-                usize::MAX
-            };
-            if let Some((f, hit)) = bvh_nearest(&mesh.bvh(), mesh, ray, face, t, false) {
-                best = Some(Nearest {
-                    kind: Kind::Mesh,
-                    index: m << 16 | f,
-                    hit,
-                });
-            }
-        }
-        best
-    }
-
-    /// [`SceneView::occluded`] of a scene with a BVH (as
-    /// [`SceneView::nearest_through`]).
-    #[inline(never)]
-    pub(crate) fn occluded_through(&self, ray: &Ray, t_max: f32, skip: Skip) -> bool {
-        if let Some(bvh) = &self.sphere_bvh
-            && sphere_any(bvh, self.spheres, ray, skip, t_max)
-        {
-            return true;
-        }
-        if self.others().occluded_flat(ray, t_max, skip) {
-            return true;
-        }
-        if let Some(bvh) = &self.bvh
-            && bvh_any(bvh, self.triangles, ray, skip.index(Kind::Triangle), t_max)
-        {
-            return true;
-        }
-        let sk = skip.index(Kind::Mesh);
-        self.meshes.iter().enumerate().any(|(m, mesh)| {
-            let face = if sk >> 16 == m {
-                sk & 0xffff
-            } else {
-                usize::MAX
-            };
-            bvh_any(&mesh.bvh(), mesh, ray, face, t_max)
-        })
-    }
-
-    /// The view without what its hierarchies hold (the triangles when they have
-    /// one, the spheres when they have one, the meshes): what a scene with a BVH
-    /// searches with the flat functions (the same instantiations: a search of its
-    /// own for the other kinds made the compiler inline the flat searches
-    /// differently, at 3% more instructions on the chip for scenes without a BVH).
-    fn others(&self) -> Self {
-        SceneView {
-            spheres: if self.sphere_bvh.is_some() {
-                &[]
-            } else {
-                self.spheres
-            },
-            sphere_bvh: None,
-            triangles: if self.bvh.is_some() {
-                &[]
-            } else {
-                self.triangles
-            },
-            triangle_hull: if self.bvh.is_some() {
-                None
-            } else {
-                self.triangle_hull
-            },
-            bvh: None,
-            meshes: &[],
-            through: false,
-            ..*self
-        }
-    }
-}
-
-/// What the BVH traversal needs of a ray: its origin, its reciprocal direction and
-/// the clearance its nodes are grown by (see the module `bvh`).
-struct Probe {
-    origin: Vec3,
-    inv: Vec3,
-    clear: f32,
-}
-
-impl Probe {
-    /// The probe of `ray` for `bvh`.
-    fn new(bvh: &BvhView<'_>, ray: &Ray) -> Self {
-        Self {
-            origin: ray.origin,
-            inv: aabb_inverse(ray.dir),
-            clear: MARGIN * (ray.origin.abs().max_element() + bvh.reach),
-        }
-    }
-}
-
-/// Calls `leaf(entries, t_max)` for the triangles (entries of `bvh.order`) of
-/// every leaf whose grown box the ray may pass through before `*t_max` (which
-/// `leaf` may narrow: a nearest-hit search), nearer child first; stops when
-/// `leaf` returns true and returns it.
-#[inline(always)]
-fn bvh_walk(
-    bvh: &BvhView<'_>,
-    at: &Probe,
-    t_max: &mut f32,
-    mut leaf: impl FnMut(&[u16], &mut f32) -> bool,
-) -> bool {
-    let mut stack = [0u16; DEPTH];
-    let mut top = 0;
-    let mut node = 0usize;
-    // A node is visited at most once: a bounded loop (which also lets the compiler
-    // see that the search returns, and so treat its callers as before).
-    #[cfg(feature = "testing")]
-    count_visit(&VISITS.1);
-    for _ in 0..bvh.nodes.len() {
-        #[cfg(feature = "testing")]
-        count_visit(&VISITS.0);
-        if let Some(n) = bvh.nodes.get(node)
-            && n.may_hit(at.origin, at.inv, at.clear, *t_max)
-        {
-            if n.count == 0 {
-                let first = n.first;
-                // The child on the side the ray comes from first (a negative
-                // direction has a negative reciprocal, -0 included).
-                let positive = match n.axis {
-                    0 => at.inv.x >= 0.0,
-                    1 => at.inv.y >= 0.0,
-                    _ => at.inv.z >= 0.0,
-                };
-                let (near, far) = if positive {
-                    (first, first.wrapping_add(1))
-                } else {
-                    (first.wrapping_add(1), first)
-                };
-                // The stack holds at most one far child per level above the
-                // current node, and the build keeps every node above depth
-                // `DEPTH`: it never fills. (If it did, only the far child would be
-                // searched: never reached, the arm only keeps the walk total.)
-                match stack.get_mut(top) {
-                    Some(slot) => {
-                        *slot = far;
-                        top += 1;
-                        node = usize::from(near);
-                    }
-                    None => node = usize::from(far),
-                }
-                continue;
-            }
-            let start = usize::from(n.first);
-            let entries = bvh
-                .order
-                .get(start..start + usize::from(n.count))
-                .unwrap_or(&[]);
-            if leaf(entries, t_max) {
-                return true;
-            }
-        }
-        if top == 0 {
-            return false;
-        }
-        top -= 1;
-        node = stack.get(top).map_or(usize::MAX, |&n| usize::from(n));
-    }
-    false
-}
-
-/// The nearest triangle hit nearer than `t` through the BVH (but `skip`): its
-/// index and candidate. `box_first`: the hit at `t` is a box's, which a triangle at
-/// the same time replaces.
-#[inline(always)]
-fn bvh_nearest<F: Faces + ?Sized>(
-    bvh: &BvhView<'_>,
-    list: &F,
-    ray: &Ray,
-    sk: usize,
-    t: f32,
-    box_first: bool,
-) -> Option<(usize, Candidate)> {
-    let shear = Shear::new(ray);
-    let at = Probe::new(bvh, ray);
-    with_axes!(shear.axes, A => bvh_nearest_in::<A, F>(bvh, list, &at, &shear, sk, t, box_first), None)
-}
-
-/// The nearest sphere hit nearer than `t_max` through `bvh` (but `skip`): the
-/// smallest `(t, index)`, as the flat search keeps the first of equal times.
-#[inline(never)]
-fn sphere_nearest(
-    bvh: &BvhView<'_>,
-    spheres: &[Primitive<Sphere>],
-    ray: &Ray,
-    skip: Skip,
-    t_max: f32,
-) -> Option<Nearest> {
-    let at = Probe::new(bvh, ray);
-    let sk = skip.index(Kind::Sphere);
-    let mut found: Option<(usize, f32)> = None;
-    let mut t = t_max;
-    bvh_walk(bvh, &at, &mut t, |entries, t| {
-        for &e in entries {
-            let i = usize::from(e);
-            if i == sk {
-                continue;
-            }
-            let tie = found.is_some_and(|(best, _)| i < best);
-            let limit = if tie { t.next_up() } else { *t };
-            if let Some(s) = spheres.get(i)
-                && let Some(h) = s.geometry.hit(ray, limit)
-            {
-                *t = h;
-                found = Some((i, h));
-            }
-        }
-        false
-    });
-    found.map(|(index, t)| Nearest {
-        kind: Kind::Sphere,
-        index,
-        hit: Candidate::at(t),
-    })
-}
-
-/// True when a sphere but `skip` blocks `ray` before `t_max`, through `bvh`.
-#[inline(never)]
-fn sphere_any(
-    bvh: &BvhView<'_>,
-    spheres: &[Primitive<Sphere>],
-    ray: &Ray,
-    skip: Skip,
-    t_max: f32,
-) -> bool {
-    let at = Probe::new(bvh, ray);
-    let sk = skip.index(Kind::Sphere);
-    let mut t = t_max;
-    bvh_walk(bvh, &at, &mut t, |entries, _| {
-        entries.iter().any(|&e| {
-            let i = usize::from(e);
-            i != sk
-                && spheres
-                    .get(i)
-                    .is_some_and(|s| s.geometry.hit(ray, t_max).is_some())
-        })
-    })
-}
-
-/// Where a BVH's leaves find their triangles: the scene's list, or a mesh's faces.
-trait Faces {
-    /// The hit of triangle `i` nearer than `limit`, in the ray frame `shear`.
-    fn hit<A: Axes>(&self, i: usize, shear: &Shear, limit: f32) -> Option<Candidate>;
-}
-
-impl Faces for [Primitive<Triangle>] {
-    #[inline(always)]
-    fn hit<A: Axes>(&self, i: usize, shear: &Shear, limit: f32) -> Option<Candidate> {
-        self.get(i)?.geometry.hit_with::<A>(shear, limit)
-    }
-}
-
-impl Faces for Mesh<'_> {
-    #[inline(always)]
-    fn hit<A: Axes>(&self, i: usize, shear: &Shear, limit: f32) -> Option<Candidate> {
-        self.triangle(i)?.hit_with::<A>(shear, limit)
-    }
-}
-
-/// True when a triangle but `skip` blocks `ray` before `t_max`, through the BVH.
-#[inline(always)]
-fn bvh_any<F: Faces + ?Sized>(
-    bvh: &BvhView<'_>,
-    list: &F,
-    ray: &Ray,
-    sk: usize,
-    t_max: f32,
-) -> bool {
-    let shear = Shear::new(ray);
-    let at = Probe::new(bvh, ray);
-    with_axes!(shear.axes, A => bvh_any_in::<A, F>(bvh, list, &at, &shear, sk, t_max), false)
-}
-
-/// [`bvh_nearest`] in the ray frame with axes `A`: keeps the smallest
-/// `(t, index)` (the flat search's tie rule, see the module doc). With no triangle
-/// found yet, the hit at `t` is a box's (`box_first`: a triangle at the same time
-/// replaces it) or a sphere's or plane's (it does not).
-#[inline(always)]
-fn bvh_nearest_in<A: Axes, F: Faces + ?Sized>(
-    bvh: &BvhView<'_>,
-    list: &F,
-    at: &Probe,
-    shear: &Shear,
-    skip: usize,
-    t: f32,
-    box_first: bool,
-) -> Option<(usize, Candidate)> {
-    let mut found: Option<(usize, Candidate)> = None;
-    let mut t = t;
-    bvh_walk(bvh, at, &mut t, |entries, t| {
-        for &e in entries {
-            let i = usize::from(e);
-            if i == skip {
-                continue;
-            }
-            let tie = match found {
-                None => box_first,
-                Some((best, _)) => i < best,
-            };
-            let limit = if tie { t.next_up() } else { *t };
-            if let Some(h) = list.hit::<A>(i, shear, limit) {
-                *t = h.t;
-                found = Some((i, h));
-            }
-        }
-        false
-    });
-    found
-}
-
-/// [`bvh_any`] in the ray frame with axes `A`.
-#[inline(always)]
-fn bvh_any_in<A: Axes, F: Faces + ?Sized>(
-    bvh: &BvhView<'_>,
-    list: &F,
-    at: &Probe,
-    shear: &Shear,
-    skip: usize,
-    t_max: f32,
-) -> bool {
-    let mut t = t_max;
-    bvh_walk(bvh, at, &mut t, |entries, _| {
-        entries.iter().any(|&e| {
-            let i = usize::from(e);
-            i != skip && list.hit::<A>(i, shear, t_max).is_some()
-        })
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1301,7 +864,7 @@ mod tests {
 mod baked_tests {
     use super::*;
     use crate::material::MaterialId;
-    use crate::{Camera, Color, Material, Scene};
+    use crate::{Camera, Color, Material, Scene, SceneView};
 
     extern crate std;
     use std::vec::Vec as StdVec;

@@ -64,12 +64,49 @@
 //! Cortex-M4F); the chapter's scenes need 128 bytes with alignment.
 
 use crate::camera::CameraBasis;
+use crate::geometry::Triangle;
 use crate::geometry::{Aabb, Plane, Sphere};
-use crate::scene::{Primitive, SceneView};
-use crate::shade::{MASKED_LIGHTS, Picks, ShadowLists};
+use crate::light::PointLight;
+use crate::primitive::Primitive;
 use crate::vec::Vec3;
 use heapless::Vec;
 use heapless::vec::VecView;
+
+/// The candidates of one camera ray's tree: its own nearest-hit search (a tile's
+/// camera lists, or every primitive) and the shadow rays of its hit (a tile's shadow
+/// lists, entries `index | mask << 16`, or every primitive). Reflected and
+/// refracted rays, which may go anywhere, always search every primitive.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Picks<'l> {
+    pub(crate) camera: Option<[&'l [u16]; 4]>,
+    pub(crate) shadow: Option<ShadowLists<'l>>,
+}
+
+/// A tile's shadow lists: per kind, entries `index | mask << 16` (see
+/// `cull::PLANE_RECEIVERS` and `cull::SOLID_RECEIVERS` for the mask's bits), and the
+/// union of their masks.
+#[derive(Clone, Copy)]
+pub(crate) struct ShadowLists<'l> {
+    pub(crate) lists: [&'l [u32]; 4],
+    pub(crate) lights: u32,
+}
+
+/// Lights beyond this index are not in the tile shadow lists' masks (16 bits: 8
+/// lights, for hits on planes and on the other shapes): their shadow rays test every
+/// primitive.
+pub(crate) const MASKED_LIGHTS: usize = 8;
+
+/// What a tile's lists are built from: a scene's primitives and lights (the scene
+/// view, module `view`, implements it), and whether its rays search through a
+/// hierarchy instead (then no lists are built).
+pub(crate) trait Source {
+    fn spheres(&self) -> &[Primitive<Sphere>];
+    fn planes(&self) -> &[Primitive<Plane>];
+    fn triangles(&self) -> &[Primitive<Triangle>];
+    fn boxes(&self) -> &[Primitive<Aabb>];
+    fn lights(&self) -> &[PointLight];
+    fn through(&self) -> bool;
+}
 
 /// The first bit of a shadow list entry's light mask for hits on planes (bit
 /// `PLANE_RECEIVERS + l` for light `l`, one of the first [`MASKED_LIGHTS`]).
@@ -190,7 +227,7 @@ impl TileLists<'_> {
     pub(crate) fn build(
         &mut self,
         basis: &CameraBasis,
-        view: &SceneView<'_>,
+        view: &impl Source,
         (x0, y0, x1, y1): (f32, f32, f32, f32),
     ) -> Picks<'_> {
         for l in &mut self.camera {
@@ -199,8 +236,7 @@ impl TileLists<'_> {
         for l in &mut self.shadow {
             l.clear();
         }
-        // A scene searched through a BVH has no lists: every ray searches it.
-        #[cfg(feature = "bvh")]
+        // A scene searched through a hierarchy has no lists: every ray searches it.
         if view.through() {
             return Picks::default();
         }
@@ -208,12 +244,12 @@ impl TileLists<'_> {
             return Picks::default();
         };
         let [cs, cp, ct, cb] = &mut self.camera;
-        fill(cs, view.spheres, |s| !f.misses_sphere(s));
-        fill(cp, view.planes, |p| !f.misses_plane(p));
-        fill(ct, view.triangles, |t| !f.misses_points(&t.vertices()));
-        fill(cb, view.boxes, |b| !f.misses_box(b));
+        fill(cs, view.spheres(), |s| !f.misses_sphere(s));
+        fill(cp, view.planes(), |p| !f.misses_plane(p));
+        fill(ct, view.triangles(), |t| !f.misses_points(&t.vertices()));
+        fill(cb, view.boxes(), |b| !f.misses_box(b));
 
-        let shadow = if view.lights.is_empty() {
+        let shadow = if view.lights().is_empty() {
             None
         } else {
             self.build_shadow(&f, view)
@@ -234,20 +270,20 @@ impl TileLists<'_> {
 
     /// The shadow lists, from the camera lists; `None` when the visible points have
     /// no finite bound.
-    fn build_shadow(&mut self, f: &Frustum, view: &SceneView<'_>) -> Option<()> {
+    fn build_shadow(&mut self, f: &Frustum, view: &impl Source) -> Option<()> {
         let [cs, cp, ct, cb] = &self.camera;
         // The visible points of everything but the planes, and of each plane.
         let mut solids = Bounds::EMPTY;
         for &i in cs.iter() {
-            let s = &view.spheres.get(usize::from(i))?.geometry;
+            let s = &view.spheres().get(usize::from(i))?.geometry;
             solids = solids.union(f.clip(Bounds::sphere(s)));
         }
         for &i in ct.iter() {
-            let t = &view.triangles.get(usize::from(i))?.geometry;
+            let t = &view.triangles().get(usize::from(i))?.geometry;
             solids = solids.union(f.clip(Bounds::points(&t.vertices())));
         }
         for &i in cb.iter() {
-            let b = &view.boxes.get(usize::from(i))?.geometry;
+            let b = &view.boxes().get(usize::from(i))?.geometry;
             solids = solids.union(f.clip(Bounds::new(b.min(), b.max())));
         }
         // The visible parts of the first few visible planes, each on its own: a
@@ -259,7 +295,7 @@ impl TileLists<'_> {
         let separate = cp.len() <= FLOORS;
         if separate {
             for (slot, &i) in floors.iter_mut().zip(cp.iter()) {
-                let p = &view.planes.get(usize::from(i))?.geometry;
+                let p = &view.planes().get(usize::from(i))?.geometry;
                 *slot = Some((usize::from(i), p, f.on_plane(p)));
             }
         }
@@ -276,7 +312,7 @@ impl TileLists<'_> {
                 cp.iter()
                     .map(|&i| usize::from(i))
                     .filter(|&j| other(j))
-                    .filter_map(|j| view.planes.get(j))
+                    .filter_map(|j| view.planes().get(j))
                     .fold(Bounds::EMPTY, |v, p| v.union(f.on_plane(&p.geometry)))
             }
         };
@@ -288,7 +324,7 @@ impl TileLists<'_> {
         if !all.is_finite() {
             return None;
         }
-        let lights = view.lights.get(..MASKED_LIGHTS).unwrap_or(view.lights);
+        let lights = view.lights().get(..MASKED_LIGHTS).unwrap_or(view.lights());
         // May a blocker (its ball and its box) block a shadow ray from the tile's
         // visible points to each light? Two answers per light: for the points on
         // the planes (mask bit `PLANE_RECEIVERS + l`) and on the other shapes
@@ -312,18 +348,18 @@ impl TileLists<'_> {
             mask
         };
         let [ss, sp, st, sb] = &mut self.shadow;
-        fill_masked(ss, view.spheres, |s| {
+        fill_masked(ss, view.spheres(), |s| {
             blocks(s.center(), s.radius(), Bounds::sphere(s))
         });
-        fill_masked(st, view.triangles, |t| {
+        fill_masked(st, view.triangles(), |t| {
             let (c, r) = ball(&t.vertices());
             blocks(c, r, Bounds::points(&t.vertices()))
         });
-        fill_masked(sb, view.boxes, |b| {
+        fill_masked(sb, view.boxes(), |b| {
             let (c, h) = ((b.min() + b.max()) * 0.5, (b.max() - b.min()) * 0.5);
             blocks(c, h.length(), Bounds::new(b.min(), b.max()))
         });
-        for (j, p) in view.planes.iter().enumerate() {
+        for (j, p) in view.planes().iter().enumerate() {
             // A plane blocks a shadow ray only from a point on its far side from the
             // light; its own points cannot be shadowed by it (shadow rays skip the
             // primitive they leave), so only the other planes' points count.

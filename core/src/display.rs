@@ -14,8 +14,8 @@
 use crate::color::Rgb8;
 use crate::dither::Dither;
 use crate::error::Error;
-use crate::scene::SceneView;
 use crate::tile::{AllLoops, Frame, Loops, Tile, TileCoord, TilePixel};
+use crate::view::SceneView;
 use core::marker::PhantomData;
 use embedded_graphics_core::Drawable;
 use embedded_graphics_core::draw_target::DrawTarget;

@@ -59,20 +59,23 @@ mod error;
 #[cfg(feature = "testing")]
 mod extreme;
 mod geometry;
+mod hit;
 mod light;
 mod material;
 mod math;
 #[cfg(feature = "bvh")]
 mod mesh;
 mod prefilter;
+mod primitive;
 mod ray;
 mod sample;
 mod scene;
+mod search;
 mod shade;
 mod texture;
 mod tile;
-mod trace;
 mod vec;
+mod view;
 
 pub use baked::{BakedCamera, BakedScene};
 #[cfg(feature = "bvh")]
@@ -93,13 +96,23 @@ pub use light::PointLight;
 pub use material::{Material, MaterialId};
 #[cfg(feature = "bvh")]
 pub use mesh::{MAX_MESHES, Mesh};
+pub use primitive::Primitive;
 pub use ray::Ray;
 pub use sample::{Sampler, SubPixel};
-pub use scene::{Primitive, Scene, SceneView};
+pub use scene::Scene;
 pub use shade::{RayCount, RayCounter};
 pub use texture::Texture;
 pub use tile::{AllLoops, Frame, Loops, RenderSettings, Tile, TileCoord, TilePixel};
 pub use vec::Vec3;
+pub use view::SceneView;
+
+/// One ray at a time, outside the tile loop: what a ray hits first, and the colour
+/// it brings back (with every primitive a candidate: no tile lists).
+pub mod trace {
+    pub use crate::ray::Ray;
+    pub use crate::search::first_hit;
+    pub use crate::shade::{RayCount, RayCounter, trace};
+}
 
 /// The Rust examples of the repository's README.md, compiled by `cargo test -p
 /// tessera --doc`: under `cfg(doctest)` only, so not part of the API (and

@@ -17,7 +17,7 @@ use crate::bvh::{BakedBvh, BvhView};
 use crate::error::Error;
 use crate::geometry::Triangle;
 use crate::material::MaterialId;
-use crate::scene::Primitive;
+use crate::primitive::Primitive;
 use crate::vec::Vec3;
 
 /// The most meshes a scene view takes ([`crate::SceneView::with_meshes`]): a hit

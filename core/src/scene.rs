@@ -8,22 +8,17 @@
 //! checked when it is added, so a scene that exists is a valid scene.
 
 use crate::camera::Camera;
+use crate::camera::Viewport;
 use crate::color::Color;
 use crate::error::{Error, List};
 use crate::geometry::{Aabb, Plane, Sphere, Triangle};
 use crate::light::PointLight;
 use crate::material::{Material, MaterialId};
+use crate::primitive::Primitive;
+use crate::tile::{Frame, RenderSettings};
 use crate::vec::Vec3;
+use crate::view::{Lists, SceneView, check_material};
 use heapless::Vec;
-
-/// An object of the scene: a geometry and the material it is made of.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Primitive<G> {
-    /// The shape.
-    pub geometry: G,
-    /// Its material, an index checked against the scene's materials when added.
-    pub material: MaterialId,
-}
 
 /// A scene with capacities `S` spheres, `P` planes, `T` triangles, `B` boxes, `M`
 /// materials and `L` lights.
@@ -273,6 +268,12 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
         Ok(out)
     }
 
+    /// The frame of this scene's camera for `viewport` and `settings` (all checked):
+    /// [`Frame::try_new`] with [`Scene::camera`].
+    pub fn frame(&self, viewport: Viewport, settings: RenderSettings) -> Result<Frame, Error> {
+        Frame::try_new(self.camera(), viewport, settings)
+    }
+
     /// A borrowed, capacity-free view of the scene: what the renderer reads.
     #[must_use]
     pub fn view(&self) -> SceneView<'_> {
@@ -289,325 +290,6 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             self.background,
             crate::cull::Hull::new(self.triangle_bounds.0, self.triangle_bounds.1),
         )
-    }
-}
-
-/// A scene's lists, which a view borrows ([`Scene::view`], and a baked scene's
-/// `view`).
-pub(crate) struct Lists<'a> {
-    pub(crate) spheres: &'a [Primitive<Sphere>],
-    pub(crate) planes: &'a [Primitive<Plane>],
-    pub(crate) triangles: &'a [Primitive<Triangle>],
-    pub(crate) boxes: &'a [Primitive<Aabb>],
-    pub(crate) materials: &'a [Material],
-    pub(crate) lights: &'a [PointLight],
-}
-
-impl<'a> Lists<'a> {
-    /// The view of these lists searched flat (no hierarchy, no meshes), each
-    /// tile's culling lists sized by the capacities `S`, `P`, `T`, `B`, the
-    /// triangles within `triangle_hull`.
-    pub(crate) fn view<const S: usize, const P: usize, const T: usize, const B: usize>(
-        self,
-        ambient: Color,
-        background: Color,
-        triangle_hull: Option<crate::cull::Hull>,
-    ) -> SceneView<'a> {
-        SceneView {
-            spheres: self.spheres,
-            planes: self.planes,
-            triangles: self.triangles,
-            boxes: self.boxes,
-            materials: self.materials,
-            lights: self.lights,
-            ambient,
-            background,
-            // Model only what the scene requires: without a mirror or a transparent
-            // material no secondary ray can exist, so the tracer skips that work.
-            secondary: self.materials.iter().any(Material::sends_rays),
-            tile_lists: crate::cull::lend::<S, P, T, B>,
-            triangle_hull,
-            #[cfg(feature = "bvh")]
-            bvh: None,
-            #[cfg(feature = "bvh")]
-            sphere_bvh: None,
-            #[cfg(feature = "bvh")]
-            meshes: &[],
-            #[cfg(feature = "bvh")]
-            through: false,
-        }
-    }
-}
-
-/// Checks a material reference against `count` materials.
-pub(crate) fn check_material(id: MaterialId, count: usize) -> Result<(), Error> {
-    if usize::from(id.0) < count {
-        Ok(())
-    } else {
-        Err(Error::MaterialOutOfRange {
-            id: id.0,
-            count: u16::try_from(count).unwrap_or(u16::MAX),
-        })
-    }
-}
-
-/// A scene as the renderer sees it: slices, no capacities, so the renderer is
-/// compiled once whatever the scene's capacities. The one thing that depends on the
-/// capacities is the room for a tile's culling lists (the primitives that may reach
-/// the tile, listed before its pixels: `6 (S + P + T + B)` bytes and their lengths
-/// on the stack of [`Frame::render_tile`](crate::Frame::render_tile), for `S`
-/// spheres, `P` planes, `T` triangles and `B` boxes); [`Scene::view`] gives the
-/// view a small function of the scene's type that lends that room, so the
-/// capacities never reach the renderer's code.
-#[derive(Clone, Copy)]
-pub struct SceneView<'a> {
-    pub(crate) spheres: &'a [Primitive<Sphere>],
-    pub(crate) planes: &'a [Primitive<Plane>],
-    pub(crate) triangles: &'a [Primitive<Triangle>],
-    pub(crate) boxes: &'a [Primitive<Aabb>],
-    pub(crate) materials: &'a [Material],
-    pub(crate) lights: &'a [PointLight],
-    pub(crate) ambient: Color,
-    pub(crate) background: Color,
-    pub(crate) secondary: bool,
-    /// Lends a tile's candidate lists, sized by the scene's capacities.
-    pub(crate) tile_lists: crate::cull::Lender,
-    /// The hull of the triangles (`None` for an empty list).
-    pub(crate) triangle_hull: Option<crate::cull::Hull>,
-    /// The triangles' hierarchy, when it pays ([`SceneView::with_bvh`]).
-    #[cfg(feature = "bvh")]
-    pub(crate) bvh: Option<crate::bvh::BvhView<'a>>,
-    /// The spheres' hierarchy, when it pays ([`SceneView::with_sphere_bvh`]).
-    #[cfg(feature = "bvh")]
-    pub(crate) sphere_bvh: Option<crate::bvh::BvhView<'a>>,
-    /// The indexed meshes ([`SceneView::with_meshes`]), searched after every list.
-    #[cfg(feature = "bvh")]
-    pub(crate) meshes: &'a [crate::mesh::Mesh<'a>],
-    /// Something is searched through a hierarchy: [`SceneView::through`], one
-    /// flag for the searches' dispatch ([`SceneView::settled`] keeps it right).
-    #[cfg(feature = "bvh")]
-    pub(crate) through: bool,
-}
-
-impl core::fmt::Debug for SceneView<'_> {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("SceneView")
-            .field("spheres", &self.spheres)
-            .field("planes", &self.planes)
-            .field("triangles", &self.triangles)
-            .field("boxes", &self.boxes)
-            .field("materials", &self.materials)
-            .field("lights", &self.lights)
-            .field("ambient", &self.ambient)
-            .field("background", &self.background)
-            .finish_non_exhaustive()
-    }
-}
-
-impl<'a> SceneView<'a> {
-    /// The same view with every culling bound off: no tile lists, no list hull.
-    /// Renders to the same bytes (the point of the culling's conservative bounds,
-    /// which the tests check this way); slower. A test hook, with the feature
-    /// `testing`.
-    #[cfg(feature = "testing")]
-    #[must_use]
-    pub fn without_culling(&self) -> Self {
-        Self {
-            tile_lists: crate::cull::lend_none,
-            triangle_hull: None,
-            #[cfg(feature = "bvh")]
-            bvh: None,
-            #[cfg(feature = "bvh")]
-            sphere_bvh: None,
-            #[cfg(feature = "bvh")]
-            meshes: self.meshes,
-            ..*self
-        }
-        .settled()
-    }
-
-    /// The same view, its triangles found through `bvh` when there are at least
-    /// [`crate::bvh::CROSSOVER`] of them (below, the flat list costs less and the
-    /// view is returned as it is). The image is the same bytes either way.
-    ///
-    /// # Errors
-    /// [`Error::BvhMismatch`] when `bvh` was not built from these triangles.
-    #[cfg(feature = "bvh")]
-    pub fn with_bvh<const N: usize, const T: usize>(
-        &self,
-        bvh: &'a crate::Bvh<N, T>,
-    ) -> Result<Self, Error> {
-        if bvh.triangle_count() != self.triangles.len()
-            || bvh.key() != crate::bvh::key(self.triangles)
-        {
-            return Err(Error::BvhMismatch);
-        }
-        let pays = self.triangles.len() >= crate::bvh::CROSSOVER;
-        Ok(Self {
-            bvh: pays.then(|| bvh.view()),
-            ..*self
-        }
-        .settled())
-    }
-
-    /// True when the triangles are found through a BVH ([`SceneView::with_bvh`]).
-    #[cfg(feature = "bvh")]
-    #[must_use]
-    pub fn uses_bvh(&self) -> bool {
-        self.bvh.is_some()
-    }
-
-    /// True when the spheres are found through a BVH
-    /// ([`SceneView::with_sphere_bvh`]).
-    #[cfg(feature = "bvh")]
-    #[must_use]
-    pub fn uses_sphere_bvh(&self) -> bool {
-        self.sphere_bvh.is_some()
-    }
-
-    /// [`SceneView::with_bvh`] whatever the number of triangles (a test hook, with
-    /// the feature `testing`: the tests compare every scene with and without one).
-    ///
-    /// # Errors
-    /// As [`SceneView::with_bvh`].
-    #[cfg(feature = "bvh")]
-    #[cfg(feature = "testing")]
-    pub fn with_bvh_always<const N: usize, const T: usize>(
-        &self,
-        bvh: &'a crate::Bvh<N, T>,
-    ) -> Result<Self, Error> {
-        let v = self.with_bvh(bvh)?;
-        Ok(Self {
-            bvh: Some(bvh.view()),
-            ..v
-        }
-        .settled())
-    }
-
-    /// The same view without its BVH: the flat lists (a test hook, with the feature
-    /// `testing`).
-    #[cfg(feature = "bvh")]
-    #[cfg(feature = "testing")]
-    #[must_use]
-    pub fn without_bvh(&self) -> Self {
-        Self {
-            bvh: None,
-            sphere_bvh: None,
-            ..*self
-        }
-        .settled()
-    }
-
-    /// The same view, its spheres found through `bvh` when there are at least
-    /// [`crate::bvh::SPHERE_CROSSOVER`] of them (below, the view is returned as
-    /// it is). The image is the same bytes either way.
-    ///
-    /// # Errors
-    /// [`Error::BvhMismatch`] when `bvh` was not built from these spheres.
-    #[cfg(feature = "bvh")]
-    pub fn with_sphere_bvh<const N: usize, const T: usize>(
-        &self,
-        bvh: &'a crate::Bvh<N, T>,
-    ) -> Result<Self, Error> {
-        if bvh.triangle_count() != self.spheres.len() || bvh.key() != crate::bvh::key(self.spheres)
-        {
-            return Err(Error::BvhMismatch);
-        }
-        let pays = self.spheres.len() >= crate::bvh::SPHERE_CROSSOVER;
-        Ok(Self {
-            sphere_bvh: pays.then(|| bvh.view()),
-            ..*self
-        }
-        .settled())
-    }
-
-    /// [`SceneView::with_sphere_bvh`] whatever the number of spheres (a test hook,
-    /// with the feature `testing`).
-    ///
-    /// # Errors
-    /// As [`SceneView::with_sphere_bvh`].
-    #[cfg(feature = "bvh")]
-    #[cfg(feature = "testing")]
-    pub fn with_sphere_bvh_always<const N: usize, const T: usize>(
-        &self,
-        bvh: &'a crate::Bvh<N, T>,
-    ) -> Result<Self, Error> {
-        let v = self.with_sphere_bvh(bvh)?;
-        Ok(Self {
-            sphere_bvh: Some(bvh.view()),
-            ..v
-        }
-        .settled())
-    }
-
-    /// True when something is searched through a hierarchy (triangles, spheres,
-    /// meshes): the searches take [`SceneView::nearest_through`]'s way and the
-    /// tiles build no lists.
-    #[cfg(feature = "bvh")]
-    #[inline(always)]
-    pub(crate) fn through(&self) -> bool {
-        self.through
-    }
-
-    /// The view with its `through` flag set from what it holds (feature `bvh`;
-    /// the view itself without).
-    #[cfg(any(feature = "bvh", feature = "testing"))]
-    pub(crate) fn settled(self) -> Self {
-        #[cfg(feature = "bvh")]
-        let settled = Self {
-            through: self.bvh.is_some() || self.sphere_bvh.is_some() || !self.meshes.is_empty(),
-            ..self
-        };
-        #[cfg(not(feature = "bvh"))]
-        let settled = self;
-        settled
-    }
-
-    /// The spheres.
-    #[must_use]
-    pub fn spheres(&self) -> &'a [Primitive<Sphere>] {
-        self.spheres
-    }
-    /// The planes.
-    #[must_use]
-    pub fn planes(&self) -> &'a [Primitive<Plane>] {
-        self.planes
-    }
-    /// The triangles.
-    #[must_use]
-    pub fn triangles(&self) -> &'a [Primitive<Triangle>] {
-        self.triangles
-    }
-    /// The boxes.
-    #[must_use]
-    pub fn boxes(&self) -> &'a [Primitive<Aabb>] {
-        self.boxes
-    }
-    /// The indexed meshes ([`SceneView::with_meshes`]).
-    #[cfg(feature = "bvh")]
-    #[must_use]
-    pub fn meshes(&self) -> &'a [crate::Mesh<'a>] {
-        self.meshes
-    }
-    /// The materials.
-    #[must_use]
-    pub fn materials(&self) -> &'a [Material] {
-        self.materials
-    }
-    /// The lights.
-    #[must_use]
-    pub fn lights(&self) -> &'a [PointLight] {
-        self.lights
-    }
-    /// The ambient light.
-    #[must_use]
-    pub fn ambient(&self) -> Color {
-        self.ambient
-    }
-    /// The background colour.
-    #[must_use]
-    pub fn background(&self) -> Color {
-        self.background
     }
 }
 

@@ -26,15 +26,15 @@
 //! squaring when the shininess is an integer ([`crate::Material::highlight`]).
 
 use crate::color::Color;
-use crate::cull::{PLANE_RECEIVERS, SOLID_RECEIVERS};
+use crate::cull::{MASKED_LIGHTS, PLANE_RECEIVERS, Picks, SOLID_RECEIVERS, ShadowLists};
 use crate::error::MAX_DEPTH;
-use crate::geometry::Geom;
+use crate::hit::{self, Geom, Hit};
 use crate::math;
 use crate::prefilter::Footprint;
 use crate::ray::{Ray, offset_origin};
-use crate::scene::SceneView;
-use crate::trace::{Hit, Listed, Masked, Skip};
+use crate::search::{self, Listed, Masked, Skip};
 use crate::vec::Vec3;
+use crate::view::SceneView;
 
 /// How many rays a trace cast, by kind (for reports and for tests of what is not
 /// traced).
@@ -209,354 +209,329 @@ struct Pending {
     depth: u8,
 }
 
-/// The candidates of one camera ray's tree: its own nearest-hit search (a tile's
-/// camera lists, or every primitive) and the shadow rays of its hit (a tile's shadow
-/// lists, entries `index | mask << 16`, or every primitive). Reflected and
-/// refracted rays, which may go anywhere, always search every primitive.
-#[derive(Clone, Copy, Default)]
-pub(crate) struct Picks<'l> {
-    pub(crate) camera: Option<[&'l [u16]; 4]>,
-    pub(crate) shadow: Option<ShadowLists<'l>>,
+/// The colour seen along `ray` up to `t_max`, with reflections and
+/// transmissions down to `max_depth` bounces (clamped to [`MAX_DEPTH`]), every
+/// primitive a candidate; the rays cast are added to `count` (`&mut ()` not to
+/// count).
+pub fn trace<C: RayCounter>(
+    view: &SceneView<'_>,
+    ray: Ray,
+    t_max: f32,
+    max_depth: u8,
+    count: &mut C,
+) -> Color {
+    let depth = view.depth(max_depth);
+    trace_with::<_, true>(view, ray, t_max, depth, &Picks::default(), count, None)
 }
 
-/// A tile's shadow lists: per kind, entries `index | mask << 16` (see
-/// `cull::PLANE_RECEIVERS` and `cull::SOLID_RECEIVERS` for the mask's bits), and the
-/// union of their masks.
-#[derive(Clone, Copy)]
-pub(crate) struct ShadowLists<'l> {
-    pub(crate) lists: [&'l [u32]; 4],
-    pub(crate) lights: u32,
+/// The colour a camera ray brings back: its nearest hit among `picks.camera`,
+/// shaded with the shadow rays' candidates `picks.shadow`, then the reflected
+/// and refracted rays depth-first on a fixed stack. Where the camera ray carries
+/// its pixel (`footprint`), a texture it hits is averaged exactly over the
+/// pixel's footprint (box filter) instead of evaluated at one point.
+///
+/// With bounces, two calls that never nest: [`primary`] (the camera
+/// ray's own hit, with its searches inlined) and, only when that hit sends
+/// rays, [`bounce`]. The deepest stack is the bounce's, not the sum
+/// of both. Without bounces nothing
+/// else is called, and the camera ray's hit is inlined here
+/// ([`primary_in`]).
+///
+/// `max_depth` is the scene's depth, clamped once by the caller
+/// ([`SceneView::depth`]); `BOUNCES` is false when the caller knows it is 0.
+#[inline(always)]
+pub(crate) fn trace_with<C: RayCounter, const BOUNCES: bool>(
+    view: &SceneView<'_>,
+    ray: Ray,
+    t_max: f32,
+    max_depth: u8,
+    picks: &Picks<'_>,
+    count: &mut C,
+    footprint: Option<&Footprint<'_>>,
+) -> Color {
+    if !BOUNCES {
+        return primary_in(
+            view,
+            &ray,
+            t_max,
+            0,
+            picks,
+            count,
+            footprint,
+            &mut [None, None],
+        );
+    }
+    let mut first = [None, None];
+    let mut total = primary(
+        view, &ray, t_max, max_depth, picks, count, footprint, &mut first,
+    );
+    if first.iter().any(Option::is_some) {
+        bounce(view, &first, max_depth, &mut total, count);
+    }
+    total
 }
 
-/// Lights beyond this index are not in the tile shadow lists' masks (16 bits: 8
-/// lights, for hits on planes and on the other shapes): their shadow rays test every
-/// primitive.
-pub(crate) const MASKED_LIGHTS: usize = 8;
+/// The camera ray's own colour; the reflected and refracted rays its hit sends
+/// when `max_depth > 0` go to `first` (left as it is otherwise).
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn primary<C: RayCounter>(
+    view: &SceneView<'_>,
+    ray: &Ray,
+    t_max: f32,
+    max_depth: u8,
+    picks: &Picks<'_>,
+    count: &mut C,
+    footprint: Option<&Footprint<'_>>,
+    first: &mut [Option<Pending>; 2],
+) -> Color {
+    primary_in(view, ray, t_max, max_depth, picks, count, footprint, first)
+}
 
-impl<'a> SceneView<'a> {
-    /// The depth that rays reach in this scene when `max_depth` is asked for: at
-    /// most [`MAX_DEPTH`], and 0 without a mirror or a transparent material.
-    pub(crate) fn depth(&self, max_depth: u8) -> u8 {
-        if self.secondary {
-            max_depth.min(MAX_DEPTH)
-        } else {
-            0
-        }
-    }
-
-    /// The colour seen along `ray` up to `t_max`, with reflections and
-    /// transmissions down to `max_depth` bounces (clamped to [`MAX_DEPTH`]), every
-    /// primitive a candidate; the rays cast are added to `count` (`&mut ()` not to
-    /// count).
-    pub fn trace<C: RayCounter>(
-        &self,
-        ray: Ray,
-        t_max: f32,
-        max_depth: u8,
-        count: &mut C,
-    ) -> Color {
-        let depth = self.depth(max_depth);
-        self.trace_with::<_, true>(ray, t_max, depth, &Picks::default(), count, None)
-    }
-
-    /// The colour a camera ray brings back: its nearest hit among `picks.camera`,
-    /// shaded with the shadow rays' candidates `picks.shadow`, then the reflected
-    /// and refracted rays depth-first on a fixed stack. Where the camera ray carries
-    /// its pixel (`footprint`), a texture it hits is averaged exactly over the
-    /// pixel's footprint (box filter) instead of evaluated at one point.
-    ///
-    /// With bounces, two calls that never nest: [`SceneView::primary`] (the camera
-    /// ray's own hit, with its searches inlined) and, only when that hit sends
-    /// rays, [`SceneView::bounce`]. The deepest stack is the bounce's, not the sum
-    /// of both. Without bounces nothing
-    /// else is called, and the camera ray's hit is inlined here
-    /// ([`SceneView::primary_in`]).
-    ///
-    /// `max_depth` is the scene's depth, clamped once by the caller
-    /// ([`SceneView::depth`]); `BOUNCES` is false when the caller knows it is 0.
-    #[inline(always)]
-    pub(crate) fn trace_with<C: RayCounter, const BOUNCES: bool>(
-        &self,
-        ray: Ray,
-        t_max: f32,
-        max_depth: u8,
-        picks: &Picks<'_>,
-        count: &mut C,
-        footprint: Option<&Footprint<'_>>,
-    ) -> Color {
-        if !BOUNCES {
-            return self.primary_in(&ray, t_max, 0, picks, count, footprint, &mut [None, None]);
-        }
-        let mut first = [None, None];
-        let mut total = self.primary(&ray, t_max, max_depth, picks, count, footprint, &mut first);
-        if first.iter().any(Option::is_some) {
-            self.bounce(&first, max_depth, &mut total, count);
-        }
-        total
-    }
-
-    /// The camera ray's own colour; the reflected and refracted rays its hit sends
-    /// when `max_depth > 0` go to `first` (left as it is otherwise).
-    #[inline(never)]
-    #[allow(clippy::too_many_arguments)]
-    fn primary<C: RayCounter>(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        max_depth: u8,
-        picks: &Picks<'_>,
-        count: &mut C,
-        footprint: Option<&Footprint<'_>>,
-        first: &mut [Option<Pending>; 2],
-    ) -> Color {
-        self.primary_in(ray, t_max, max_depth, picks, count, footprint, first)
-    }
-
-    /// [`SceneView::primary`], inlined (for the camera rays of a scene without
-    /// bounces).
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn primary_in<C: RayCounter>(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        max_depth: u8,
-        picks: &Picks<'_>,
-        count: &mut C,
-        footprint: Option<&Footprint<'_>>,
-        first: &mut [Option<Pending>; 2],
-    ) -> Color {
-        count.primary();
-        let nearest = match &picks.camera {
-            Some(lists) => self.nearest_in(ray, t_max, Listed(lists), Skip::NONE),
-            None => self.nearest(ray, t_max, Skip::NONE),
-        };
-        let Some(nearest) = nearest else {
-            if C::SIGNS {
-                sign_hit(count, None);
-            }
-            return self.background;
-        };
-        let Some(hit) = self.hit(&nearest, ray, footprint) else {
-            return Color::BLACK; // unreachable for a validated scene: no material
-        };
+/// [`primary`], inlined (for the camera rays of a scene without
+/// bounces).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn primary_in<C: RayCounter>(
+    view: &SceneView<'_>,
+    ray: &Ray,
+    t_max: f32,
+    max_depth: u8,
+    picks: &Picks<'_>,
+    count: &mut C,
+    footprint: Option<&Footprint<'_>>,
+    first: &mut [Option<Pending>; 2],
+) -> Color {
+    count.primary();
+    let nearest = match &picks.camera {
+        Some(lists) => search::nearest_in(view, ray, t_max, Listed(lists), Skip::NONE),
+        None => search::nearest(view, ray, t_max, Skip::NONE),
+    };
+    let Some(nearest) = nearest else {
         if C::SIGNS {
-            sign_hit(count, Some(&hit));
-            if hit.material.texture().needs_uv() {
-                count.textured();
-            }
+            sign_hit(count, None);
         }
-        // A hit that no light changes and that sends no ray is its ambient colour
-        // (what `local_in` would give). Decided before the hit is rebuilt for the
-        // code below, whose out-of-line calls take its address: the hit of this
-        // path then never goes to memory (on the chip, interference 405.5 -> 373.5
-        // instr/px, and chapter-direct 471.5 -> 467.5).
-        let m = hit.material;
-        if !(m.is_lit() || max_depth > 0 && m.sends_rays()) {
-            return hit.base * self.ambient * m.ambient();
+        return view.background;
+    };
+    let Some(hit) = hit::resolve(view, &nearest, ray, footprint) else {
+        return Color::BLACK; // unreachable for a validated scene: no material
+    };
+    if C::SIGNS {
+        sign_hit(count, Some(&hit));
+        if hit.material.texture().needs_uv() {
+            count.textured();
         }
-        let hit = Hit {
-            error: core::cell::Cell::new(None),
-            ..hit
+    }
+    // A hit that no light changes and that sends no ray is its ambient colour
+    // (what `local_in` would give). Decided before the hit is rebuilt for the
+    // code below, whose out-of-line calls take its address: the hit of this
+    // path then never goes to memory (on the chip, interference 405.5 -> 373.5
+    // instr/px, and chapter-direct 471.5 -> 467.5).
+    let m = hit.material;
+    if !(m.is_lit() || max_depth > 0 && m.sends_rays()) {
+        return hit.base * view.ambient * m.ambient();
+    }
+    let hit = Hit {
+        error: core::cell::Cell::new(None),
+        ..hit
+    };
+    let total = local_in(view, &hit, ray, picks.shadow.as_ref(), count, true);
+    if max_depth > 0 && hit.material.sends_rays() {
+        children(&hit, ray, 1.0, 0, first);
+    }
+    total
+}
+
+/// Adds what `first` (the reflected and refracted rays of a camera ray's hit)
+/// bring back to `total`: depth-first, with a fixed stack of pending rays
+/// (depth `D` needs at most `D + 1` slots), every primitive a candidate. Out of
+/// line: a scene without mirrors or glass never comes here.
+#[inline(never)]
+fn bounce<C: RayCounter>(
+    view: &SceneView<'_>,
+    first: &[Option<Pending>; 2],
+    max_depth: u8,
+    total: &mut Color,
+    count: &mut C,
+) {
+    let mut stack: heapless::Vec<Pending, { MAX_DEPTH as usize + 1 }> = heapless::Vec::new();
+    // At most depth + 1 pending rays: a push cannot fail.
+    for p in first.iter().flatten() {
+        let _ = stack.push(*p);
+    }
+    while let Some(p) = stack.pop() {
+        count.secondary();
+        let Some(nearest) = search::nearest(view, &p.ray, f32::INFINITY, p.skip) else {
+            *total += view.background * p.weight;
+            continue;
         };
-        let total = self.local_in(&hit, ray, picks.shadow.as_ref(), count, true);
-        if max_depth > 0 && hit.material.sends_rays() {
-            children(&hit, ray, 1.0, 0, first);
-        }
-        total
-    }
-
-    /// Adds what `first` (the reflected and refracted rays of a camera ray's hit)
-    /// bring back to `total`: depth-first, with a fixed stack of pending rays
-    /// (depth `D` needs at most `D + 1` slots), every primitive a candidate. Out of
-    /// line: a scene without mirrors or glass never comes here.
-    #[inline(never)]
-    fn bounce<C: RayCounter>(
-        &self,
-        first: &[Option<Pending>; 2],
-        max_depth: u8,
-        total: &mut Color,
-        count: &mut C,
-    ) {
-        let mut stack: heapless::Vec<Pending, { MAX_DEPTH as usize + 1 }> = heapless::Vec::new();
-        // At most depth + 1 pending rays: a push cannot fail.
-        for p in first.iter().flatten() {
-            let _ = stack.push(*p);
-        }
-        while let Some(p) = stack.pop() {
-            count.secondary();
-            let Some(nearest) = self.nearest(&p.ray, f32::INFINITY, p.skip) else {
-                *total += self.background * p.weight;
-                continue;
-            };
-            let Some(hit) = self.hit(&nearest, &p.ray, None) else {
-                continue; // unreachable for a validated scene: no material
-            };
-            *total += self.local_in(&hit, &p.ray, None, count, false) * p.weight;
-            if p.depth < max_depth && hit.material.sends_rays() {
-                let mut next = [None, None];
-                children(&hit, &p.ray, p.weight, p.depth, &mut next);
-                for c in next.iter().flatten() {
-                    let _ = stack.push(*c);
-                }
+        let Some(hit) = hit::resolve(view, &nearest, &p.ray, None) else {
+            continue; // unreachable for a validated scene: no material
+        };
+        *total += local_in(view, &hit, &p.ray, None, count, false) * p.weight;
+        if p.depth < max_depth && hit.material.sends_rays() {
+            let mut next = [None, None];
+            children(&hit, &p.ray, p.weight, p.depth, &mut next);
+            for c in next.iter().flatten() {
+                let _ = stack.push(*c);
             }
         }
     }
+}
 
-    /// Ambient + direct light at a hit (no secondary rays); the shadow rays test the
-    /// candidates of `shadow` (see [`Picks`]). A smooth mesh's hit takes
-    /// [`SceneView::local_smooth`], out of line, so that the other kinds' code is
-    /// what it is without meshes.
-    #[inline(always)]
-    fn local_in<C: RayCounter>(
-        &self,
-        hit: &Hit<'_>,
-        ray: &Ray,
-        shadow: Option<&ShadowLists<'_>>,
-        count: &mut C,
-        sign: bool,
-    ) -> Color {
-        self.local_with::<false, C>(hit, ray, shadow, count, sign)
+/// Ambient + direct light at a hit (no secondary rays); the shadow rays test the
+/// candidates of `shadow` (see [`Picks`]). A smooth mesh's hit takes
+/// [`local_smooth`], out of line, so that the other kinds' code is
+/// what it is without meshes.
+#[inline(always)]
+fn local_in<C: RayCounter>(
+    view: &SceneView<'_>,
+    hit: &Hit<'_>,
+    ray: &Ray,
+    shadow: Option<&ShadowLists<'_>>,
+    count: &mut C,
+    sign: bool,
+) -> Color {
+    local_with::<false, C>(view, hit, ray, shadow, count, sign)
+}
+
+/// [`local_in`] at a hit of a smooth mesh.
+#[cfg(feature = "bvh")]
+#[inline(never)]
+fn local_smooth<C: RayCounter>(
+    view: &SceneView<'_>,
+    hit: &Hit<'_>,
+    ray: &Ray,
+    shadow: Option<&ShadowLists<'_>>,
+    count: &mut C,
+    sign: bool,
+) -> Color {
+    local_with::<true, C>(view, hit, ray, shadow, count, sign)
+}
+
+/// [`local_in`]; `SMOOTH`: the hit is a smooth mesh's.
+#[inline(always)]
+fn local_with<const SMOOTH: bool, C: RayCounter>(
+    view: &SceneView<'_>,
+    hit: &Hit<'_>,
+    ray: &Ray,
+    shadow: Option<&ShadowLists<'_>>,
+    count: &mut C,
+    sign: bool,
+) -> Color {
+    let m = hit.material;
+    let mut c = hit.base * view.ambient * m.ambient();
+    if !m.is_lit() {
+        return c;
     }
-
-    /// [`SceneView::local_in`] at a hit of a smooth mesh.
     #[cfg(feature = "bvh")]
-    #[inline(never)]
-    fn local_smooth<C: RayCounter>(
-        &self,
-        hit: &Hit<'_>,
-        ray: &Ray,
-        shadow: Option<&ShadowLists<'_>>,
-        count: &mut C,
-        sign: bool,
-    ) -> Color {
-        self.local_with::<true, C>(hit, ray, shadow, count, sign)
+    if !SMOOTH
+        && let Geom::Mesh(mesh) = hit.geom
+        && !mesh.normals().is_empty()
+    {
+        return local_smooth(view, hit, ray, shadow, count, sign);
     }
-
-    /// [`SceneView::local_in`]; `SMOOTH`: the hit is a smooth mesh's.
-    #[inline(always)]
-    fn local_with<const SMOOTH: bool, C: RayCounter>(
-        &self,
-        hit: &Hit<'_>,
-        ray: &Ray,
-        shadow: Option<&ShadowLists<'_>>,
-        count: &mut C,
-        sign: bool,
-    ) -> Color {
-        let m = hit.material;
-        let mut c = hit.base * self.ambient * m.ambient();
-        if !m.is_lit() {
-            return c;
+    let n = facing(hit.normal, ray.dir);
+    // The normal the light is weighed with: a smooth mesh's interpolated one
+    // (on `n`'s side); `n` itself places the shadow rays, which for a smooth
+    // mesh leave from the curved surface its normals describe (`Mesh::lift`:
+    // `lift` is the move there).
+    #[cfg(feature = "bvh")]
+    let (ns, lift) = match hit.geom {
+        Geom::Mesh(mesh) if SMOOTH => {
+            let (f, b) = (hit.index & 0xffff, [hit.aux.x, hit.hit.b1, hit.hit.b2]);
+            let out = if n.dot(hit.normal) < 0.0 { -1.0 } else { 1.0 };
+            let ns = mesh.shading_normal(f, b, n);
+            (ns, mesh.lift(f, b, hit.point, out))
         }
-        #[cfg(feature = "bvh")]
-        if !SMOOTH
-            && let Geom::Mesh(mesh) = hit.geom
-            && !mesh.normals().is_empty()
-        {
-            return self.local_smooth(hit, ray, shadow, count, sign);
+        _ => (n, Vec3::ZERO),
+    };
+    #[cfg(not(feature = "bvh"))]
+    let ns = n;
+    for (i, light) in view.lights.iter().enumerate() {
+        let to_light = light.position() - hit.point;
+        let dist2 = to_light.length_squared();
+        // `fast-rsqrt`: one reciprocal square root (`math::rsqrt`) gives the
+        // distance, the direction and the irradiance, instead of a `vsqrt`, three
+        // `vdiv` here and one in `irradiance` (a zero or infinite `dist2` makes
+        // `dist` NaN: skipped, as the exact path skips or darkens it).
+        #[cfg(feature = "fast-rsqrt")]
+        let inv = math::rsqrt(dist2);
+        #[cfg(feature = "fast-rsqrt")]
+        let dist = dist2 * inv;
+        #[cfg(not(feature = "fast-rsqrt"))]
+        let dist = math::sqrt(dist2);
+        if dist.is_nan() || dist <= 0.0 {
+            continue;
         }
-        let n = facing(hit.normal, ray.dir);
-        // The normal the light is weighed with: a smooth mesh's interpolated one
-        // (on `n`'s side); `n` itself places the shadow rays, which for a smooth
-        // mesh leave from the curved surface its normals describe (`Mesh::lift`:
-        // `lift` is the move there).
-        #[cfg(feature = "bvh")]
-        let (ns, lift) = match hit.geom {
-            Geom::Mesh(mesh) if SMOOTH => {
-                let (f, b) = (hit.index & 0xffff, [hit.aux.x, hit.hit.b1, hit.hit.b2]);
-                let out = if n.dot(hit.normal) < 0.0 { -1.0 } else { 1.0 };
-                let ns = mesh.shading_normal(f, b, n);
-                (ns, mesh.lift(f, b, hit.point, out))
+        #[cfg(feature = "fast-rsqrt")]
+        let l = to_light * inv;
+        #[cfg(not(feature = "fast-rsqrt"))]
+        let l = to_light / dist;
+        let cos = ns.dot(l);
+        if cos.is_nan() || cos <= 0.0 {
+            continue; // light behind the surface as seen from the ray
+        }
+        count.shadow();
+        // Lists for this light: `None` when no primitive of them may block it
+        // (the shadow ray would test nothing, so it needs no origin either).
+        let lists = match shadow {
+            Some(t) if i < MASKED_LIGHTS => {
+                let receivers = match hit.geom {
+                    Geom::Plane(_) => PLANE_RECEIVERS,
+                    _ => SOLID_RECEIVERS,
+                };
+                let bit = 1 << (receivers + i);
+                (t.lights & bit != 0).then_some(Some(Masked(&t.lists, bit)))
             }
-            _ => (n, Vec3::ZERO),
+            _ => Some(None),
         };
-        #[cfg(not(feature = "bvh"))]
-        let ns = n;
-        for (i, light) in self.lights.iter().enumerate() {
-            let to_light = light.position() - hit.point;
-            let dist2 = to_light.length_squared();
-            // `fast-rsqrt`: one reciprocal square root (`math::rsqrt`) gives the
-            // distance, the direction and the irradiance, instead of a `vsqrt`, three
-            // `vdiv` here and one in `irradiance` (a zero or infinite `dist2` makes
-            // `dist` NaN: skipped, as the exact path skips or darkens it).
-            #[cfg(feature = "fast-rsqrt")]
-            let inv = math::rsqrt(dist2);
-            #[cfg(feature = "fast-rsqrt")]
-            let dist = dist2 * inv;
-            #[cfg(not(feature = "fast-rsqrt"))]
-            let dist = math::sqrt(dist2);
-            if dist.is_nan() || dist <= 0.0 {
+        if let Some(lists) = lists {
+            let origin = offset_origin(hit.point, hit.error(ray), n, l);
+            #[cfg(feature = "bvh")]
+            let origin = if SMOOTH { origin + lift } else { origin };
+            let ray = Ray::unit(origin, l);
+            let skip = hit.skip_for(l);
+            let blocked = match lists {
+                Some(m) => search::occluded_masked(view, &ray, dist, m, skip),
+                None => search::occluded(view, &ray, dist, skip),
+            };
+            if blocked {
+                if C::SIGNS && sign {
+                    count.token(SHADOW | i as u32);
+                }
                 continue;
             }
-            #[cfg(feature = "fast-rsqrt")]
-            let l = to_light * inv;
-            #[cfg(not(feature = "fast-rsqrt"))]
-            let l = to_light / dist;
-            let cos = ns.dot(l);
-            if cos.is_nan() || cos <= 0.0 {
-                continue; // light behind the surface as seen from the ray
-            }
-            count.shadow();
-            // Lists for this light: `None` when no primitive of them may block it
-            // (the shadow ray would test nothing, so it needs no origin either).
-            let lists = match shadow {
-                Some(t) if i < MASKED_LIGHTS => {
-                    let receivers = match hit.geom {
-                        Geom::Plane(_) => PLANE_RECEIVERS,
-                        _ => SOLID_RECEIVERS,
-                    };
-                    let bit = 1 << (receivers + i);
-                    (t.lights & bit != 0).then_some(Some(Masked(&t.lists, bit)))
-                }
-                _ => Some(None),
-            };
-            if let Some(lists) = lists {
-                let origin = offset_origin(hit.point, hit.error(ray), n, l);
-                #[cfg(feature = "bvh")]
-                let origin = if SMOOTH { origin + lift } else { origin };
-                let ray = Ray::unit(origin, l);
-                let skip = hit.skip_for(l);
-                let blocked = match lists {
-                    Some(m) => self.occluded_masked(&ray, dist, m, skip),
-                    None => self.occluded(&ray, dist, skip),
-                };
-                if blocked {
-                    if C::SIGNS && sign {
-                        count.token(SHADOW | i as u32);
-                    }
-                    continue;
-                }
-            }
-            // `intensity / dist2` as `intensity inv^2` over 1, capped the same way (the
-            // division by 1 compiles to nothing).
-            #[cfg(feature = "fast-rsqrt")]
-            let e = light.color() * irradiance(light.intensity() * (inv * inv), 1.0);
-            #[cfg(not(feature = "fast-rsqrt"))]
-            let e = light.color() * irradiance(light.intensity(), dist2);
-            let mut lit = hit.base * (m.diffuse() * cos);
-            if m.specular() > 0.0 {
-                // `fast-rsqrt`: `n.h` of the unnormalised half vector, scaled by its
-                // reciprocal length, at most 1 (the approximation may exceed it by
-                // 2.6e-6, which a power of 10000 would raise to 2.6%). Its length is
-                // at least `n.l > 0`: never zero.
-                #[cfg(feature = "fast-rsqrt")]
-                let nh = {
-                    let h = l - ray.dir;
-                    math::min(ns.dot(h) * math::rsqrt(h.length_squared()), 1.0)
-                };
-                #[cfg(not(feature = "fast-rsqrt"))]
-                let nh = {
-                    let h = (l - ray.dir).normalize_or(ns);
-                    ns.dot(h)
-                };
-                if nh > 0.0 {
-                    lit += Color::splat(m.specular() * m.highlight(nh));
-                }
-            }
-            c += e * lit;
         }
-        c
+        // `intensity / dist2` as `intensity inv^2` over 1, capped the same way (the
+        // division by 1 compiles to nothing).
+        #[cfg(feature = "fast-rsqrt")]
+        let e = light.color() * irradiance(light.intensity() * (inv * inv), 1.0);
+        #[cfg(not(feature = "fast-rsqrt"))]
+        let e = light.color() * irradiance(light.intensity(), dist2);
+        let mut lit = hit.base * (m.diffuse() * cos);
+        if m.specular() > 0.0 {
+            // `fast-rsqrt`: `n.h` of the unnormalised half vector, scaled by its
+            // reciprocal length, at most 1 (the approximation may exceed it by
+            // 2.6e-6, which a power of 10000 would raise to 2.6%). Its length is
+            // at least `n.l > 0`: never zero.
+            #[cfg(feature = "fast-rsqrt")]
+            let nh = {
+                let h = l - ray.dir;
+                math::min(ns.dot(h) * math::rsqrt(h.length_squared()), 1.0)
+            };
+            #[cfg(not(feature = "fast-rsqrt"))]
+            let nh = {
+                let h = (l - ray.dir).normalize_or(ns);
+                ns.dot(h)
+            };
+            if nh > 0.0 {
+                lit += Color::splat(m.specular() * m.highlight(nh));
+            }
+        }
+        c += e * lit;
     }
+    c
 }
 
 /// The reflected and refracted rays of `hit` (reached at `depth` by a ray of
@@ -697,7 +672,7 @@ mod tests {
             )
             .unwrap();
             let ray = Ray::unit(Vec3::new(0.0, 1.0, 0.0), -Vec3::Y);
-            let c = s.view().trace(ray, 10.0, 0, &mut ());
+            let c = trace(&s.view(), ray, 10.0, 0, &mut ());
             assert!(c.is_finite(), "{c:?}");
             assert_eq!(c.is_black(), expect_black, "{c:?}");
             assert_eq!(irradiance(1e30, 1e-30), MAX_IRRADIANCE);

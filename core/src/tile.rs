@@ -21,14 +21,14 @@
 
 use crate::camera::{Camera, CameraBasis, Viewport};
 use crate::color::{Color, Encoding, Rgb8};
-use crate::cull::TileLists;
+use crate::cull::{Picks, TileLists};
 use crate::dither::Dither;
 use crate::error::Error;
 use crate::error::MAX_DEPTH;
 use crate::prefilter::Footprint;
 use crate::sample::{PixelHash, Sampler, stratified, stratum};
-use crate::scene::{Scene, SceneView};
-use crate::shade::{Picks, RayCounter, Signed};
+use crate::shade::{RayCounter, Signed};
+use crate::view::SceneView;
 
 /// How a frame is rendered.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -266,17 +266,6 @@ pub struct Frame {
     single: Option<(f32, f32)>,
     /// How a tile of a panel's colour ([`TilePixel`]) gets its pixels.
     dither: Dither,
-}
-
-impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: usize, const L: usize>
-    Scene<S, P, T, B, M, L>
-{
-    /// The frame of this scene's camera for `viewport` and `settings` (all checked):
-    /// [`Frame::try_new`] with [`Scene::camera`]. (Defined with the renderer, so that
-    /// the scene does not depend on it.)
-    pub fn frame(&self, viewport: Viewport, settings: RenderSettings) -> Result<Frame, Error> {
-        Frame::try_new(self.camera(), viewport, settings)
-    }
 }
 
 impl Frame {
@@ -546,7 +535,7 @@ impl Frame {
         count: &mut C,
     ) -> Color {
         let (ray, t_far) = self.basis.ray(x, y);
-        scene.trace_with::<C, BOUNCES>(ray, t_far, depth, picks, count, footprint)
+        crate::shade::trace_with::<C, BOUNCES>(scene, ray, t_far, depth, picks, count, footprint)
     }
 
     /// [`Frame::ray_color`] out of line, for the single-sample samplers: inlined in

@@ -170,8 +170,7 @@ fn show(v: Vec3) -> String {
 /// (not finite): a camera built by [`Camera::try_new`] always is.
 pub fn pivot(scene: &SceneView<'_>, camera: &Camera) -> Result<Vec3, HostError> {
     let ray = tessera::Ray::new(camera.position(), camera.forward()).map_err(HostError::Core)?;
-    let t = scene
-        .first_hit(&ray, camera.far())
+    let t = tessera::trace::first_hit(scene, &ray, camera.far())
         .unwrap_or_else(|| (-camera.position()).dot(camera.forward()))
         .max(10.0 * camera.near());
     Ok(ray.at(t))

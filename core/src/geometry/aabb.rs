@@ -5,7 +5,7 @@
 //! the updates below are written so that a NaN never replaces a bound, which makes
 //! such a ray count as inside that slab, the same way on all six faces.
 
-use super::{Candidate, Geom, Locate, Shape, Surface};
+use super::{Candidate, Locate, Shape, Surface};
 use crate::error::{Error, Field, position};
 use crate::math;
 use crate::ray::Ray;
@@ -255,10 +255,6 @@ impl Locate for Aabb {
         let (axis, _) = face_axis(hit.face);
         let error = (ray.origin.abs() + (ray.dir * hit.t).abs()) * math::gamma(3);
         error.with(axis, 0.0)
-    }
-
-    fn geom(&self) -> Geom<'_> {
-        Geom::Box(self)
     }
 }
 

@@ -110,9 +110,6 @@ pub(crate) trait Locate: Shape {
 
     /// The error bound of the point that [`Locate::locate`] gave.
     fn error(&self, ray: &Ray, hit: &Candidate, point: Vec3, aux: Vec3) -> Vec3;
-
-    /// This primitive, by kind.
-    fn geom(&self) -> Geom<'_>;
 }
 
 /// [`Shape::surface`] of every kind: [`Locate::locate`], then [`Locate::error`].
@@ -122,44 +119,6 @@ fn surface<G: Locate>(g: &G, ray: &Ray, hit: &Candidate) -> Surface {
         point,
         normal,
         error: g.error(ray, hit, point, aux),
-    }
-}
-
-/// A primitive of any kind, by reference.
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Geom<'a> {
-    Sphere(&'a Sphere),
-    Plane(&'a Plane),
-    Triangle(&'a Triangle),
-    Box(&'a Aabb),
-    /// A face of a mesh (feature `bvh`); which face, the hit's index says
-    /// (`mesh << 16 | face`), so that a `Geom` stays a tag and a pointer.
-    #[cfg(feature = "bvh")]
-    Mesh(&'a crate::mesh::Mesh<'a>),
-}
-
-impl Geom<'_> {
-    /// [`Locate::error`] of whichever kind it is; `index` is the hit's (a mesh's
-    /// face is the triangle of face `index & 0xffff`).
-    #[inline(always)]
-    pub(crate) fn error(
-        self,
-        #[cfg_attr(not(feature = "bvh"), allow(unused_variables))] index: usize,
-        ray: &Ray,
-        hit: &Candidate,
-        point: Vec3,
-        aux: Vec3,
-    ) -> Vec3 {
-        match self {
-            Self::Sphere(g) => g.error(ray, hit, point, aux),
-            Self::Plane(g) => g.error(ray, hit, point, aux),
-            Self::Triangle(g) => g.error(ray, hit, point, aux),
-            Self::Box(g) => g.error(ray, hit, point, aux),
-            #[cfg(feature = "bvh")]
-            Self::Mesh(m) => m
-                .triangle(index & 0xffff)
-                .map_or(Vec3::ZERO, |t| t.error(ray, hit, point, aux)),
-        }
     }
 }
 

@@ -1,7 +1,7 @@
 //! Infinite plane: a point and a normal.
 
 use super::wide::W3;
-use super::{Candidate, Geom, Locate, Shape, Surface, tangent_basis};
+use super::{Candidate, Locate, Shape, Surface, tangent_basis};
 use crate::error::{Error, Field, position, unit};
 use crate::math::gamma;
 use crate::ray::Ray;
@@ -160,10 +160,6 @@ impl Locate for Plane {
         let num_err = gamma(4) * (crate::math::abs(self.offset) + ray.origin.abs().dot(n));
         let t_err = num_err / denom + gamma(4) * t;
         (ray.origin.abs() + dt.abs()) * gamma(2) + ray.dir.abs() * t_err
-    }
-
-    fn geom(&self) -> Geom<'_> {
-        Geom::Plane(self)
     }
 }
 

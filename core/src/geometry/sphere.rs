@@ -1,7 +1,7 @@
 //! Sphere: centre and radius.
 
 use super::wide::{REACH, W3, gamma64};
-use super::{Candidate, Geom, Locate, Shape, Surface};
+use super::{Candidate, Locate, Shape, Surface};
 use crate::error::{Error, Field, finite, length, position};
 use crate::math::{self, gamma};
 use crate::ray::Ray;
@@ -315,10 +315,6 @@ impl Locate for Sphere {
             return self.distance(point);
         }
         local.abs() * gamma(5) + point.abs() * gamma(1)
-    }
-
-    fn geom(&self) -> Geom<'_> {
-        Geom::Sphere(self)
     }
 }
 

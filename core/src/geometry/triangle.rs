@@ -9,7 +9,7 @@
 //! shared edge the ray passes: no ray leaks between them.
 
 use super::wide::{CANCELS, REACH, W3, gamma64};
-use super::{Candidate, Geom, Locate, Shape, Surface};
+use super::{Candidate, Locate, Shape, Surface};
 use crate::error::{Error, Field, position};
 use crate::math;
 use crate::ray::Ray;
@@ -472,10 +472,6 @@ impl Locate for Triangle {
         let (q0, q1, q2) = (self.p0 * aux.x, self.p1 * hit.b1, self.p2 * hit.b2);
         // pbrt-v4's bound for barycentric interpolation (pbrt 3rd ed. 3.9.6).
         (q0.abs() + q1.abs() + q2.abs()) * math::gamma(7)
-    }
-
-    fn geom(&self) -> Geom<'_> {
-        Geom::Triangle(self)
     }
 }
 

@@ -45,7 +45,7 @@ fn through_bvh(mesh: &[Triangle]) -> (Box<MeshScene>, Box<MeshBvh>) {
 fn leaks(mesh: &[Triangle], view: &SceneView<'_>, ray: &Ray) -> bool {
     !mesh.iter().any(|t| t.intersect(ray, INF).is_some())
         || !mesh.iter().any(|t| t.occluded(ray, INF))
-        || view.first_hit(ray, INF).is_none()
+        || tessera::trace::first_hit(view, ray, INF).is_none()
 }
 
 /// Case 3, fans: a non-planar fan of 7 triangles around `center` (ring radius about

@@ -1,0 +1,224 @@
+//! The nearest hit resolved into the chapter's [`Hit`]: the point and its normal,
+//! the material, the texture's colour there, and what a ray leaving it must not
+//! test again.
+
+use crate::color::Color;
+#[cfg(feature = "bvh")]
+use crate::geometry::Shape;
+use crate::geometry::{Aabb, Candidate, Locate, Plane, Sphere, Surface, Triangle};
+use crate::material::Material;
+use crate::prefilter::{Footprint, uv_box};
+use crate::primitive::Primitive;
+use crate::ray::Ray;
+use crate::search::{Kind, Nearest, Skip};
+use crate::vec::Vec3;
+use crate::view::SceneView;
+
+/// A primitive of any kind, by reference.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Geom<'a> {
+    Sphere(&'a Sphere),
+    Plane(&'a Plane),
+    Triangle(&'a Triangle),
+    Box(&'a Aabb),
+    /// A face of a mesh (feature `bvh`); which face, the hit's index says
+    /// (`mesh << 16 | face`), so that a `Geom` stays a tag and a pointer.
+    #[cfg(feature = "bvh")]
+    Mesh(&'a crate::mesh::Mesh<'a>),
+}
+
+impl Geom<'_> {
+    /// [`Locate::error`] of whichever kind it is; `index` is the hit's (a mesh's
+    /// face is the triangle of face `index & 0xffff`).
+    #[inline(always)]
+    pub(crate) fn error(
+        self,
+        #[cfg_attr(not(feature = "bvh"), allow(unused_variables))] index: usize,
+        ray: &Ray,
+        hit: &Candidate,
+        point: Vec3,
+        aux: Vec3,
+    ) -> Vec3 {
+        match self {
+            Self::Sphere(g) => g.error(ray, hit, point, aux),
+            Self::Plane(g) => g.error(ray, hit, point, aux),
+            Self::Triangle(g) => g.error(ray, hit, point, aux),
+            Self::Box(g) => g.error(ray, hit, point, aux),
+            #[cfg(feature = "bvh")]
+            Self::Mesh(m) => m
+                .triangle(index & 0xffff)
+                .map_or(Vec3::ZERO, |t| t.error(ray, hit, point, aux)),
+        }
+    }
+}
+
+/// The chapter's hit, resolved from the nearest [`Candidate`] (time `hit.t`): the
+/// point and its normal, its material, the colour of the texture there (its uv
+/// evaluated only if textured, box-filtered over the pixel's footprint for the
+/// prefiltered sampler) and which primitive it is. The error
+/// bound of the point, which only a ray leaving it needs, is computed on demand
+/// ([`Hit::error`]).
+pub(crate) struct Hit<'a> {
+    pub(crate) point: Vec3,
+    /// The outward unit normal.
+    pub(crate) normal: Vec3,
+    /// What the error bound needs besides the point (see `Locate`).
+    pub(crate) aux: Vec3,
+    pub(crate) hit: Candidate,
+    pub(crate) geom: Geom<'a>,
+    pub(crate) index: usize,
+    pub(crate) material: &'a Material,
+    pub(crate) base: Color,
+    /// The error bound, once computed (shadow rays, then the bounces, share it).
+    pub(crate) error: core::cell::Cell<Option<Vec3>>,
+}
+
+impl Hit<'_> {
+    /// The bound on the rounding error of each component of the point (`ray` is
+    /// the ray that hit it).
+    ///
+    /// Computed once per hit, out of line ([`Hit::compute_error`]); the check
+    /// of the cached value is inlined.
+    #[inline(always)]
+    pub(crate) fn error(&self, ray: &Ray) -> Vec3 {
+        match self.error.get() {
+            Some(e) => e,
+            None => self.compute_error(ray),
+        }
+    }
+
+    /// [`Hit::error`] when not yet known.
+    #[inline(never)]
+    fn compute_error(&self, ray: &Ray) -> Vec3 {
+        let e = self
+            .geom
+            .error(self.index, ray, &self.hit, self.point, self.aux);
+        self.error.set(Some(e));
+        e
+    }
+
+    /// What a ray leaving this hit in direction `w` must not test: this primitive,
+    /// when `w` leaves it for good (see the module doc): always for a flat one
+    /// (plane, triangle), for a closed convex one when `w . n > 0` with the outward
+    /// normal `n`, which is also the side `offset_origin` moves the origin to.
+    pub(crate) fn skip_for(&self, w: Vec3) -> Skip {
+        let (kind, flat) = match self.geom {
+            Geom::Sphere(_) => (Kind::Sphere, false),
+            Geom::Plane(_) => (Kind::Plane, true),
+            Geom::Triangle(_) => (Kind::Triangle, true),
+            Geom::Box(_) => (Kind::Box, false),
+            #[cfg(feature = "bvh")]
+            Geom::Mesh(..) => (Kind::Mesh, true),
+        };
+        if flat || w.dot(self.normal) > 0.0 {
+            Skip::new(kind, self.index)
+        } else {
+            Skip::NONE
+        }
+    }
+}
+
+#[inline(always)]
+fn resolve_in<'a, G: Locate>(
+    view: &SceneView<'a>,
+    list: &'a [Primitive<G>],
+    n: &Nearest,
+    ray: &Ray,
+    footprint: Option<&Footprint<'_>>,
+    geom: fn(&'a G) -> Geom<'a>,
+) -> Option<Hit<'a>> {
+    let prim = list.get(n.index)?;
+    let material = view.materials.get(usize::from(prim.material.0))?;
+    let (point, normal, aux) = prim.geometry.locate(ray, &n.hit);
+    let texture = material.texture();
+    let base = if texture.needs_uv() {
+        // The uv need no error bound.
+        let surface = Surface {
+            point,
+            normal,
+            error: Vec3::ZERO,
+        };
+        let uv = prim.geometry.uv(&surface, &n.hit);
+        match footprint.and_then(|f| uv_box(&prim.geometry, f, uv)) {
+            Some((lo, hi)) => texture.eval_box(lo, hi),
+            None => texture.eval(uv),
+        }
+    } else {
+        texture.eval([0.0, 0.0])
+    };
+    Some(Hit {
+        point,
+        normal,
+        aux,
+        hit: n.hit,
+        geom: geom(&prim.geometry),
+        index: n.index,
+        material,
+        base,
+        error: core::cell::Cell::new(None),
+    })
+}
+
+/// [`resolve`] for a face of a mesh (`n.index` is `mesh << 16 | face`): the
+/// face as a triangle, the mesh's material. (The texture lookup is `resolve`'s,
+/// written again on purpose: one helper for both, even `#[inline(always)]`, made
+/// the test firmware's code 6.5 KB larger, measured with llvm-size.)
+#[cfg(feature = "bvh")]
+#[inline(always)]
+fn resolve_mesh<'a>(
+    view: &SceneView<'a>,
+    n: &Nearest,
+    ray: &Ray,
+    footprint: Option<&Footprint<'_>>,
+) -> Option<Hit<'a>> {
+    let mesh = view.meshes.get(n.index >> 16)?;
+    let face = u16::try_from(n.index & 0xffff).ok()?;
+    let tri = mesh.triangle(usize::from(face))?;
+    let material = view.materials.get(usize::from(mesh.material().0))?;
+    let (point, normal, aux) = tri.locate(ray, &n.hit);
+    let texture = material.texture();
+    let base = if texture.needs_uv() {
+        let surface = Surface {
+            point,
+            normal,
+            error: Vec3::ZERO,
+        };
+        let uv = tri.uv(&surface, &n.hit);
+        match footprint.and_then(|f| uv_box(&tri, f, uv)) {
+            Some((lo, hi)) => texture.eval_box(lo, hi),
+            None => texture.eval(uv),
+        }
+    } else {
+        texture.eval([0.0, 0.0])
+    };
+    Some(Hit {
+        point,
+        normal,
+        aux,
+        hit: n.hit,
+        geom: Geom::Mesh(mesh),
+        index: n.index,
+        material,
+        base,
+        error: core::cell::Cell::new(None),
+    })
+}
+
+/// The [`Hit`] of `n` (inlined where it is called: the camera ray's shading and
+/// the bounces' each have their copy).
+#[inline(always)]
+pub(crate) fn resolve<'a>(
+    view: &SceneView<'a>,
+    n: &Nearest,
+    ray: &Ray,
+    footprint: Option<&Footprint<'_>>,
+) -> Option<Hit<'a>> {
+    match n.kind {
+        Kind::Sphere => resolve_in(view, view.spheres, n, ray, footprint, Geom::Sphere),
+        Kind::Plane => resolve_in(view, view.planes, n, ray, footprint, Geom::Plane),
+        Kind::Triangle => resolve_in(view, view.triangles, n, ray, footprint, Geom::Triangle),
+        Kind::Box => resolve_in(view, view.boxes, n, ray, footprint, Geom::Box),
+        #[cfg(feature = "bvh")]
+        Kind::Mesh => resolve_mesh(view, n, ray, footprint),
+    }
+}

@@ -1,0 +1,447 @@
+//! The scene as the renderer sees it ([`SceneView`]): the lists as slices, no
+//! capacities, so the renderer is compiled once whatever the scene's capacities;
+//! and what a view may carry besides (hierarchies, meshes, the triangles' hull).
+
+#[cfg(feature = "bvh")]
+use crate::bvh::{BakedBvh, check_faces, list_bounds};
+use crate::color::Color;
+use crate::error::Error;
+#[cfg(feature = "bvh")]
+use crate::error::List;
+use crate::geometry::{Aabb, Plane, Sphere, Triangle};
+use crate::light::PointLight;
+use crate::material::{Material, MaterialId};
+#[cfg(feature = "bvh")]
+use crate::mesh::{MAX_MESHES, Mesh};
+use crate::primitive::Primitive;
+
+/// A scene's lists, which a view borrows ([`Scene::view`], and a baked scene's
+/// `view`).
+pub(crate) struct Lists<'a> {
+    pub(crate) spheres: &'a [Primitive<Sphere>],
+    pub(crate) planes: &'a [Primitive<Plane>],
+    pub(crate) triangles: &'a [Primitive<Triangle>],
+    pub(crate) boxes: &'a [Primitive<Aabb>],
+    pub(crate) materials: &'a [Material],
+    pub(crate) lights: &'a [PointLight],
+}
+
+impl<'a> Lists<'a> {
+    /// The view of these lists searched flat (no hierarchy, no meshes), each
+    /// tile's culling lists sized by the capacities `S`, `P`, `T`, `B`, the
+    /// triangles within `triangle_hull`.
+    pub(crate) fn view<const S: usize, const P: usize, const T: usize, const B: usize>(
+        self,
+        ambient: Color,
+        background: Color,
+        triangle_hull: Option<crate::cull::Hull>,
+    ) -> SceneView<'a> {
+        SceneView {
+            spheres: self.spheres,
+            planes: self.planes,
+            triangles: self.triangles,
+            boxes: self.boxes,
+            materials: self.materials,
+            lights: self.lights,
+            ambient,
+            background,
+            // Model only what the scene requires: without a mirror or a transparent
+            // material no secondary ray can exist, so the tracer skips that work.
+            secondary: self.materials.iter().any(Material::sends_rays),
+            tile_lists: crate::cull::lend::<S, P, T, B>,
+            triangle_hull,
+            #[cfg(feature = "bvh")]
+            bvh: None,
+            #[cfg(feature = "bvh")]
+            sphere_bvh: None,
+            #[cfg(feature = "bvh")]
+            meshes: &[],
+            #[cfg(feature = "bvh")]
+            through: false,
+        }
+    }
+}
+
+/// Checks a material reference against `count` materials.
+pub(crate) fn check_material(id: MaterialId, count: usize) -> Result<(), Error> {
+    if usize::from(id.0) < count {
+        Ok(())
+    } else {
+        Err(Error::MaterialOutOfRange {
+            id: id.0,
+            count: u16::try_from(count).unwrap_or(u16::MAX),
+        })
+    }
+}
+
+/// A scene as the renderer sees it: slices, no capacities, so the renderer is
+/// compiled once whatever the scene's capacities. The one thing that depends on the
+/// capacities is the room for a tile's culling lists (the primitives that may reach
+/// the tile, listed before its pixels: `6 (S + P + T + B)` bytes and their lengths
+/// on the stack of [`Frame::render_tile`](crate::Frame::render_tile), for `S`
+/// spheres, `P` planes, `T` triangles and `B` boxes); [`Scene::view`] gives the
+/// view a small function of the scene's type that lends that room, so the
+/// capacities never reach the renderer's code.
+#[derive(Clone, Copy)]
+pub struct SceneView<'a> {
+    pub(crate) spheres: &'a [Primitive<Sphere>],
+    pub(crate) planes: &'a [Primitive<Plane>],
+    pub(crate) triangles: &'a [Primitive<Triangle>],
+    pub(crate) boxes: &'a [Primitive<Aabb>],
+    pub(crate) materials: &'a [Material],
+    pub(crate) lights: &'a [PointLight],
+    pub(crate) ambient: Color,
+    pub(crate) background: Color,
+    pub(crate) secondary: bool,
+    /// Lends a tile's candidate lists, sized by the scene's capacities.
+    pub(crate) tile_lists: crate::cull::Lender,
+    /// The hull of the triangles (`None` for an empty list).
+    pub(crate) triangle_hull: Option<crate::cull::Hull>,
+    /// The triangles' hierarchy, when it pays ([`SceneView::with_bvh`]).
+    #[cfg(feature = "bvh")]
+    pub(crate) bvh: Option<crate::bvh::BvhView<'a>>,
+    /// The spheres' hierarchy, when it pays ([`SceneView::with_sphere_bvh`]).
+    #[cfg(feature = "bvh")]
+    pub(crate) sphere_bvh: Option<crate::bvh::BvhView<'a>>,
+    /// The indexed meshes ([`SceneView::with_meshes`]), searched after every list.
+    #[cfg(feature = "bvh")]
+    pub(crate) meshes: &'a [crate::mesh::Mesh<'a>],
+    /// Something is searched through a hierarchy: [`SceneView::through`], one
+    /// flag for the searches' dispatch ([`SceneView::settled`] keeps it right).
+    #[cfg(feature = "bvh")]
+    pub(crate) through: bool,
+}
+
+impl core::fmt::Debug for SceneView<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("SceneView")
+            .field("spheres", &self.spheres)
+            .field("planes", &self.planes)
+            .field("triangles", &self.triangles)
+            .field("boxes", &self.boxes)
+            .field("materials", &self.materials)
+            .field("lights", &self.lights)
+            .field("ambient", &self.ambient)
+            .field("background", &self.background)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'a> SceneView<'a> {
+    /// The same view with every culling bound off: no tile lists, no list hull.
+    /// Renders to the same bytes (the point of the culling's conservative bounds,
+    /// which the tests check this way); slower. A test hook, with the feature
+    /// `testing`.
+    #[cfg(feature = "testing")]
+    #[must_use]
+    pub fn without_culling(&self) -> Self {
+        Self {
+            tile_lists: crate::cull::lend_none,
+            triangle_hull: None,
+            #[cfg(feature = "bvh")]
+            bvh: None,
+            #[cfg(feature = "bvh")]
+            sphere_bvh: None,
+            #[cfg(feature = "bvh")]
+            meshes: self.meshes,
+            ..*self
+        }
+        .settled()
+    }
+
+    /// The same view, its triangles found through `bvh` when there are at least
+    /// [`crate::bvh::CROSSOVER`] of them (below, the flat list costs less and the
+    /// view is returned as it is). The image is the same bytes either way.
+    ///
+    /// # Errors
+    /// [`Error::BvhMismatch`] when `bvh` was not built from these triangles.
+    #[cfg(feature = "bvh")]
+    pub fn with_bvh<const N: usize, const T: usize>(
+        &self,
+        bvh: &'a crate::Bvh<N, T>,
+    ) -> Result<Self, Error> {
+        if bvh.triangle_count() != self.triangles.len()
+            || bvh.key() != crate::bvh::key(self.triangles)
+        {
+            return Err(Error::BvhMismatch);
+        }
+        let pays = self.triangles.len() >= crate::bvh::CROSSOVER;
+        Ok(Self {
+            bvh: pays.then(|| bvh.view()),
+            ..*self
+        }
+        .settled())
+    }
+
+    /// True when the triangles are found through a BVH ([`SceneView::with_bvh`]).
+    #[cfg(feature = "bvh")]
+    #[must_use]
+    pub fn uses_bvh(&self) -> bool {
+        self.bvh.is_some()
+    }
+
+    /// True when the spheres are found through a BVH
+    /// ([`SceneView::with_sphere_bvh`]).
+    #[cfg(feature = "bvh")]
+    #[must_use]
+    pub fn uses_sphere_bvh(&self) -> bool {
+        self.sphere_bvh.is_some()
+    }
+
+    /// [`SceneView::with_bvh`] whatever the number of triangles (a test hook, with
+    /// the feature `testing`: the tests compare every scene with and without one).
+    ///
+    /// # Errors
+    /// As [`SceneView::with_bvh`].
+    #[cfg(feature = "bvh")]
+    #[cfg(feature = "testing")]
+    pub fn with_bvh_always<const N: usize, const T: usize>(
+        &self,
+        bvh: &'a crate::Bvh<N, T>,
+    ) -> Result<Self, Error> {
+        let v = self.with_bvh(bvh)?;
+        Ok(Self {
+            bvh: Some(bvh.view()),
+            ..v
+        }
+        .settled())
+    }
+
+    /// The same view without its BVH: the flat lists (a test hook, with the feature
+    /// `testing`).
+    #[cfg(feature = "bvh")]
+    #[cfg(feature = "testing")]
+    #[must_use]
+    pub fn without_bvh(&self) -> Self {
+        Self {
+            bvh: None,
+            sphere_bvh: None,
+            ..*self
+        }
+        .settled()
+    }
+
+    /// The same view, its spheres found through `bvh` when there are at least
+    /// [`crate::bvh::SPHERE_CROSSOVER`] of them (below, the view is returned as
+    /// it is). The image is the same bytes either way.
+    ///
+    /// # Errors
+    /// [`Error::BvhMismatch`] when `bvh` was not built from these spheres.
+    #[cfg(feature = "bvh")]
+    pub fn with_sphere_bvh<const N: usize, const T: usize>(
+        &self,
+        bvh: &'a crate::Bvh<N, T>,
+    ) -> Result<Self, Error> {
+        if bvh.triangle_count() != self.spheres.len() || bvh.key() != crate::bvh::key(self.spheres)
+        {
+            return Err(Error::BvhMismatch);
+        }
+        let pays = self.spheres.len() >= crate::bvh::SPHERE_CROSSOVER;
+        Ok(Self {
+            sphere_bvh: pays.then(|| bvh.view()),
+            ..*self
+        }
+        .settled())
+    }
+
+    /// [`SceneView::with_sphere_bvh`] whatever the number of spheres (a test hook,
+    /// with the feature `testing`).
+    ///
+    /// # Errors
+    /// As [`SceneView::with_sphere_bvh`].
+    #[cfg(feature = "bvh")]
+    #[cfg(feature = "testing")]
+    pub fn with_sphere_bvh_always<const N: usize, const T: usize>(
+        &self,
+        bvh: &'a crate::Bvh<N, T>,
+    ) -> Result<Self, Error> {
+        let v = self.with_sphere_bvh(bvh)?;
+        Ok(Self {
+            sphere_bvh: Some(bvh.view()),
+            ..v
+        }
+        .settled())
+    }
+
+    /// True when something is searched through a hierarchy (triangles, spheres,
+    /// meshes): the searches go through it and the tiles build no lists.
+    #[inline(always)]
+    pub(crate) fn through(&self) -> bool {
+        #[cfg(feature = "bvh")]
+        let through = self.through;
+        #[cfg(not(feature = "bvh"))]
+        let through = false;
+        through
+    }
+
+    /// The depth that rays reach in this scene when `max_depth` is asked for: at
+    /// most [`crate::MAX_DEPTH`], and 0 without a mirror or a transparent material.
+    pub(crate) fn depth(&self, max_depth: u8) -> u8 {
+        if self.secondary {
+            max_depth.min(crate::error::MAX_DEPTH)
+        } else {
+            0
+        }
+    }
+
+    /// The view with its `through` flag set from what it holds (feature `bvh`;
+    /// the view itself without).
+    #[cfg(any(feature = "bvh", feature = "testing"))]
+    pub(crate) fn settled(self) -> Self {
+        #[cfg(feature = "bvh")]
+        let settled = Self {
+            through: self.bvh.is_some() || self.sphere_bvh.is_some() || !self.meshes.is_empty(),
+            ..self
+        };
+        #[cfg(not(feature = "bvh"))]
+        let settled = self;
+        settled
+    }
+
+    /// The spheres.
+    #[must_use]
+    pub fn spheres(&self) -> &'a [Primitive<Sphere>] {
+        self.spheres
+    }
+    /// The planes.
+    #[must_use]
+    pub fn planes(&self) -> &'a [Primitive<Plane>] {
+        self.planes
+    }
+    /// The triangles.
+    #[must_use]
+    pub fn triangles(&self) -> &'a [Primitive<Triangle>] {
+        self.triangles
+    }
+    /// The boxes.
+    #[must_use]
+    pub fn boxes(&self) -> &'a [Primitive<Aabb>] {
+        self.boxes
+    }
+    /// The indexed meshes ([`SceneView::with_meshes`]).
+    #[cfg(feature = "bvh")]
+    #[must_use]
+    pub fn meshes(&self) -> &'a [crate::Mesh<'a>] {
+        self.meshes
+    }
+    /// The materials.
+    #[must_use]
+    pub fn materials(&self) -> &'a [Material] {
+        self.materials
+    }
+    /// The lights.
+    #[must_use]
+    pub fn lights(&self) -> &'a [PointLight] {
+        self.lights
+    }
+    /// The ambient light.
+    #[must_use]
+    pub fn ambient(&self) -> Color {
+        self.ambient
+    }
+    /// The background colour.
+    #[must_use]
+    pub fn background(&self) -> Color {
+        self.background
+    }
+}
+
+#[cfg(feature = "bvh")]
+impl<'a> SceneView<'a> {
+    /// The same view with baked triangles and their hierarchy, kept where they lie
+    /// (in flash: `static` data written by `tessera bake`), searched through the
+    /// hierarchy. The view's own scene must have no triangles; the baked ones
+    /// follow its other primitives and use its materials by index.
+    ///
+    /// Checked once here (time linear in the triangles; no memory beyond a
+    /// small bitmap): each triangle as [`Triangle::try_new`] makes it, each
+    /// material in range, and the hierarchy's structure and bounds (every leaf's
+    /// triangles within it, every node within its parent, each triangle in
+    /// exactly one leaf), so that every search finds what the flat list would.
+    ///
+    /// # Errors
+    /// [`Error::BvhMismatch`] when the scene has triangles of its own or the
+    /// hierarchy does not fit the triangles; [`Error::MaterialOutOfRange`];
+    /// the triangle's own error for a vertex [`Triangle::try_new`] refuses.
+    pub fn with_baked(
+        &self,
+        triangles: &'a [Primitive<Triangle>],
+        bvh: &BakedBvh<'a>,
+    ) -> Result<Self, Error> {
+        if !self.triangles.is_empty() {
+            return Err(Error::BvhMismatch);
+        }
+        let face = |i: usize| triangles.get(i).copied().ok_or(Error::BvhMismatch);
+        check_faces(triangles.len(), face, self.materials.len(), bvh)?;
+        let all = list_bounds(triangles);
+        Ok(Self {
+            triangles,
+            triangle_hull: crate::cull::Hull::new(all.0, all.1),
+            // A view with a BVH builds no tile lists: lend none (no stack).
+            tile_lists: crate::cull::lend_none,
+            bvh: (!triangles.is_empty()).then_some(bvh.view()),
+            ..*self
+        }
+        .settled())
+    }
+
+    /// The same view with `meshes` (at most [`MAX_MESHES`]) among its primitives,
+    /// after every list: at equal times a mesh's face is found only where no
+    /// other primitive is, and among faces the mesh listed first, then the face
+    /// listed first, is. Each mesh is checked once here ([`Mesh::new`] says what),
+    /// in time linear in its faces.
+    ///
+    /// # Errors
+    /// [`Error::CapacityExceeded`] for [`List::Meshes`] beyond [`MAX_MESHES`];
+    /// [`Error::BadMesh`] when a mesh's faces, normals or hierarchy do not fit, or
+    /// the view has meshes already;
+    /// [`Error::MaterialOutOfRange`]; a face's own error ([`Triangle::try_new`]).
+    pub fn with_meshes(&self, meshes: &'a [Mesh<'a>]) -> Result<Self, Error> {
+        if !self.meshes.is_empty() {
+            return Err(Error::BadMesh);
+        }
+        if meshes.len() > MAX_MESHES {
+            return Err(Error::CapacityExceeded {
+                list: List::Meshes,
+                capacity: MAX_MESHES,
+            });
+        }
+        for m in meshes {
+            m.check(self.materials.len())?;
+        }
+        Ok(Self {
+            meshes,
+            // A view with meshes builds no tile lists: lend none (no stack).
+            tile_lists: crate::cull::lend_none,
+            ..*self
+        }
+        .settled())
+    }
+}
+
+impl crate::cull::Source for SceneView<'_> {
+    #[inline(always)]
+    fn spheres(&self) -> &[Primitive<Sphere>] {
+        self.spheres
+    }
+    #[inline(always)]
+    fn planes(&self) -> &[Primitive<Plane>] {
+        self.planes
+    }
+    #[inline(always)]
+    fn triangles(&self) -> &[Primitive<Triangle>] {
+        self.triangles
+    }
+    #[inline(always)]
+    fn boxes(&self) -> &[Primitive<Aabb>] {
+        self.boxes
+    }
+    #[inline(always)]
+    fn lights(&self) -> &[PointLight] {
+        self.lights
+    }
+    #[inline(always)]
+    fn through(&self) -> bool {
+        SceneView::through(self)
+    }
+}

@@ -1,0 +1,153 @@
+//! The core's modules form layers: each uses (`crate::module`) only modules below
+//! it, so the graph of those uses has no cycle. This test reads `core/src`, builds
+//! the graph of the top-level modules (test modules and comments left out: a test
+//! may use anything, a doc link is not a dependency) and fails on a cycle, naming
+//! its modules; ARCHITECTURE.md lists the layers it finds.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::fs;
+use std::path::Path;
+
+/// The top-level module a file of `core/src` belongs to (`None` for lib.rs, the
+/// root, which only declares and re-exports).
+fn module_of(rel: &Path) -> Option<String> {
+    let first = rel.components().next()?.as_os_str().to_str()?.to_owned();
+    let name = first.strip_suffix(".rs").unwrap_or(&first).to_owned();
+    (name != "lib").then_some(name)
+}
+
+/// `src` without its `#[cfg(test)]` modules (written last in each file, as
+/// everywhere in the core) and without comments.
+fn code(src: &str) -> String {
+    let body = match src.find("#[cfg(test)]\nmod ") {
+        Some(i) => &src[..i],
+        None => src,
+    };
+    body.lines()
+        .map(|l| match l.find("//") {
+            Some(i) => &l[..i],
+            None => l,
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The modules `code` names as `crate::<module>`.
+fn uses(code: &str) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    for (i, _) in code.match_indices("crate::") {
+        let rest = &code[i + "crate::".len()..];
+        let name: String = rest
+            .chars()
+            .take_while(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == '_')
+            .collect();
+        // `crate::Name` (a re-export of the root) or `crate::{...}`: the root.
+        let after = &rest[name.len()..];
+        if !name.is_empty() && (after.starts_with("::") || after.starts_with(';')) {
+            out.insert(name);
+        }
+    }
+    out
+}
+
+fn graph() -> BTreeMap<String, BTreeSet<String>> {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    let mut stack = vec![src.clone()];
+    while let Some(dir) = stack.pop() {
+        for entry in fs::read_dir(&dir).expect("core/src is readable") {
+            let path = entry.expect("a directory entry").path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            if path.extension().is_none_or(|e| e != "rs") {
+                continue;
+            }
+            let rel = path.strip_prefix(&src).expect("under core/src");
+            let Some(module) = module_of(rel) else {
+                continue;
+            };
+            let text = fs::read_to_string(&path).expect("a readable source file");
+            let deps = graph.entry(module.clone()).or_default();
+            deps.extend(uses(&code(&text)).into_iter().filter(|d| *d != module));
+        }
+    }
+    // Only edges between the core's own modules.
+    let names: BTreeSet<String> = graph.keys().cloned().collect();
+    for deps in graph.values_mut() {
+        deps.retain(|d| names.contains(d));
+    }
+    graph
+}
+
+/// The layers of `graph` from the bottom (modules that use none), or the modules
+/// left in (or above) a cycle when no further layer can be formed.
+fn layers(graph: &BTreeMap<String, BTreeSet<String>>) -> Result<Vec<Vec<String>>, Vec<String>> {
+    let mut placed: BTreeSet<String> = BTreeSet::new();
+    let mut out = Vec::new();
+    while placed.len() < graph.len() {
+        let layer: Vec<String> = graph
+            .iter()
+            .filter(|(m, deps)| !placed.contains(*m) && deps.iter().all(|d| placed.contains(d)))
+            .map(|(m, _)| m.clone())
+            .collect();
+        if layer.is_empty() {
+            return Err(graph
+                .keys()
+                .filter(|m| !placed.contains(*m))
+                .cloned()
+                .collect());
+        }
+        placed.extend(layer.iter().cloned());
+        out.push(layer);
+    }
+    Ok(out)
+}
+
+#[test]
+fn the_core_modules_use_only_modules_below_them() {
+    let graph = graph();
+    assert!(graph.len() > 20, "read too few modules: {:?}", graph.keys());
+    match layers(&graph) {
+        Ok(layers) => {
+            for (i, l) in layers.iter().enumerate() {
+                println!("layer {i}: {}", l.join(", "));
+            }
+        }
+        Err(stuck) => {
+            let edges: Vec<String> = stuck
+                .iter()
+                .map(|m| {
+                    let deps: Vec<&str> = graph[m]
+                        .iter()
+                        .filter(|d| stuck.contains(d))
+                        .map(String::as_str)
+                        .collect();
+                    format!("{m} -> {}", deps.join(" "))
+                })
+                .collect();
+            panic!(
+                "the core's modules import each other in a circle:\n{}",
+                edges.join("\n")
+            );
+        }
+    }
+}
+
+#[test]
+fn the_graph_reader_sees_a_cycle() {
+    // The check itself: two modules that use each other are refused, a chain is not.
+    let mut g: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    g.insert("a".into(), ["b".to_string()].into());
+    g.insert("b".into(), ["c".to_string()].into());
+    g.insert("c".into(), BTreeSet::new());
+    assert_eq!(layers(&g).map(|l| l.len()), Ok(3));
+    g.get_mut("c").expect("c").insert("a".into());
+    assert!(layers(&g).is_err());
+    // What counts as a use: code, not comments or tests.
+    let text = "use crate::vec::Vec3;\n// crate::shade::x\nfn f() { crate::math::sqrt(1.0); }\n\
+                #[cfg(test)]\nmod tests { use crate::tile::Tile; }\n";
+    let found = uses(&code(text));
+    assert_eq!(found, ["math", "vec"].map(String::from).into());
+}
