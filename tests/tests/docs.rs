@@ -1433,3 +1433,31 @@ fn the_two_commands_come_first() {
         ".ci/run runs the README's test command"
     );
 }
+
+/// The minimum supported Rust the pages name is `Cargo.toml`'s `rust-version`,
+/// which the test command installs and checks.
+#[test]
+fn the_minimum_rust_is_cargo_tomls() {
+    let manifest = read("Cargo.toml");
+    let msrv = manifest
+        .lines()
+        .find_map(|l| l.strip_prefix("rust-version = \""))
+        .and_then(|v| v.strip_suffix('"'))
+        .expect("Cargo.toml has a rust-version");
+    for (page, quote) in [
+        ("README.md", format!("Rust {msrv} first)")),
+        (
+            "README.md",
+            format!("Rust {msrv}, the minimum supported version"),
+        ),
+        ("ARCHITECTURE.md", format!("rust-version {msrv}")),
+        ("docs/contributing.md", format!("`Cargo.toml`, {msrv}:")),
+        ("docs/contributing.md", format!("`cargo +{msrv} check`")),
+    ] {
+        let text = one_line(&read(page));
+        assert!(
+            text.contains(&quote),
+            "{page} should say `{quote}` (Cargo.toml's rust-version {msrv})"
+        );
+    }
+}
