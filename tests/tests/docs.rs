@@ -1,21 +1,28 @@
-//! The README's figures are the reports': every figure README.md quotes from a
-//! generated report (`docs/chip-cost.md`, `docs/chip-profile.md`, `docs/trade.md`,
-//! `docs/extremes*.md`) is read from both files and compared, so that a report
-//! regenerated without the README, or a figure edited by hand, fails here. Text
-//! only, no rendering.
+//! The docs' figures are the reports': every figure README.md and the hand-written
+//! pages of `docs/` ([`PAGES`]) quote from a generated report (`docs/chip-cost.md`,
+//! `docs/chip-profile.md`, `docs/trade.md`, `docs/extremes*.md`, `docs/dither.md`)
+//! is read from both files and compared, so that a report regenerated without the
+//! pages, or a figure edited by hand, fails here. Text only, no rendering.
 //!
-//! A quote is a pattern of the README's text with `{}` for its numbers, such as
-//! ``"`render_tile` needs {} to {} bytes"``, paired with the report's figures. The
-//! README may round a figure (0.0118 for 0.01183), half up, to at least two
-//! significant digits unless the rounding is exact, and must not differ otherwise.
-//! Every occurrence of a pattern is checked, and a pattern the README no longer
-//! contains is a failure too: rewording such a sentence means updating it here.
+//! A quote is a pattern of a page's text with `{}` for its numbers, such as
+//! ``"`render_tile` needs {} to {} bytes"``, paired with the page and the report's
+//! figures. A page may round a figure (0.0118 for 0.01183), half up, to at least
+//! two significant digits unless the rounding is exact, and must not differ
+//! otherwise. Every occurrence of a pattern in its page is checked, and a pattern
+//! the page no longer contains is a failure too: rewording or moving such a
+//! sentence means updating it here.
 //!
 //! The core's doc comments (`///` and `//!` in `core/src/**/*.rs`, what rustdoc
 //! shows) quote some of the same figures: `render_tile`'s stack, the tile buffers'
 //! sizes, the cost of the sRGB encoding. They are checked the same way, file by
 //! file, and each of their patterns must occur in some file.
+//!
+//! Besides figures: every relative link of README.md, ARCHITECTURE.md and the
+//! pages of `docs/` leads to a file (and a `#heading` to a heading), the README
+//! links every page of `docs/`, and its first section is the two commands, the
+//! second of which is what CI (`.ci/run`) runs.
 
+use std::collections::BTreeMap;
 use std::fmt;
 use std::path::PathBuf;
 
@@ -382,39 +389,64 @@ fn smallest(values: &[Dec]) -> Dec {
         .clone()
 }
 
-/// The README and what is wrong with it.
-struct Readme {
-    text: String,
+/// The hand-written pages whose figures are checked, by path from the root.
+const PAGES: [&str; 5] = [
+    "README.md",
+    "docs/accuracy.md",
+    "docs/bvh.md",
+    "docs/firmware.md",
+    "docs/limits.md",
+];
+
+/// The pages' texts as written, by path (what [`check`] reads; the tests change
+/// one figure of one page and check again).
+type Texts = BTreeMap<&'static str, String>;
+
+fn pages() -> Texts {
+    PAGES.iter().map(|&p| (p, read(p))).collect()
+}
+
+/// The pages and what is wrong with them.
+struct Pages<'a> {
+    texts: &'a Texts,
+    /// Each page's text as one line (the pages are wrapped).
+    lines: BTreeMap<&'static str, String>,
     failures: Vec<String>,
 }
 
-impl Readme {
-    fn new(text: &str) -> Readme {
-        Readme {
-            text: one_line(text),
+impl<'a> Pages<'a> {
+    fn new(texts: &'a Texts) -> Pages<'a> {
+        Pages {
+            texts,
+            lines: texts.iter().map(|(&p, t)| (p, one_line(t))).collect(),
             failures: Vec::new(),
         }
     }
 
-    /// Every occurrence of `pattern` quotes `truths`, each from `source`.
-    fn quotes(&mut self, pattern: &str, source: &str, truths: &[Dec]) {
-        let found = match find(&self.text, pattern) {
+    /// The text of `page` as written.
+    fn text(&self, page: &str) -> &'a str {
+        self.texts
+            .get(page)
+            .unwrap_or_else(|| panic!("{page} is not one of the checked pages {PAGES:?}"))
+    }
+
+    /// Every occurrence of `pattern` in `page` quotes `truths`, each from `source`;
+    /// `page` must contain it.
+    fn quotes(&mut self, page: &str, pattern: &str, source: &str, truths: &[Dec]) {
+        let line = self
+            .lines
+            .get(page)
+            .unwrap_or_else(|| panic!("{page} is not one of the checked pages {PAGES:?}"));
+        let found = match find(line, pattern) {
             Ok(found) => found,
             Err(e) => {
                 self.failures
-                    .push(format!("README: {e} (quoting {source})"));
+                    .push(format!("{page}: {e} (quoting {source})"));
                 return;
             }
         };
         for numbers in found {
-            compare(
-                "README",
-                pattern,
-                &numbers,
-                source,
-                truths,
-                &mut self.failures,
-            );
+            compare(page, pattern, &numbers, source, truths, &mut self.failures);
         }
     }
 }
@@ -452,11 +484,13 @@ fn compare(
     }
 }
 
-/// The README's excerpt of the cost table: one row per scene and depth, a column
-/// per sampler (instructions per pixel) and `est. cycles/px (SAMPLER)`.
-fn cost_table(readme: &mut Readme, readme_text: &str, cost: &Table) {
-    let excerpt = table(readme_text, "README", "### What it costs on a Cortex-M4F");
-    assert!(excerpt.rows.len() >= 4, "README: the cost table lost rows");
+/// A page's excerpt of the cost table, the first table after the line starting
+/// with `heading`: one row per scene and depth, a column per sampler
+/// (instructions per pixel: `SAMPLER` or `instr/px (SAMPLER)`) and
+/// `est. cycles/px (SAMPLER)`.
+fn cost_table(pages: &mut Pages<'_>, page: &str, heading: &str, cost: &Table) {
+    let excerpt = table(pages.text(page), page, heading);
+    assert!(excerpt.rows.len() >= 4, "{page}: the cost table lost rows");
     for row in &excerpt.rows {
         let scene = row[excerpt.column("scene")]
             .split(' ')
@@ -464,18 +498,22 @@ fn cost_table(readme: &mut Readme, readme_text: &str, cost: &Table) {
             .expect("a scene");
         let depth = row[excerpt.column("depth")].as_str();
         for (i, head) in excerpt.header.iter().enumerate() {
-            let (sampler, column) = match head.strip_prefix("est. cycles/px (") {
-                Some(s) => (s.trim_end_matches(')'), "est. cycles/px"),
-                None if head == "scene" || head == "depth" => continue,
-                None => (head.as_str(), "exact instr/px"),
+            let (sampler, column) = if let Some(s) = head.strip_prefix("est. cycles/px (") {
+                (s.trim_end_matches(')'), "est. cycles/px")
+            } else if let Some(s) = head.strip_prefix("instr/px (") {
+                (s.trim_end_matches(')'), "exact instr/px")
+            } else if head == "scene" || head == "depth" {
+                continue;
+            } else {
+                (head.as_str(), "exact instr/px")
             };
             let key = [("scene", scene), ("depth", depth), ("sampler", sampler)];
             let truth = cost.figure(&key, column);
             let pattern = format!("| {scene} ... | {head}: {{}}");
             match number(&row[i]) {
                 Some(q) if q.same(&truth) => {}
-                _ => readme.failures.push(format!(
-                    "README `{pattern}`: says `{}`, docs/chip-cost.md says {truth}",
+                _ => pages.failures.push(format!(
+                    "{page} `{pattern}`: says `{}`, docs/chip-cost.md says {truth}",
                     row[i]
                 )),
             }
@@ -496,37 +534,62 @@ fn render_tile_stack(cost_text: &str) -> (Dec, Dec) {
     (smallest(&render_tile), largest(&render_tile))
 }
 
-fn check(readme_text: &str) -> Vec<String> {
-    let mut readme = Readme::new(readme_text);
+/// What is wrong with the figures the pages (`texts`, from [`pages`]) quote from
+/// the generated reports.
+fn check(texts: &Texts) -> Vec<String> {
+    let mut pages = Pages::new(texts);
+    check_chip(&mut pages);
+    check_trade(&mut pages);
+    check_extremes(&mut pages);
+    check_dither(&mut pages);
+    pages.failures
+}
 
-    // docs/chip-cost.md
-    let cost_text = read("docs/chip-cost.md");
-    let cost = table(&cost_text, "docs/chip-cost.md", "## Instructions per pixel");
-    cost_table(&mut readme, readme_text, &cost);
-    let sizes = table(&cost_text, "docs/chip-cost.md", "## Image size");
+/// The figures of `docs/chip-cost.md` and `docs/chip-profile.md`: the README's
+/// cost table and stack; the firmware page's cost table, flash, RAM, stack,
+/// encoding and cycles per instruction; the teapot's on the BVH page.
+fn check_chip(pages: &mut Pages<'_>) {
+    let src = "docs/chip-cost.md";
+    let cost_text = read(src);
+    let cost = table(&cost_text, src, "## Instructions per pixel");
+    let heading = "## What it costs on a Cortex-M4F";
+    cost_table(pages, "README.md", heading, &cost);
+    cost_table(pages, "docs/firmware.md", heading, &cost);
+    let sizes = table(&cost_text, src, "## Image size");
     let size = |section: &str| sizes.figure(&[("section", section)], "exact");
     let flash = size("flash (vector table + text + rodata + data)");
     let (text, rodata, bss) = (size("`.text`"), size("`.rodata`"), size("`.bss`"));
-    let src = "docs/chip-cost.md";
-    readme.quotes(
-        "Flash {} bytes ({} KiB: `.text` {} KiB, `.rodata` {} KiB)",
+    let fw = "docs/firmware.md";
+    pages.quotes(
+        fw,
+        "Flash** {} bytes ({} KiB: `.text` {} KiB, `.rodata` {} KiB)",
         src,
         &[flash.clone(), kib(&flash), kib(&text), kib(&rodata)],
     );
-    readme.quotes("`.bss` {} bytes ({} KiB:", src, &[bss.clone(), kib(&bss)]);
-    let (low, high) = render_tile_stack(&cost_text);
-    readme.quotes(
-        "`render_tile` needs {} to {} bytes",
+    pages.quotes(
+        fw,
+        "`.bss` {} bytes ({} KiB:",
         src,
-        &[low.clone(), high.clone()],
+        &[bss.clone(), kib(&bss)],
     );
-    readme.quotes(
+    let (low, high) = render_tile_stack(&cost_text);
+    for page in ["README.md", fw] {
+        pages.quotes(
+            page,
+            "`render_tile` needs {} to {} bytes",
+            src,
+            &[low.clone(), high.clone()],
+        );
+    }
+    pages.quotes(
+        fw,
         "bytes ({} to {} KiB), measured on the Cortex-M4F",
         src,
         &[kib(&low), kib(&high)],
     );
     let peak = in_report(&cost_text, src, "over every render: peak {} bytes (exact)");
-    readme.quotes(
+    pages.quotes(
+        fw,
         "peaks at {} bytes, {} KiB,",
         src,
         &[peak[0].clone(), kib(&peak[0])],
@@ -536,9 +599,28 @@ fn check(readme_text: &str) -> Vec<String> {
         src,
         "mps2-an386.x`): {} KiB of flash, {} KiB of RAM",
     );
-    readme.quotes("within a {} KiB flash / {} KiB RAM budget", src, &budget);
+    pages.quotes(
+        fw,
+        "within a {} KiB flash / {} KiB RAM budget",
+        src,
+        &budget,
+    );
+    let encoding = table(&cost_text, src, "## The output encoding");
+    let srgb_cost = encoding.all("srgb - linear");
+    pages.quotes(
+        fw,
+        "that costs {} to {} instructions a pixel over writing the linear value",
+        src,
+        &[smallest(&srgb_cost), largest(&srgb_cost)],
+    );
+    let buffers = in_report(&cost_text, src, "32x32: {} + {} + {} bytes)");
+    pages.quotes(fw, "(8x8: {} B, 16x16: {} B, 32x32: {} B)", src, &buffers);
+
+    // The teapot on the BVH page.
+    let bvh = "docs/bvh.md";
     let teapot = [("scene", "teapot"), ("depth", "0"), ("sampler", "centre")];
-    readme.quotes(
+    pages.quotes(
+        bvh,
         "sampling it costs {} instructions per pixel on the Cortex-M4F (an estimated {}",
         src,
         &[
@@ -546,30 +628,42 @@ fn check(readme_text: &str) -> Vec<String> {
             cost.figure(&teapot, "est. cycles/px"),
         ],
     );
-    let encoding = table(&cost_text, src, "## The output encoding");
-    let srgb_cost = encoding.all("srgb - linear");
-    readme.quotes(
-        "that costs {} to {} instructions a pixel over writing the linear value",
+    let stack = table(&cost_text, src, "## Stack");
+    pages.quotes(
+        bvh,
+        "`render_tile` needs {} bytes of stack for it (exact math)",
         src,
-        &[smallest(&srgb_cost), largest(&srgb_cost)],
+        &[stack.figure(&[("scene", "teapot")], "exact: render_tile")],
     );
-    let buffers = in_report(&cost_text, src, "32x32: {} + {} + {} bytes)");
-    readme.quotes("(8x8: {} B, 16x16: {} B, 32x32: {} B)", src, &buffers);
 
     // docs/chip-profile.md
-    let profile = table(
-        &read("docs/chip-profile.md"),
-        "docs/chip-profile.md",
-        "## Summary",
-    );
+    let src = "docs/chip-profile.md";
+    let profile = table(&read(src), src, "## Summary");
     let cpi = profile.all("cycles/instr");
-    readme.quotes(
+    pages.quotes(
+        fw,
         "instruction mix ({} to {} cycles per instruction",
-        "docs/chip-profile.md",
+        src,
         &[smallest(&cpi), largest(&cpi)],
     );
+    let teapot_cpi = profile
+        .rows
+        .iter()
+        .find(|r| r[profile.column("run")].starts_with("teapot (centre"))
+        .and_then(|r| number(&r[profile.column("cycles/instr")]))
+        .unwrap_or_else(|| panic!("{src}: no teapot (centre ...) run"));
+    pages.quotes(
+        bvh,
+        "the profile's estimated {} cycles an instruction",
+        src,
+        &[teapot_cpi],
+    );
+}
 
-    // docs/trade.md: the default scene (chapter-reflect) and the interference screen.
+/// The figures of `docs/trade.md` on the accuracy page: the default scene
+/// (chapter-reflect) and the interference screen.
+fn check_trade(pages: &mut Pages<'_>) {
+    let page = "docs/accuracy.md";
     let trade_text = read("docs/trade.md");
     let src = "docs/trade.md";
     let reflect = table(&trade_text, src, "### chapter-reflect");
@@ -585,12 +679,14 @@ fn check(readme_text: &str) -> Vec<String> {
     };
     let flip = |sampler: &str, depth: &str| at(&reflect, sampler, depth, "mean FLIP");
     let chip = |sampler: &str| at(&reflect, sampler, "1", "chip instr/px");
-    readme.quotes(
+    pages.quotes(
+        page,
         "FLIP {} on the default scene against {} for centre",
         src,
         &[flip("corner", "1"), flip("centre", "1")],
     );
-    readme.quotes(
+    pages.quotes(
+        page,
         "random 16 ({} instr/px for FLIP {}, where stratified 4x4 gives {} for {})",
         src,
         &[
@@ -600,12 +696,14 @@ fn check(readme_text: &str) -> Vec<String> {
             chip("stratified:4"),
         ],
     );
-    readme.quotes(
+    pages.quotes(
+        page,
         "(default scene at depth 0: FLIP {} against {})",
         src,
         &[flip("centre", "0"), flip("centre", "1")],
     );
-    readme.quotes(
+    pages.quotes(
+        page,
         "pixels up to {} LSB off on the default scene; stratified 2x2, {} instr/px against \
          centre's {}, brings the worst to {} LSB and FLIP from {} to {})",
         src,
@@ -621,7 +719,8 @@ fn check(readme_text: &str) -> Vec<String> {
     // adaptive:4 against stratified:4 on the default scene, cycles on the chip.
     let cycles = |sampler: &str| at(&reflect, sampler, "1", "chip est. cycles/px");
     let share = Dec::of(100.0 * cycles("adaptive:4").to_f64() / cycles("stratified:4").to_f64());
-    readme.quotes(
+    pages.quotes(
+        page,
         "`adaptive:4` reaches FLIP {} for an estimated {} cycles/px on the chip, where \
          stratified 4x4 gives {} for {} ({} %",
         src,
@@ -657,12 +756,14 @@ fn check(readme_text: &str) -> Vec<String> {
             flips.push(Dec::of((fast - exact).abs()));
         }
     }
-    readme.quotes(
+    pages.quotes(
+        page,
         "takes {} to {} times the exact build's estimated cycles per pixel on the chip",
         src,
         &[smallest(&ratios), largest(&ratios)],
     );
-    readme.quotes(
+    pages.quotes(
+        page,
         "moves no mean FLIP by more than {}",
         src,
         &[largest(&flips)],
@@ -675,7 +776,8 @@ fn check(readme_text: &str) -> Vec<String> {
         )
     };
     let fringes = |sampler: &str, column: &str| at(&interference, sampler, "0", column);
-    readme.quotes(
+    pages.quotes(
+        page,
         "it shows false fringes ({} LSB RMSE), 5 random rays (the chapter's example) lose the \
          pattern in noise ({} LSB), stratified 3x3 still misses by {} LSB, while the prefiltered \
          texture is exact in one evaluation ({} LSB; {} instr/px on the chip against {} for \
@@ -692,31 +794,43 @@ fn check(readme_text: &str) -> Vec<String> {
             fringes("prefiltered", "mean FLIP"),
         ],
     );
+}
 
-    // docs/extremes*.md
+/// The figures of `docs/extremes*.md` on the limits page.
+fn check_extremes(pages: &mut Pages<'_>) {
+    let page = "docs/limits.md";
     let extremes = extremes_reports();
     let src = "docs/extremes*.md";
     let far = table(&extremes, src, "## 1. Far spheres");
-    readme.quotes(
+    pages.quotes(
+        page,
         "a sphere up to {} radii away",
         src,
         &[largest(&far.all("distance / radius"))],
     );
-    readme.quotes(
+    pages.quotes(
+        page,
         "with the hit time within {} ulp",
         src,
         &[largest(&far.all("worst dt (ulp)"))],
     );
     let reintersection = table(&extremes, src, "## 2. Re-intersection");
-    readme.quotes(
+    pages.quotes(
+        page,
         "hit points up to {} object sizes from the origin never re-hit",
         src,
         &[largest(&reintersection.all("|p|"))],
     );
     let tiny = in_report(&extremes, src, "({} of the distance and more)");
-    readme.quotes("triangles down to {} of their distance are hit", src, &tiny);
+    pages.quotes(
+        page,
+        "triangles down to {} of their distance are hit",
+        src,
+        &tiny,
+    );
     let camera = table(&extremes, src, "## 6. Camera far away");
-    readme.quotes(
+    pages.quotes(
+        page,
         "a camera {} units out with near {} keeps ray directions within {} pixel",
         src,
         &[
@@ -748,21 +862,41 @@ fn check(readme_text: &str) -> Vec<String> {
     for scene in ["chapter-reflect", "showcase"] {
         let (l, h) = range(scene);
         if !l.same(&lo) || !h.same(&hi) {
-            readme.failures.push(format!(
-                "README groups chapter-direct, chapter-reflect and showcase, but {src} gives {scene} \
-                 [{l}, {h}] against [{lo}, {hi}]"
+            pages.failures.push(format!(
+                "{page} groups chapter-direct, chapter-reflect and showcase, but {src} gives \
+                 {scene} [{l}, {h}] against [{lo}, {hi}]"
             ));
         }
     }
     let (ilo, ihi) = range("interference");
-    readme.quotes(
+    pages.quotes(
+        page,
         "(from {} to {} for the chapter's two scenes and the showcase, from {} to {} for the \
          interference screen)",
         src,
         &[lo, hi, ilo, ihi],
     );
+}
 
-    readme.failures
+/// The figures of `docs/dither.md` on the firmware page: the mean FLIP of the
+/// panel without dithering and with bayer4.
+fn check_dither(pages: &mut Pages<'_>) {
+    let src = "docs/dither.md";
+    let dither = table(&read(src), src, "# Dithering to a 16-bit panel");
+    let flip = |scene: &str, column: &str| dither.figure(&[("scene", scene)], column);
+    pages.quotes(
+        "docs/firmware.md",
+        "chapter-direct {} nearest, {} bayer4; showcase {} and {}; the teapot {} and {}.",
+        src,
+        &[
+            flip("chapter-direct", "none"),
+            flip("chapter-direct", "bayer4"),
+            flip("showcase", "none"),
+            flip("showcase", "bayer4"),
+            flip("teapot", "none"),
+            flip("teapot", "bayer4"),
+        ],
+    );
 }
 
 /// Every `.rs` file under `core/src`, in path order: its path from the root and
@@ -933,58 +1067,127 @@ fn a_wrong_rustdoc_figure_fails() {
 }
 
 #[test]
-fn readme_figures_are_the_reports() {
-    let failures = check(&read("README.md"));
+fn page_figures_are_the_reports() {
+    let failures = check(&pages());
     assert!(
         failures.is_empty(),
-        "{} figure(s) of README.md differ from the reports (docs/*.md are generated: update \
-         the README, or tests/tests/docs.rs if a sentence was reworded):\n{}",
+        "{} figure(s) of the pages differ from the reports (docs/chip-cost.md and the other \
+         reports are generated: update the page, or tests/tests/docs.rs if a sentence was \
+         reworded or moved):\n{}",
         failures.len(),
         failures.join("\n")
     );
 }
 
-/// The check is not vacuous: a wrong figure anywhere it looks is caught.
+/// The check is not vacuous: a wrong figure anywhere it looks is caught, and so is
+/// a quoted sentence that is gone.
 #[test]
 fn a_wrong_figure_fails() {
-    let readme = read("README.md");
-    // The controls start from a README that passes, so each failure below is the
-    // one figure changed, named in the message.
-    assert_eq!(check(&readme), Vec::<String>::new());
-    for (right, wrong, figure) in [
-        ("| 496 |", "| 437 |", "437"),
-        ("within 2.66 ulp", "within 2.5 ulp", "2.5"),
-        ("needs 1,384 to", "needs 1,456 to", "1,456"),
-        ("(1.4 to 2.0 KiB)", "(1.5 to 2.0 KiB)", "1.5"),
+    let texts = pages();
+    // The controls start from pages that pass, so each failure below is the one
+    // figure changed, named in the message with its page.
+    assert_eq!(check(&texts), Vec::<String>::new());
+    for (page, right, wrong, figure) in [
+        ("README.md", "| 496 |", "| 437 |", "437"),
+        ("README.md", "| 1,105 |", "| 1,150 |", "1,150"),
+        ("README.md", "needs 1,384 to", "needs 1,456 to", "1,456"),
+        ("docs/firmware.md", "| 496 |", "| 437 |", "437"),
+        ("docs/firmware.md", "| 17,286 |", "| 17,268 |", "17,268"),
         (
-            "Flash 513,576 bytes (501.5 KiB",
-            "Flash 513,576 bytes (50.2 KiB",
+            "docs/firmware.md",
+            "(1.4 to 2.0 KiB)",
+            "(1.5 to 2.0 KiB)",
+            "1.5",
+        ),
+        (
+            "docs/firmware.md",
+            "513,576 bytes (501.5 KiB",
+            "513,576 bytes (50.2 KiB",
             "50.2",
         ),
+        ("docs/firmware.md", "(1.47 to 1.90", "(1.85 to 1.90", "1.85"),
         (
-            "FLIP 0.045 on the default",
-            "FLIP 0.04 on the default",
-            "0.04",
-        ),
-        ("(0.00 LSB; 1,006", "(0.00 LSB; 1,007", "1,007"),
-        ("(1.47 to 1.90", "(1.85 to 1.90", "1.85"),
-        ("(from -48 to 53", "(from -47 to 53", "-47"),
-        ("(36 % of the cost", "(35 % of the cost", "35"),
-        (
+            "docs/firmware.md",
             "costs 41 to 61 instructions",
             "costs 41 to 60 instructions",
             "60",
         ),
-        ("0.95 to 0.98 times", "0.90 to 0.98 times", "0.90"),
+        (
+            "docs/firmware.md",
+            "0.0178 bayer4",
+            "0.0187 bayer4",
+            "0.0187",
+        ),
+        (
+            "docs/bvh.md",
+            "needs 2,024 bytes",
+            "needs 2,032 bytes",
+            "2,032",
+        ),
+        (
+            "docs/bvh.md",
+            "estimated 1.47 cycles",
+            "estimated 1.74 cycles",
+            "1.74",
+        ),
+        (
+            "docs/bvh.md",
+            "costs 4,344 instructions",
+            "costs 4,334 instructions",
+            "4,334",
+        ),
+        ("docs/limits.md", "within 2.66 ulp", "within 2.5 ulp", "2.5"),
+        (
+            "docs/limits.md",
+            "(from -48 to 53",
+            "(from -47 to 53",
+            "-47",
+        ),
+        (
+            "docs/accuracy.md",
+            "FLIP 0.045 on the default",
+            "FLIP 0.04 on the default",
+            "0.04",
+        ),
+        (
+            "docs/accuracy.md",
+            "(0.00 LSB; 1,006",
+            "(0.00 LSB; 1,007",
+            "1,007",
+        ),
+        (
+            "docs/accuracy.md",
+            "(36 % of the cost",
+            "(35 % of the cost",
+            "35",
+        ),
+        (
+            "docs/accuracy.md",
+            "0.95 to 0.98 times",
+            "0.90 to 0.98 times",
+            "0.90",
+        ),
+        // A quoted sentence reworded: its pattern is gone.
+        (
+            "docs/accuracy.md",
+            "moves no mean FLIP by more than",
+            "changes no mean FLIP by more than",
+            "moves no mean FLIP",
+        ),
     ] {
+        let text = &texts[page];
         assert!(
-            readme.contains(right),
-            "README.md no longer contains `{right}`: update this test"
+            text.contains(right),
+            "{page} no longer contains `{right}`: update this test"
         );
-        let failures = check(&readme.replacen(right, wrong, 1));
+        let mut changed = texts.clone();
+        changed.insert(page, text.replacen(right, wrong, 1));
+        let failures = check(&changed);
         assert!(
-            failures.iter().any(|f| f.contains(figure)),
-            "`{wrong}` for `{right}` was not caught as {figure}: {failures:?}"
+            failures
+                .iter()
+                .any(|f| f.starts_with(page) && f.contains(figure)),
+            "`{wrong}` for `{right}` in {page} was not caught as {figure}: {failures:?}"
         );
     }
     // Rounding: half up, and at least two significant digits unless exact.
@@ -995,4 +1198,266 @@ fn a_wrong_figure_fails() {
     assert!(q("7.0e-4").same(&q("7.0e-4").round(q("7.0e-4").exp)));
     assert!(q("1e6").same(&q("1.00e6").round(6)));
     assert_eq!(q("0.04").significant(), 1);
+}
+
+/// The Markdown files whose links are checked, by path from the root: README.md,
+/// ARCHITECTURE.md and every page of `docs/` (the generated reports too).
+fn markdown_files() -> Vec<String> {
+    let mut docs: Vec<String> = std::fs::read_dir(root().join("docs"))
+        .expect("docs/ is readable")
+        .map(|e| e.expect("docs/ entry").file_name())
+        .filter_map(|n| n.to_str().map(str::to_string))
+        .filter(|n| n.ends_with(".md"))
+        .map(|n| format!("docs/{n}"))
+        .collect();
+    docs.sort();
+    let mut files = vec!["README.md".to_string(), "ARCHITECTURE.md".to_string()];
+    files.extend(docs);
+    files
+}
+
+/// The lines of a Markdown text outside its fenced code blocks.
+fn prose(text: &str) -> Vec<&str> {
+    let mut fenced = false;
+    text.lines()
+        .filter(|line| {
+            if line.trim_start().starts_with("```") {
+                fenced = !fenced;
+                return false;
+            }
+            !fenced
+        })
+        .collect()
+}
+
+/// The targets of the links and images of a Markdown text (`[text](target)`,
+/// `![alt](target)`), outside code blocks and inline code.
+fn links(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for line in prose(text) {
+        // Inline code (between backticks) is not a link.
+        let outside: String = line
+            .split('`')
+            .enumerate()
+            .map(|(i, part)| if i % 2 == 0 { part } else { "" })
+            .collect::<Vec<_>>()
+            .join(" ");
+        let mut rest = outside.as_str();
+        while let Some(at) = rest.find("](") {
+            let after = &rest[at + 2..];
+            let Some(end) = after.find(')') else { break };
+            out.push(after[..end].trim().to_string());
+            rest = &after[end..];
+        }
+    }
+    out
+}
+
+/// The anchors GitHub gives the headings of a Markdown text: lower case, spaces
+/// as `-`, punctuation other than `-` and `_` dropped, `-1`, `-2` ... after a
+/// repeated one.
+fn anchors(text: &str) -> Vec<String> {
+    let mut seen: Vec<String> = Vec::new();
+    for line in prose(text) {
+        let Some(heading) = line.strip_prefix('#') else {
+            continue;
+        };
+        let heading = heading.trim_start_matches('#');
+        if !heading.starts_with(' ') {
+            continue;
+        }
+        let slug: String = heading
+            .trim()
+            .to_lowercase()
+            .chars()
+            .filter_map(|c| match c {
+                ' ' => Some('-'),
+                c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+                _ => None,
+            })
+            .collect();
+        let repeats = seen.iter().filter(|s| **s == slug).count();
+        let anchor = if repeats == 0 {
+            slug.clone()
+        } else {
+            format!("{slug}-{repeats}")
+        };
+        seen.push(slug);
+        if repeats > 0 {
+            seen.push(anchor);
+        }
+    }
+    seen
+}
+
+/// What is wrong with the relative links of `files` (paths from the root, and
+/// their texts): a target that is no file or folder, or an anchor that is no
+/// heading of the Markdown file it names (`file` itself for `#anchor`).
+fn broken_links(files: &[(String, String)]) -> Vec<String> {
+    let mut broken = Vec::new();
+    for (file, text) in files {
+        let dir = root().join(file).parent().expect("a folder").to_path_buf();
+        for target in links(text) {
+            if ["http://", "https://", "mailto:"]
+                .iter()
+                .any(|s| target.starts_with(s))
+            {
+                continue;
+            }
+            let (path, anchor) = target.split_once('#').unwrap_or((&target, ""));
+            let linked = if path.is_empty() {
+                root().join(file)
+            } else {
+                dir.join(path)
+            };
+            if !linked.exists() {
+                broken.push(format!(
+                    "{file}: `{target}`: {} does not exist",
+                    linked.display()
+                ));
+                continue;
+            }
+            if !anchor.is_empty() && linked.extension().is_some_and(|e| e == "md") {
+                let heads = if path.is_empty() {
+                    anchors(text)
+                } else {
+                    anchors(&std::fs::read_to_string(&linked).expect("a readable page"))
+                };
+                if !heads.iter().any(|h| h == anchor) {
+                    broken.push(format!(
+                        "{file}: `{target}`: no heading of {} has the anchor `{anchor}` \
+                         (it has {heads:?})",
+                        linked.display()
+                    ));
+                }
+            }
+        }
+    }
+    broken
+}
+
+#[test]
+fn relative_links_lead_to_files() {
+    let files: Vec<(String, String)> = markdown_files()
+        .into_iter()
+        .map(|f| {
+            let text = read(&f);
+            (f, text)
+        })
+        .collect();
+    assert!(files.len() > 10, "{:?}", files.iter().map(|f| &f.0));
+    let broken = broken_links(&files);
+    assert!(
+        broken.is_empty(),
+        "{} broken link(s):\n{}",
+        broken.len(),
+        broken.join("\n")
+    );
+    // Not vacuous: a wrong file and a wrong anchor in the README are caught, and
+    // the anchors are GitHub's.
+    let readme = read("README.md");
+    assert!(links(&readme).len() > 10);
+    for (right, wrong) in [
+        ("(docs/cli.md)", "(docs/cli.txt)"),
+        (
+            "(docs/firmware.md#what-it-costs-on-a-cortex-m4f)",
+            "(docs/firmware.md#what-it-costs)",
+        ),
+    ] {
+        assert!(
+            readme.contains(right),
+            "README.md lacks `{right}`: update this test"
+        );
+        let changed = [("README.md".to_string(), readme.replacen(right, wrong, 1))];
+        let broken = broken_links(&changed);
+        let target = wrong.trim_matches(|c| c == '(' || c == ')');
+        assert!(
+            broken.len() == 1 && broken[0].contains(target),
+            "`{wrong}` was not caught: {broken:?}"
+        );
+    }
+    assert_eq!(
+        anchors("# A\n## The scene, baked in `build.rs`\n```sh\n# not a heading\n```\n## A"),
+        ["a", "the-scene-baked-in-buildrs", "a", "a-1"]
+    );
+}
+
+/// A newcomer reaches every page of `docs/` from the README.
+#[test]
+fn every_docs_page_is_linked_from_the_readme() {
+    let linked: Vec<String> = links(&read("README.md"))
+        .into_iter()
+        .map(|t| t.split('#').next().unwrap_or_default().to_string())
+        .collect();
+    let missing: Vec<String> = markdown_files()
+        .into_iter()
+        .filter(|f| f.starts_with("docs/") && !linked.contains(f))
+        .collect();
+    assert!(missing.is_empty(), "README.md links to none of {missing:?}");
+}
+
+/// The README's first section is the two commands, the set-up and the test
+/// command, and the test command is the one CI runs.
+#[test]
+fn the_two_commands_come_first() {
+    let readme = read("README.md");
+    let first = readme
+        .lines()
+        .find(|l| l.starts_with("## "))
+        .expect("README.md has sections");
+    assert_eq!(first, "## Two commands", "README.md's first section");
+    let commands: Vec<&str> = readme
+        .lines()
+        .skip_while(|l| *l != first)
+        .skip_while(|l| !l.starts_with("```"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("```"))
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| l.split('#').next().unwrap_or_default().trim())
+        .collect();
+    assert_eq!(
+        commands,
+        ["cargo run --release", "bash tests/run-all.sh"],
+        "README.md's two commands"
+    );
+    let ci = read(".ci/run");
+    let run: Vec<&str> = ci
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .filter(|l| l.contains("run-all.sh"))
+        .collect();
+    assert_eq!(
+        run,
+        ["exec bash tests/run-all.sh"],
+        ".ci/run runs the README's test command"
+    );
+}
+
+/// The minimum supported Rust the pages name is `Cargo.toml`'s `rust-version`,
+/// which the test command installs and checks.
+#[test]
+fn the_minimum_rust_is_cargo_tomls() {
+    let manifest = read("Cargo.toml");
+    let msrv = manifest
+        .lines()
+        .find_map(|l| l.strip_prefix("rust-version = \""))
+        .and_then(|v| v.strip_suffix('"'))
+        .expect("Cargo.toml has a rust-version");
+    for (page, quote) in [
+        ("README.md", format!("Rust {msrv} first)")),
+        (
+            "README.md",
+            format!("Rust {msrv}, the minimum supported version"),
+        ),
+        ("ARCHITECTURE.md", format!("rust-version {msrv}")),
+        ("docs/contributing.md", format!("`Cargo.toml`, {msrv}:")),
+        ("docs/contributing.md", format!("`cargo +{msrv} check`")),
+    ] {
+        let text = one_line(&read(page));
+        assert!(
+            text.contains(&quote),
+            "{page} should say `{quote}` (Cargo.toml's rust-version {msrv})"
+        );
+    }
 }
