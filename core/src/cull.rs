@@ -97,15 +97,13 @@ pub(crate) struct ShadowLists<'l> {
 pub(crate) const MASKED_LIGHTS: usize = 8;
 
 /// What a tile's lists are built from: a scene's primitives and lights (the scene
-/// view, module `view`, implements it), and whether its rays search through a
-/// hierarchy instead (then no lists are built).
+/// view, module `view`, implements it).
 pub(crate) trait Source {
     fn spheres(&self) -> &[Primitive<Sphere>];
     fn planes(&self) -> &[Primitive<Plane>];
     fn triangles(&self) -> &[Primitive<Triangle>];
     fn boxes(&self) -> &[Primitive<Aabb>];
     fn lights(&self) -> &[PointLight];
-    fn through(&self) -> bool;
 }
 
 /// The first bit of a shadow list entry's light mask for hits on planes (bit
@@ -174,50 +172,72 @@ pub(crate) struct TileLists<'s> {
 /// What renders a tile with the lists it is lent (`None`: no culling).
 pub(crate) type WithLists<'f> = dyn FnMut(Option<&mut TileLists<'_>>) + 'f;
 
-/// How a scene lends its lists: [`lend`] for its capacities.
-pub(crate) type Lender = fn(&mut WithLists<'_>);
+/// How a scene lends a tile the storage of its lists: [`TileStorage::lend`] for
+/// the scene's capacities, given the lengths of its four lists (`None` when its
+/// tiles build no lists: rays searched through a hierarchy, or culling off).
+pub(crate) type Lender = fn(Option<[usize; 4]>, &mut WithLists<'_>);
 
-/// The storage of a tile's lists for a scene of capacities `S`, `P`, `T`, `B`: per
-/// kind a `u16` index list (camera rays) and a `u32` entry list (shadow rays).
-pub(crate) struct Storage<const S: usize, const P: usize, const T: usize, const B: usize> {
+/// The storage of a tile's lists for at most `S`, `P`, `T`, `B` primitives of each
+/// kind: per kind a `u16` index list (camera rays) and a `u32` entry list (shadow
+/// rays), `6 (S + P + T + B)` bytes on the stack of the tile loop.
+pub(crate) struct TileStorage<const S: usize, const P: usize, const T: usize, const B: usize> {
     camera: (Vec<u16, S>, Vec<u16, P>, Vec<u16, T>, Vec<u16, B>),
     shadow: (Vec<u32, S>, Vec<u32, P>, Vec<u32, T>, Vec<u32, B>),
 }
 
-/// Lends `f` candidate lists for a scene of capacities `S`, `P`, `T`, `B`, on the
-/// stack, or `None` (no culling) if a capacity is beyond a `u16` index.
-pub(crate) fn lend<const S: usize, const P: usize, const T: usize, const B: usize>(
-    f: &mut WithLists<'_>,
-) {
-    if S > INDEXABLE || P > INDEXABLE || T > INDEXABLE || B > INDEXABLE {
-        return f(None);
-    }
-    let mut st = Storage::<S, P, T, B> {
-        camera: (Vec::new(), Vec::new(), Vec::new(), Vec::new()),
-        shadow: (Vec::new(), Vec::new(), Vec::new(), Vec::new()),
-    };
-    let (cs, cp, ct, cb) = &mut st.camera;
-    let (ss, sp, stt, sb) = &mut st.shadow;
-    f(Some(&mut TileLists {
-        camera: [
-            cs.as_mut_view(),
-            cp.as_mut_view(),
-            ct.as_mut_view(),
-            cb.as_mut_view(),
-        ],
-        shadow: [
-            ss.as_mut_view(),
-            sp.as_mut_view(),
-            stt.as_mut_view(),
-            sb.as_mut_view(),
-        ],
-    }));
-}
+/// The entries per list of the storage lent to a scene whose capacities exceed
+/// it but whose lists hold no more (see [`TileStorage::lend`]).
+const FEW: usize = 64;
 
-/// Lends no lists: every primitive is a candidate (culling off).
-#[cfg(any(feature = "testing", feature = "bvh"))]
-pub(crate) fn lend_none(f: &mut WithLists<'_>) {
-    f(None);
+impl<const S: usize, const P: usize, const T: usize, const B: usize> TileStorage<S, P, T, B> {
+    /// Lends `f` a tile's candidate lists on the stack, for a scene of capacities
+    /// `S`, `P`, `T`, `B` whose lists hold `held` primitives (`None`: lends none,
+    /// and so does a capacity beyond a `u16` index).
+    ///
+    /// Sized by what the scene holds, not by its capacity, where the two differ
+    /// widely: a scene file read into the host's capacities (thousands of
+    /// triangles) holds a handful of primitives, and storage for its capacities
+    /// would be tens of KiB to set up for every tile, more than the tile's pixels
+    /// cost. Such a scene, when every list holds at most [`FEW`], is lent storage
+    /// for [`FEW`] of each kind. A firmware's scene, whose capacities are what it
+    /// holds, is lent exactly its capacities (the branch is decided at compile
+    /// time).
+    pub(crate) fn lend(held: Option<[usize; 4]>, f: &mut WithLists<'_>) {
+        let Some(held) = held else {
+            return f(None);
+        };
+        if S > INDEXABLE || P > INDEXABLE || T > INDEXABLE || B > INDEXABLE {
+            return f(None);
+        }
+        if S.max(P).max(T).max(B) > FEW && held.iter().all(|&n| n <= FEW) {
+            return TileStorage::<FEW, FEW, FEW, FEW>::lend_all(f);
+        }
+        Self::lend_all(f);
+    }
+
+    /// Lends `f` lists of every capacity.
+    fn lend_all(f: &mut WithLists<'_>) {
+        let mut st = Self {
+            camera: (Vec::new(), Vec::new(), Vec::new(), Vec::new()),
+            shadow: (Vec::new(), Vec::new(), Vec::new(), Vec::new()),
+        };
+        let (cs, cp, ct, cb) = &mut st.camera;
+        let (ss, sp, stt, sb) = &mut st.shadow;
+        f(Some(&mut TileLists {
+            camera: [
+                cs.as_mut_view(),
+                cp.as_mut_view(),
+                ct.as_mut_view(),
+                cb.as_mut_view(),
+            ],
+            shadow: [
+                ss.as_mut_view(),
+                sp.as_mut_view(),
+                stt.as_mut_view(),
+                sb.as_mut_view(),
+            ],
+        }));
+    }
 }
 
 impl TileLists<'_> {
@@ -235,10 +255,6 @@ impl TileLists<'_> {
         }
         for l in &mut self.shadow {
             l.clear();
-        }
-        // A scene searched through a hierarchy has no lists: every ray searches it.
-        if view.through() {
-            return Picks::default();
         }
         let Some(f) = Frustum::new(basis, x0, y0, x1, y1) else {
             return Picks::default();
@@ -752,7 +768,7 @@ mod tests {
         for ty in 0..4u8 {
             for tx in 0..4u8 {
                 let (x0, y0) = (f32::from(tx) * 16.0, f32::from(ty) * 16.0);
-                lend::<4, 1, 0, 0>(&mut |lists| {
+                TileStorage::<4, 1, 0, 0>::lend(Some([4, 1, 0, 0]), &mut |lists| {
                     let picks =
                         lists
                             .unwrap()
@@ -800,14 +816,49 @@ mod tests {
         assert!(tiles.iter().any(|(_, s)| !s.is_empty()), "{tiles:?}");
     }
 
+    /// The storage a tile is lent: a scene's capacities when it fills them or
+    /// when they are small, [`FEW`] of each kind when large capacities hold few
+    /// primitives, none when no lists are built.
+    #[test]
+    fn list_storage_is_lent_by_what_the_scene_holds() {
+        fn lent<const S: usize, const P: usize, const T: usize, const B: usize>(
+            held: Option<[usize; 4]>,
+        ) -> Option<[usize; 4]> {
+            let mut caps = None;
+            TileStorage::<S, P, T, B>::lend(held, &mut |lists| {
+                caps = lists
+                    .as_ref()
+                    .map(|l| core::array::from_fn(|k| l.camera[k].capacity()));
+                let shadow = lists
+                    .as_ref()
+                    .map(|l| core::array::from_fn(|k| l.shadow[k].capacity()));
+                assert_eq!(caps, shadow);
+            });
+            caps
+        }
+        // Small capacities: exactly them, whatever they hold.
+        assert_eq!(lent::<4, 1, 0, 0>(Some([4, 1, 0, 0])), Some([4, 1, 0, 0]));
+        assert_eq!(lent::<4, 1, 0, 0>(Some([0, 0, 0, 0])), Some([4, 1, 0, 0]));
+        // A scene file's large capacities holding a few primitives: FEW each.
+        let few = Some([FEW; 4]);
+        assert_eq!(lent::<512, 16, 8192, 256>(Some([3, 1, 12, 0])), few);
+        assert_eq!(lent::<512, 16, 8192, 256>(Some([FEW, FEW, FEW, FEW])), few);
+        // One list beyond FEW: the capacities.
+        let all = Some([512, 16, 8192, 256]);
+        assert_eq!(lent::<512, 16, 8192, 256>(Some([3, 1, FEW + 1, 0])), all);
+        // No lists (a hierarchy, or culling off), and capacities beyond a u16 index.
+        assert_eq!(lent::<4, 1, 0, 0>(None), None);
+        assert_eq!(lent::<4, 1, { INDEXABLE + 1 }, 0>(Some([4, 1, 0, 0])), None);
+    }
+
     /// The RAM of a tile's lists, as the docs state it: `6 (S + P + T + B)` bytes
     /// plus eight lengths (and alignment), plus the eight views `TileLists` holds.
     #[test]
     fn list_storage_is_sized_by_the_capacities() {
         let lengths = size_of::<[usize; 8]>();
         // The chapter's scenes (4 spheres, 1 plane) and the showcase (3, 2, 4, 2).
-        let chapter = size_of::<Storage<4, 1, 0, 0>>();
-        let showcase = size_of::<Storage<3, 2, 4, 2>>();
+        let chapter = size_of::<TileStorage<4, 1, 0, 0>>();
+        let showcase = size_of::<TileStorage<3, 2, 4, 2>>();
         assert!(
             chapter >= lengths + 6 * 5 && chapter <= lengths + 6 * 5 + 16,
             "{chapter}"

@@ -832,7 +832,10 @@ impl Frame {
                 }
             }
         };
-        (scene.tile_lists)(&mut body);
+        // The tile's candidate lists live on this stack frame, for this tile only:
+        // the scene lends their storage (sized by what it holds, see
+        // `cull::TileStorage::lend`) and runs the loop above with them.
+        (scene.tile_storage)(scene.culled_lists(), &mut body);
         if filled {
             Ok(())
         } else {

@@ -48,7 +48,8 @@ impl<'a> Lists<'a> {
             // Model only what the scene requires: without a mirror or a transparent
             // material no secondary ray can exist, so the tracer skips that work.
             secondary: self.materials.iter().any(Material::sends_rays),
-            tile_lists: crate::cull::lend::<S, P, T, B>,
+            tile_storage: crate::cull::TileStorage::<S, P, T, B>::lend,
+            culling: true,
             triangle_hull,
             #[cfg(feature = "bvh")]
             bvh: None,
@@ -93,8 +94,12 @@ pub struct SceneView<'a> {
     pub(crate) ambient: Color,
     pub(crate) background: Color,
     pub(crate) secondary: bool,
-    /// Lends a tile's candidate lists, sized by the scene's capacities.
-    pub(crate) tile_lists: crate::cull::Lender,
+    /// Lends a tile the storage of its candidate lists (the scene's capacities
+    /// are known only there: see [`crate::cull::TileStorage::lend`]).
+    pub(crate) tile_storage: crate::cull::Lender,
+    /// Whether tiles build candidate lists (false only for the test hook
+    /// `without_culling`).
+    pub(crate) culling: bool,
     /// The hull of the triangles (`None` for an empty list).
     pub(crate) triangle_hull: Option<crate::cull::Hull>,
     /// The triangles' hierarchy, when it pays ([`SceneView::with_bvh`]).
@@ -136,7 +141,7 @@ impl<'a> SceneView<'a> {
     #[must_use]
     pub fn without_culling(&self) -> Self {
         Self {
-            tile_lists: crate::cull::lend_none,
+            culling: false,
             triangle_hull: None,
             #[cfg(feature = "bvh")]
             bvh: None,
@@ -274,6 +279,19 @@ impl<'a> SceneView<'a> {
         through
     }
 
+    /// The lengths of the lists a tile culls (spheres, planes, triangles, boxes),
+    /// or `None` when its tiles build no lists: everything is searched through a
+    /// hierarchy, or culling is off.
+    #[inline(always)]
+    pub(crate) fn culled_lists(&self) -> Option<[usize; 4]> {
+        (self.culling && !self.through()).then_some([
+            self.spheres.len(),
+            self.planes.len(),
+            self.triangles.len(),
+            self.boxes.len(),
+        ])
+    }
+
     /// The depth that rays reach in this scene when `max_depth` is asked for: at
     /// most [`crate::MAX_DEPTH`], and 0 without a mirror or a transparent material.
     pub(crate) fn depth(&self, max_depth: u8) -> u8 {
@@ -377,8 +395,6 @@ impl<'a> SceneView<'a> {
         Ok(Self {
             triangles,
             triangle_hull: crate::cull::Hull::new(all.0, all.1),
-            // A view with a BVH builds no tile lists: lend none (no stack).
-            tile_lists: crate::cull::lend_none,
             bvh: (!triangles.is_empty()).then_some(bvh.view()),
             ..*self
         }
@@ -409,13 +425,7 @@ impl<'a> SceneView<'a> {
         for m in meshes {
             m.check(self.materials.len())?;
         }
-        Ok(Self {
-            meshes,
-            // A view with meshes builds no tile lists: lend none (no stack).
-            tile_lists: crate::cull::lend_none,
-            ..*self
-        }
-        .settled())
+        Ok(Self { meshes, ..*self }.settled())
     }
 }
 
@@ -439,9 +449,5 @@ impl crate::cull::Source for SceneView<'_> {
     #[inline(always)]
     fn lights(&self) -> &[PointLight] {
         self.lights
-    }
-    #[inline(always)]
-    fn through(&self) -> bool {
-        SceneView::through(self)
     }
 }
