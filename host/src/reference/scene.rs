@@ -122,7 +122,7 @@ pub fn cell_parity(x: f64) -> u64 {
 /// reaching across `2^63` gets the periodic mean, not that of one odd cell index
 /// repeated.
 #[must_use]
-fn even_share(x0: f64, x1: f64) -> Option<f64> {
+pub fn even_share(x0: f64, x1: f64) -> Option<f64> {
     let width = x1 - x0;
     if width.is_nan() || width <= 1e-9 {
         return None;
@@ -534,15 +534,19 @@ mod tests {
         boxes
     }
 
-    /// The largest difference between `mean` (the share of a box on even squares)
-    /// and the sum over its cells, over [`boxes`], and where.
-    fn worst_gap(mean: &dyn Fn(f64, [f64; 2], [f64; 2]) -> f64) -> (f64, String) {
+    /// A way to the share of the box `[lo, hi]` on the even squares of a checker
+    /// of `scale`: `(scale, lo, hi) -> share`.
+    type Mean = dyn Fn(f64, [f64; 2], [f64; 2]) -> f64;
+
+    /// The largest difference between `mean` and the sum over the box's cells,
+    /// over [`boxes`], and where.
+    fn worst_gap(mean: &Mean) -> (f64, String) {
         let mut worst = (0.0, String::new());
         for (scale, lo, hi) in boxes() {
             let (got, want) = (mean(scale, lo, hi), even_share_by_cells(scale, lo, hi));
             let gap = (got - want).abs();
             // NaN is the worst.
-            if !(gap <= worst.0) {
+            if gap.is_nan() || gap > worst.0 {
                 worst = (
                     gap,
                     format!("scale {scale}, {lo:?} to {hi:?}: {got}, not {want}"),
@@ -593,7 +597,7 @@ mod tests {
         fn right_combine(pu: f64, pv: f64) -> f64 {
             pu * pv + (1.0 - pu) * (1.0 - pv)
         }
-        let wrong: [(&str, Box<dyn Fn(f64, [f64; 2], [f64; 2]) -> f64>); 7] = [
+        let wrong: [(&str, Box<Mean>); 7] = [
             (
                 "distance to the nearest integer (period 1)",
                 Box::new(by_axes(|x| (x - x.round()).abs(), right_combine)),
