@@ -2,13 +2,10 @@
 //! failure must print a clear message on stderr, exit non-zero, and leave an
 //! existing output file untouched.
 
-#[path = "cli/bake.rs"]
 mod bake;
-mod common;
-#[path = "cli/inputs.rs"]
 mod inputs;
 
-use common::{bin, scenes, scratch, temps, text};
+use crate::common::{bin, scenes, scratch, temps, text};
 use std::path::Path;
 use std::process::Output;
 

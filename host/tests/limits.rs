@@ -2,9 +2,7 @@
 //! with the figure they would need and the limit; a render of any accepted size
 //! streams its PNG in bounded memory.
 
-mod common;
-
-use common::{bin, entries, scratch, temps, text};
+use crate::common::{bin, entries, scratch, temps, text};
 use std::time::{Duration, Instant};
 
 /// Runs the binary and checks that it refused quickly: exit `code`, no output

@@ -3,9 +3,7 @@
 //! the range); errors name the scene, the item and the value at fault; the
 //! summary lines say what was done.
 
-mod common;
-
-use common::{bin, scratch, text};
+use crate::common::{self, bin, scratch, text};
 use std::path::Path;
 use std::process::Output;
 

@@ -2,9 +2,7 @@
 //! (the scene, its OBJ files), all-or-nothing orbit frames, and no temporary file
 //! left behind by an error, a file size limit, SIGINT or SIGTERM.
 
-mod common;
-
-use common::{bin, entries, scenes, scratch, temps, text};
+use crate::common::{self, bin, entries, scenes, scratch, temps, text};
 use std::path::Path;
 use std::process::Output;
 

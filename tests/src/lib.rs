@@ -5,8 +5,9 @@
 //! functions by [`dwarf`], weighted by the cycle model [`cycles`]), the guarded
 //! instruction counts ([`baseline`]), the host's profile under callgrind
 //! ([`callgrind`]), the sections of the profile document ([`profile_doc`]), the
-//! speed/accuracy trade report ([`trade_report`]) and the profile of the chips
-//! without an FPU by routine ([`nofpu`]).
+//! speed/accuracy trade report ([`trade_report`]), the profile of the chips
+//! without an FPU by routine ([`nofpu`]) and the random scenes of the property
+//! tests ([`random_scene`]).
 
 pub mod firmware;
 
@@ -29,6 +30,8 @@ pub mod profile_doc;
 pub mod trade_report;
 
 pub mod nofpu;
+
+pub mod random_scene;
 
 use std::path::PathBuf;
 use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};

@@ -4,17 +4,19 @@
 //! off (`SceneView::without_culling`), on the built-in scenes (several samplers and
 //! tile sizes), on every scene file of `scenes/`, on the built-in scenes scaled by
 //! powers of two up to the ends of the supported range, and on random scenes built
-//! through the public API.
+//! through the public API (the generator's `Values::Tame`, in
+//! `tessera_tests::random_scene`).
 
 use image::RgbImage;
 use proptest::prelude::*;
 use std::path::Path;
 use tessera::builtin::Builtin;
 use tessera::{
-    Aabb, Bvh, Camera, Color, Frame, Material, Plane, PointLight, RenderSettings, Sampler, Scene,
-    SceneView, Sphere, Texture, Triangle, Vec3, Viewport,
+    Bvh, Camera, Color, Frame, Material, Plane, PointLight, RenderSettings, Sampler, Scene,
+    SceneView, Triangle, Vec3, Viewport,
 };
 use tessera_host::render_tiles;
+use tessera_tests::random_scene::{Values, recipe};
 
 /// A BVH as large as the host scene's.
 type TestBvh = Bvh<16384, 8192>;
@@ -158,191 +160,18 @@ fn scaled_scenes_render_the_same_culled_or_not() {
     }
 }
 
-/// A random scene's ingredients, in plain numbers (built through the public API,
-/// skipping what a constructor refuses).
-#[derive(Debug, Clone)]
-struct Recipe {
-    camera: ([f32; 3], [f32; 3], f32, f32),
-    spheres: Vec<([f32; 3], f32, usize)>,
-    planes: Vec<([f32; 3], [f32; 3], usize)>,
-    triangles: Vec<TriangleRecipe>,
-    boxes: Vec<([f32; 3], [f32; 3], usize)>,
-    materials: Vec<MaterialRecipe>,
-    lights: Vec<([f32; 3], f32)>,
-    sampler: u8,
-    depth: u8,
-}
-
-/// Three vertices and a material index.
-type TriangleRecipe = ([f32; 3], [f32; 3], [f32; 3], usize);
-
-#[derive(Debug, Clone)]
-struct MaterialRecipe {
-    color: [f32; 3],
-    diffuse: f32,
-    specular: f32,
-    shininess: f32,
-    reflectivity: f32,
-    transparency: f32,
-    ior: f32,
-    texture: u8,
-}
-
-fn v3(range: f32) -> impl Strategy<Value = [f32; 3]> {
-    [-range..range, -range..range, -range..range]
-}
-
-fn material() -> impl Strategy<Value = MaterialRecipe> {
-    (
-        [0.0f32..1.0, 0.0f32..1.0, 0.0f32..1.0],
-        0.0f32..1.0,
-        prop_oneof![Just(0.0f32), 0.0f32..1.0],
-        prop_oneof![Just(8.0f32), Just(48.0), 1.0f32..300.0],
-        prop_oneof![Just(0.0f32), 0.0f32..1.0],
-        prop_oneof![Just(0.0f32), 0.0f32..1.0],
-        1.0f32..2.5,
-        0u8..3,
-    )
-        .prop_map(
-            |(color, diffuse, specular, shininess, reflectivity, transparency, ior, texture)| {
-                MaterialRecipe {
-                    color,
-                    diffuse,
-                    specular,
-                    shininess,
-                    reflectivity,
-                    transparency,
-                    ior,
-                    texture,
-                }
-            },
-        )
-}
-
-fn recipe() -> impl Strategy<Value = Recipe> {
-    (
-        (v3(8.0), v3(2.0), 20.0f32..110.0, 0.01f32..0.5),
-        prop::collection::vec((v3(4.0), 0.05f32..2.0, 0usize..4), 0..6),
-        prop::collection::vec((v3(3.0), v3(1.0), 0usize..4), 0..3),
-        prop::collection::vec((v3(3.0), v3(3.0), v3(3.0), 0usize..4), 0..8),
-        prop::collection::vec(
-            (
-                v3(3.0),
-                [0.05f32..2.0, 0.05f32..2.0, 0.05f32..2.0],
-                0usize..4,
-            ),
-            0..4,
-        ),
-        prop::collection::vec(material(), 1..4),
-        prop::collection::vec((v3(8.0), 1.0f32..60.0), 0..4),
-        0u8..5,
-        0u8..4,
-    )
-        .prop_map(
-            |(camera, spheres, planes, triangles, boxes, materials, lights, sampler, depth)| {
-                Recipe {
-                    camera,
-                    spheres,
-                    planes,
-                    triangles,
-                    boxes,
-                    materials,
-                    lights,
-                    sampler,
-                    depth,
-                }
-            },
-        )
-}
-
-type RandomScene = Scene<6, 3, 8, 4, 4, 4>;
-
-fn v(a: [f32; 3]) -> Vec3 {
-    Vec3::new(a[0], a[1], a[2])
-}
-
-/// The scene of a recipe (`None` when the camera is refused).
-fn build(r: &Recipe) -> Option<RandomScene> {
-    let (pos, target, fovy, near) = r.camera;
-    let cam = Camera::try_new(v(pos), v(target) - v(pos), Vec3::Y, fovy, near, 100.0).ok()?;
-    let mut s = RandomScene::new(cam);
-    s.set_ambient(Color::splat(0.1)).ok()?;
-    s.set_background(Color::new(0.2, 0.3, 0.4)).ok()?;
-    for m in &r.materials {
-        let c = Color::new(m.color[0], m.color[1], m.color[2]);
-        let mut mat = Material::matte(c)
-            .with_diffuse(m.diffuse)
-            .ok()?
-            .with_specular(m.specular, m.shininess)
-            .ok()?
-            .with_reflectivity(m.reflectivity)
-            .ok()?
-            .with_transparency(m.transparency, m.ior)
-            .ok()?;
-        mat = match m.texture {
-            1 => mat
-                .with_texture(Texture::Checker {
-                    a: c,
-                    b: Color::splat(0.2),
-                    scale: 2.0,
-                })
-                .ok()?,
-            2 => mat
-                .with_texture(Texture::Fringes {
-                    color: c,
-                    spacing: 0.3,
-                })
-                .ok()?,
-            _ => mat,
-        };
-        s.add_material(mat).ok()?;
-    }
-    let id = |i: usize| tessera::MaterialId((i % r.materials.len()) as u16);
-    for &(c, radius, m) in &r.spheres {
-        if let Ok(g) = Sphere::try_new(v(c), radius) {
-            s.add_sphere(g, id(m)).ok()?;
-        }
-    }
-    for &(p, n, m) in &r.planes {
-        if let Ok(g) = Plane::try_new(v(p), v(n)) {
-            s.add_plane(g, id(m)).ok()?;
-        }
-    }
-    for &(a, b, c, m) in &r.triangles {
-        if let Ok(g) = Triangle::try_new(v(a), v(b), v(c)) {
-            s.add_triangle(g, id(m)).ok()?;
-        }
-    }
-    for &(min, size, m) in &r.boxes {
-        if let Ok(g) = Aabb::try_new(v(min), v(min) + v(size)) {
-            s.add_box(g, id(m)).ok()?;
-        }
-    }
-    for &(p, intensity) in &r.lights {
-        s.add_light(PointLight::try_new(v(p), Color::WHITE, intensity).ok()?)
-            .ok()?;
-    }
-    Some(s)
-}
-
 proptest! {
     // A few seconds: 96 random scenes, each rendered four times at 40x30.
     #![proptest_config(ProptestConfig { cases: 96, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
-    fn random_scenes_render_the_same_culled_or_not(r in recipe()) {
-        let Some(scene) = build(&r) else {
+    fn random_scenes_render_the_same_culled_or_not(
+        r in recipe::<6, 3, 8, 4, 4, 4>(Values::Tame)
+    ) {
+        let Some(scene) = r.build() else {
             return Ok(());
         };
-        let sampler = match r.sampler {
-            0 => Sampler::Centre,
-            1 => Sampler::Stratified(2),
-            2 => Sampler::Random(2),
-            3 => Sampler::Prefiltered,
-            _ => Sampler::Adaptive { k: 2, threshold: 0 },
-        };
-        let settings = RenderSettings { sampler, max_depth: r.depth, seed: 5, encoding: tessera::Encoding::Linear };
-        let frame = scene.frame(Viewport::new(40, 30), settings).unwrap();
+        let frame = scene.frame(Viewport::new(40, 30), r.settings(5)).unwrap();
         same_culled_or_not(&scene.view(), &frame, &format!("{r:?}"));
     }
 }

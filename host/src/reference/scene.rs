@@ -42,32 +42,24 @@ impl Tex {
     }
 
     /// The mean colour over the uv box `[lo, hi]`, in closed form: `cos^2` fringes
-    /// integrate to a difference of sines; a checker is the product of two square
-    /// waves, whose means are differences of triangle waves. A box thinner than
-    /// 1e-9 of a period is the point value at its centre.
+    /// integrate to a difference of sines; a checker's share of even squares comes
+    /// from the share of even cells along each axis ([`even_share`]). A box thinner
+    /// than 1e-9 of a period (on either axis) is the point value at its centre.
     #[must_use]
     pub fn eval_box(&self, lo: [f64; 2], hi: [f64; 2]) -> V3 {
         let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
         match *self {
             Self::Solid(c) => c,
             Self::Checker { a, b, scale } => {
-                let square_mean = |x0: f64, x1: f64| {
-                    let tri = |x: f64| {
-                        let n = x.floor();
-                        if cell_parity(n) == 0 {
-                            x - n
-                        } else {
-                            1.0 - (x - n)
-                        }
-                    };
-                    (x1 - x0 > 1e-9).then(|| (tri(x1) - tri(x0)) / (x1 - x0))
-                };
                 match (
-                    square_mean(lo[0] * scale, hi[0] * scale),
-                    square_mean(lo[1] * scale, hi[1] * scale),
+                    even_share(lo[0] * scale, hi[0] * scale),
+                    even_share(lo[1] * scale, hi[1] * scale),
                 ) {
-                    (Some(su), Some(sv)) => {
-                        let even = 0.5 * (1.0 + su * sv);
+                    // A point of the box is on an even square when its two cells
+                    // are both even or both odd; over a box (a product of two
+                    // intervals) the two axes are independent.
+                    (Some(pu), Some(pv)) => {
+                        let even = pu * pv + (1.0 - pu) * (1.0 - pv);
                         a * even + b * (1.0 - even)
                     }
                     _ => self.eval(mid),
@@ -110,6 +102,33 @@ impl Tex {
 #[must_use]
 pub fn cell_parity(x: f64) -> u64 {
     (x.floor() as i64 & 1) as u64
+}
+
+/// The share of `[x0, x1]` (in cells) that lies on even cells `[2k, 2k + 1)`;
+/// `None` for an interval thinner than 1e-9 of a cell (or not a number).
+///
+/// The square wave that is +1 on even cells and -1 on odd ones has the
+/// antiderivative `E(x)` (its integral from 0 to `x`) = the distance from `x` to
+/// the nearest even integer: it rises by 1 across an even cell and falls back by 1
+/// across the odd cell after it, and it is even and of period 2, so it holds for
+/// negative `x` too. The wave's mean over the interval is `(E(x1) - E(x0)) /
+/// width`, and the share of even cells is `(1 + mean) / 2`. `E` is exact in `f64`
+/// (`x` and its nearest even integer are within a factor of 2 of each other, or
+/// that integer is 0), so only the subtraction of the two and the division round.
+///
+/// This is the mean of the periodic checker. From `2^63` on, where the point
+/// value's saturated cell index is odd ([`cell_parity`]) and `f64` has no fraction
+/// of a cell left, `E` stays 0 (every such `x` is an even integer): an interval
+/// reaching across `2^63` gets the periodic mean, not that of one odd cell index
+/// repeated.
+#[must_use]
+pub fn even_share(x0: f64, x1: f64) -> Option<f64> {
+    let width = x1 - x0;
+    if width.is_nan() || width <= 1e-9 {
+        return None;
+    }
+    let e = |x: f64| (x - 2.0 * (0.5 * x).round()).abs();
+    Some(0.5 + 0.5 * (e(x1) - e(x0)) / width)
 }
 
 /// A material in `f64`.
@@ -415,5 +434,241 @@ mod tests {
         assert!((f.eval([0.0, 0.0]).x - 1.0).abs() < 1e-15);
         assert!(f.eval([0.375e-3, 0.0]).x.abs() < 1e-15);
         assert!((f.eval([0.1875e-3, 0.0]).x - 0.5).abs() < 1e-15);
+    }
+
+    /// A checker with even squares `X` and odd ones `Y`: a mean's `x` is the share
+    /// of the box on even squares.
+    fn unit_checker(scale: f64) -> Tex {
+        Tex::Checker {
+            a: V3::X,
+            b: V3::Y,
+            scale,
+        }
+    }
+
+    /// The share of the uv box `[lo, hi]` on the even squares of a checker of
+    /// `scale`, summed piece by piece: each axis cut at the cell edges it crosses,
+    /// and each pair of pieces weighed by its area and coloured by the checker's
+    /// point value (`Tex::eval`) at its centre. No formula for the mean: what the
+    /// closed form must agree with.
+    fn even_share_by_cells(scale: f64, lo: [f64; 2], hi: [f64; 2]) -> f64 {
+        // The pieces of [x0, x1] (uv) in each cell: (centre in uv, length in cells).
+        let pieces = |x0: f64, x1: f64| {
+            let (c0, c1) = (x0 * scale, x1 * scale);
+            let mut out = Vec::new();
+            let mut edge = c0.floor();
+            while edge < c1 {
+                let (from, to) = (c0.max(edge), c1.min(edge + 1.0));
+                out.push((0.5 * (from + to) / scale, to - from));
+                edge += 1.0;
+            }
+            out
+        };
+        let checker = unit_checker(scale);
+        let (mut even, mut area) = (0.0, 0.0);
+        for &(u, du) in &pieces(lo[0], hi[0]) {
+            for &(v, dv) in &pieces(lo[1], hi[1]) {
+                even += du * dv * checker.eval([u, v]).x;
+                area += du * dv;
+            }
+        }
+        even / area
+    }
+
+    /// The boxes the checker's mean is tried on, `(scale, lo, hi)` with `lo` and
+    /// `hi` in uv: inside one cell, across cell edges (one axis, both, around the
+    /// origin), over many cells, thin (just above the point-value threshold), far
+    /// from the origin, at negative coordinates; then 3,000 seeded random boxes
+    /// (up to 2^30 cells from the origin, 2^-16 to 32 cells wide on each axis).
+    fn boxes() -> Vec<(f64, [f64; 2], [f64; 2])> {
+        let big = 2f64.powi(40);
+        let mut boxes = vec![
+            // Inside one cell: even, odd, even again at negative coordinates.
+            (1.0, [0.1, 0.3], [0.2, 0.9]),
+            (2.0, [0.55, 0.05], [0.95, 0.45]),
+            (1.0, [-0.9, -3.7], [-0.2, -3.1]),
+            // Across one edge, two edges, the origin on both axes.
+            (1.0, [0.9, 0.5], [1.1, 0.6]),
+            (1.0, [1.7, 2.9], [2.3, 3.2]),
+            (1.0, [-0.25, -0.25], [0.25, 0.25]),
+            (1.0, [-0.6, 0.2], [0.3, 0.4]),
+            (3.0, [-0.1, -0.45], [0.4, -0.2]),
+            // Over many cells.
+            (1.0, [-7.3, -3.1], [12.9, 40.45]),
+            (0.37, [-100.0, 3.0], [250.0, 90.0]),
+            (1000.0, [0.01234, 0.5], [0.05, 0.5137]),
+            // Thin: 2e-9 of a cell across an edge, by a wide one.
+            (1.0, [0.999_999_999, 0.3], [1.000_000_001, 2.6]),
+            (1.0, [-1.7, -2.000_000_001], [0.6, -1.999_999_999]),
+            // Far from the origin, and far at negative coordinates.
+            (1.0, [1e6 + 0.3, -1e6 - 2.2], [1e6 + 2.8, -1e6 + 0.4]),
+            (1.0, [big + 0.25, -big - 0.5], [big + 1.75, -big + 3.5]),
+            (
+                1e4,
+                [123_456.789_01, -98_765.432_1],
+                [123_456.790_43, -98_765.430_11],
+            ),
+            (0.001, [-3.3e9, 7.7e9], [-3.2995e9, 7.7006e9]),
+        ];
+        // SplitMix64.
+        let mut state = 0x7e55_e7a0_u64;
+        let mut unit = move || {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..3000 {
+            let scale = 2f64.powf(8.0 * unit() - 4.0);
+            let mut lo = [0.0; 2];
+            let mut hi = [0.0; 2];
+            for axis in 0..2 {
+                let centre = (2.0 * unit() - 1.0) * 2f64.powf(30.0 * unit());
+                let width = 2f64.powf(21.0 * unit() - 16.0);
+                lo[axis] = (centre - width * unit()) / scale;
+                hi[axis] = lo[axis] + width / scale;
+            }
+            boxes.push((scale, lo, hi));
+        }
+        boxes
+    }
+
+    /// A way to the share of the box `[lo, hi]` on the even squares of a checker
+    /// of `scale`: `(scale, lo, hi) -> share`.
+    type Mean = dyn Fn(f64, [f64; 2], [f64; 2]) -> f64;
+
+    /// The largest difference between `mean` and the sum over the box's cells,
+    /// over [`boxes`], and where.
+    fn worst_gap(mean: &Mean) -> (f64, String) {
+        let mut worst = (0.0, String::new());
+        for (scale, lo, hi) in boxes() {
+            let (got, want) = (mean(scale, lo, hi), even_share_by_cells(scale, lo, hi));
+            let gap = (got - want).abs();
+            // NaN is the worst.
+            if gap.is_nan() || gap > worst.0 {
+                worst = (
+                    gap,
+                    format!("scale {scale}, {lo:?} to {hi:?}: {got}, not {want}"),
+                );
+            }
+        }
+        worst
+    }
+
+    /// The closed form of the checker's box mean is the mean of the checker over
+    /// the box: within 1e-9 of the sum over its cells on every box of [`boxes`],
+    /// and the odd squares take the rest.
+    #[test]
+    fn checker_box_mean_is_the_sum_over_its_cells() {
+        let (gap, at) = worst_gap(&|scale, lo, hi| unit_checker(scale).eval_box(lo, hi).x);
+        assert!(gap <= 1e-9, "{gap:e} at {at}");
+        for (scale, lo, hi) in boxes() {
+            let mean = unit_checker(scale).eval_box(lo, hi);
+            assert!(
+                (mean.x + mean.y - 1.0).abs() <= 1e-12 && mean.z == 0.0,
+                "{mean:?}"
+            );
+        }
+    }
+
+    /// The check above catches a wrong mean: each of these plausible mistakes is
+    /// off by more than 0.05 somewhere among the boxes (the mistakes each need a
+    /// kind of box: negative coordinates, edges on both axes, many cells).
+    #[test]
+    fn a_wrong_checker_mean_is_caught_by_the_sum_over_cells() {
+        // The share of even cells on each axis from an antiderivative `e` of the
+        // square wave (as `even_share`), and the two shares combined by `combine`.
+        fn by_axes(
+            e: fn(f64) -> f64,
+            combine: fn(f64, f64) -> f64,
+        ) -> impl Fn(f64, [f64; 2], [f64; 2]) -> f64 {
+            move |scale, lo, hi| {
+                let share = |x0: f64, x1: f64| {
+                    let (x0, x1) = (x0 * scale, x1 * scale);
+                    0.5 + 0.5 * (e(x1) - e(x0)) / (x1 - x0)
+                };
+                combine(share(lo[0], hi[0]), share(lo[1], hi[1]))
+            }
+        }
+        fn right_e(x: f64) -> f64 {
+            (x - 2.0 * (0.5 * x).round()).abs()
+        }
+        fn right_combine(pu: f64, pv: f64) -> f64 {
+            pu * pv + (1.0 - pu) * (1.0 - pv)
+        }
+        let wrong: [(&str, Box<Mean>); 7] = [
+            (
+                "distance to the nearest integer (period 1)",
+                Box::new(by_axes(|x| (x - x.round()).abs(), right_combine)),
+            ),
+            (
+                "sawtooth: the length since the last even integer",
+                Box::new(by_axes(|x| x.rem_euclid(2.0), right_combine)),
+            ),
+            (
+                "cells from truncation toward 0, not floor",
+                Box::new(by_axes(
+                    |x| {
+                        let n = x.trunc();
+                        if n.rem_euclid(2.0) == 0.0 {
+                            x - n
+                        } else {
+                            1.0 - (x - n)
+                        }
+                    },
+                    right_combine,
+                )),
+            ),
+            (
+                "both axes even, forgetting both odd",
+                Box::new(by_axes(right_e, |pu, pv| pu * pv)),
+            ),
+            (
+                "the mean of the two axes' shares",
+                Box::new(by_axes(right_e, |pu, pv| 0.5 * (pu + pv))),
+            ),
+            (
+                "the odd squares' share",
+                Box::new(by_axes(right_e, |pu, pv| 1.0 - right_combine(pu, pv))),
+            ),
+            (
+                "the point value at the centre",
+                Box::new(|scale, lo: [f64; 2], hi: [f64; 2]| {
+                    unit_checker(scale)
+                        .eval([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])])
+                        .x
+                }),
+            ),
+        ];
+        for (what, mean) in &wrong {
+            let (gap, at) = worst_gap(mean.as_ref());
+            assert!(gap > 0.05, "{what}: not caught (worst {gap} at {at})");
+        }
+        // The right one, assembled the same way, passes.
+        let (gap, at) = worst_gap(&by_axes(right_e, right_combine));
+        assert!(gap <= 1e-9, "{gap:e} at {at}");
+    }
+
+    /// A box of no width on an axis (or thinner than 1e-9 of a cell) has no mean:
+    /// it is the point value at its centre, as in the core (whose threshold, in
+    /// `f32`, is 1e-4).
+    #[test]
+    fn a_degenerate_box_is_the_point_value_at_its_centre() {
+        let t = unit_checker(1.0);
+        for (lo, hi) in [
+            ([0.3, 0.1], [0.3, 2.7]),
+            ([-2.5, 0.7], [3.5, 0.7]),
+            ([-0.7, -0.7], [-0.7, -0.7]),
+            ([0.999_999_999_8, -4.0], [1.000_000_000_2, 4.0]),
+            ([1e6 + 0.5, -3.0], [1e6 + 0.5, 9.0]),
+        ] {
+            let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+            assert_eq!(t.eval_box(lo, hi), t.eval(centre), "{lo:?} to {hi:?}");
+        }
+        // Just above the threshold: a box 1e-8 of a cell wide across the edge at
+        // u = 1 is averaged.
+        let (lo, hi) = ([0.999_999_995, 0.25], [1.000_000_005, 0.75]);
+        assert!((t.eval_box(lo, hi).x - 0.5).abs() < 1e-6);
     }
 }

@@ -2,7 +2,7 @@
 //! warnings, whatever text the scene holds (material names, the scene's path);
 //! `--crate` takes only what Rust accepts as a `use` path.
 
-use super::common::{bin, scratch, text};
+use crate::common::{bin, scratch, text};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -178,8 +178,8 @@ fn compile_and_run(dir: &Path, baked: &Path, literals: &[String]) -> Vec<String>
 fn scene_files() -> Vec<PathBuf> {
     let mut files = Vec::new();
     for dir in [
-        super::common::scenes(),
-        super::common::scenes().join("examples"),
+        crate::common::scenes(),
+        crate::common::scenes().join("examples"),
     ] {
         for e in std::fs::read_dir(dir).unwrap() {
             let p = e.unwrap().path();
@@ -383,7 +383,7 @@ fn a_baked_file_with_hostile_names_compiles_and_keeps_them_inert() {
 #[test]
 fn bake_refuses_a_keyword_as_the_crate() {
     let dir = scratch("bake-crate");
-    let scene = super::common::scenes().join("examples/triangle.toml");
+    let scene = crate::common::scenes().join("examples/triangle.toml");
     for (krate, message) in [
         ("fn", "\"fn\" is a Rust keyword, not a crate name"),
         (

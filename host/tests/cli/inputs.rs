@@ -3,7 +3,7 @@
 //! names the path and what it is. Nothing waits on them (opening a FIFO for
 //! reading blocks until a writer comes).
 
-use super::common::{bin, scratch, text};
+use crate::common::{bin, scratch, text};
 use std::os::unix::net::UnixListener;
 use std::path::Path;
 use std::process::{Output, Stdio};

@@ -1,7 +1,5 @@
 //! Helpers shared by the CLI tests: the binary, self-cleaning scratch folders.
 
-#![allow(dead_code)]
-
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
