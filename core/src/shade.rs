@@ -304,8 +304,8 @@ fn primary_in<C: RayCounter>(
 ) -> Color {
     count.primary();
     let nearest = match &picks.camera {
-        Some(lists) => search::nearest_in(view, ray, t_max, Listed(lists), Skip::NONE),
-        None => search::nearest(view, ray, t_max, Skip::NONE),
+        Some(lists) => search::nearest(view, ray, t_max, Listed(lists), Skip::NONE),
+        None => search::nearest_whole(view, ray, t_max, Skip::NONE),
     };
     let Some(nearest) = nearest else {
         if C::SIGNS {
@@ -361,7 +361,7 @@ fn bounce<C: RayCounter>(
     }
     while let Some(p) = stack.pop() {
         count.secondary();
-        let Some(nearest) = search::nearest(view, &p.ray, f32::INFINITY, p.skip) else {
+        let Some(nearest) = search::nearest_whole(view, &p.ray, f32::INFINITY, p.skip) else {
             *total += view.background * p.weight;
             continue;
         };
@@ -493,8 +493,8 @@ fn local_with<const SMOOTH: bool, C: RayCounter>(
             let ray = Ray::unit(origin, l);
             let skip = hit.skip_for(l);
             let blocked = match lists {
-                Some(m) => search::occluded_masked(view, &ray, dist, m, skip),
-                None => search::occluded(view, &ray, dist, skip),
+                Some(m) => search::any_masked(view, &ray, dist, m, skip),
+                None => search::any_whole(view, &ray, dist, skip),
             };
             if blocked {
                 if C::SIGNS && sign {

@@ -57,8 +57,6 @@ impl<'a> Lists<'a> {
             sphere_bvh: None,
             #[cfg(feature = "bvh")]
             meshes: &[],
-            #[cfg(feature = "bvh")]
-            through: false,
         }
     }
 }
@@ -111,10 +109,6 @@ pub struct SceneView<'a> {
     /// The indexed meshes ([`SceneView::with_meshes`]), searched after every list.
     #[cfg(feature = "bvh")]
     pub(crate) meshes: &'a [crate::mesh::Mesh<'a>],
-    /// Something is searched through a hierarchy: [`SceneView::through`], one
-    /// flag for the searches' dispatch ([`SceneView::settled`] keeps it right).
-    #[cfg(feature = "bvh")]
-    pub(crate) through: bool,
 }
 
 impl core::fmt::Debug for SceneView<'_> {
@@ -151,7 +145,6 @@ impl<'a> SceneView<'a> {
             meshes: self.meshes,
             ..*self
         }
-        .settled()
     }
 
     /// The same view, its triangles found through `bvh` when there are at least
@@ -174,8 +167,7 @@ impl<'a> SceneView<'a> {
         Ok(Self {
             bvh: pays.then(|| bvh.view()),
             ..*self
-        }
-        .settled())
+        })
     }
 
     /// True when the triangles are found through a BVH ([`SceneView::with_bvh`]).
@@ -208,8 +200,7 @@ impl<'a> SceneView<'a> {
         Ok(Self {
             bvh: Some(bvh.view()),
             ..v
-        }
-        .settled())
+        })
     }
 
     /// The same view without its BVH: the flat lists (a test hook, with the feature
@@ -223,7 +214,6 @@ impl<'a> SceneView<'a> {
             sphere_bvh: None,
             ..*self
         }
-        .settled()
     }
 
     /// The same view, its spheres found through `bvh` when there are at least
@@ -245,8 +235,7 @@ impl<'a> SceneView<'a> {
         Ok(Self {
             sphere_bvh: pays.then(|| bvh.view()),
             ..*self
-        }
-        .settled())
+        })
     }
 
     /// [`SceneView::with_sphere_bvh`] whatever the number of spheres (a test hook,
@@ -264,8 +253,7 @@ impl<'a> SceneView<'a> {
         Ok(Self {
             sphere_bvh: Some(bvh.view()),
             ..v
-        }
-        .settled())
+        })
     }
 
     /// True when something is searched through a hierarchy (triangles, spheres,
@@ -273,7 +261,7 @@ impl<'a> SceneView<'a> {
     #[inline(always)]
     pub(crate) fn through(&self) -> bool {
         #[cfg(feature = "bvh")]
-        let through = self.through;
+        let through = self.bvh.is_some() || self.sphere_bvh.is_some() || !self.meshes.is_empty();
         #[cfg(not(feature = "bvh"))]
         let through = false;
         through
@@ -300,20 +288,6 @@ impl<'a> SceneView<'a> {
         } else {
             0
         }
-    }
-
-    /// The view with its `through` flag set from what it holds (feature `bvh`;
-    /// the view itself without).
-    #[cfg(any(feature = "bvh", feature = "testing"))]
-    pub(crate) fn settled(self) -> Self {
-        #[cfg(feature = "bvh")]
-        let settled = Self {
-            through: self.bvh.is_some() || self.sphere_bvh.is_some() || !self.meshes.is_empty(),
-            ..self
-        };
-        #[cfg(not(feature = "bvh"))]
-        let settled = self;
-        settled
     }
 
     /// The spheres.
@@ -397,8 +371,7 @@ impl<'a> SceneView<'a> {
             triangle_hull: crate::cull::Hull::new(all.0, all.1),
             bvh: (!triangles.is_empty()).then_some(bvh.view()),
             ..*self
-        }
-        .settled())
+        })
     }
 
     /// The same view with `meshes` (at most [`MAX_MESHES`]) among its primitives,
@@ -425,7 +398,7 @@ impl<'a> SceneView<'a> {
         for m in meshes {
             m.check(self.materials.len())?;
         }
-        Ok(Self { meshes, ..*self }.settled())
+        Ok(Self { meshes, ..*self })
     }
 }
 

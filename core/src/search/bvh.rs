@@ -1,144 +1,32 @@
-//! The searches through a hierarchy (feature `bvh`): the triangles', the
-//! spheres' and each mesh's, for the views that carry one
+//! The searches through a hierarchy (feature `bvh`): a list's (the spheres', the
+//! triangles') and each mesh's, for [`super::Whole`] where the view carries them
 //! ([`SceneView::with_bvh`], [`SceneView::with_sphere_bvh`],
 //! [`SceneView::with_meshes`]); module [`crate::bvh`] says why the image is the
 //! same bytes with or without them.
 
-use super::{Kind, Nearest, Skip, nearest_flat, occluded_flat};
+use super::{Kind, Nearest, Skip};
 use crate::bvh::{BvhView, DEPTH};
 #[cfg(feature = "testing")]
 use crate::bvh::{VISITS, count_visit};
 use crate::cull::MARGIN;
-use crate::geometry::triangle::{Axes, Shear, with_axes};
-use crate::geometry::{Candidate, Sphere, Triangle, aabb_inverse};
+use crate::geometry::triangle::{Shear, with_axes};
+use crate::geometry::{Candidate, aabb_inverse};
 use crate::mesh::Mesh;
-use crate::primitive::Primitive;
 use crate::ray::Ray;
 use crate::vec::Vec3;
+#[cfg(doc)]
 use crate::view::SceneView;
-
-/// [`SceneView::nearest`] of a scene with a BVH: the other kinds as the flat
-/// search does, then the triangles through the BVH, with the flat search's
-/// precedence at equal times (it visits spheres, planes, triangles, boxes, a
-/// later kind replacing only a strictly nearer hit): a triangle at the time of
-/// a box replaces it, at the time of a sphere or a plane does not.
-#[inline(never)]
-pub(crate) fn nearest_through(
-    view: &SceneView<'_>,
-    ray: &Ray,
-    t_max: f32,
-    skip: Skip,
-) -> Option<Nearest> {
-    // The spheres first (the flat search's first list): a later kind replaces
-    // a sphere only when strictly nearer.
-    let sphere = match &view.sphere_bvh {
-        Some(bvh) => sphere_nearest(bvh, view.spheres, ray, skip, t_max),
-        None => None,
-    };
-    let t0 = sphere.as_ref().map_or(t_max, |n| n.hit.t);
-    let mut best = nearest_flat(&others(view), ray, t0, skip).or(sphere);
-    if let Some(bvh) = &view.bvh {
-        let (t, box_first) = match &best {
-            Some(n) => (n.hit.t, n.kind == Kind::Box),
-            None => (t_max, false),
-        };
-        let sk = skip.index(Kind::Triangle);
-        if let Some((index, hit)) = bvh_nearest(bvh, view.triangles, ray, sk, t, box_first) {
-            best = Some(Nearest {
-                kind: Kind::Triangle,
-                index,
-                hit,
-            });
-        }
-    }
-    let sk = skip.index(Kind::Mesh);
-    for (m, mesh) in view.meshes.iter().enumerate() {
-        let t = best.as_ref().map_or(t_max, |n| n.hit.t);
-        // The face to skip, if it is one of this mesh's.
-        let face = if sk >> 16 == m {
-            sk & 0xffff
-        } else {
-            usize::MAX
-        };
-        if let Some((f, hit)) = bvh_nearest(&mesh.bvh(), mesh, ray, face, t, false) {
-            best = Some(Nearest {
-                kind: Kind::Mesh,
-                index: m << 16 | f,
-                hit,
-            });
-        }
-    }
-    best
-}
-
-/// [`SceneView::occluded`] of a scene with a BVH (as
-/// [`SceneView::nearest_through`]).
-#[inline(never)]
-pub(crate) fn occluded_through(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> bool {
-    if let Some(bvh) = &view.sphere_bvh
-        && sphere_any(bvh, view.spheres, ray, skip, t_max)
-    {
-        return true;
-    }
-    if occluded_flat(&others(view), ray, t_max, skip) {
-        return true;
-    }
-    if let Some(bvh) = &view.bvh
-        && bvh_any(bvh, view.triangles, ray, skip.index(Kind::Triangle), t_max)
-    {
-        return true;
-    }
-    let sk = skip.index(Kind::Mesh);
-    view.meshes.iter().enumerate().any(|(m, mesh)| {
-        let face = if sk >> 16 == m {
-            sk & 0xffff
-        } else {
-            usize::MAX
-        };
-        bvh_any(&mesh.bvh(), mesh, ray, face, t_max)
-    })
-}
-
-/// The view without what its hierarchies hold (the triangles when they have
-/// one, the spheres when they have one, the meshes): what a scene with a BVH
-/// searches with the flat functions (the same instantiations: a search of its
-/// own for the other kinds made the compiler inline the flat searches
-/// differently, at 3% more instructions on the chip for scenes without a BVH).
-fn others<'a>(view: &SceneView<'a>) -> SceneView<'a> {
-    SceneView {
-        spheres: if view.sphere_bvh.is_some() {
-            &[]
-        } else {
-            view.spheres
-        },
-        sphere_bvh: None,
-        triangles: if view.bvh.is_some() {
-            &[]
-        } else {
-            view.triangles
-        },
-        triangle_hull: if view.bvh.is_some() {
-            None
-        } else {
-            view.triangle_hull
-        },
-        bvh: None,
-        meshes: &[],
-        through: false,
-        ..*view
-    }
-}
 
 /// What the BVH traversal needs of a ray: its origin, its reciprocal direction and
 /// the clearance its nodes are grown by (see the module `bvh`).
-struct Probe {
+struct NodeRay {
     origin: Vec3,
     inv: Vec3,
     clear: f32,
 }
 
-impl Probe {
-    /// The probe of `ray` for `bvh`.
+impl NodeRay {
+    /// What the walk of `bvh` needs of `ray`.
     fn new(bvh: &BvhView<'_>, ray: &Ray) -> Self {
         Self {
             origin: ray.origin,
@@ -153,9 +41,9 @@ impl Probe {
 /// `leaf` may narrow: a nearest-hit search), nearer child first; stops when
 /// `leaf` returns true and returns it.
 #[inline(always)]
-fn bvh_walk(
+fn walk(
     bvh: &BvhView<'_>,
-    at: &Probe,
+    at: &NodeRay,
     t_max: &mut f32,
     mut leaf: impl FnMut(&[u16], &mut f32) -> bool,
 ) -> bool {
@@ -218,146 +106,38 @@ fn bvh_walk(
     false
 }
 
-/// The nearest triangle hit nearer than `t` through the BVH (but `skip`): its
-/// index and candidate. `box_first`: the hit at `t` is a box's, which a triangle at
-/// the same time replaces.
+/// [`super::visit`] through `bvh`: the candidate but `skip` that
+/// `test(index, limit)` finds nearest before `*t`, its time then in `*t`; with
+/// `FIRST`, the first found (its candidate left at its default). The walk visits
+/// entries out of list order, so among equal times the smallest index is kept (as
+/// a list's loop keeps the first): an entry before the best so far is tested with
+/// a limit one ulp beyond `*t`.
 #[inline(always)]
-fn bvh_nearest<F: Faces + ?Sized>(
+pub(super) fn visit<const FIRST: bool>(
     bvh: &BvhView<'_>,
-    list: &F,
     ray: &Ray,
-    sk: usize,
-    t: f32,
-    box_first: bool,
-) -> Option<(usize, Candidate)> {
-    let shear = Shear::new(ray);
-    let at = Probe::new(bvh, ray);
-    with_axes!(shear.axes, A => bvh_nearest_in::<A, F>(bvh, list, &at, &shear, sk, t, box_first), None)
-}
-
-/// The nearest sphere hit nearer than `t_max` through `bvh` (but `skip`): the
-/// smallest `(t, index)`, as the flat search keeps the first of equal times.
-#[inline(never)]
-fn sphere_nearest(
-    bvh: &BvhView<'_>,
-    spheres: &[Primitive<Sphere>],
-    ray: &Ray,
-    skip: Skip,
-    t_max: f32,
-) -> Option<Nearest> {
-    let at = Probe::new(bvh, ray);
-    let sk = skip.index(Kind::Sphere);
-    let mut found: Option<(usize, f32)> = None;
-    let mut t = t_max;
-    bvh_walk(bvh, &at, &mut t, |entries, t| {
-        for &e in entries {
-            let i = usize::from(e);
-            if i == sk {
-                continue;
-            }
-            let tie = found.is_some_and(|(best, _)| i < best);
-            let limit = if tie { t.next_up() } else { *t };
-            if let Some(s) = spheres.get(i)
-                && let Some(h) = s.geometry.hit(ray, limit)
-            {
-                *t = h;
-                found = Some((i, h));
-            }
-        }
-        false
-    });
-    found.map(|(index, t)| Nearest {
-        kind: Kind::Sphere,
-        index,
-        hit: Candidate::at(t),
-    })
-}
-
-/// True when a sphere but `skip` blocks `ray` before `t_max`, through `bvh`.
-#[inline(never)]
-fn sphere_any(
-    bvh: &BvhView<'_>,
-    spheres: &[Primitive<Sphere>],
-    ray: &Ray,
-    skip: Skip,
-    t_max: f32,
-) -> bool {
-    let at = Probe::new(bvh, ray);
-    let sk = skip.index(Kind::Sphere);
-    let mut t = t_max;
-    bvh_walk(bvh, &at, &mut t, |entries, _| {
-        entries.iter().any(|&e| {
-            let i = usize::from(e);
-            i != sk
-                && spheres
-                    .get(i)
-                    .is_some_and(|s| s.geometry.hit(ray, t_max).is_some())
-        })
-    })
-}
-
-/// Where a BVH's leaves find their triangles: the scene's list, or a mesh's faces.
-trait Faces {
-    /// The hit of triangle `i` nearer than `limit`, in the ray frame `shear`.
-    fn hit<A: Axes>(&self, i: usize, shear: &Shear, limit: f32) -> Option<Candidate>;
-}
-
-impl Faces for [Primitive<Triangle>] {
-    #[inline(always)]
-    fn hit<A: Axes>(&self, i: usize, shear: &Shear, limit: f32) -> Option<Candidate> {
-        self.get(i)?.geometry.hit_with::<A>(shear, limit)
-    }
-}
-
-impl Faces for Mesh<'_> {
-    #[inline(always)]
-    fn hit<A: Axes>(&self, i: usize, shear: &Shear, limit: f32) -> Option<Candidate> {
-        self.triangle(i)?.hit_with::<A>(shear, limit)
-    }
-}
-
-/// True when a triangle but `skip` blocks `ray` before `t_max`, through the BVH.
-#[inline(always)]
-fn bvh_any<F: Faces + ?Sized>(
-    bvh: &BvhView<'_>,
-    list: &F,
-    ray: &Ray,
-    sk: usize,
-    t_max: f32,
-) -> bool {
-    let shear = Shear::new(ray);
-    let at = Probe::new(bvh, ray);
-    with_axes!(shear.axes, A => bvh_any_in::<A, F>(bvh, list, &at, &shear, sk, t_max), false)
-}
-
-/// [`bvh_nearest`] in the ray frame with axes `A`: keeps the smallest
-/// `(t, index)` (the flat search's tie rule, see the module doc). With no triangle
-/// found yet, the hit at `t` is a box's (`box_first`: a triangle at the same time
-/// replaces it) or a sphere's or plane's (it does not).
-#[inline(always)]
-fn bvh_nearest_in<A: Axes, F: Faces + ?Sized>(
-    bvh: &BvhView<'_>,
-    list: &F,
-    at: &Probe,
-    shear: &Shear,
     skip: usize,
-    t: f32,
-    box_first: bool,
+    t: &mut f32,
+    mut test: impl FnMut(usize, f32) -> Option<Candidate>,
 ) -> Option<(usize, Candidate)> {
+    let at = NodeRay::new(bvh, ray);
     let mut found: Option<(usize, Candidate)> = None;
-    let mut t = t;
-    bvh_walk(bvh, at, &mut t, |entries, t| {
+    walk(bvh, &at, t, |entries, t| {
         for &e in entries {
             let i = usize::from(e);
             if i == skip {
                 continue;
             }
-            let tie = match found {
-                None => box_first,
-                Some((best, _)) => i < best,
-            };
+            if FIRST {
+                if test(i, *t).is_some() {
+                    found = Some((i, Candidate::default()));
+                    return true;
+                }
+                continue;
+            }
+            let tie = found.is_some_and(|(best, _)| i < best);
             let limit = if tie { t.next_up() } else { *t };
-            if let Some(h) = list.hit::<A>(i, shear, limit) {
+            if let Some(h) = test(i, limit) {
                 *t = h.t;
                 found = Some((i, h));
             }
@@ -367,21 +147,41 @@ fn bvh_nearest_in<A: Axes, F: Faces + ?Sized>(
     found
 }
 
-/// [`bvh_any`] in the ray frame with axes `A`.
+/// The nearest face of `meshes` but `skip` nearer than `*t` (after every list: a
+/// face at the time of another primitive does not replace it); with `FIRST`, the
+/// first found. Among faces, the mesh listed first, then the face listed first, is
+/// kept.
 #[inline(always)]
-fn bvh_any_in<A: Axes, F: Faces + ?Sized>(
-    bvh: &BvhView<'_>,
-    list: &F,
-    at: &Probe,
-    shear: &Shear,
-    skip: usize,
-    t_max: f32,
-) -> bool {
-    let mut t = t_max;
-    bvh_walk(bvh, at, &mut t, |entries, _| {
-        entries.iter().any(|&e| {
-            let i = usize::from(e);
-            i != skip && list.hit::<A>(i, shear, t_max).is_some()
-        })
-    })
+pub(super) fn meshes<const FIRST: bool>(
+    meshes: &[Mesh<'_>],
+    ray: &Ray,
+    skip: Skip,
+    t: &mut f32,
+) -> Option<Nearest> {
+    if meshes.is_empty() {
+        return None;
+    }
+    let shear = Shear::new(ray);
+    let sk = skip.index(Kind::Mesh);
+    let mut best = None;
+    for (m, mesh) in meshes.iter().enumerate() {
+        // The face to skip, if it is one of this mesh's.
+        let face = if sk >> 16 == m {
+            sk & 0xffff
+        } else {
+            usize::MAX
+        };
+        let found = with_axes!(shear.axes, A => visit::<FIRST>(&mesh.bvh(), ray, face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None);
+        if let Some((f, hit)) = found {
+            best = Some(Nearest {
+                kind: Kind::Mesh,
+                index: m << 16 | f,
+                hit,
+            });
+            if FIRST {
+                break;
+            }
+        }
+    }
+    best
 }

@@ -1,13 +1,34 @@
-//! The searches of a ray through the scene's lists: the nearest hit (camera and
-//! secondary rays) and any hit (shadow rays), over every primitive or over the
-//! candidates a tile's culling kept ([`crate::cull`]); and the nearest hit resolved
-//! into the chapter's [`Hit`] (point, normal, material, texture colour).
+//! The two questions a ray asks of the scene, as pbrt asks them: its nearest hit
+//! ([`nearest`]: camera and bounced rays) and whether anything blocks it before a
+//! distance ([`any`]: shadow rays). Both are one generic search over a
+//! [`Source`] of candidates, which visits the kinds in one order (spheres, planes,
+//! triangles, boxes, then the meshes) and keeps, among equal times, the first
+//! primitive in that order:
+//!
+//! | source | its candidates | searched by |
+//! |---|---|---|
+//! | [`Whole`] | every primitive; spheres, triangles and meshes through the view's hierarchies where it has them | bounced rays and their shadow rays; every ray of a tile without lists |
+//! | [`Listed`] | a tile's camera lists (module `cull`) | the camera rays of a tile |
+//! | [`Masked`] | a tile's shadow lists, for one light | the shadow rays of a tile's camera hits |
+//!
+//! Where each instantiation lives, and why:
+//!
+//! | instantiation | inlined? | why |
+//! |---|---|---|
+//! | `nearest` over [`Listed`] | into the camera ray's shading (module `shade`) | once per camera ray: the call and the spilled state would cost more than the search of a short list |
+//! | `nearest` over [`Whole`] ([`nearest_whole`]) | out of line | the bounces and the tiles without lists share one copy, which keeps the camera ray's loop small |
+//! | `any` over [`Whole`] ([`any_whole`]), over [`Masked`] ([`any_masked`]) | out of line | the light loop that calls them stays small |
+//! | a list's loop ([`Source::each`]) | always | its closure is the primitive test, specialised per kind |
+//! | the triangle test | per ray frame (`with_axes!`) | Woop's test with its axis permutation a compile-time constant |
+//! | the hierarchy walk (`search::bvh`) | always, in [`Whole`]'s copies only | the other sources never reach it |
+//!
+//! The chip's cost of each is in docs/chip-profile.md.
 //!
 //! A hit goes through three stages, each computed only when needed: every
 //! primitive's test returns a [`Candidate`] (the time `t` and the little the test
 //! already knows, e.g. a triangle's barycentrics); the search keeps the nearest as a
 //! [`Nearest`] (the candidate and which primitive); only that one is resolved into a
-//! [`Hit`], and the point's error bound only when a ray leaves it.
+//! hit (module `hit`), and the point's error bound only when a ray leaves it.
 //!
 //! Per-ray work is done once per ray, not once per primitive: the triangle test's
 //! ray frame ([`Shear`], Woop's axis permutation and shear) and the box test's
@@ -22,15 +43,15 @@
 
 #[cfg(feature = "bvh")]
 mod bvh;
+#[cfg(feature = "bvh")]
+use crate::bvh::BvhView;
 use crate::cull::Hull;
-use crate::geometry::triangle::{Axes, Shear, with_axes};
+use crate::geometry::triangle::{Shear, with_axes};
 use crate::geometry::{Candidate, aabb_inverse};
 use crate::primitive::Primitive;
 use crate::ray::Ray;
 use crate::vec::Vec3;
 use crate::view::SceneView;
-#[cfg(feature = "bvh")]
-use bvh::{nearest_through, occluded_through};
 
 /// The geometry kinds, in the order the searches visit their lists (the meshes,
 /// feature `bvh`, last).
@@ -82,24 +103,63 @@ pub(crate) struct Nearest {
     pub(crate) hit: Candidate,
 }
 
-/// Which primitives of each list a search looks at.
-pub(crate) trait Candidates: Copy {
-    /// Whether the lists' hulls are worth testing first: for every primitive, and
-    /// for a tile's shadow lists (whose bound, the hull of a whole tile's visible
-    /// points and a light, is much wider than a single ray); not for a tile's
-    /// camera lists, culled by the tile's own frustum.
+/// Where a search finds its candidates (see the module doc).
+pub(crate) trait Source<'v>: Copy {
+    /// Whether the triangles' hull is worth testing first: for every primitive,
+    /// and for a tile's shadow lists (whose bound, the hull of a whole tile's
+    /// visible points and a light, is much wider than a single ray); not for a
+    /// tile's camera lists, culled by the tile's own frustum.
     const HULLS: bool;
 
     /// Calls `f(index, geometry)` for each candidate of list `kind`, in list order;
     /// stops at the first `true` and returns it.
-    fn any<G>(self, list: &[Primitive<G>], kind: Kind, f: impl FnMut(usize, &G) -> bool) -> bool;
+    fn each<G>(self, list: &[Primitive<G>], kind: Kind, f: impl FnMut(usize, &G) -> bool) -> bool;
 
     /// True when list `kind` has no candidate.
     fn none<G>(self, list: &[Primitive<G>], kind: Kind) -> bool;
+
+    /// Whether the view's meshes are among the candidates (only every
+    /// primitive's source: a view with meshes builds no tile lists).
+    #[cfg(feature = "bvh")]
+    const MESHES: bool = false;
+
+    /// The hierarchy list `kind` is searched through, if any.
+    #[cfg(feature = "bvh")]
+    #[inline(always)]
+    fn hierarchy(self, _kind: Kind) -> Option<BvhView<'v>> {
+        None
+    }
 }
 
-/// Every primitive (reflected, refracted and their shadow rays; rays without a
-/// tile).
+/// Every primitive of a view, through its hierarchies where it has them.
+#[derive(Clone, Copy)]
+pub(crate) struct Whole<'v> {
+    #[cfg(feature = "bvh")]
+    spheres: Option<BvhView<'v>>,
+    #[cfg(feature = "bvh")]
+    triangles: Option<BvhView<'v>>,
+    #[cfg(not(feature = "bvh"))]
+    _view: core::marker::PhantomData<&'v ()>,
+}
+
+impl<'v> Whole<'v> {
+    /// Every primitive of `view`.
+    #[inline(always)]
+    pub(crate) fn of(view: &SceneView<'v>) -> Self {
+        #[cfg(not(feature = "bvh"))]
+        let _ = view;
+        Self {
+            #[cfg(feature = "bvh")]
+            spheres: view.sphere_bvh,
+            #[cfg(feature = "bvh")]
+            triangles: view.bvh,
+            #[cfg(not(feature = "bvh"))]
+            _view: core::marker::PhantomData,
+        }
+    }
+}
+
+/// Every primitive of a view that has no hierarchy: its lists, in list order.
 #[derive(Clone, Copy)]
 pub(crate) struct Every;
 
@@ -118,11 +178,37 @@ fn of<'l, T>(lists: &[&'l [T]; 4], kind: Kind) -> &'l [T] {
     lists.get(kind as usize).copied().unwrap_or(&[])
 }
 
-impl Candidates for Every {
+impl<'v> Source<'v> for Whole<'v> {
+    const HULLS: bool = true;
+    #[cfg(feature = "bvh")]
+    const MESHES: bool = true;
+
+    #[inline(always)]
+    fn each<G>(self, list: &[Primitive<G>], kind: Kind, f: impl FnMut(usize, &G) -> bool) -> bool {
+        Every.each(list, kind, f)
+    }
+
+    #[inline(always)]
+    fn none<G>(self, list: &[Primitive<G>], kind: Kind) -> bool {
+        Every.none(list, kind)
+    }
+
+    #[cfg(feature = "bvh")]
+    #[inline(always)]
+    fn hierarchy(self, kind: Kind) -> Option<BvhView<'v>> {
+        match kind {
+            Kind::Sphere => self.spheres,
+            Kind::Triangle => self.triangles,
+            _ => None,
+        }
+    }
+}
+
+impl<'v> Source<'v> for Every {
     const HULLS: bool = true;
 
     #[inline(always)]
-    fn any<G>(self, list: &[Primitive<G>], _: Kind, mut f: impl FnMut(usize, &G) -> bool) -> bool {
+    fn each<G>(self, list: &[Primitive<G>], _: Kind, mut f: impl FnMut(usize, &G) -> bool) -> bool {
         for (i, p) in list.iter().enumerate() {
             if f(i, &p.geometry) {
                 return true;
@@ -137,11 +223,11 @@ impl Candidates for Every {
     }
 }
 
-impl Candidates for Listed<'_> {
+impl<'v> Source<'v> for Listed<'_> {
     const HULLS: bool = false;
 
     #[inline(always)]
-    fn any<G>(
+    fn each<G>(
         self,
         list: &[Primitive<G>],
         kind: Kind,
@@ -164,11 +250,11 @@ impl Candidates for Listed<'_> {
     }
 }
 
-impl Candidates for Masked<'_> {
+impl<'v> Source<'v> for Masked<'_> {
     const HULLS: bool = true;
 
     #[inline(always)]
-    fn any<G>(
+    fn each<G>(
         self,
         list: &[Primitive<G>],
         kind: Kind,
@@ -233,46 +319,149 @@ impl<'r> Reach<'r> {
     }
 }
 
-/// The triangles' hull where the candidates `S` test hulls
-/// ([`Candidates::HULLS`]). A hull for the triangles only: the miss tests of
-/// spheres, planes and boxes cost about what the hull's slab test does
-/// (measured on the built-in scenes: no gain for the spheres or the boxes).
+/// The triangles' hull, where the source tests hulls ([`Source::HULLS`]) and
+/// searches the triangles as a list. A hull for the triangles only: the miss tests
+/// of spheres, planes and boxes cost about what the hull's slab test does.
 #[inline(always)]
-fn triangle_bound<S: Candidates>(view: &SceneView<'_>) -> Option<Hull> {
+fn triangle_bound<'v, S: Source<'v>>(view: &SceneView<'_>, src: S) -> Option<Hull> {
+    #[cfg(feature = "bvh")]
+    if src.hierarchy(Kind::Triangle).is_some() {
+        return None;
+    }
+    #[cfg(not(feature = "bvh"))]
+    let _ = src;
     if S::HULLS { view.triangle_hull } else { None }
 }
 
-/// The nearest hit of `ray` with `0 < t < t_max` among every primitive but
-/// `skip`: for the bounces (out of line; camera rays of a tile inline
-/// [`SceneView::nearest_in`] with their lists).
-#[inline(never)]
-pub(crate) fn nearest(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
+/// The candidate of list `kind` but `skip` that `test` finds nearest before `*t`
+/// (a later one only when strictly nearer: the first of equal times is kept), its
+/// time then in `*t`; with `FIRST`, the first found, of which only the index
+/// counts (its candidate is left at its default: an any-hit test asks only
+/// whether there is a hit). Through the list's hierarchy where the source has one.
+#[inline(always)]
+fn visit<'v, S: Source<'v>, G, const FIRST: bool>(
+    src: S,
+    list: &[Primitive<G>],
+    kind: Kind,
+    ray: &Ray,
+    skip: usize,
+    t: &mut f32,
+    mut test: impl FnMut(&G, f32) -> Option<Candidate>,
+) -> Option<(usize, Candidate)> {
     #[cfg(feature = "bvh")]
-    if view.through() {
-        return nearest_through(view, ray, t_max, skip);
+    if let Some(h) = src.hierarchy(kind) {
+        return bvh::visit::<FIRST>(&h, ray, skip, t, |i, limit| {
+            test(&list.get(i)?.geometry, limit)
+        });
     }
-    nearest_flat(view, ray, t_max, skip)
+    #[cfg(not(feature = "bvh"))]
+    let _ = ray;
+    let mut found = None;
+    src.each(list, kind, |i, g| {
+        if i == skip {
+            return false;
+        }
+        if FIRST {
+            let hit = test(g, *t).is_some();
+            if hit {
+                found = Some((i, Candidate::default()));
+            }
+            return hit;
+        }
+        if let Some(h) = test(g, *t) {
+            *t = h.t;
+            found = Some((i, h));
+        }
+        false
+    });
+    found
 }
 
-/// [`SceneView::nearest`] without a BVH: out of line on its own with the
-/// feature `bvh` (the searches through a BVH reuse it), inlined without.
-#[cfg_attr(feature = "bvh", inline(never))]
-#[cfg_attr(not(feature = "bvh"), inline(always))]
-pub(crate) fn nearest_flat(
+/// The nearest hit of `ray` with `0 < t < t_max` among the candidates of `src`,
+/// but `skip`. Each kind is searched with the nearest time found so far, so a
+/// later kind only reports nearer hits.
+#[inline(always)]
+pub(crate) fn nearest<'v, S: Source<'v>>(
+    view: &SceneView<'v>,
+    ray: &Ray,
+    t_max: f32,
+    src: S,
+    skip: Skip,
+) -> Option<Nearest> {
+    search::<S, false>(view, ray, t_max, src, skip)
+}
+
+/// True when a candidate of `src` but `skip` blocks `ray` before `t_max`.
+#[inline(always)]
+pub(crate) fn any<'v, S: Source<'v>>(
+    view: &SceneView<'v>,
+    ray: &Ray,
+    t_max: f32,
+    src: S,
+    skip: Skip,
+) -> bool {
+    search::<S, true>(view, ray, t_max, src, skip).is_some()
+}
+
+/// [`nearest`] over every primitive: [`Every`], or [`Whole`] for a view with
+/// hierarchies (out of line, see the module doc).
+#[inline(never)]
+pub(crate) fn nearest_whole(
     view: &SceneView<'_>,
     ray: &Ray,
     t_max: f32,
     skip: Skip,
 ) -> Option<Nearest> {
-    nearest_in(view, ray, t_max, Every, skip)
+    #[cfg(feature = "bvh")]
+    if view.through() {
+        return nearest_through(view, ray, t_max, skip);
+    }
+    nearest(view, ray, t_max, Every, skip)
 }
 
-/// The nearest hit of `ray` with `0 < t < t_max` among the candidates `src`,
-/// except `skip`. Each list is searched with the nearest time found so far, so
-/// a later list only reports nearer hits; ties keep the earlier primitive.
-#[inline(always)]
-pub(crate) fn nearest_in<S: Candidates>(
+/// [`nearest`] over [`Whole`] (see the module doc).
+#[cfg(feature = "bvh")]
+#[inline(never)]
+fn nearest_through(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
+    nearest(view, ray, t_max, Whole::of(view), skip)
+}
+
+/// [`any`] over every primitive: [`Every`], or [`Whole`] for a view with
+/// hierarchies (out of line, see the module doc).
+#[inline(never)]
+pub(crate) fn any_whole(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> bool {
+    #[cfg(feature = "bvh")]
+    if view.through() {
+        return any_through(view, ray, t_max, skip);
+    }
+    any(view, ray, t_max, Every, skip)
+}
+
+/// [`any`] over [`Whole`] (see the module doc).
+#[cfg(feature = "bvh")]
+#[inline(never)]
+fn any_through(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> bool {
+    any(view, ray, t_max, Whole::of(view), skip)
+}
+
+/// [`any`] over a tile's shadow lists for one light, out of line (see the module
+/// doc).
+#[inline(never)]
+pub(crate) fn any_masked(
     view: &SceneView<'_>,
+    ray: &Ray,
+    t_max: f32,
+    src: Masked<'_>,
+    skip: Skip,
+) -> bool {
+    any(view, ray, t_max, src, skip)
+}
+
+/// The search itself: the nearest hit, or with `FIRST` the first hit found (its
+/// candidate left at its default).
+#[inline(always)]
+fn search<'v, S: Source<'v>, const FIRST: bool>(
+    view: &SceneView<'v>,
     ray: &Ray,
     t_max: f32,
     src: S,
@@ -280,158 +469,91 @@ pub(crate) fn nearest_in<S: Candidates>(
 ) -> Option<Nearest> {
     let mut t = t_max;
     let mut best = None;
-    let mut keep = |kind, index, hit: Candidate, t: &mut f32| {
-        *t = hit.t;
-        best = Some(Nearest { kind, index, hit });
-    };
     let mut reach = Reach::new(ray);
-    let sk = skip.index(Kind::Sphere);
-    // `none` first, though `any` of an empty list does nothing: without it the
-    // chip spends 0.6 instr/px more on chapter-direct (10 on stratified 4x4).
+    // `none` first, though the loop of an empty list does nothing: the camera
+    // rays of a tile without spheres then skip the sphere loop's set-up.
     if !src.none(view.spheres, Kind::Sphere) {
-        src.any(view.spheres, Kind::Sphere, |i, s| {
-            if i != sk
-                && let Some(h) = s.hit(ray, t)
-            {
-                keep(Kind::Sphere, i, Candidate::at(h), &mut t);
+        let sk = skip.index(Kind::Sphere);
+        let found =
+            visit::<S, _, FIRST>(src, view.spheres, Kind::Sphere, ray, sk, &mut t, |s, t| {
+                s.hit(ray, t).map(Candidate::at)
+            });
+        if let Some((index, hit)) = found {
+            best = Some(Nearest {
+                kind: Kind::Sphere,
+                index,
+                hit,
+            });
+            if FIRST {
+                return best;
             }
-            false
-        });
+        }
     }
     let sk = skip.index(Kind::Plane);
-    src.any(view.planes, Kind::Plane, |i, p| {
-        if i != sk
-            && let Some(h) = p.hit(ray, t)
-        {
-            keep(Kind::Plane, i, Candidate::at(h), &mut t);
-        }
-        false
+    let found = visit::<S, _, FIRST>(src, view.planes, Kind::Plane, ray, sk, &mut t, |p, t| {
+        p.hit(ray, t).map(Candidate::at)
     });
-    if !src.none(view.triangles, Kind::Triangle) && reach.may_hit(triangle_bound::<S>(view), t) {
+    if let Some((index, hit)) = found {
+        best = Some(Nearest {
+            kind: Kind::Plane,
+            index,
+            hit,
+        });
+        if FIRST {
+            return best;
+        }
+    }
+    if !src.none(view.triangles, Kind::Triangle) && reach.may_hit(triangle_bound(view, src), t) {
         let shear = Shear::new(ray);
         let sk = skip.index(Kind::Triangle);
-        with_axes!(shear.axes, A => nearest_triangle::<A, S>(view.triangles, src, &shear, sk, &mut t, &mut |i, h, t| keep(Kind::Triangle, i, h, t)), ());
+        let list = view.triangles;
+        let found = with_axes!(shear.axes, A => visit::<S, _, FIRST>(src, list, Kind::Triangle, ray, sk, &mut t, |g, t| g.hit_with::<A>(&shear, t)), None);
+        if let Some((index, hit)) = found {
+            best = Some(Nearest {
+                kind: Kind::Triangle,
+                index,
+                hit,
+            });
+            if FIRST {
+                return best;
+            }
+        }
     }
     if !src.none(view.boxes, Kind::Box) {
         let inv = reach.inv();
         let sk = skip.index(Kind::Box);
-        src.any(view.boxes, Kind::Box, |i, b| {
-            if i != sk
-                && let Some(h) = b.time_inv(ray.origin, inv, t)
-            {
-                keep(Kind::Box, i, Candidate::at(h), &mut t);
-            }
-            false
+        let found = visit::<S, _, FIRST>(src, view.boxes, Kind::Box, ray, sk, &mut t, |b, t| {
+            b.time_inv(ray.origin, inv, t).map(Candidate::at)
         });
-        // The face, for the nearest hit only.
-        if let Some(n) = best.as_mut().filter(|n| n.kind == Kind::Box)
-            && let Some(b) = view.boxes.get(n.index)
-        {
-            n.hit.face = b.geometry.face_inv(ray.origin, inv);
+        if let Some((index, mut hit)) = found {
+            // The face, for the nearest hit only.
+            if !FIRST && let Some(b) = view.boxes.get(index) {
+                hit.face = b.geometry.face_inv(ray.origin, inv);
+            }
+            best = Some(Nearest {
+                kind: Kind::Box,
+                index,
+                hit,
+            });
+            if FIRST {
+                return best;
+            }
         }
+    }
+    #[cfg(feature = "bvh")]
+    if S::MESHES
+        && let Some(m) = bvh::meshes::<FIRST>(view.meshes, ray, skip, &mut t)
+    {
+        best = Some(m);
     }
     best
 }
 
-/// True when a primitive other than `skip` blocks `ray` before `t_max`, every
-/// primitive a candidate. Out of line: the light loop that calls it then stays
-/// small.
-#[inline(never)]
-pub(crate) fn occluded(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> bool {
-    #[cfg(feature = "bvh")]
-    if view.through() {
-        return occluded_through(view, ray, t_max, skip);
-    }
-    occluded_flat(view, ray, t_max, skip)
-}
-
-/// [`SceneView::occluded`] without a BVH (as [`SceneView::nearest_flat`]).
-#[cfg_attr(feature = "bvh", inline(never))]
-#[cfg_attr(not(feature = "bvh"), inline(always))]
-pub(crate) fn occluded_flat(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> bool {
-    occluded_in(view, ray, t_max, Every, skip)
-}
-
-/// [`SceneView::occluded`] among a tile's shadow lists for one light.
-#[inline(never)]
-pub(crate) fn occluded_masked(
-    view: &SceneView<'_>,
-    ray: &Ray,
-    t_max: f32,
-    src: Masked<'_>,
-    skip: Skip,
-) -> bool {
-    occluded_in(view, ray, t_max, src, skip)
-}
-
-/// True when a candidate of `src` other than `skip` blocks `ray` before `t_max`.
-#[inline(always)]
-fn occluded_in<S: Candidates>(
-    view: &SceneView<'_>,
-    ray: &Ray,
-    t_max: f32,
-    src: S,
-    skip: Skip,
-) -> bool {
-    let mut reach = Reach::new(ray);
-    let sk = skip.index(Kind::Sphere);
-    if !src.none(view.spheres, Kind::Sphere)
-        && src.any(view.spheres, Kind::Sphere, |i, s| {
-            i != sk && s.hit(ray, t_max).is_some()
-        })
-    {
-        return true;
-    }
-    let sk = skip.index(Kind::Plane);
-    if src.any(view.planes, Kind::Plane, |i, p| {
-        i != sk && p.hit(ray, t_max).is_some()
-    }) {
-        return true;
-    }
-    if !src.none(view.triangles, Kind::Triangle) && reach.may_hit(triangle_bound::<S>(view), t_max)
-    {
-        let shear = Shear::new(ray);
-        let sk = skip.index(Kind::Triangle);
-        let hit = with_axes!(shear.axes, A => src.any(view.triangles, Kind::Triangle, |i, g| i != sk && g.hit_with::<A>(&shear, t_max).is_some()), false);
-        if hit {
-            return true;
-        }
-    }
-    if !src.none(view.boxes, Kind::Box) {
-        let inv = reach.inv();
-        let sk = skip.index(Kind::Box);
-        return src.any(view.boxes, Kind::Box, |i, b| {
-            i != sk && b.time_inv(ray.origin, inv, t_max).is_some()
-        });
-    }
-    false
-}
-
-/// The time of the nearest hit of `ray` with `0 < t < t_max`, if any (every
-/// primitive is a candidate).
+/// The time of the nearest hit of `ray` with `0 < t < t_max`, if any, every
+/// primitive a candidate.
 #[must_use]
 pub fn first_hit(view: &SceneView<'_>, ray: &Ray, t_max: f32) -> Option<f32> {
-    nearest(view, ray, t_max, Skip::NONE).map(|n| n.hit.t)
-}
-
-/// The triangle loop of [`SceneView::nearest_in`] for the ray frame with axes `A`.
-#[inline(always)]
-fn nearest_triangle<A: Axes, S: Candidates>(
-    list: &[Primitive<crate::geometry::Triangle>],
-    src: S,
-    shear: &Shear,
-    skip: usize,
-    t: &mut f32,
-    keep: &mut impl FnMut(usize, Candidate, &mut f32),
-) {
-    src.any(list, Kind::Triangle, |i, g| {
-        if i != skip
-            && let Some(h) = g.hit_with::<A>(shear, *t)
-        {
-            keep(i, h, t);
-        }
-        false
-    });
+    nearest_whole(view, ray, t_max, Skip::NONE).map(|n| n.hit.t)
 }
 
 #[cfg(test)]
