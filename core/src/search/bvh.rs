@@ -102,8 +102,8 @@ pub(crate) fn occluded_through(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip
 /// The view without what its hierarchies hold (the triangles when they have
 /// one, the spheres when they have one, the meshes): what a scene with a BVH
 /// searches with the flat functions (the same instantiations: a search of its
-/// own for the other kinds made the compiler inline the flat searches
-/// differently, at 3% more instructions on the chip for scenes without a BVH).
+/// own for the other kinds makes the compiler inline the flat searches
+/// differently, at more instructions on the chip for scenes without a BVH).
 fn others<'a>(view: &SceneView<'a>) -> SceneView<'a> {
     SceneView {
         spheres: if view.sphere_bvh.is_some() {
