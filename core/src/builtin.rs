@@ -271,8 +271,9 @@ fn hand_teapot<R>(k: i32, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Resul
     Err(Error::BvhMismatch)
 }
 
-/// The teapot scaled by `2^k`, in RAM (a test hook: about 120 KiB of stack, in
-/// its own frame: never inlined, so that the unscaled scenes do not reserve it).
+/// The teapot scaled by `2^k`, in RAM (a test hook: its triangles and their BVH on
+/// the stack, in its own frame: never inlined, so that the unscaled scenes do not
+/// reserve it).
 /// `vertices` are `mesh`'s.
 #[cfg(all(feature = "teapot", feature = "testing"))]
 #[inline(never)]

@@ -46,25 +46,22 @@ pub const LEAF: usize = 4;
 /// surface-area heuristic: a node of at most [`LEAF`] triangles is split only when
 /// `TRAVERSAL A + n_1 A_1 + n_2 A_2 < n A` (areas `A` of the node and `A_i` of
 /// the children). 0 splits down to single triangles (2 n nodes); 1 keeps leaves
-/// of 2 to 4 where they cost no more, which halves the nodes (flash on a chip).
+/// of 2 to 4 where they cost no more, which saves nodes (flash on a chip).
 pub const TRAVERSAL: f32 = 1.0;
 /// The fewest triangles for which [`SceneView::with_bvh`] uses a BVH: below, the
 /// flat list (and the tiles' culling) costs less. Measured on the host by
 /// `cargo run -p tessera-tests --release --bin bvh-report` (an icosphere and parts
-/// of one on a floor, one light, 160x120, side by side): the BVH takes 1.84 times
-/// the flat search's time with 20 triangles, 1.14 with 80, 1.06 with 100, 0.92
-/// with 128, 0.51 with 320, 0.19 with 1,280 and 0.06 with 5,120 (with
-/// `TRAVERSAL` 0, before: 1.74, 1.12, 1.02, 0.91, 0.51, 0.19, 0.06);
+/// of one on a floor, one light, 160x120, side by side), which prints the BVH's
+/// time against the flat search's for each count: about even here, longer below,
+/// and far shorter with many more triangles;
 /// instruction counts under callgrind (its `--one` mode) give the same crossover.
 ///
 /// [`SceneView::with_bvh`]: crate::SceneView::with_bvh
 pub const CROSSOVER: usize = 100;
 /// The fewest spheres for which [`SceneView::with_sphere_bvh`] uses a BVH,
 /// measured as [`CROSSOVER`] (`bvh-report`'s sphere table: a grid of spheres on a
-/// floor, 160x120): the BVH takes 1.82 times the flat search's time with 8
-/// spheres, 1.48 with 64, 1.17 with 128, 0.92 with 256 and 0.39 with 1,024 (a
-/// sphere's test is cheaper than a triangle's, and the flat list has the tiles'
-/// culling).
+/// floor, 160x120): more than for triangles (a sphere's test is cheaper than a
+/// triangle's, and the flat list has the tiles' culling).
 ///
 /// [`SceneView::with_sphere_bvh`]: crate::SceneView::with_sphere_bvh
 pub const SPHERE_CROSSOVER: usize = 200;

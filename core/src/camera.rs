@@ -309,7 +309,7 @@ impl CameraBasis {
 /// two, exactly), each component by Kahan's difference of products with a fused
 /// multiply-add (within 2 ulps): no cancellation, so `up` a microradian from
 /// `forward` sets the roll as exactly as `up` at right angles (a plain `f32` cross
-/// of the normalised vectors rolled the picture by 3.9 pixels at 4e-6 rad, 640x480).
+/// of the normalised vectors rolls the picture by pixels when `up` is that close).
 /// Only when the inputs are exactly parallel (the cross product is exactly zero)
 /// does the world axis least aligned with `forward` stand in for `up`: a valid
 /// orthonormal basis, deterministic roll.

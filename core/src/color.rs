@@ -206,8 +206,8 @@ const fn srgb_next() -> [u32; 256] {
 /// patterns apart (100,925: the first values of codes 189 and 190, near 0.51), so
 /// a bucket of 2^17 holds at most two after its start: [`srgb8`] finishes with two
 /// comparisons instead of a binary search's eight (the encoding costs 45
-/// instructions a pixel on chapter-direct, docs/chip-cost.md; the binary search
-/// cost 104, measured once by hand with the same firmware). Made at compile time
+/// instructions a pixel on chapter-direct, docs/chip-cost.md; a binary search
+/// costs more). Made at compile time
 /// from the thresholds, which also checks the two-at-most (the build fails
 /// otherwise).
 static SRGB_STARTS: [u8; SRGB_BUCKETS] = srgb_starts();
@@ -270,8 +270,8 @@ fn srgb8(v: f32) -> u8 {
 fn quantize(v: f32) -> u8 {
     // No clamp on the float: `as i32` saturates (NaN gives 0) and the integer clamp
     // does the rest (`usat` on the Cortex-M4F); on [0, 1] this is the clamped
-    // expression, so the bytes are the same. (`as u8` directly costs two float
-    // compares more on the chip, `as u32` a 64-bit conversion on x86-64.)
+    // expression, so the bytes are the same. (`as u8` directly adds float
+    // compares on the chip, `as u32` a 64-bit conversion on x86-64.)
     let i = (v * 255.0 + 0.5) as i32;
     i.clamp(0, 255) as u8
 }

@@ -161,8 +161,8 @@ fn resolve_in<'a, G: Locate>(
 
 /// [`resolve`] for a face of a mesh (`n.index` is `mesh << 16 | face`): the
 /// face as a triangle, the mesh's material. (The texture lookup is `resolve`'s,
-/// written again on purpose: one helper for both, even `#[inline(always)]`, made
-/// the test firmware's code 6.5 KB larger, measured with llvm-size.)
+/// written again on purpose: one helper for both, even `#[inline(always)]`, makes
+/// the test firmware's code larger, as llvm-size shows.)
 #[cfg(feature = "bvh")]
 #[inline(always)]
 fn resolve_mesh<'a>(

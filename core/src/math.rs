@@ -26,17 +26,17 @@
 //!   polynomial `log2` and `exp2` ([`pow_unit`]: absolute error below 3e-5) instead of
 //!   libm's `powf`.
 //!
-//! `fast-math` is the three together (on the chip 0.94 to 0.98 times the exact
-//! build's estimated cycles, no mean FLIP moved by more than 3e-5: docs/trade.md).
+//! `fast-math` is the three together (fewer cycles on the chip than the exact
+//! build, for no visible error: docs/trade.md).
 //! Measured and dropped (docs/math-report.md, the issue-12 note): one Newton step
-//! for `rsqrt` (3% fewer cycles than exact, but FLIP 0.0170 for 0.0118 on the
+//! for `rsqrt` (fewer cycles than exact, but a clearly larger image error on the
 //! default scene); `rsqrt` for every normalisation (ray directions and normals: the
 //! intersections' analytic tests fail); a reciprocal by Newton steps (more cycles
-//! than `vdiv.f32`); Schlick's rational highlight (another lobe, FLIP doubled);
-//! micromath's `powf`, `atan2` and `acos`, the old `fast-math` (0.987 to 1.000
-//! times the exact instructions on the chip: no built-in scene calls them per
-//! pixel; its `powf` 1.55 LSB off at shininess 100.5 where [`pow_unit`] is 0.005,
-//! its `acos` NaN for tiny negative arguments).
+//! than `vdiv.f32`); Schlick's rational highlight (another lobe, a larger image
+//! error); micromath's `powf`, `atan2` and `acos` (hardly fewer instructions on
+//! the chip: no built-in scene calls them per pixel; its `powf` far less accurate
+//! than [`pow_unit`] on the highlights, its `acos` NaN for tiny negative
+//! arguments).
 //!
 //! `tan`, `atan2` and `acos` stay exact in every build: `tan` runs once a frame,
 //! `atan2` and `acos` only for textured spheres (none of the built-in scenes has one).
@@ -136,8 +136,8 @@ pub fn acos(x: f32) -> f32 {
 
 /// The larger of `a` and `b` by one comparison (if either is NaN, `b`). Not
 /// `f32::max`: on the Cortex-M4F (no `vmaxnm`) that lowers to a call of the IEEE
-/// `fmaxf` routine (measured: 1,374 -> 1,228 instructions per pixel on
-/// chapter-direct when the sphere test stopped using it).
+/// `fmaxf` routine, far dearer than one comparison on the paths that run per
+/// ray.
 #[inline]
 #[must_use]
 pub fn max(a: f32, b: f32) -> f32 {

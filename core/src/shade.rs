@@ -325,8 +325,8 @@ fn primary_in<C: RayCounter>(
     // A hit that no light changes and that sends no ray is its ambient colour
     // (what `local_in` would give). Decided before the hit is rebuilt for the
     // code below, whose out-of-line calls take its address: the hit of this
-    // path then never goes to memory (on the chip, interference 405.5 -> 373.5
-    // instr/px, and chapter-direct 471.5 -> 467.5).
+    // path then never goes to memory (fewer instructions per pixel on the chip,
+    // above all on interference, whose unlit screen takes this path).
     let m = hit.material;
     if !(m.is_lit() || max_depth > 0 && m.sends_rays()) {
         return hit.base * view.ambient * m.ambient();
@@ -537,8 +537,9 @@ fn local_with<const SMOOTH: bool, C: RayCounter>(
 /// The reflected and refracted rays of `hit` (reached at `depth` by a ray of
 /// weight `weight`) that carry weight, reflected first, written to `out`: pushed
 /// in this order, the refracted ray is traced first, as a depth-first traversal of
-/// the ray tree. Written in place rather than returned: the 80-byte pair then is
-/// not copied by `memcpy` on its way (82 instructions a copy on the chip).
+/// the ray tree. Written in place rather than returned: the pair, too large for
+/// registers, then is not copied by `memcpy` on its way (a call on the chip for
+/// every hit that sends rays).
 #[inline(never)]
 fn children(hit: &Hit<'_>, ray: &Ray, weight: f32, depth: u8, out: &mut [Option<Pending>; 2]) {
     *out = secondary(hit, ray).map(|child| {

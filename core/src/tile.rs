@@ -473,8 +473,8 @@ impl Frame {
     /// c`) through one out-of-line call ([`Frame::ray_color_call`]); the stratified
     /// and random samplers hash the pixel once and the sample index per sample, and
     /// trace each sample inlined in their loop ([`Frame::ray_color`]): without
-    /// bounces the whole camera ray then runs without a call (stratified 4x4 on
-    /// chapter-direct: 7,147 -> 6,816 instr/px on the chip).
+    /// bounces the whole camera ray then runs without a call (a call per sample
+    /// costs more instructions per pixel on the chip).
     #[inline(always)]
     fn pixel<C: RayCounter, const BOUNCES: bool>(
         &self,
@@ -539,7 +539,7 @@ impl Frame {
     }
 
     /// [`Frame::ray_color`] out of line, for the single-sample samplers: inlined in
-    /// their pixel loop, chapter-direct costs 20 instructions more per pixel (the
+    /// their pixel loop, it costs more instructions per pixel on the chip (the
     /// loop's registers spill around the shader).
     #[inline(never)]
     fn ray_color_call<C: RayCounter, const BOUNCES: bool>(
@@ -851,9 +851,9 @@ fn encode<const SRGB: bool>(c: Color) -> Rgb8 {
 }
 
 /// The neighbours a pixel is compared with, as `(dx, dy)`: above, left, right,
-/// below. (With the diagonal ones too, chapter-direct at 128x96 traced 3.72
-/// camera rays a pixel instead of 2.41 for FLIP 0.00363 instead of 0.00365:
-/// an edge that crosses a pixel crosses the line to one of these four.)
+/// below. (The diagonal ones too would trace many more camera rays for hardly
+/// a smaller error: an edge that crosses a pixel crosses the line to one of
+/// these four.)
 const NEIGHBOURS: [(i32, i32); 4] = [(0, -1), (-1, 0), (1, 0), (0, 1)];
 
 /// A centre sample of the adaptive sampler: the linear colour and the signature

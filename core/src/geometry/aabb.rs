@@ -97,7 +97,7 @@ impl Aabb {
 
     /// The time of [`Aabb::hit_inv`]'s hit, bit for bit, without its face: the
     /// searches' test (a box's face is needed only when it is the nearest hit,
-    /// [`Aabb::face_inv`]), about half the instructions of the test that tracks
+    /// [`Aabb::face_inv`]), fewer instructions than the test that tracks
     /// faces.
     #[inline(always)]
     pub(crate) fn time_inv(&self, origin: Vec3, inv: Vec3, t_max: f32) -> Option<f32> {

@@ -26,8 +26,8 @@ use crate::vec::Vec3;
 /// time) a surface may be before its hit point is taken on the ray, at a time
 /// from `f64` (a triangle's barycentric terms, a sphere's radius): beyond, the
 /// `f32` point is off by more than `2^-24 * 256 * 7`, 1e-4, of the reach. Chosen
-/// where the extremes battery (case 13) stays within the accuracy bar with the
-/// `f32` paths (ratios up to 1e4 did, 1e5 did not) and a ground of a few hundred
+/// well below the ratios at which the extremes battery (case 13) leaves the
+/// accuracy bar with the `f32` paths, and so that a ground of a few hundred
 /// units seen from a few stays in `f32`.
 pub(crate) const REACH: f32 = 256.0;
 
