@@ -741,11 +741,9 @@ mod tests {
         /// Direct light only, sRGB, no adaptive sampler.
         enum DirectSrgb {}
         impl Loops for DirectSrgb {
-            const DIRECT: bool = true;
-            const BOUNCES: bool = false;
-            const LINEAR: bool = false;
-            const SRGB: bool = true;
-            const ADAPTIVE: bool = false;
+            fn links(l: crate::TileLoop) -> bool {
+                l == crate::TileLoop::Direct(crate::Encoding::Srgb)
+            }
         }
         for b in Builtin::ALL {
             b.with_scene(|view, cam| {

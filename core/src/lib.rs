@@ -102,7 +102,7 @@ pub use sample::{Sampler, SubPixel};
 pub use scene::Scene;
 pub use shade::{RayCount, RayCounter};
 pub use texture::Texture;
-pub use tile::{AllLoops, Frame, Loops, RenderSettings, Tile, TileCoord, TilePixel};
+pub use tile::{AllLoops, Frame, Loops, RenderSettings, Tile, TileCoord, TileLoop, TilePixel};
 pub use vec::Vec3;
 pub use view::SceneView;
 

@@ -344,6 +344,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
         "Color",
         "Encoding",
         "Loops",
+        "TileLoop",
         "Material",
         "MaterialId",
         "PointLight",
@@ -590,6 +591,13 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
     let bounces = st.max_depth > 0 && view.materials().iter().any(tessera::Material::sends_rays);
     let srgb = st.encoding == tessera::Encoding::Srgb;
     let adaptive = matches!(st.sampler, tessera::Sampler::Adaptive { .. });
+    let tile_loop = match (adaptive, bounces, srgb) {
+        (true, bounces, _) => format!("TileLoop::Adaptive {{ bounces: {bounces} }}"),
+        (false, false, true) => "TileLoop::Direct(Encoding::Srgb)".to_owned(),
+        (false, false, false) => "TileLoop::Direct(Encoding::Linear)".to_owned(),
+        (false, true, true) => "TileLoop::Bounces(Encoding::Srgb)".to_owned(),
+        (false, true, false) => "TileLoop::Bounces(Encoding::Linear)".to_owned(),
+    };
     let _ = writeln!(
         body,
         "/// The width the scene is meant to be rendered at, in pixels.\n\
@@ -605,12 +613,9 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
          /// `Frame::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.\n\
          #[allow(dead_code)]\npub enum SceneLoops {{}}\n\n\
          impl Loops for SceneLoops {{\n    \
-             const DIRECT: bool = {};\n    \
-             const BOUNCES: bool = {bounces};\n    \
-             const LINEAR: bool = {};\n    \
-             const SRGB: bool = {srgb};\n    \
-             const ADAPTIVE: bool = {adaptive};\n}}\n",
-        !bounces, !srgb
+             fn links(tile_loop: TileLoop) -> bool {{\n        \
+                 tile_loop == {tile_loop}\n    \
+             }}\n}}\n"
     );
     let c = &b.camera;
     let encoding = if srgb { "Srgb" } else { "Linear" };

@@ -2,7 +2,7 @@
 //
 // 5 materials, 1 light, 4 spheres, 1 plane: 484 bytes of flash.
 
-use crate::{Aabb, BakedCamera, BakedScene, Color, Encoding, Loops, Material, MaterialId, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, Triangle, Viewport};
+use crate::{Aabb, BakedCamera, BakedScene, Color, Encoding, Loops, Material, MaterialId, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, TileLoop, Triangle, Viewport};
 
 // The materials: each constant is a material's reference (its place in MATERIALS).
 /// The material "floor".
@@ -93,11 +93,9 @@ pub const TILE: usize = 16;
 pub enum SceneLoops {}
 
 impl Loops for SceneLoops {
-    const DIRECT: bool = true;
-    const BOUNCES: bool = false;
-    const LINEAR: bool = false;
-    const SRGB: bool = true;
-    const ADAPTIVE: bool = false;
+    fn links(tile_loop: TileLoop) -> bool {
+        tile_loop == TileLoop::Direct(Encoding::Srgb)
+    }
 }
 
 /// The whole scene: `SCENE.view()?` and `SCENE.frame()?` check it once and render it

@@ -2,7 +2,7 @@
 //
 // 8 materials, 2 lights, 3 spheres, 2 planes, 2 boxes, 4 triangles: 956 bytes of flash.
 
-use crate::{Aabb, BakedCamera, BakedScene, Color, Encoding, Loops, Material, MaterialId, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, Triangle, Viewport};
+use crate::{Aabb, BakedCamera, BakedScene, Color, Encoding, Loops, Material, MaterialId, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, TileLoop, Triangle, Viewport};
 
 /// A triangle of material `m`.
 const fn t(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3], m: MaterialId) -> Primitive<Triangle> {
@@ -129,11 +129,9 @@ pub const TILE: usize = 16;
 pub enum SceneLoops {}
 
 impl Loops for SceneLoops {
-    const DIRECT: bool = false;
-    const BOUNCES: bool = true;
-    const LINEAR: bool = false;
-    const SRGB: bool = true;
-    const ADAPTIVE: bool = false;
+    fn links(tile_loop: TileLoop) -> bool {
+        tile_loop == TileLoop::Bounces(Encoding::Srgb)
+    }
 }
 
 /// The whole scene: `SCENE.view()?` and `SCENE.frame()?` check it once and render it

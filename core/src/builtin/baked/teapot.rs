@@ -3,7 +3,7 @@
 // 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 1125 BVH nodes: 58864 bytes of flash.
 // Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml).
 
-use crate::{Aabb, BakedBvh, BakedCamera, BakedScene, BvhNode, Color, Encoding, Loops, Material, MaterialId, Mesh, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, Triangle, Viewport};
+use crate::{Aabb, BakedBvh, BakedCamera, BakedScene, BvhNode, Color, Encoding, Loops, Material, MaterialId, Mesh, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, TileLoop, Triangle, Viewport};
 
 /// A node of a hierarchy.
 const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16, axis: u16) -> BvhNode {
@@ -2646,11 +2646,9 @@ pub const TILE: usize = 16;
 pub enum SceneLoops {}
 
 impl Loops for SceneLoops {
-    const DIRECT: bool = true;
-    const BOUNCES: bool = false;
-    const LINEAR: bool = false;
-    const SRGB: bool = true;
-    const ADAPTIVE: bool = false;
+    fn links(tile_loop: TileLoop) -> bool {
+        tile_loop == TileLoop::Direct(Encoding::Srgb)
+    }
 }
 
 /// The whole scene: `SCENE.view()?` and `SCENE.frame()?` check it once and render it
