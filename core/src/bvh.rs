@@ -519,7 +519,7 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
 
 /// A hierarchy kept where it lies, in flash on a chip: the nodes, order and reach
 /// of a [`Bvh`] written out as `static` data by a baker (`tessera bake`), given
-/// to a view with its triangles by [`SceneView::with_baked`], which checks it.
+/// to a view with its triangles by [`crate::SceneView::with_baked`], which checks it.
 #[derive(Clone, Copy, Debug)]
 pub struct BakedBvh<'a> {
     nodes: &'a [BvhNode],
@@ -680,7 +680,7 @@ impl BvhNode {
     /// `first` and `first + 1`, split on `axis` (0, 1 or 2); a leaf has `count`
     /// triangles from entry `first` of the order. For generated code: a
     /// hierarchy made of such nodes is checked when a view takes it
-    /// ([`SceneView::with_baked`]).
+    /// ([`crate::SceneView::with_baked`]).
     #[must_use]
     pub const fn new(min: [f32; 3], max: [f32; 3], first: u16, count: u16, axis: u16) -> Self {
         Self {

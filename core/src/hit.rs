@@ -10,6 +10,8 @@ use crate::material::Material;
 use crate::prefilter::{Footprint, uv_box};
 use crate::primitive::Primitive;
 use crate::ray::Ray;
+#[cfg(feature = "bvh")]
+use crate::search::MeshFace;
 use crate::search::{Kind, Nearest, Skip};
 use crate::vec::Vec3;
 use crate::view::SceneView;
@@ -22,14 +24,14 @@ pub(crate) enum Geom<'a> {
     Triangle(&'a Triangle),
     Box(&'a Aabb),
     /// A face of a mesh (feature `bvh`); which face, the hit's index says
-    /// (`mesh << 16 | face`), so that a `Geom` stays a tag and a pointer.
+    /// ([`MeshFace`]), so that a `Geom` stays a tag and a pointer.
     #[cfg(feature = "bvh")]
     Mesh(&'a crate::mesh::Mesh<'a>),
 }
 
 impl Geom<'_> {
     /// [`Locate::error`] of whichever kind it is; `index` is the hit's (a mesh's
-    /// face is the triangle of face `index & 0xffff`).
+    /// face is the triangle its [`MeshFace`] names).
     #[inline(always)]
     pub(crate) fn error(
         self,
@@ -46,7 +48,7 @@ impl Geom<'_> {
             Self::Box(g) => g.error(ray, hit, point, aux),
             #[cfg(feature = "bvh")]
             Self::Mesh(m) => m
-                .triangle(index & 0xffff)
+                .triangle(MeshFace::of(index).face)
                 .map_or(Vec3::ZERO, |t| t.error(ray, hit, point, aux)),
         }
     }
@@ -159,7 +161,7 @@ fn resolve_in<'a, G: Locate>(
     })
 }
 
-/// [`resolve`] for a face of a mesh (`n.index` is `mesh << 16 | face`): the
+/// [`resolve`] for a face of a mesh (`n.index` names a [`MeshFace`]): the
 /// face as a triangle, the mesh's material. (The texture lookup is `resolve`'s,
 /// written again on purpose: one helper for both, even `#[inline(always)]`, makes
 /// the test firmware's code larger, as llvm-size shows.)
@@ -171,8 +173,9 @@ fn resolve_mesh<'a>(
     ray: &Ray,
     footprint: Option<&Footprint<'_>>,
 ) -> Option<Hit<'a>> {
-    let mesh = view.meshes.get(n.index >> 16)?;
-    let face = u16::try_from(n.index & 0xffff).ok()?;
+    let at = MeshFace::of(n.index);
+    let mesh = view.meshes.get(at.mesh)?;
+    let face = u16::try_from(at.face).ok()?;
     let tri = mesh.triangle(usize::from(face))?;
     let material = view.materials.get(usize::from(mesh.material().0))?;
     let (point, normal, aux) = tri.locate(ray, &n.hit);

@@ -67,11 +67,6 @@ impl RayCount {
 /// compiles to nothing), or a [`RayCount`] for the figures. Sealed: these are
 /// the two.
 pub trait RayCounter: sealed::Sealed {
-    /// Whether [`RayCounter::token`] records anything: only the adaptive
-    /// sampler's signature of a centre ray's tree does (every token is computed
-    /// under `if C::SIGNS`, so that the other counters compile it away).
-    #[doc(hidden)]
-    const SIGNS: bool = false;
     /// A camera ray was traced.
     #[doc(hidden)]
     fn primary(&mut self);
@@ -81,21 +76,12 @@ pub trait RayCounter: sealed::Sealed {
     /// A shadow ray was traced.
     #[doc(hidden)]
     fn shadow(&mut self);
-    /// What a ray met (see [`Signed`]).
-    #[doc(hidden)]
-    #[inline(always)]
-    fn token(&mut self, _token: u32) {}
-    /// The camera ray hit a textured surface.
-    #[doc(hidden)]
-    #[inline(always)]
-    fn textured(&mut self) {}
 }
 
 mod sealed {
     pub trait Sealed {}
     impl Sealed for () {}
     impl Sealed for super::RayCount {}
-    impl<C: super::RayCounter> Sealed for super::Signed<'_, C> {}
 }
 
 impl RayCounter for () {
@@ -107,17 +93,53 @@ impl RayCounter for () {
     fn shadow(&mut self) {}
 }
 
-/// A counter that also hashes what a camera ray met (the adaptive sampler's
-/// signature of a centre ray): the primitive it hit, or that it missed, and
-/// which lights are blocked from that hit; and whether the hit is textured.
-/// Rays are still counted by the wrapped counter.
-pub(crate) struct Signed<'c, C> {
+/// What the shader reports as it traces: the rays it casts (to a
+/// [`RayCounter`]) and, for the adaptive sampler's centre rays only, what they
+/// met ([`Signature`]).
+pub(crate) trait Observer {
+    /// Whether [`Observer::token`] records anything (every token is computed
+    /// under `if O::SIGNS`, so that a plain counter compiles it away).
+    const SIGNS: bool = false;
+    /// A camera ray was traced.
+    fn primary(&mut self);
+    /// A reflected or refracted ray was traced.
+    fn secondary(&mut self);
+    /// A shadow ray was traced.
+    fn shadow(&mut self);
+    /// What a ray met (see [`Signature`]).
+    #[inline(always)]
+    fn token(&mut self, _token: u32) {}
+    /// The camera ray hit a textured surface.
+    #[inline(always)]
+    fn textured(&mut self) {}
+}
+
+impl<C: RayCounter> Observer for C {
+    #[inline(always)]
+    fn primary(&mut self) {
+        RayCounter::primary(self);
+    }
+    #[inline(always)]
+    fn secondary(&mut self) {
+        RayCounter::secondary(self);
+    }
+    #[inline(always)]
+    fn shadow(&mut self) {
+        RayCounter::shadow(self);
+    }
+}
+
+/// The adaptive sampler's signature of a centre ray: a hash of what the ray
+/// met (the primitive it hit, or that it missed, and which lights are blocked
+/// from that hit) and whether the hit is textured; its rays are counted by the
+/// counter it wraps.
+pub(crate) struct Signature<'c, C> {
     pub(crate) count: &'c mut C,
     pub(crate) hash: u32,
     pub(crate) textured: bool,
 }
 
-impl<'c, C: RayCounter> Signed<'c, C> {
+impl<'c, C: RayCounter> Signature<'c, C> {
     /// A new signature, counting into `count`.
     #[inline(always)]
     pub(crate) fn new(count: &'c mut C) -> Self {
@@ -129,7 +151,7 @@ impl<'c, C: RayCounter> Signed<'c, C> {
     }
 }
 
-impl<C: RayCounter> RayCounter for Signed<'_, C> {
+impl<C: RayCounter> Observer for Signature<'_, C> {
     const SIGNS: bool = true;
     #[inline(always)]
     fn primary(&mut self) {
@@ -165,7 +187,7 @@ const SHADOW: u32 = 2 << 28;
 /// The token of a camera ray's nearest hit (`None`: a miss) into `count`'s
 /// signature.
 #[inline(always)]
-fn sign_hit<C: RayCounter>(count: &mut C, hit: Option<&Hit<'_>>) {
+fn sign_hit<C: Observer>(count: &mut C, hit: Option<&Hit<'_>>) {
     let Some(hit) = hit else {
         count.token(MISS);
         return;
@@ -178,7 +200,7 @@ fn sign_hit<C: RayCounter>(count: &mut C, hit: Option<&Hit<'_>>) {
         // A mesh is one object: its faces share a token (a smooth mesh has no
         // edge between faces; a flat one's show as colour steps).
         #[cfg(feature = "bvh")]
-        Geom::Mesh(..) => (4, hit.index >> 16),
+        Geom::Mesh(..) => (4, crate::search::MeshFace::of(hit.index).mesh),
     };
     count.token(HIT | kind << 24 | (index as u32 & 0x00ff_ffff));
 }
@@ -240,7 +262,7 @@ pub fn trace<C: RayCounter>(
 /// `max_depth` is the scene's depth, clamped once by the caller
 /// ([`SceneView::depth`]); `BOUNCES` is false when the caller knows it is 0.
 #[inline(always)]
-pub(crate) fn trace_with<C: RayCounter, const BOUNCES: bool>(
+pub(crate) fn trace_with<C: Observer, const BOUNCES: bool>(
     view: &SceneView<'_>,
     ray: Ray,
     t_max: f32,
@@ -275,7 +297,7 @@ pub(crate) fn trace_with<C: RayCounter, const BOUNCES: bool>(
 /// when `max_depth > 0` go to `first` (left as it is otherwise).
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
-fn primary<C: RayCounter>(
+fn primary<C: Observer>(
     view: &SceneView<'_>,
     ray: &Ray,
     t_max: f32,
@@ -292,7 +314,7 @@ fn primary<C: RayCounter>(
 /// bounces).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn primary_in<C: RayCounter>(
+fn primary_in<C: Observer>(
     view: &SceneView<'_>,
     ray: &Ray,
     t_max: f32,
@@ -347,7 +369,7 @@ fn primary_in<C: RayCounter>(
 /// (depth `D` needs at most `D + 1` slots), every primitive a candidate. Out of
 /// line: a scene without mirrors or glass never comes here.
 #[inline(never)]
-fn bounce<C: RayCounter>(
+fn bounce<C: Observer>(
     view: &SceneView<'_>,
     first: &[Option<Pending>; 2],
     max_depth: u8,
@@ -384,7 +406,7 @@ fn bounce<C: RayCounter>(
 /// [`local_smooth`], out of line, so that the other kinds' code is
 /// what it is without meshes.
 #[inline(always)]
-fn local_in<C: RayCounter>(
+fn local_in<C: Observer>(
     view: &SceneView<'_>,
     hit: &Hit<'_>,
     ray: &Ray,
@@ -398,7 +420,7 @@ fn local_in<C: RayCounter>(
 /// [`local_in`] at a hit of a smooth mesh.
 #[cfg(feature = "bvh")]
 #[inline(never)]
-fn local_smooth<C: RayCounter>(
+fn local_smooth<C: Observer>(
     view: &SceneView<'_>,
     hit: &Hit<'_>,
     ray: &Ray,
@@ -411,7 +433,7 @@ fn local_smooth<C: RayCounter>(
 
 /// [`local_in`]; `SMOOTH`: the hit is a smooth mesh's.
 #[inline(always)]
-fn local_with<const SMOOTH: bool, C: RayCounter>(
+fn local_with<const SMOOTH: bool, C: Observer>(
     view: &SceneView<'_>,
     hit: &Hit<'_>,
     ray: &Ray,
@@ -439,7 +461,10 @@ fn local_with<const SMOOTH: bool, C: RayCounter>(
     #[cfg(feature = "bvh")]
     let (ns, lift) = match hit.geom {
         Geom::Mesh(mesh) if SMOOTH => {
-            let (f, b) = (hit.index & 0xffff, [hit.aux.x, hit.hit.b1, hit.hit.b2]);
+            let (f, b) = (
+                crate::search::MeshFace::of(hit.index).face,
+                [hit.aux.x, hit.hit.b1, hit.hit.b2],
+            );
             let out = if n.dot(hit.normal) < 0.0 { -1.0 } else { 1.0 };
             let ns = mesh.shading_normal(f, b, n);
             (ns, mesh.lift(f, b, hit.point, out))

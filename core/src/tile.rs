@@ -27,7 +27,7 @@ use crate::error::Error;
 use crate::error::MAX_DEPTH;
 use crate::prefilter::Footprint;
 use crate::sample::{PixelHash, Sampler, stratified, stratum};
-use crate::shade::{RayCounter, Signed};
+use crate::shade::{Observer, RayCounter, Signature};
 use crate::view::SceneView;
 
 /// How a frame is rendered.
@@ -463,7 +463,7 @@ impl Frame {
             if nx < u32::from(vp.width) && ny < u32::from(vp.height) {
                 let n = self.centre::<_, true>(scene, &picks, depth, nx, ny, count);
                 let e = self.settings.encoding;
-                refine |= own.probe(e).differs(n.probe(e), threshold);
+                refine |= own.encoded(e).differs(n.encoded(e), threshold);
             }
         }
         if refine {
@@ -484,8 +484,8 @@ impl Frame {
         x: u32,
         y: u32,
         count: &mut C,
-    ) -> Centre {
-        let mut signed = Signed::new(count);
+    ) -> CentreSample {
+        let mut signed = Signature::new(count);
         let (px, py) = (x as f32, y as f32);
         let footprint = Footprint::new(&self.basis, px, py);
         let at = (px + 0.5, py + 0.5);
@@ -497,7 +497,7 @@ impl Frame {
             Some(&footprint),
             &mut signed,
         );
-        Centre {
+        CentreSample {
             color,
             sig: signed.hash,
             textured: signed.textured,
@@ -513,7 +513,7 @@ impl Frame {
     /// bounces the whole camera ray then runs without a call (a call per sample
     /// costs more instructions per pixel on the chip).
     #[inline(always)]
-    fn pixel<C: RayCounter, const BOUNCES: bool>(
+    fn pixel<C: Observer, const BOUNCES: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
@@ -562,7 +562,7 @@ impl Frame {
 
     /// The colour the camera ray through the viewport point `at` brings back.
     #[inline(always)]
-    fn ray_color<C: RayCounter, const BOUNCES: bool>(
+    fn ray_color<C: Observer, const BOUNCES: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
@@ -579,7 +579,7 @@ impl Frame {
     /// their pixel loop, it costs more instructions per pixel on the chip (the
     /// loop's registers spill around the shader).
     #[inline(never)]
-    fn ray_color_call<C: RayCounter, const BOUNCES: bool>(
+    fn ray_color_call<C: Observer, const BOUNCES: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
@@ -597,7 +597,7 @@ impl Frame {
     /// without bounces) does not add to the stack of the other.
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
-    fn fill<const N: usize, C: RayCounter, const BOUNCES: bool, P: TilePixel, const SRGB: bool>(
+    fn fill<const N: usize, C: Observer, const BOUNCES: bool, P: TilePixel, const SRGB: bool>(
         &self,
         scene: &SceneView<'_>,
         picks: &Picks<'_>,
@@ -649,7 +649,7 @@ impl Frame {
     /// [`Frame::fill`] for the adaptive sampler: the centre rays of the tile and of
     /// a one-pixel apron around it (where the frame has pixels), row after row,
     /// then each pixel either its centre colour or, where it differs from a
-    /// neighbour's ([`Probe::differs`]), its stratified samples. Rows are decided
+    /// neighbour's ([`CentrePixel::differs`]), its stratified samples. Rows are decided
     /// as soon as the row below them is traced: three rows of centre samples are
     /// kept ([`Window`]), not the tile's.
     #[inline(never)]
@@ -679,7 +679,7 @@ impl Frame {
                 if (0..w).contains(&x) {
                     let c =
                         self.centre::<C, BOUNCES>(scene, picks, depth, x as u32, y as u32, count);
-                    window.set(r, i, c.probe(self.settings.encoding));
+                    window.set(r, i, c.encoded(self.settings.encoding));
                 }
             }
         };
@@ -910,17 +910,17 @@ const NEIGHBOURS: [(i32, i32); 4] = [(0, -1), (-1, 0), (1, 0), (0, 1)];
 /// A centre sample of the adaptive sampler: the linear colour and the signature
 /// of its ray tree (see `shade::Signed`).
 #[derive(Clone, Copy)]
-struct Centre {
+struct CentreSample {
     color: Color,
     sig: u32,
     textured: bool,
 }
 
-impl Centre {
+impl CentreSample {
     /// What the decision needs of it.
     #[inline(always)]
-    fn probe(&self, encoding: Encoding) -> Probe {
-        Probe {
+    fn encoded(&self, encoding: Encoding) -> CentrePixel {
+        CentrePixel {
             color: encoding.encode(self.color),
             sig: self.sig,
             textured: self.textured,
@@ -931,13 +931,13 @@ impl Centre {
 /// What the adaptive sampler compares of two neighbouring centre samples: the
 /// 8-bit pixel and the signature.
 #[derive(Clone, Copy, Default)]
-struct Probe {
+struct CentrePixel {
     color: Rgb8,
     sig: u32,
     textured: bool,
 }
 
-impl Probe {
+impl CentrePixel {
     /// Whether the two pixels straddle an edge: their rays met different things,
     /// or a channel differs by more than `threshold`.
     #[inline(always)]
@@ -961,24 +961,24 @@ struct Window<const N: usize> {
 /// One row of a [`Window`].
 #[derive(Clone, Copy)]
 struct Row<const N: usize> {
-    left: Probe,
-    mid: [Probe; N],
-    right: Probe,
+    left: CentrePixel,
+    mid: [CentrePixel; N],
+    right: CentrePixel,
 }
 
 impl<const N: usize> Window<N> {
     fn new() -> Self {
         let row = Row {
-            left: Probe::default(),
-            mid: [Probe::default(); N],
-            right: Probe::default(),
+            left: CentrePixel::default(),
+            mid: [CentrePixel::default(); N],
+            right: CentrePixel::default(),
         };
         Self { rows: [row; 3] }
     }
 
     /// The place of column `i` of row `r` (always `Some`: the slot is `< 3`).
     #[inline(always)]
-    fn at(&mut self, r: i64, i: i64) -> Option<&mut Probe> {
+    fn at(&mut self, r: i64, i: i64) -> Option<&mut CentrePixel> {
         let row = self.rows.get_mut((r + 1).rem_euclid(3) as usize)?;
         Some(match usize::try_from(i) {
             Err(_) => &mut row.left,
@@ -990,14 +990,14 @@ impl<const N: usize> Window<N> {
     }
 
     #[inline(always)]
-    fn set(&mut self, r: i64, i: i64, p: Probe) {
+    fn set(&mut self, r: i64, i: i64, p: CentrePixel) {
         if let Some(at) = self.at(r, i) {
             *at = p;
         }
     }
 
     #[inline(always)]
-    fn get(&mut self, r: i64, i: i64) -> Probe {
+    fn get(&mut self, r: i64, i: i64) -> CentrePixel {
         self.at(r, i).map(|p| *p).unwrap_or_default()
     }
 }

@@ -4,7 +4,7 @@
 //! [`SceneView::with_meshes`]); module [`crate::bvh`] says why the image is the
 //! same bytes with or without them.
 
-use super::{Kind, Nearest, Skip};
+use super::{Kind, MeshFace, Nearest, Skip};
 use crate::bvh::{BvhView, DEPTH};
 #[cfg(feature = "testing")]
 use crate::bvh::{VISITS, count_visit};
@@ -166,8 +166,9 @@ pub(super) fn meshes<const FIRST: bool>(
     let mut best = None;
     for (m, mesh) in meshes.iter().enumerate() {
         // The face to skip, if it is one of this mesh's.
-        let face = if sk >> 16 == m {
-            sk & 0xffff
+        let skipped = MeshFace::of(sk);
+        let face = if skipped.mesh == m {
+            skipped.face
         } else {
             usize::MAX
         };
@@ -175,7 +176,7 @@ pub(super) fn meshes<const FIRST: bool>(
         if let Some((f, hit)) = found {
             best = Some(Nearest {
                 kind: Kind::Mesh,
-                index: m << 16 | f,
+                index: MeshFace { mesh: m, face: f }.index(),
                 hit,
             });
             if FIRST {

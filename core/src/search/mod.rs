@@ -7,7 +7,8 @@
 //!
 //! | source | its candidates | searched by |
 //! |---|---|---|
-//! | [`Whole`] | every primitive; spheres, triangles and meshes through the view's hierarchies where it has them | bounced rays and their shadow rays; every ray of a tile without lists |
+//! | [`Every`] | every primitive, list by list | bounced rays and their shadow rays; every ray of a tile without lists |
+//! | [`Whole`] (feature `bvh`) | every primitive; the spheres, triangles and meshes through the view's hierarchies | the same rays, in a view with hierarchies |
 //! | [`Listed`] | a tile's camera lists (module `cull`) | the camera rays of a tile |
 //! | [`Masked`] | a tile's shadow lists, for one light | the shadow rays of a tile's camera hits |
 //!
@@ -15,12 +16,13 @@
 //!
 //! | instantiation | inlined? | why |
 //! |---|---|---|
-//! | `nearest` over [`Listed`] | into the camera ray's shading (module `shade`) | once per camera ray: the call and the spilled state would cost more than the search of a short list |
-//! | `nearest` over [`Whole`] ([`nearest_whole`]) | out of line | the bounces and the tiles without lists share one copy, which keeps the camera ray's loop small |
-//! | `any` over [`Whole`] ([`any_whole`]), over [`Masked`] ([`any_masked`]) | out of line | the light loop that calls them stays small |
+//! | `nearest` over [`Listed`] | into the camera ray's shading (module `shade`) | once per camera ray: a call and the state it spills would cost more than the search of a short list |
+//! | `nearest` over [`Every`] ([`nearest_whole`]) | out of line | the bounces and the tiles without lists share one copy, which keeps the camera ray's loop small |
+//! | `nearest` over [`Whole`] (`nearest_through`) | out of line, called by [`nearest_whole`] for a view with hierarchies | a view without one never enters it: its walks would crowd the flat loops' registers |
+//! | `any` over [`Every`] ([`any_whole`]), [`Whole`] (`any_through`), [`Masked`] ([`any_masked`]) | out of line | the light loop that calls them stays small |
+//! | `any` (every source) | the primitive tests' hit details compile away (`FIRST`) | a shadow ray asks only whether something blocks it |
 //! | a list's loop ([`Source::each`]) | always | its closure is the primitive test, specialised per kind |
-//! | the triangle test | per ray frame (`with_axes!`) | Woop's test with its axis permutation a compile-time constant |
-//! | the hierarchy walk (`search::bvh`) | always, in [`Whole`]'s copies only | the other sources never reach it |
+//! | the triangle test | one copy per ray frame (`with_axes!`) | Woop's test with its axis permutation a compile-time constant |
 //!
 //! The chip's cost of each is in docs/chip-profile.md.
 //!
@@ -103,6 +105,36 @@ pub(crate) struct Nearest {
     pub(crate) hit: Candidate,
 }
 
+/// A face of one of the view's meshes, as a [`Nearest`]'s (and a [`Skip`]'s)
+/// index holds it: `mesh << 16 | face` (a mesh has at most 65,536 faces, a view
+/// at most [`crate::mesh::MAX_MESHES`] meshes).
+#[cfg(feature = "bvh")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct MeshFace {
+    /// The mesh, in the view's list.
+    pub(crate) mesh: usize,
+    /// The face, in the mesh's list.
+    pub(crate) face: usize,
+}
+
+#[cfg(feature = "bvh")]
+impl MeshFace {
+    /// The face that `index` (of kind [`Kind::Mesh`]) names.
+    #[inline(always)]
+    pub(crate) const fn of(index: usize) -> Self {
+        Self {
+            mesh: index >> 16,
+            face: index & 0xffff,
+        }
+    }
+
+    /// The index that names this face.
+    #[inline(always)]
+    pub(crate) const fn index(self) -> usize {
+        self.mesh << 16 | self.face
+    }
+}
+
 /// Where a search finds its candidates (see the module doc).
 pub(crate) trait Source<'v>: Copy {
     /// Whether the triangles' hull is worth testing first: for every primitive,
@@ -132,29 +164,21 @@ pub(crate) trait Source<'v>: Copy {
 }
 
 /// Every primitive of a view, through its hierarchies where it has them.
+#[cfg(feature = "bvh")]
 #[derive(Clone, Copy)]
 pub(crate) struct Whole<'v> {
-    #[cfg(feature = "bvh")]
     spheres: Option<BvhView<'v>>,
-    #[cfg(feature = "bvh")]
     triangles: Option<BvhView<'v>>,
-    #[cfg(not(feature = "bvh"))]
-    _view: core::marker::PhantomData<&'v ()>,
 }
 
+#[cfg(feature = "bvh")]
 impl<'v> Whole<'v> {
     /// Every primitive of `view`.
     #[inline(always)]
     pub(crate) fn of(view: &SceneView<'v>) -> Self {
-        #[cfg(not(feature = "bvh"))]
-        let _ = view;
         Self {
-            #[cfg(feature = "bvh")]
             spheres: view.sphere_bvh,
-            #[cfg(feature = "bvh")]
             triangles: view.bvh,
-            #[cfg(not(feature = "bvh"))]
-            _view: core::marker::PhantomData,
         }
     }
 }
@@ -178,9 +202,9 @@ fn of<'l, T>(lists: &[&'l [T]; 4], kind: Kind) -> &'l [T] {
     lists.get(kind as usize).copied().unwrap_or(&[])
 }
 
+#[cfg(feature = "bvh")]
 impl<'v> Source<'v> for Whole<'v> {
     const HULLS: bool = true;
-    #[cfg(feature = "bvh")]
     const MESHES: bool = true;
 
     #[inline(always)]
@@ -193,7 +217,6 @@ impl<'v> Source<'v> for Whole<'v> {
         Every.none(list, kind)
     }
 
-    #[cfg(feature = "bvh")]
     #[inline(always)]
     fn hierarchy(self, kind: Kind) -> Option<BvhView<'v>> {
         match kind {
