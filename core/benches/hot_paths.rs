@@ -6,8 +6,8 @@ use std::hint::black_box;
 use tessera::builtin::{self, Builtin};
 use tessera::testing::Shape;
 use tessera::{
-    Aabb, CameraBasis, Frame, Plane, Ray, RenderSettings, Sphere, Tile, TileCoord, Triangle, Vec3,
-    Viewport,
+    Frame, RenderSettings, Tile, TileCoord, Vec3, Viewport, camera::CameraBasis, geometry::Aabb,
+    geometry::Plane, geometry::Sphere, geometry::Triangle, trace::Ray,
 };
 
 fn rays(n: usize) -> Vec<Ray> {

@@ -68,9 +68,12 @@ impl BakedCamera {
 /// check it first:
 ///
 /// ```
+/// use tessera::geometry::Sphere;
+/// use tessera::light::PointLight;
+/// use tessera::material::{Material, MaterialId};
 /// use tessera::{
-///     BakedCamera, BakedScene, Color, Encoding, Material, MaterialId, PointLight, Primitive,
-///     RenderSettings, Sampler, Sphere, Tile, TileCoord, Viewport,
+///     BakedCamera, BakedScene, Color, Encoding, Primitive, RenderSettings, Sampler, Tile,
+///     TileCoord, Viewport,
 /// };
 ///
 /// const RED: MaterialId = MaterialId(0);
@@ -418,7 +421,7 @@ mod tests {
         let bad_radius = sphere([0.0, 0.0, 0.0], -1.0, 0);
         assert_eq!(
             scene(&MATERIALS, &bad_radius, &ok_p).view().err(),
-            Some(Error::NotPositive(crate::Field::SphereRadius))
+            Some(Error::NotPositive(crate::error::Field::SphereRadius))
         );
         // A subnormal centre: try_new reads it as 0, so the item is not what it
         // makes of its numbers.

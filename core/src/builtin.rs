@@ -60,10 +60,12 @@ pub mod baked {
 /// # }
 /// ```
 #[cfg(feature = "teapot")]
-pub static TEAPOT_MESHES: &[crate::Mesh<'static>] = &baked::teapot::MESHES;
+pub static TEAPOT_MESHES: &[crate::mesh::Mesh<'static>] = &baked::teapot::MESHES;
 
-/// The built-in scenes, by name.
+/// The built-in scenes, by name. Non-exhaustive: the feature `teapot` adds one,
+/// so that code written without it still compiles with it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Builtin {
     /// The chapter's first picture: direct light only.
     ChapterDirect,
@@ -80,21 +82,13 @@ pub enum Builtin {
 }
 
 impl Builtin {
-    /// Every built-in scene.
-    #[cfg(not(feature = "teapot"))]
-    pub const ALL: [Self; 4] = [
+    /// Every built-in scene (a slice: its length depends on the features).
+    pub const ALL: &'static [Self] = &[
         Self::ChapterDirect,
         Self::ChapterReflect,
         Self::Interference,
         Self::Showcase,
-    ];
-    /// Every built-in scene.
-    #[cfg(feature = "teapot")]
-    pub const ALL: [Self; 5] = [
-        Self::ChapterDirect,
-        Self::ChapterReflect,
-        Self::Interference,
-        Self::Showcase,
+        #[cfg(feature = "teapot")]
         Self::Teapot,
     ];
 
@@ -118,7 +112,7 @@ impl Builtin {
     /// The scene called `name`, if any.
     #[must_use]
     pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|b| b.name() == name)
+        Self::ALL.iter().copied().find(|b| b.name() == name)
     }
 
     /// The settings the scene is meant to be rendered with.
@@ -189,6 +183,21 @@ impl Builtin {
         }
     }
 
+    /// The text of the scene file the built-in scene is baked from
+    /// (`scenes/<name>.toml` of the repository, which `tessera bake` turns into
+    /// the scene's `static` tables): not linked unless called.
+    #[must_use]
+    pub fn source(self) -> &'static str {
+        match self {
+            Self::ChapterDirect => include_str!("../../scenes/chapter-direct.toml"),
+            Self::ChapterReflect => include_str!("../../scenes/chapter-reflect.toml"),
+            Self::Interference => include_str!("../../scenes/interference.toml"),
+            Self::Showcase => include_str!("../../scenes/showcase.toml"),
+            #[cfg(feature = "teapot")]
+            Self::Teapot => include_str!("../../scenes/teapot.toml"),
+        }
+    }
+
     /// Builds the scene (on the stack) and hands its view and camera to `f`.
     pub fn with_scene<R>(self, f: impl FnOnce(&SceneView<'_>, &Camera) -> R) -> Result<R, Error> {
         self.build(0, f)
@@ -197,7 +206,7 @@ impl Builtin {
     /// [`Builtin::with_scene`] with the scene scaled by `2^k` (see
     /// [`Scene::scaled_pow2`]): a test hook, with the feature `testing`.
     #[cfg(feature = "testing")]
-    pub fn with_scaled_scene<R>(
+    pub(crate) fn with_scaled_scene_hook<R>(
         self,
         k: i32,
         f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
@@ -246,7 +255,11 @@ fn hand<
     f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
 ) -> Result<R, Error> {
     #[cfg(feature = "testing")]
-    let scene = if k == 0 { scene } else { scene.scaled_pow2(k)? };
+    let scene = if k == 0 {
+        scene
+    } else {
+        scene.scaled_pow2_hook(k)?
+    };
     #[cfg(not(feature = "testing"))]
     let _ = k;
     Ok(f(&scene.view(), scene.camera()))
@@ -281,11 +294,11 @@ fn scaled_teapot<const V: usize, R>(
     scene: &TeapotScene,
     k: i32,
     vertices: &[[f32; 3]; V],
-    mesh: &crate::Mesh<'_>,
+    mesh: &crate::mesh::Mesh<'_>,
     f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
 ) -> Result<R, Error> {
     use crate::primitive::Primitive;
-    let scene = scene.scaled_pow2(k)?;
+    let scene = scene.scaled_pow2_hook(k)?;
     let s = libm::ldexpf(1.0, k.clamp(-200, 200));
     let moved = vertices.map(|[x, y, z]| [x * s, y * s, z * s]);
     let at = |i: u16| {
@@ -299,18 +312,18 @@ fn scaled_teapot<const V: usize, R>(
             material: mesh.material(),
         };
         triangles.push(t).map_err(|_| Error::CapacityExceeded {
-            list: crate::List::Triangles,
+            list: crate::error::List::Triangles,
             capacity: 2048,
         })?;
     }
-    let mut bvh: crate::Bvh<4096, 2048> = crate::Bvh::new();
+    let mut bvh: crate::bvh::Bvh<4096, 2048> = crate::bvh::Bvh::new();
     bvh.build(&triangles)?;
-    let scaled = [crate::Mesh::new(
+    let scaled = [crate::mesh::Mesh::new(
         &moved,
         mesh.faces(),
         mesh.normals(),
         mesh.material(),
-        crate::BakedBvh::new(bvh.nodes(), bvh.order(), bvh.reach()),
+        crate::bvh::BakedBvh::new(bvh.nodes(), bvh.order(), bvh.reach()),
     )];
     let view = scene.view().with_meshes(&scaled)?;
     Ok(f(&view, scene.camera()))
@@ -523,7 +536,7 @@ mod tests {
 
     #[test]
     fn every_builtin_builds_and_is_named() {
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             assert_eq!(Builtin::from_name(b.name()), Some(b));
             assert!(b.with_scene(|_, _| ()).is_ok());
             assert!(b.settings().validate().is_ok());
@@ -555,7 +568,7 @@ mod tests {
     #[test]
     fn every_builtin_baked_renders_like_the_built_scene() {
         let vp = crate::Viewport::new(80, 60);
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             let (view, frame) = b.baked().unwrap();
             assert_eq!(*frame.settings(), b.settings(), "{}", b.name());
             assert_eq!(frame.viewport(), crate::Viewport::new(320, 240));
@@ -582,7 +595,7 @@ mod tests {
     }
 
     /// The baked scene's sphere table, where it lies.
-    fn baked_spheres(b: Builtin) -> &'static [crate::Primitive<crate::Sphere>] {
+    fn baked_spheres(b: Builtin) -> &'static [crate::Primitive<crate::geometry::Sphere>] {
         match b {
             Builtin::ChapterDirect => &baked::chapter_direct::SPHERES,
             Builtin::ChapterReflect => &baked::chapter_reflect::SPHERES,

@@ -124,7 +124,7 @@ pub struct BvhNode {
 /// with [`SceneView::with_bvh`](crate::SceneView::with_bvh).
 ///
 /// ```
-/// use tessera::{Bvh, Camera, Color, Error, Material, Scene, Triangle, Vec3};
+/// use tessera::{bvh::Bvh, Camera, Color, Error, material::Material, Scene, geometry::Triangle, Vec3};
 ///
 /// let cam = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0)?;
 /// let mut scene: Scene<0, 0, 100, 0, 1, 0> = Scene::new(cam);
@@ -779,7 +779,7 @@ mod tests {
     /// only from [`CROSSOVER`] triangles on.
     #[test]
     fn a_view_checks_its_bvh_and_uses_it_where_it_pays() {
-        use crate::{Camera, Color, Material, Scene};
+        use crate::{Camera, Color, Scene, material::Material};
         let cam =
             Camera::look_at(Vec3::new(0.0, 0.0, 50.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0).unwrap();
         let mut s: std::boxed::Box<Scene<0, 0, 400, 0, 1, 0>> =
@@ -861,7 +861,7 @@ mod tests {
 mod baked_tests {
     use super::*;
     use crate::material::MaterialId;
-    use crate::{Camera, Color, Material, Scene, SceneView};
+    use crate::{Camera, Color, Scene, SceneView, material::Material};
 
     extern crate std;
     use std::vec::Vec as StdVec;
@@ -900,7 +900,8 @@ mod baked_tests {
         s.add_material(Material::matte(Color::new(0.1, 0.3, 0.9)))
             .unwrap();
         s.add_light(
-            crate::PointLight::try_new(Vec3::new(3.0, 2.0, 9.0), Color::WHITE, 40.0).unwrap(),
+            crate::light::PointLight::try_new(Vec3::new(3.0, 2.0, 9.0), Color::WHITE, 40.0)
+                .unwrap(),
         )
         .unwrap();
         s

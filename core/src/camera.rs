@@ -46,7 +46,7 @@ impl Camera {
     /// `forward` (a valid basis is still built, with an arbitrary but deterministic
     /// roll). `fovy_degrees` is the vertical opening angle in `(0, 180)`;
     /// `0 < near < far`, all finite; the position's components and `far` within
-    /// [`crate::MAX_EXTENT`], `near` at least [`crate::MIN_LENGTH`].
+    /// [`crate::error::MAX_EXTENT`], `near` at least [`crate::error::MIN_LENGTH`].
     ///
     /// ```
     /// use tessera::{Camera, Error, Vec3};
@@ -524,7 +524,7 @@ mod tests {
         ));
         // A valid near distance but an opening so small that a pixel is not a
         // normal f32.
-        let narrow = ok(o, z, y, 1e-30, crate::MIN_LENGTH, 1.0).unwrap();
+        let narrow = ok(o, z, y, 1e-30, crate::error::MIN_LENGTH, 1.0).unwrap();
         assert!(CameraBasis::try_new(&narrow, Viewport::new(1000, 1000)).is_err());
     }
 }

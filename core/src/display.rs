@@ -14,7 +14,8 @@
 use crate::color::Rgb8;
 use crate::dither::Dither;
 use crate::error::Error;
-use crate::tile::{AllLoops, Frame, Loops, Tile, TileCoord, TilePixel};
+pub use crate::tile::TilePixel;
+use crate::tile::{AllLoops, Frame, Loops, Tile, TileCoord};
 use crate::view::SceneView;
 use core::marker::PhantomData;
 use embedded_graphics_core::Drawable;
@@ -627,7 +628,7 @@ mod tests {
                 }
             }
         }
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             for sampler in [
                 Sampler::Centre,
                 Sampler::Stratified(2),
@@ -689,7 +690,7 @@ mod tests {
     fn progressive_drawing_ends_on_the_direct_render() {
         use crate::builtin::Builtin;
         use crate::shade::RayCount;
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             b.with_scene(|view, cam| {
                 let (w, h) = (45u16, 34u16);
                 let frame = Frame::try_new(cam, crate::Viewport::new(w, h), b.settings()).unwrap();
@@ -741,11 +742,11 @@ mod tests {
         /// Direct light only, sRGB, no adaptive sampler.
         enum DirectSrgb {}
         impl Loops for DirectSrgb {
-            fn links(l: crate::TileLoop) -> bool {
-                l == crate::TileLoop::Direct(crate::Encoding::Srgb)
+            fn links(l: crate::tile::TileLoop) -> bool {
+                l == crate::tile::TileLoop::Direct(crate::Encoding::Srgb)
             }
         }
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             b.with_scene(|view, cam| {
                 let (w, h) = (37u16, 29u16);
                 let frame = Frame::try_new(cam, crate::Viewport::new(w, h), b.settings()).unwrap();
@@ -784,7 +785,7 @@ mod tests {
     fn a_preview_block_is_the_final_pixel_at_its_middle_in_either_encoding() {
         use crate::builtin::Builtin;
         use embedded_graphics_core::pixelcolor::Rgb888;
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             for encoding in [crate::Encoding::Srgb, crate::Encoding::Linear] {
                 b.with_scene(|view, cam| {
                     let (w, h) = (45u16, 34u16);

@@ -161,7 +161,7 @@ pub enum Error {
     BadMesh,
     /// A box's min corner is above its max corner on some axis.
     InvertedBox,
-    /// The recursion depth asked for is above [`crate::MAX_DEPTH`].
+    /// The recursion depth asked for is above [`crate::error::MAX_DEPTH`].
     DepthTooLarge {
         /// The depth asked for.
         depth: u8,
@@ -177,7 +177,7 @@ pub enum Error {
     /// A tile coordinate outside the frame.
     TileOutOfFrame,
     /// The frame's settings and scene need a tile loop that the set of loops the
-    /// firmware chose to link does not have ([`crate::Loops`]).
+    /// firmware chose to link does not have ([`crate::tile::Loops`]).
     NotLinked,
     /// A material's reflectivity and transparency add up to more than 1: it would
     /// send on more light than it receives.
@@ -417,8 +417,9 @@ pub(crate) fn unit(v: crate::Vec3, field: Field) -> Result<crate::Vec3, Error> {
 mod tests {
     use super::*;
     use crate::{
-        Aabb, Camera, Color, Material, Plane, PointLight, Sampler, Scene, Sphere, SubPixel,
-        Texture, Triangle, Vec3,
+        Camera, Color, Sampler, Scene, Vec3, geometry::Aabb, geometry::Plane, geometry::Sphere,
+        geometry::Triangle, light::PointLight, material::Material, sample::SubPixel,
+        texture::Texture,
     };
 
     /// The smallest subnormal, and the largest, of each sign.

@@ -5,8 +5,8 @@
 
 use crate::error::Error;
 use crate::{
-    Aabb, Camera, Color, Material, Plane, PointLight, Scene, SceneView, Sphere, Texture, Triangle,
-    Vec3,
+    Camera, Color, Scene, SceneView, Vec3, geometry::Aabb, geometry::Plane, geometry::Sphere,
+    geometry::Triangle, light::PointLight, material::Material, texture::Texture,
 };
 
 /// A scene of the extremes battery, by name.
@@ -66,7 +66,7 @@ impl Extreme {
     /// The scene of a name.
     #[must_use]
     pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|e| e.name() == name)
+        Self::ALL.iter().copied().find(|e| e.name() == name)
     }
 
     /// `f` of the scene's view and camera.

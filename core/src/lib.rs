@@ -44,65 +44,49 @@
     )
 )]
 
-// The public API is the re-exports below (and the built-in scenes): the modules
-// are private, so what a firmware author sees in `tessera::` is what they use.
+// The public API: a small root for the firmware author (the scene and its view,
+// the frame and its tiles, the camera and viewport, the settings, the errors, the
+// built-in scenes) and one public module per concept; the other modules are the
+// renderer's internals.
 mod baked;
 pub mod builtin;
 #[cfg(feature = "bvh")]
-mod bvh;
-mod camera;
-mod color;
+pub mod bvh;
+pub mod camera;
+pub mod color;
 mod cull;
-mod display;
-mod dither;
-mod error;
+pub mod display;
+pub mod dither;
+pub mod error;
 #[cfg(feature = "testing")]
 mod extreme;
-mod geometry;
+pub mod geometry;
 mod hit;
-mod light;
-mod material;
+pub mod light;
+pub mod material;
 mod math;
 #[cfg(feature = "bvh")]
-mod mesh;
+pub mod mesh;
 mod prefilter;
 mod primitive;
 mod ray;
-mod sample;
+pub mod sample;
 mod scene;
 mod search;
 mod shade;
-mod texture;
-mod tile;
+pub mod texture;
+pub mod tile;
 mod vec;
 mod view;
 
 pub use baked::{BakedCamera, BakedScene};
-#[cfg(feature = "bvh")]
-pub use bvh::{
-    BakedBvh, Bounded, Bvh, BvhNode, CROSSOVER as BVH_CROSSOVER,
-    SPHERE_CROSSOVER as BVH_SPHERE_CROSSOVER,
-};
-pub use camera::{Camera, CameraBasis, Viewport};
-pub use color::{Color, Encoding, Rgb8, UnknownEncoding};
-pub use display::{
-    DitheredRendering, ProgressiveRendering, Rendering, draw_panel_tile, draw_tile,
-    draw_tile_dithered,
-};
-pub use dither::{Dither, UnknownDither};
-pub use error::{Error, Field, List, MAX_COLOR, MAX_DEPTH, MAX_EXTENT, MIN_LENGTH};
-pub use geometry::{Aabb, Plane, Sphere, Triangle};
-pub use light::PointLight;
-pub use material::{Material, MaterialId};
-#[cfg(feature = "bvh")]
-pub use mesh::{MAX_MESHES, Mesh};
+pub use camera::{Camera, Viewport};
+pub use color::{Color, Encoding};
+pub use error::Error;
 pub use primitive::Primitive;
-pub use ray::Ray;
-pub use sample::{Sampler, SubPixel};
+pub use sample::Sampler;
 pub use scene::Scene;
-pub use shade::{RayCount, RayCounter};
-pub use texture::Texture;
-pub use tile::{AllLoops, Frame, Loops, RenderSettings, Tile, TileCoord, TileLoop, TilePixel};
+pub use tile::{Frame, RenderSettings, Tile, TileCoord};
 pub use vec::Vec3;
 pub use view::SceneView;
 
@@ -123,7 +107,9 @@ pub struct ReadmeExamples;
 
 /// Internals that the test crates check on their own (the extremes battery, the
 /// benchmarks, the firmware test image's scaled scenes), with the feature `testing`
-/// only: not part of the API, and not kept stable.
+/// only: not part of the API, and not kept stable. The hooks on scenes and views
+/// are traits here ([`testing::SceneHooks`], [`testing::BuiltinHooks`],
+/// [`testing::ViewHooks`]), so the feature adds no method to a public type.
 #[cfg(feature = "testing")]
 #[doc(hidden)]
 pub mod testing {
@@ -136,6 +122,110 @@ pub mod testing {
     /// The square root of every per-pixel path (`math::sqrt`): the firmware test
     /// image checks on each core that it is correctly rounded.
     pub use crate::math::sqrt;
+    use crate::{Camera, Error, Scene, SceneView, builtin::Builtin};
+
+    /// A scene's test hook: [`SceneHooks::scaled_pow2`].
+    pub trait SceneHooks: Sized {
+        /// The same scene with every length multiplied by `2^k` and every light
+        /// intensity by `4^k`, so that the image is unchanged in exact arithmetic
+        /// (each value checked again).
+        ///
+        /// # Errors
+        /// A scaled value out of the supported range.
+        fn scaled_pow2(&self, k: i32) -> Result<Self, Error>;
+    }
+
+    impl<
+        const S: usize,
+        const P: usize,
+        const T: usize,
+        const B: usize,
+        const M: usize,
+        const L: usize,
+    > SceneHooks for Scene<S, P, T, B, M, L>
+    {
+        fn scaled_pow2(&self, k: i32) -> Result<Self, Error> {
+            self.scaled_pow2_hook(k)
+        }
+    }
+
+    /// A built-in scene's test hook: [`BuiltinHooks::with_scaled_scene`].
+    pub trait BuiltinHooks {
+        /// [`Builtin::with_scene`] with the scene scaled by `2^k`
+        /// ([`SceneHooks::scaled_pow2`]).
+        ///
+        /// # Errors
+        /// As [`Builtin::with_scene`], and a scale out of range.
+        fn with_scaled_scene<R>(
+            self,
+            k: i32,
+            f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
+        ) -> Result<R, Error>;
+    }
+
+    impl BuiltinHooks for Builtin {
+        fn with_scaled_scene<R>(
+            self,
+            k: i32,
+            f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
+        ) -> Result<R, Error> {
+            self.with_scaled_scene_hook(k, f)
+        }
+    }
+
+    /// A scene view's test hooks: its searches with the culling bounds off and
+    /// with or without hierarchies whatever their size.
+    pub trait ViewHooks<'a>: Sized {
+        /// The same view with every culling bound off (no tile lists, no list
+        /// hull): the same bytes, slower.
+        fn without_culling(&self) -> Self;
+        /// `with_bvh` whatever the number of triangles.
+        ///
+        /// # Errors
+        /// As `SceneView::with_bvh`.
+        #[cfg(feature = "bvh")]
+        fn with_bvh_always<const N: usize, const T: usize>(
+            &self,
+            bvh: &'a crate::bvh::Bvh<N, T>,
+        ) -> Result<Self, Error>;
+        /// The same view without its hierarchies.
+        #[cfg(feature = "bvh")]
+        fn without_bvh(&self) -> Self;
+        /// `with_sphere_bvh` whatever the number of spheres.
+        ///
+        /// # Errors
+        /// As `SceneView::with_sphere_bvh`.
+        #[cfg(feature = "bvh")]
+        fn with_sphere_bvh_always<const N: usize, const T: usize>(
+            &self,
+            bvh: &'a crate::bvh::Bvh<N, T>,
+        ) -> Result<Self, Error>;
+    }
+
+    impl<'a> ViewHooks<'a> for SceneView<'a> {
+        fn without_culling(&self) -> Self {
+            self.without_culling_hook()
+        }
+        #[cfg(feature = "bvh")]
+        fn with_bvh_always<const N: usize, const T: usize>(
+            &self,
+            bvh: &'a crate::bvh::Bvh<N, T>,
+        ) -> Result<Self, Error> {
+            self.with_bvh_always_hook(bvh)
+        }
+        #[cfg(feature = "bvh")]
+        fn without_bvh(&self) -> Self {
+            self.without_bvh_hook()
+        }
+        #[cfg(feature = "bvh")]
+        fn with_sphere_bvh_always<const N: usize, const T: usize>(
+            &self,
+            bvh: &'a crate::bvh::Bvh<N, T>,
+        ) -> Result<Self, Error> {
+            self.with_sphere_bvh_always_hook(bvh)
+        }
+    }
+
     pub use crate::ray::offset_origin;
     pub use crate::shade::refract;
 }

@@ -14,9 +14,9 @@ pub struct PointLight {
 }
 
 impl PointLight {
-    /// A point light; the colour components within `[0, `[`crate::MAX_COLOR`]`]`,
+    /// A point light; the colour components within `[0, `[`crate::error::MAX_COLOR`]`]`,
     /// the intensity finite and `>= 0`, the position's components within
-    /// [`crate::MAX_EXTENT`].
+    /// [`crate::error::MAX_EXTENT`].
     pub fn try_new(position: Vec3, color: Color, intensity: f32) -> Result<Self, Error> {
         let position = crate::error::position(position, Field::LightPosition)?;
         let color = crate::error::color(color, Field::LightColor)?;

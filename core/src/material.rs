@@ -19,7 +19,7 @@ pub struct MaterialId(pub u16);
 /// each number.
 ///
 /// ```
-/// use tessera::{Color, Material};
+/// use tessera::{Color, material::Material};
 /// let glass = Material::matte(Color::WHITE)
 ///     .with_diffuse(0.0).unwrap()
 ///     .with_specular(0.5, 64.0).unwrap()
@@ -49,7 +49,7 @@ impl Material {
     /// mirror, opaque. Colour components are reflectances, meant to be in `[0, 1]`
     /// (above 1 a surface returns more light than it receives); what is checked,
     /// when the material is added to a scene, is only that each is finite and in
-    /// `[0, `[`crate::MAX_COLOR`]`]`, the bound that keeps the shading finite.
+    /// `[0, `[`crate::error::MAX_COLOR`]`]`, the bound that keeps the shading finite.
     #[must_use]
     pub const fn matte(color: Color) -> Self {
         Self {

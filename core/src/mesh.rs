@@ -40,7 +40,7 @@ impl<'a> Mesh<'a> {
     /// A mesh of `faces` (three indices into `vertices` each), shaded smooth with
     /// `normals` (one per vertex) or flat (`normals` empty), of `material`, its
     /// faces found through `bvh` (built over the faces' triangles in face order,
-    /// [`crate::Bvh::build`]). Checked when a view takes it.
+    /// [`crate::bvh::Bvh::build`]). Checked when a view takes it.
     #[must_use]
     pub const fn new(
         vertices: &'a [[f32; 3]],
@@ -198,8 +198,11 @@ impl<'a> Mesh<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Bvh, BvhNode, Camera, Color, Frame, Material, PointLight, Scene, SceneView};
-    use crate::{RenderSettings, Sphere, Tile, TileCoord, Viewport};
+    use crate::{
+        Camera, Color, Frame, Scene, SceneView, bvh::Bvh, bvh::BvhNode, light::PointLight,
+        material::Material,
+    };
+    use crate::{RenderSettings, Tile, TileCoord, Viewport, geometry::Sphere};
 
     extern crate std;
     use std::vec::Vec as StdVec;
@@ -453,7 +456,7 @@ mod tests {
         assert_eq!(
             s.view().with_meshes(&many).err(),
             Some(Error::CapacityExceeded {
-                list: crate::List::Meshes,
+                list: crate::error::List::Meshes,
                 capacity: MAX_MESHES
             })
         );

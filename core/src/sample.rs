@@ -260,7 +260,7 @@ fn below_one(v: f32) -> f32 {
 /// A 32-bit integer hash with good avalanche (Wellons' "lowbias32").
 #[inline]
 #[must_use]
-pub fn mix(mut x: u32) -> u32 {
+pub(crate) fn mix(mut x: u32) -> u32 {
     x ^= x >> 16;
     x = x.wrapping_mul(0x7feb_352d);
     x ^= x >> 15;
@@ -271,7 +271,7 @@ pub fn mix(mut x: u32) -> u32 {
 
 /// Two uniform numbers in `[0, 1)` for a pixel's sample.
 #[must_use]
-pub fn random_pair(px: u32, py: u32, index: u32, seed: u32) -> (f32, f32) {
+pub(crate) fn random_pair(px: u32, py: u32, index: u32, seed: u32) -> (f32, f32) {
     PixelHash::new(px, py, seed).pair(index)
 }
 

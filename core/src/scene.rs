@@ -24,8 +24,8 @@ use heapless::Vec;
 /// materials and `L` lights.
 ///
 /// ```
-/// use tessera::{Camera, Color, Error, Material, Scene, Sphere, Vec3};
-/// use tessera::List;
+/// use tessera::{Camera, Color, Error, material::Material, Scene, geometry::Sphere, Vec3};
+/// use tessera::error::List;
 ///
 /// let cam = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0)?;
 /// let mut scene: Scene<1, 0, 0, 0, 1, 0> = Scene::new(cam);
@@ -92,14 +92,14 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
         }
     }
 
-    /// Sets the ambient light (each component in `[0, `[`crate::MAX_COLOR`]`]`).
+    /// Sets the ambient light (each component in `[0, `[`crate::error::MAX_COLOR`]`]`).
     pub fn set_ambient(&mut self, ambient: Color) -> Result<(), Error> {
         self.ambient = crate::error::color(ambient, crate::error::Field::AmbientLight)?;
         Ok(())
     }
 
     /// Sets the background colour seen by rays that hit nothing (each component in
-    /// `[0, `[`crate::MAX_COLOR`]`]`).
+    /// `[0, `[`crate::error::MAX_COLOR`]`]`).
     pub fn set_background(&mut self, background: Color) -> Result<(), Error> {
         self.background = crate::error::color(background, crate::error::Field::Background)?;
         Ok(())
@@ -192,7 +192,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
     /// another kind (whose uv are not) cannot be scaled consistently:
     /// [`Error::OutOfRange`] on the texture scale.
     #[cfg(feature = "testing")]
-    pub fn scaled_pow2(&self, k: i32) -> Result<Self, Error> {
+    pub(crate) fn scaled_pow2_hook(&self, k: i32) -> Result<Self, Error> {
         use crate::error::Field;
         use crate::texture::Texture;
         let k = k.clamp(-200, 200);

@@ -23,7 +23,7 @@
 //! it; a hit's error bound (for the origin of the rays leaving it) is computed only
 //! when a ray leaves it; a shadow ray whose tile lists hold no blocker of its light
 //! is answered without being built. The Blinn-Phong power is computed by repeated
-//! squaring when the shininess is an integer ([`crate::Material::highlight`]).
+//! squaring when the shininess is an integer ([`crate::material::Material::highlight`]).
 
 use crate::color::Color;
 use crate::cull::{MASKED_LIGHTS, PLANE_RECEIVERS, Picks, SOLID_RECEIVERS, ShadowLists};
@@ -582,7 +582,7 @@ fn children(hit: &Hit<'_>, ray: &Ray, weight: f32, depth: u8, out: &mut [Option<
 /// The largest `intensity / r^2` a light gives (`2^64`): reached only by a point
 /// within `2^-32` of the light's scale (a light on a surface), where the quotient
 /// would otherwise overflow to infinity and an infinity times a zero component
-/// would give NaN. With [`crate::MAX_COLOR`] it bounds every colour sum (see
+/// would give NaN. With [`crate::error::MAX_COLOR`] it bounds every colour sum (see
 /// there).
 const MAX_IRRADIANCE: f32 = 18_446_744_073_709_551_616.0;
 
@@ -684,14 +684,14 @@ mod tests {
                 Camera::look_at(Vec3::new(0.0, 1.0, 0.0), Vec3::ZERO, Vec3::Z, 0.1, 10.0).unwrap();
             let mut s = Scene::<0, 1, 0, 0, 1, 1>::new(cam);
             let m = s
-                .add_material(crate::Material::matte(Color::splat(grey)))
+                .add_material(crate::material::Material::matte(Color::splat(grey)))
                 .unwrap();
             s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap(), m)
                 .unwrap();
             s.add_light(
                 PointLight::try_new(
                     Vec3::new(0.0, 1e-15, 0.0),
-                    Color::splat(crate::MAX_COLOR),
+                    Color::splat(crate::error::MAX_COLOR),
                     1e30,
                 )
                 .unwrap(),

@@ -36,7 +36,7 @@ impl Texture {
     /// distance `screen`, all in the units of `u` (metres for the chapter).
     ///
     /// ```
-    /// use tessera::{Color, Texture};
+    /// use tessera::{Color, texture::Texture};
     /// let t = Texture::young(Color::WHITE, 2e-3, 500e-9, 3.0).unwrap();
     /// let Texture::Fringes { spacing, .. } = t else { unreachable!() };
     /// assert!((spacing - 0.75e-3).abs() < 1e-9);
@@ -47,7 +47,7 @@ impl Texture {
             if finite(v, Field::FringeSpacing)? <= 0.0 {
                 return Err(Error::NotPositive(Field::FringeSpacing));
             }
-            if v > crate::MAX_EXTENT {
+            if v > crate::error::MAX_EXTENT {
                 return Err(Error::OutOfRange {
                     field: Field::FringeSpacing,
                     range: SPACING_RANGE,
@@ -81,9 +81,9 @@ impl Texture {
         }
     }
 
-    /// Checks colours (each component in `[0, `[`crate::MAX_COLOR`]`]`), the
+    /// Checks colours (each component in `[0, `[`crate::error::MAX_COLOR`]`]`), the
     /// checker's scale (finite, `> 0`) and the fringe spacing (within `[2^-64,
-    /// `[`crate::MAX_EXTENT`]`]`: `u / spacing` stays finite for every point in
+    /// `[`crate::error::MAX_EXTENT`]`]`: `u / spacing` stays finite for every point in
     /// view, whose coordinates are below `2^62`, and a scene scaled down by `2^-48`
     /// keeps its fringes; beyond view an overflowing `u / spacing` is a bright
     /// fringe, see `math::cos_turns`).
@@ -99,7 +99,9 @@ impl Texture {
         if finite(scale, field)? <= 0.0 {
             return Err(Error::NotPositive(field));
         }
-        if field == Field::FringeSpacing && !(MIN_SPACING..=crate::MAX_EXTENT).contains(&scale) {
+        if field == Field::FringeSpacing
+            && !(MIN_SPACING..=crate::error::MAX_EXTENT).contains(&scale)
+        {
             return Err(Error::OutOfRange {
                 field,
                 range: SPACING_RANGE,
@@ -169,7 +171,7 @@ pub(crate) fn square_mean(x0: f32, x1: f32) -> Option<f32> {
 /// `cos^2(pi x) = (1 + cos(2 pi x)) / 2`, `x` in fringes: 1 on bright fringes
 /// (integer `x`), 0 half-way between.
 #[must_use]
-pub fn fringe_intensity(x: f32) -> f32 {
+pub(crate) fn fringe_intensity(x: f32) -> f32 {
     0.5 + 0.5 * math::cos_turns(x)
 }
 
@@ -323,9 +325,9 @@ mod tests {
         };
         let huge = Texture::Solid(Color::splat(3e38));
         assert!(same(huge.validate(), out_of_range(Field::TextureColor)));
-        let just = Texture::Solid(Color::new(0.0, crate::MAX_COLOR, 1.0));
+        let just = Texture::Solid(Color::new(0.0, crate::error::MAX_COLOR, 1.0));
         assert_eq!(just.validate(), Ok(()));
-        let above = Texture::Solid(Color::new(0.0, next_up(crate::MAX_COLOR), 1.0));
+        let above = Texture::Solid(Color::new(0.0, next_up(crate::error::MAX_COLOR), 1.0));
         assert!(same(above.validate(), out_of_range(Field::TextureColor)));
         for spacing in [f32::MIN_POSITIVE, 5e-20, 3e38] {
             let t = Texture::Fringes {
@@ -382,7 +384,7 @@ mod tests {
     fn fringes_far_away_stay_finite() {
         let t = Texture::Fringes {
             color: Color::WHITE,
-            spacing: crate::MIN_LENGTH,
+            spacing: crate::error::MIN_LENGTH,
         };
         for u in [1e30f32, -3e38, f32::MAX] {
             assert!(t.eval([u, 0.0]).is_finite(), "{u}");

@@ -100,7 +100,7 @@ impl TileLoop {
 }
 
 /// Which tile loops a firmware links ([`Frame::render_tile_in`],
-/// [`crate::DitheredRendering::linking`]). The render settings are values, so
+/// [`crate::display::DitheredRendering::linking`]). The render settings are values, so
 /// [`Frame::render_tile`] links every [`TileLoop`] ([`AllLoops`]); a firmware
 /// whose settings are fixed names the ones it needs and the others are left out
 /// of the image (the board example's README, `examples/blackpill-st7789`,
@@ -110,7 +110,7 @@ impl TileLoop {
 /// [`Loops::links`].
 ///
 /// ```
-/// use tessera::{builtin, Encoding, Loops, RenderSettings, Tile, TileCoord, TileLoop, Viewport};
+/// use tessera::{builtin, Encoding, tile::Loops, RenderSettings, Tile, TileCoord, tile::TileLoop, Viewport};
 ///
 /// /// Direct light only, sRGB, no adaptive sampling.
 /// enum DirectSrgb {}
@@ -1008,7 +1008,7 @@ mod tests {
     use core::mem::size_of;
     extern crate std;
 
-    /// The module docs' table, the crate docs' and [`crate::Rendering`]'s 776
+    /// The module docs' table, the crate docs' and [`crate::display::Rendering`]'s 776
     /// bytes: `3 N^2 + 8`.
     #[test]
     fn tile_buffer_sizes_match_the_docs() {
@@ -1138,7 +1138,7 @@ mod tests {
     #[test]
     fn a_render_with_fewer_loops_is_the_same_or_refused() {
         use crate::builtin::Builtin;
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             for (sampler, depth, encoding) in [
                 (Sampler::Centre, 0, Encoding::Srgb),
                 (Sampler::Stratified(2), 3, Encoding::Linear),

@@ -133,7 +133,7 @@ impl<'a> SceneView<'a> {
     /// `testing`.
     #[cfg(feature = "testing")]
     #[must_use]
-    pub fn without_culling(&self) -> Self {
+    pub(crate) fn without_culling_hook(&self) -> Self {
         Self {
             culling: false,
             triangle_hull: None,
@@ -156,7 +156,7 @@ impl<'a> SceneView<'a> {
     #[cfg(feature = "bvh")]
     pub fn with_bvh<const N: usize, const T: usize>(
         &self,
-        bvh: &'a crate::Bvh<N, T>,
+        bvh: &'a crate::bvh::Bvh<N, T>,
     ) -> Result<Self, Error> {
         if bvh.triangle_count() != self.triangles.len()
             || bvh.key() != crate::bvh::key(self.triangles)
@@ -192,9 +192,9 @@ impl<'a> SceneView<'a> {
     /// As [`SceneView::with_bvh`].
     #[cfg(feature = "bvh")]
     #[cfg(feature = "testing")]
-    pub fn with_bvh_always<const N: usize, const T: usize>(
+    pub(crate) fn with_bvh_always_hook<const N: usize, const T: usize>(
         &self,
-        bvh: &'a crate::Bvh<N, T>,
+        bvh: &'a crate::bvh::Bvh<N, T>,
     ) -> Result<Self, Error> {
         let v = self.with_bvh(bvh)?;
         Ok(Self {
@@ -208,7 +208,7 @@ impl<'a> SceneView<'a> {
     #[cfg(feature = "bvh")]
     #[cfg(feature = "testing")]
     #[must_use]
-    pub fn without_bvh(&self) -> Self {
+    pub(crate) fn without_bvh_hook(&self) -> Self {
         Self {
             bvh: None,
             sphere_bvh: None,
@@ -225,7 +225,7 @@ impl<'a> SceneView<'a> {
     #[cfg(feature = "bvh")]
     pub fn with_sphere_bvh<const N: usize, const T: usize>(
         &self,
-        bvh: &'a crate::Bvh<N, T>,
+        bvh: &'a crate::bvh::Bvh<N, T>,
     ) -> Result<Self, Error> {
         if bvh.triangle_count() != self.spheres.len() || bvh.key() != crate::bvh::key(self.spheres)
         {
@@ -245,9 +245,9 @@ impl<'a> SceneView<'a> {
     /// As [`SceneView::with_sphere_bvh`].
     #[cfg(feature = "bvh")]
     #[cfg(feature = "testing")]
-    pub fn with_sphere_bvh_always<const N: usize, const T: usize>(
+    pub(crate) fn with_sphere_bvh_always_hook<const N: usize, const T: usize>(
         &self,
-        bvh: &'a crate::Bvh<N, T>,
+        bvh: &'a crate::bvh::Bvh<N, T>,
     ) -> Result<Self, Error> {
         let v = self.with_sphere_bvh(bvh)?;
         Ok(Self {
@@ -281,7 +281,7 @@ impl<'a> SceneView<'a> {
     }
 
     /// The depth that rays reach in this scene when `max_depth` is asked for: at
-    /// most [`crate::MAX_DEPTH`], and 0 without a mirror or a transparent material.
+    /// most [`crate::error::MAX_DEPTH`], and 0 without a mirror or a transparent material.
     pub(crate) fn depth(&self, max_depth: u8) -> u8 {
         if self.secondary {
             max_depth.min(crate::error::MAX_DEPTH)
@@ -313,7 +313,7 @@ impl<'a> SceneView<'a> {
     /// The indexed meshes ([`SceneView::with_meshes`]).
     #[cfg(feature = "bvh")]
     #[must_use]
-    pub fn meshes(&self) -> &'a [crate::Mesh<'a>] {
+    pub fn meshes(&self) -> &'a [crate::mesh::Mesh<'a>] {
         self.meshes
     }
     /// The materials.

@@ -15,7 +15,7 @@
 
 use crate::desc::{DescError, HostBvh, HostScene, SceneDesc};
 use std::fmt::Write as _;
-use tessera::BvhNode;
+use tessera::bvh::BvhNode;
 
 /// `s` as a Rust string literal (with its quotes) that reads back to `s` and
 /// cannot leave its place in the generated file: one line of printable text,
@@ -221,6 +221,24 @@ fn v3(p: tessera::Vec3) -> String {
     vec3(p.to_array())
 }
 
+/// Where the core's public API puts `name` (a name the baked file uses), from
+/// the crate's root: `Scene` and its like at the root, the rest in their
+/// concept's module.
+fn api_path(name: &str) -> String {
+    let module = match name {
+        "Aabb" | "Plane" | "Sphere" | "Triangle" => "geometry::",
+        "Material" | "MaterialId" => "material::",
+        "Texture" => "texture::",
+        "PointLight" => "light::",
+        "BakedBvh" | "BvhNode" => "bvh::",
+        "Mesh" => "mesh::",
+        "Loops" | "TileLoop" => "tile::",
+        "SubPixel" => "sample::",
+        _ => "",
+    };
+    format!("{module}{name}")
+}
+
 /// The constant names of the materials: `MAT_` and the name in upper case,
 /// each run of characters that are not ASCII letters or digits as one `_`
 /// (none at either end), at most 32 characters of it; a name with no letter or
@@ -262,16 +280,16 @@ pub fn material_constants(names: &[String]) -> Vec<String> {
 }
 
 /// The `Texture` expression of `t`.
-fn texture(t: &tessera::Texture) -> String {
+fn texture(t: &tessera::texture::Texture) -> String {
     match *t {
-        tessera::Texture::Solid(c) => format!("Texture::Solid({})", color(c)),
-        tessera::Texture::Checker { a, b, scale } => format!(
+        tessera::texture::Texture::Solid(c) => format!("Texture::Solid({})", color(c)),
+        tessera::texture::Texture::Checker { a, b, scale } => format!(
             "Texture::Checker {{ a: {}, b: {}, scale: {} }}",
             color(a),
             color(b),
             lit(scale)
         ),
-        tessera::Texture::Fringes { color: c, spacing } => format!(
+        tessera::texture::Texture::Fringes { color: c, spacing } => format!(
             "Texture::Fringes {{ color: {}, spacing: {} }}",
             color(c),
             lit(spacing)
@@ -329,7 +347,7 @@ fn table(s: &mut String, doc: &str, name: &str, ty: &str, items: &[String]) {
 pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
     let view = b.scene.lists().view();
     let consts = material_constants(&b.names);
-    let mat = |m: tessera::MaterialId| {
+    let mat = |m: tessera::material::MaterialId| {
         consts
             .get(usize::from(m.0))
             .cloned()
@@ -485,7 +503,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
     );
     bytes += size_of_val(triangles);
     let mut with_bvh = String::new();
-    if triangles.len() >= tessera::BVH_CROSSOVER {
+    if triangles.len() >= tessera::bvh::CROSSOVER {
         let mut bvh = Box::new(HostBvh::new());
         // The host scene's capacities: 2 T nodes always suffice.
         if bvh.build(triangles).is_ok() {
@@ -588,7 +606,11 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
 
     // Size, settings, loops, the scene.
     let st = &b.settings;
-    let bounces = st.max_depth > 0 && view.materials().iter().any(tessera::Material::sends_rays);
+    let bounces = st.max_depth > 0
+        && view
+            .materials()
+            .iter()
+            .any(tessera::material::Material::sends_rays);
     let srgb = st.encoding == tessera::Encoding::Srgb;
     let adaptive = matches!(st.sampler, tessera::Sampler::Adaptive { .. });
     let tile_loop = match (adaptive, bounces, srgb) {
@@ -676,7 +698,9 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
     let _ = writeln!(s);
     names.sort_unstable();
     names.dedup();
-    let _ = writeln!(s, "use {krate}::{{{}}};\n", names.join(", "));
+    let mut paths: Vec<String> = names.iter().map(|n| api_path(n)).collect();
+    paths.sort_unstable();
+    let _ = writeln!(s, "use {krate}::{{{}}};\n", paths.join(", "));
     if !tris.is_empty() {
         let _ = writeln!(
             s,
@@ -740,7 +764,7 @@ mod tests {
     /// `TESSERA_BLESS=1` to write them after a deliberate change).
     #[test]
     fn the_cores_baked_scenes_are_current() {
-        for b in tessera::builtin::Builtin::ALL {
+        for &b in tessera::builtin::Builtin::ALL {
             let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!(
                 "../core/src/builtin/baked/{}.rs",
                 b.name().replace('-', "_")

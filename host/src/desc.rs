@@ -7,10 +7,11 @@
 use serde::Deserialize;
 use std::fmt;
 use tessera::{
-    Aabb, Camera, Color, Material, MaterialId, Plane, PointLight, Sampler, Scene, Sphere, Texture,
-    Triangle, Vec3,
+    Camera, Color, Sampler, Scene, Vec3, geometry::Aabb, geometry::Plane, geometry::Sphere,
+    geometry::Triangle, light::PointLight, material::Material, material::MaterialId,
+    texture::Texture,
 };
-use tessera::{Field, List};
+use tessera::{error::Field, error::List};
 
 /// How many spheres the host scene holds.
 pub const MAX_SPHERES: usize = 1024;
@@ -30,10 +31,10 @@ pub type CoreScene =
     Scene<MAX_SPHERES, MAX_PLANES, MAX_TRIANGLES, MAX_BOXES, MAX_MATERIALS, MAX_LIGHTS>;
 
 /// A BVH for the host scene's triangles (`2 T` nodes: always enough).
-pub type HostBvh = tessera::Bvh<{ 2 * MAX_TRIANGLES }, MAX_TRIANGLES>;
+pub type HostBvh = tessera::bvh::Bvh<{ 2 * MAX_TRIANGLES }, MAX_TRIANGLES>;
 
 /// A BVH for the host scene's spheres.
-pub type HostSphereBvh = tessera::Bvh<{ 2 * MAX_SPHERES }, MAX_SPHERES>;
+pub type HostSphereBvh = tessera::bvh::Bvh<{ 2 * MAX_SPHERES }, MAX_SPHERES>;
 
 /// A scene file's core scene: its lists ([`CoreScene`]) and its meshes, indexed
 /// (shared vertices, `u16` faces, vertex normals when smooth) with a BVH each.
@@ -43,7 +44,7 @@ pub struct HostScene {
     meshes: Vec<HostMesh>,
 }
 
-/// A mesh of a [`HostScene`]: what a [`tessera::Mesh`] of it borrows.
+/// A mesh of a [`HostScene`]: what a [`tessera::mesh::Mesh`] of it borrows.
 #[derive(Clone, Copy)]
 pub struct MeshParts<'a> {
     /// The distinct vertices.
@@ -61,13 +62,13 @@ pub struct MeshParts<'a> {
 impl<'a> MeshParts<'a> {
     /// The core's mesh of these parts.
     #[must_use]
-    pub fn mesh(&self) -> tessera::Mesh<'a> {
-        let bvh = tessera::BakedBvh::new(self.bvh.nodes(), self.bvh.order(), self.bvh.reach());
-        tessera::Mesh::new(self.vertices, self.faces, self.normals, self.material, bvh)
+    pub fn mesh(&self) -> tessera::mesh::Mesh<'a> {
+        let bvh = tessera::bvh::BakedBvh::new(self.bvh.nodes(), self.bvh.order(), self.bvh.reach());
+        tessera::mesh::Mesh::new(self.vertices, self.faces, self.normals, self.material, bvh)
     }
 }
 
-/// A mesh's data, which a [`tessera::Mesh`] borrows.
+/// A mesh's data, which a [`tessera::mesh::Mesh`] borrows.
 struct HostMesh {
     vertices: Vec<[f32; 3]>,
     faces: Vec<[u16; 3]>,
@@ -120,7 +121,7 @@ impl HostScene {
     /// BVH when there are enough of them for it to pay
     /// ([`tessera::SceneView::with_bvh`]).
     pub fn with_view<R>(&self, f: impl FnOnce(&tessera::SceneView<'_>) -> R) -> R {
-        let meshes: Vec<tessera::Mesh<'_>> = self.mesh_parts().map(|m| m.mesh()).collect();
+        let meshes: Vec<tessera::mesh::Mesh<'_>> = self.mesh_parts().map(|m| m.mesh()).collect();
         let view = self.scene.view();
         // Checked when the scene was made: cannot fail (if it did, the meshes
         // would be missing from the image, which every test would see).
@@ -131,7 +132,7 @@ impl HostScene {
         };
         // Built only where it pays; as below, it cannot fail, and the flat list
         // renders the same image.
-        let spheres = (view.spheres().len() >= tessera::BVH_SPHERE_CROSSOVER)
+        let spheres = (view.spheres().len() >= tessera::bvh::SPHERE_CROSSOVER)
             .then(|| {
                 let mut b = Box::new(HostSphereBvh::new());
                 b.build(view.spheres()).ok().map(|()| b)
@@ -141,7 +142,7 @@ impl HostScene {
             Some(b) => view.with_sphere_bvh(b).unwrap_or(view),
             None => view,
         };
-        if view.triangles().len() < tessera::BVH_CROSSOVER {
+        if view.triangles().len() < tessera::bvh::CROSSOVER {
             return f(&view);
         }
         let mut bvh = Box::new(HostBvh::new());
@@ -1008,9 +1009,9 @@ impl SceneDesc {
             s.add_box(core_box(&item, d)?, self.material_id(&item, &d.material)?)
                 .map_err(|e| item.refused(e))?;
         }
-        if self.meshes.len() > tessera::MAX_MESHES {
-            let item = Item(format!("mesh {}", tessera::MAX_MESHES + 1));
-            return Err(item.fail(too_many(List::Meshes, tessera::MAX_MESHES)));
+        if self.meshes.len() > tessera::mesh::MAX_MESHES {
+            let item = Item(format!("mesh {}", tessera::mesh::MAX_MESHES + 1));
+            return Err(item.fail(too_many(List::Meshes, tessera::mesh::MAX_MESHES)));
         }
         let mut meshes = Vec::with_capacity(self.meshes.len());
         for (i, m) in self.meshes.iter().enumerate() {

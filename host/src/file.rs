@@ -825,13 +825,7 @@ impl Places {
 
 /// The text of the built-in scene's file, `scenes/NAME.toml` (embedded).
 pub fn builtin_source(b: Builtin) -> &'static str {
-    match b {
-        Builtin::ChapterDirect => include_str!("../../scenes/chapter-direct.toml"),
-        Builtin::ChapterReflect => include_str!("../../scenes/chapter-reflect.toml"),
-        Builtin::Interference => include_str!("../../scenes/interference.toml"),
-        Builtin::Showcase => include_str!("../../scenes/showcase.toml"),
-        Builtin::Teapot => include_str!("../../scenes/teapot.toml"),
-    }
+    b.source()
 }
 
 /// The built-in scene as a description, parsed from its embedded file (which the
@@ -893,7 +887,7 @@ mod tests {
             let img = render_desc(&d, Viewport::new(24, 18));
             assert_eq!(img.dimensions(), (24, 18));
         }
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             let name = format!("{}.toml", b.name());
             assert!(files.iter().any(|f| f.ends_with(&name)), "{name} missing");
         }
@@ -902,7 +896,7 @@ mod tests {
     #[test]
     #[cfg(feature = "cli")] // renders
     fn builtin_files_render_exactly_like_the_core_scenes() {
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             let d = builtin_desc(b);
             let s = d.to_core().unwrap();
             let vp = Viewport::new(96, 72);
@@ -921,7 +915,7 @@ mod tests {
     /// every number of the core scene built from the file is the built-in's.
     #[test]
     fn builtin_files_build_the_same_core_scene_bit_for_bit() {
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             let d = builtin_desc(b);
             let s = d.to_core().unwrap();
             let cam = *s.camera();
@@ -953,7 +947,7 @@ mod tests {
 
     #[test]
     fn builtin_files_have_the_builtin_settings() {
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             let d = builtin_desc(b);
             assert_eq!(d.settings().unwrap(), b.settings(), "{}", b.name());
             assert_eq!(

@@ -7,7 +7,9 @@ use crate::{HostError, limits, output, png};
 use image::RgbImage;
 use std::io::{Seek, Write};
 use std::path::Path;
-use tessera::{Camera, Frame, RayCount, RenderSettings, SceneView, Tile, TileCoord, Viewport};
+use tessera::{
+    Camera, Frame, RenderSettings, SceneView, Tile, TileCoord, Viewport, trace::RayCount,
+};
 
 /// Renders the whole frame tile by tile with tiles of `N x N`, in the order given
 /// by `order` (a permutation of the tile indices, row-major; `None` = row-major).
@@ -293,7 +295,7 @@ mod tests {
         let flat = RgbImage::from_pixel(33, 7, image::Rgb([10, 200, 30]));
         let dot = RgbImage::from_pixel(1, 1, image::Rgb([1, 2, 3]));
         let mut scenes = Vec::new();
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             frame(b, 160, 120, |v, f| {
                 scenes.push(render_tiles::<16>(v, f, None).unwrap());
             });

@@ -28,7 +28,7 @@
 //!   most [`MAX_GIF_DELAY_MS`] between frames.
 
 use crate::HostError;
-use tessera::{Camera, Frame, RayCount, RenderSettings, Sampler, SceneView, Viewport};
+use tessera::{Camera, Frame, RenderSettings, Sampler, SceneView, Viewport, trace::RayCount};
 
 /// The most render threads.
 pub const MAX_THREADS: usize = 256;
@@ -262,8 +262,8 @@ impl Work {
         let mut levels: f64 = faces.iter().map(|&n| level(n)).sum();
         // As the host's scenes take hierarchies (desc::HostScene::with_view).
         for (n, crossover) in [
-            (spheres, tessera::BVH_SPHERE_CROSSOVER),
-            (triangles, tessera::BVH_CROSSOVER),
+            (spheres, tessera::bvh::SPHERE_CROSSOVER),
+            (triangles, tessera::bvh::CROSSOVER),
         ] {
             if n < crossover {
                 flat += n;

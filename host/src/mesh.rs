@@ -10,7 +10,7 @@
 use crate::desc::{Face, MAX_TRIANGLES, MeshDesc, core_triangle_of, num, too_many};
 use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
-use tessera::List;
+use tessera::error::List;
 
 /// The most OBJ text a scene reads, in bytes, all its meshes together: 16 MiB.
 /// The host's 8,192 triangles take about 1 MiB of OBJ text (with normals and
@@ -355,7 +355,7 @@ mod tests {
         let (a, b) = (d.to_core().unwrap(), written.to_core().unwrap());
         let (mesh, list) = (a.mesh_parts().next().unwrap(), b.lists().view());
         assert_eq!(mesh.faces.len(), 20);
-        let faces: Vec<tessera::Triangle> = mesh
+        let faces: Vec<tessera::geometry::Triangle> = mesh
             .faces
             .iter()
             .map(|f| {
@@ -363,10 +363,11 @@ mod tests {
                     let [x, y, z] = mesh.vertices[usize::from(i)];
                     tessera::Vec3::new(x, y, z)
                 });
-                tessera::Triangle::try_new(p, q, r).unwrap()
+                tessera::geometry::Triangle::try_new(p, q, r).unwrap()
             })
             .collect();
-        let listed: Vec<tessera::Triangle> = list.triangles().iter().map(|t| t.geometry).collect();
+        let listed: Vec<tessera::geometry::Triangle> =
+            list.triangles().iter().map(|t| t.geometry).collect();
         assert_eq!(faces, listed);
         let vp = tessera::Viewport::new(32, 24);
         let render = |s: &crate::desc::HostScene| {

@@ -10,7 +10,7 @@ use image::RgbImage;
 use std::fmt;
 use std::io::Write;
 use std::str::FromStr;
-use tessera::{Camera, Dither, Frame, SceneView, TilePixel, Vec3};
+use tessera::{Camera, Frame, SceneView, Vec3, display::TilePixel, dither::Dither};
 
 /// The colour type of the simulated panel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -89,7 +89,7 @@ pub fn simulate(
 
 /// [`simulate`] with tiles of `tile` pixels (8, 16 or 32), each pixel converted to
 /// the panel's colour with `dither` (`None`: `embedded-graphics`' own conversion;
-/// see [`tessera::Dither`]).
+/// see [`tessera::dither::Dither`]).
 pub fn simulate_tiled(
     scene: &SceneView<'_>,
     frame: &Frame,
@@ -107,7 +107,7 @@ pub fn simulate_tiled(
 
 /// The cameras of an orbit of `frames` steps around the vertical (camera up) axis
 /// through `pivot`, starting at `camera`: all of them, or the first the core
-/// refuses (a position beyond [`tessera::MAX_EXTENT`]), as a
+/// refuses (a position beyond [`tessera::error::MAX_EXTENT`]), as a
 /// [`HostError::Scene`] whose item is the frame (`orbit frame 3 of 36`, numbered
 /// from 0 as the frames' files are) and whose message gives the position.
 pub fn orbit(camera: &Camera, pivot: Vec3, frames: u32) -> Result<Vec<Camera>, HostError> {
@@ -169,7 +169,8 @@ fn show(v: Vec3) -> String {
 /// The core's error if the camera's position or forward direction is not a ray
 /// (not finite): a camera built by [`Camera::try_new`] always is.
 pub fn pivot(scene: &SceneView<'_>, camera: &Camera) -> Result<Vec3, HostError> {
-    let ray = tessera::Ray::new(camera.position(), camera.forward()).map_err(HostError::Core)?;
+    let ray =
+        tessera::trace::Ray::new(camera.position(), camera.forward()).map_err(HostError::Core)?;
     let t = tessera::trace::first_hit(scene, &ray, camera.far())
         .unwrap_or_else(|| (-camera.position()).dot(camera.forward()))
         .max(10.0 * camera.near());
@@ -313,7 +314,7 @@ mod tests {
     /// every built-in scene closer to its 8-bit image (mean FLIP).
     #[test]
     fn dithering_is_the_same_for_every_tile_size_and_closer_to_8_bits() {
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             b.with_scene(|view, cam| {
                 let frame = Frame::try_new(cam, Viewport::new(72, 56), b.settings()).unwrap();
                 let full = crate::render_tiles::<16>(view, &frame, None).unwrap();

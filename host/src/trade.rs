@@ -15,7 +15,7 @@ use image::RgbImage;
 use std::path::Path;
 use std::time::Instant;
 use tessera::builtin::Builtin;
-use tessera::{Frame, MAX_DEPTH, RenderSettings, Sampler, SceneView, Viewport};
+use tessera::{Frame, RenderSettings, Sampler, SceneView, Viewport, error::MAX_DEPTH};
 
 /// One setting of the trade.
 #[derive(Clone, Copy, Debug, PartialEq)]

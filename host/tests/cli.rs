@@ -324,8 +324,8 @@ fn simulate_saves_what_a_240x240_rgb565_panel_shows() {
         .unwrap();
     // Dithered by default (bayer4 at each pixel's position).
     for ((x, y, s), h) in shown.enumerate_pixels().zip(host.pixels()) {
-        let p = tessera::Rgb8::new(h[0], h[1], h[2]);
-        let (r, g, b) = tessera::Dither::Bayer4.rgb565(p, x, y);
+        let p = tessera::color::Rgb8::new(h[0], h[1], h[2]);
+        let (r, g, b) = tessera::dither::Dither::Bayer4.rgb565(p, x, y);
         let want: Rgb888 = Rgb565::new(r, g, b).into();
         assert_eq!(s.0, [want.r(), want.g(), want.b()], "({x}, {y})");
     }

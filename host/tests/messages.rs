@@ -27,7 +27,7 @@ fn usage_error(args: &[&str], want: &[&str]) -> String {
 
 #[test]
 fn a_depth_beyond_the_maximum_is_a_usage_error_naming_the_range() {
-    let max = tessera::MAX_DEPTH.to_string();
+    let max = tessera::error::MAX_DEPTH.to_string();
     for cmd in ["render", "compare", "simulate"] {
         usage_error(
             &[cmd, "--depth", "9"],

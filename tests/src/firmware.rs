@@ -1010,7 +1010,7 @@ mod tests {
     #[test]
     fn run_lines_read_back_as_written() {
         let mut runs = Vec::new();
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             for (sampler, tile, scale) in [
                 (Sampler::Centre, 8, 0),
                 (Sampler::Stratified(3), 16, -20),

@@ -34,7 +34,9 @@ pub mod nofpu;
 pub mod random_scene;
 
 use std::path::PathBuf;
-use tessera::{Camera, Color, Material, PointLight, Scene, Sphere, Vec3};
+use tessera::{
+    Camera, Color, Scene, Vec3, geometry::Sphere, light::PointLight, material::Material,
+};
 
 /// The analytic scene: the camera at the centre of a diffuse sphere of radius `r`,
 /// a point light of intensity `intensity` at the same centre, no ambient light.

@@ -9,8 +9,10 @@
 use proptest::prelude::*;
 use std::marker::PhantomData;
 use tessera::{
-    Aabb, Camera, Color, Encoding, MAX_COLOR, MAX_EXTENT, MIN_LENGTH, Material, MaterialId, Plane,
-    PointLight, RenderSettings, Sampler, Scene, Sphere, Texture, Triangle, Vec3,
+    Camera, Color, Encoding, RenderSettings, Sampler, Scene, Vec3, error::MAX_COLOR,
+    error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb, geometry::Plane, geometry::Sphere,
+    geometry::Triangle, light::PointLight, material::Material, material::MaterialId,
+    texture::Texture,
 };
 
 /// The numbers a recipe is drawn from.

@@ -11,8 +11,8 @@
 
 use image::RgbImage;
 use tessera::{
-    Camera, Color, Material, Plane, PointLight, RayCount, RenderSettings, Sampler, Scene, Sphere,
-    Tile, TileCoord, Vec3, Viewport,
+    Camera, Color, RenderSettings, Sampler, Scene, Tile, TileCoord, Vec3, Viewport,
+    geometry::Plane, geometry::Sphere, light::PointLight, material::Material, trace::RayCount,
 };
 use tessera_host::render_tiles;
 

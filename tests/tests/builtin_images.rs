@@ -44,7 +44,7 @@ fn mean(img: &RgbImage, x0: u32, y0: u32, x1: u32, y1: u32) -> [f64; 3] {
 #[test]
 fn builtin_scenes_render_to_png() {
     let dir = output_dir();
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         let img = render(b, 320, 240);
         let path = dir.join(format!("{}.png", b.name()));
         tessera_host::write_png(&img, &path).unwrap();

@@ -5,7 +5,8 @@
 //! Deterministic: fixed seeds, no timing.
 
 use tessera::{
-    Camera, Color, Frame, Material, RenderSettings, Sampler, Scene, Triangle, Vec3, Viewport,
+    Camera, Color, Frame, RenderSettings, Sampler, Scene, Vec3, Viewport, geometry::Triangle,
+    material::Material,
 };
 
 const N: u16 = 64;

@@ -11,9 +11,10 @@ use image::RgbImage;
 use proptest::prelude::*;
 use std::path::Path;
 use tessera::builtin::Builtin;
+use tessera::testing::{BuiltinHooks as _, ViewHooks as _};
 use tessera::{
-    Bvh, Camera, Color, Frame, Material, Plane, PointLight, RenderSettings, Sampler, Scene,
-    SceneView, Triangle, Vec3, Viewport,
+    Camera, Color, Frame, RenderSettings, Sampler, Scene, SceneView, Vec3, Viewport, bvh::Bvh,
+    geometry::Plane, geometry::Triangle, light::PointLight, material::Material,
 };
 use tessera_host::render_tiles;
 use tessera_tests::random_scene::{Values, recipe};
@@ -89,7 +90,7 @@ fn same_culled_or_not(view: &SceneView<'_>, frame: &Frame, what: &str) -> RgbIma
 fn builtin_scenes_render_the_same_culled_or_not() {
     // An odd size: partial edge tiles for every tile size.
     let vp = Viewport::new(77, 53);
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         for sampler in [
             Sampler::Centre,
             Sampler::Stratified(2),
@@ -142,7 +143,7 @@ fn scene_files_render_the_same_culled_or_not() {
 #[test]
 fn scaled_scenes_render_the_same_culled_or_not() {
     let vp = Viewport::new(48, 36);
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         // The extremes of the supported range (see `extremes.rs`, case 12) and two
         // scales in between.
         let ks: &[i32] = if b == Builtin::Interference {
@@ -256,7 +257,7 @@ fn coincident(copies: Copies, plane_point: Vec3, normal: Vec3) {
                 s.add_triangle(t, colours[m]).unwrap();
             }
             Copies::Spheres => {
-                let ball = tessera::Sphere::try_new(Vec3::new(x, y, 0.0), 0.45).unwrap();
+                let ball = tessera::geometry::Sphere::try_new(Vec3::new(x, y, 0.0), 0.45).unwrap();
                 s.add_sphere(ball, colours[m]).unwrap();
             }
         }

@@ -4,9 +4,10 @@
 //! `cargo run -p tessera-tests --release --bin extremes-report` prints the figures
 //! over larger sweeps. Case 12 (firmware under qemu) lives with the firmware tests.
 
-use tessera::Field;
+use tessera::error::Field;
 use tessera::{
-    Aabb, Camera, Color, Error, MAX_EXTENT, MIN_LENGTH, Plane, PointLight, Sphere, Triangle, Vec3,
+    Camera, Color, Error, Vec3, error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb,
+    geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight,
 };
 use tessera_tests::extremes::*;
 

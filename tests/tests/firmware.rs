@@ -59,7 +59,7 @@ fn with(scene: Builtin, sampler: Sampler, seed: u32, width: u16, height: u16) ->
 /// the extremes battery.
 pub(crate) fn identity_runs() -> Vec<Run> {
     let mut runs = Vec::new();
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         let adaptive = Adaptive { k: 2, threshold: 8 };
         for sampler in [Centre, Stratified(2), Random(3), adaptive] {
             runs.push(with(b, sampler, 7, 64, 64));
@@ -90,7 +90,7 @@ pub(crate) fn identity_runs() -> Vec<Run> {
     }
     // The built-in scenes from their baked `static` tables (flash), at their
     // own settings: the chip's pixels equal the host's scene built in RAM.
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         runs.push(Run::of(SceneRef::Baked(b), 64, 48));
     }
     // The extremes battery's scenes (cases 13 and 14): surfaces far larger than
@@ -273,7 +273,11 @@ fn extreme_scales_render_the_same_bits_on_the_chip() {
     // The teapot scaled is a copy of its mesh and a BVH built in RAM (about 120
     // KiB of stack, more than this chip has): the host checks it (the extremes
     // battery's scales and the culling tests).
-    for b in Builtin::ALL.into_iter().filter(|&b| b != Builtin::Teapot) {
+    for b in Builtin::ALL
+        .iter()
+        .copied()
+        .filter(|&b| b != Builtin::Teapot)
+    {
         // The interference screen's near distance (0.01) reaches the smallest
         // supported length (2^-52) first: its range starts at k = -45.
         let low = if b == Builtin::Interference { -45 } else { -48 };

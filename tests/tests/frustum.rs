@@ -4,14 +4,15 @@
 
 use tessera::builtin::Builtin;
 use tessera::{
-    Camera, Color, Frame, Material, RayCount, RenderSettings, Scene, Sphere, Vec3, Viewport,
+    Camera, Color, Frame, RenderSettings, Scene, Vec3, Viewport, geometry::Sphere,
+    material::Material, trace::RayCount,
 };
 
 const BG: Color = Color::new(0.0, 0.0, 1.0);
 
 /// A red sphere of radius 0.5 at distance `d` straight ahead of a camera with near
 /// 1 and far 10; returns the centre pixel.
-fn centre_pixel_with_sphere_at(d: f32) -> tessera::Rgb8 {
+fn centre_pixel_with_sphere_at(d: f32) -> tessera::color::Rgb8 {
     let cam = Camera::try_new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, 1.0, 10.0).unwrap();
     let mut s: Scene<1, 0, 0, 0, 1, 0> = Scene::new(cam);
     s.set_ambient(Color::WHITE).unwrap();
@@ -29,8 +30,8 @@ fn centre_pixel_with_sphere_at(d: f32) -> tessera::Rgb8 {
 
 #[test]
 fn only_what_lies_between_near_and_far_is_seen() {
-    let red = tessera::Rgb8::new(255, 0, 0);
-    let blue = tessera::Rgb8::new(0, 0, 255);
+    let red = tessera::color::Rgb8::new(255, 0, 0);
+    let blue = tessera::color::Rgb8::new(0, 0, 255);
     assert_eq!(centre_pixel_with_sphere_at(5.0), red);
     // Front surface at 9.9: inside the frustum.
     assert_eq!(centre_pixel_with_sphere_at(10.4), red);
@@ -104,7 +105,7 @@ fn unlit_materials_cast_no_shadow_rays() {
 #[test]
 fn deepest_recursion_through_glass_stays_finite() {
     let settings = RenderSettings {
-        max_depth: tessera::MAX_DEPTH,
+        max_depth: tessera::error::MAX_DEPTH,
         sampler: tessera::Sampler::Stratified(2),
         seed: 3,
         encoding: tessera::Encoding::Linear,

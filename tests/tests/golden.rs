@@ -15,7 +15,7 @@ fn golden_dir() -> PathBuf {
 fn builtin_scenes_match_their_golden_images() {
     let bless = std::env::var_os("TESSERA_BLESS").is_some();
     let mut failures = Vec::new();
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         let img = b
             .with_scene(|v, c| {
                 tessera_host::render(v, c, Viewport::new(320, 240), b.settings(), 16)

@@ -29,7 +29,7 @@ fn accuracy(b: Builtin, settings: RenderSettings, vp: Viewport) -> Accuracy {
 fn every_builtin_scene_agrees_with_the_reference() {
     let vp = Viewport::new(320, 240);
     let mut report = String::new();
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         let acc = accuracy(b, b.settings(), vp);
         report.push_str(&format!("== {}\n{acc}\n", b.name()));
         assert!(acc.meets_bar(), "{}:\n{acc}", b.name());
@@ -64,7 +64,8 @@ fn antialiased_renders_agree_with_the_reference() {
 fn srgb_renders_agree_with_the_reference() {
     let vp = Viewport::new(160, 120);
     let mut cases: Vec<(Builtin, Sampler)> = Builtin::ALL
-        .into_iter()
+        .iter()
+        .copied()
         .map(|b| (b, b.settings().sampler))
         .collect();
     cases.push((Builtin::Showcase, Sampler::adaptive(3)));

@@ -21,7 +21,7 @@ fn shuffled(n: usize, mut seed: u64) -> Vec<usize> {
 fn tile_size_and_order_do_not_change_a_pixel() {
     // An odd size, so that edge tiles are partial for every tile size.
     let vp = Viewport::new(77, 53);
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         for sampler in [
             Sampler::Centre,
             Sampler::Stratified(2),

@@ -36,7 +36,7 @@ impl Aabb {
     /// # Errors
     /// [`Error::NotFinite`] with [`Field::BoxMin`] or [`Field::BoxMax`] if a
     /// component is NaN or infinite, [`Error::OutOfRange`] if it is beyond
-    /// [`crate::MAX_EXTENT`]; [`Error::InvertedBox`] if `min > max` on some
+    /// [`crate::error::MAX_EXTENT`]; [`Error::InvertedBox`] if `min > max` on some
     /// axis.
     pub fn try_new(min: Vec3, max: Vec3) -> Result<Self, Error> {
         let min = position(min, Field::BoxMin)?;

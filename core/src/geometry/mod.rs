@@ -126,7 +126,7 @@ fn surface<G: Locate>(g: &G, ray: &Ray, hit: &Candidate) -> Surface {
 /// "Building an orthonormal basis, revisited"): branch-free apart from the sign, no
 /// singularity, exact for the axes.
 #[must_use]
-pub fn tangent_basis(n: Vec3) -> (Vec3, Vec3) {
+pub(crate) fn tangent_basis(n: Vec3) -> (Vec3, Vec3) {
     let sign = crate::math::copysign(1.0, n.z);
     let a = -1.0 / (sign + n.z);
     let b = n.x * n.y * a;

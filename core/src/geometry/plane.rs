@@ -31,10 +31,10 @@ pub struct Plane {
 
 impl Plane {
     /// A plane; the normal may have any non-zero finite length (it is normalised);
-    /// the point's components must be within [`crate::MAX_EXTENT`].
+    /// the point's components must be within [`crate::error::MAX_EXTENT`].
     ///
     /// ```
-    /// use tessera::{Error, Field, Plane, Vec3};
+    /// use tessera::{Error, error::Field, geometry::Plane, Vec3};
     /// assert!(Plane::try_new(Vec3::ZERO, Vec3::new(0.0, 2.0, 0.0)).is_ok());
     /// assert_eq!(
     ///     Plane::try_new(Vec3::ZERO, Vec3::ZERO),

@@ -20,11 +20,11 @@ pub struct Sphere {
 
 impl Sphere {
     /// A sphere; the centre's components must be finite and within
-    /// [`crate::MAX_EXTENT`], the radius within `[`[`crate::MIN_LENGTH`]`,
-    /// `[`crate::MAX_EXTENT`]`]`.
+    /// [`crate::error::MAX_EXTENT`], the radius within `[`[`crate::error::MIN_LENGTH`]`,
+    /// `[`crate::error::MAX_EXTENT`]`]`.
     ///
     /// ```
-    /// use tessera::{Error, Field, Sphere, Vec3};
+    /// use tessera::{Error, error::Field, geometry::Sphere, Vec3};
     /// assert!(Sphere::try_new(Vec3::ZERO, 1.0).is_ok());
     /// assert_eq!(
     ///     Sphere::try_new(Vec3::ZERO, -1.0),
@@ -546,7 +546,7 @@ mod tests {
             Err(Error::NotFinite(Field::SphereCenter))
         );
         // The supported range of lengths: 2^-52 to 2^60, both included.
-        let (lo, hi) = (crate::MIN_LENGTH, crate::MAX_EXTENT);
+        let (lo, hi) = (crate::error::MIN_LENGTH, crate::error::MAX_EXTENT);
         assert!(Sphere::try_new(Vec3::splat(hi), lo).is_ok());
         assert!(Sphere::try_new(Vec3::ZERO, hi).is_ok());
         for (c, r) in [

@@ -185,7 +185,7 @@ impl Triangle {
     ///
     /// # Errors
     /// [`Error::NotFinite`]`(`[`Field::TriangleVertex`]`)` if a component is NaN or
-    /// infinite, [`Error::OutOfRange`] if it is beyond [`crate::MAX_EXTENT`];
+    /// infinite, [`Error::OutOfRange`] if it is beyond [`crate::error::MAX_EXTENT`];
     /// [`Error::DegenerateTriangle`] if the vertices are collinear, i.e. the
     /// normal `(p1 - p0) x (p2 - p0)` cannot be normalised (scale-free: any finite
     /// non-zero cross product is accepted, however small).

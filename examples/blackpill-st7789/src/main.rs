@@ -41,7 +41,7 @@ use stm32f4xx_hal::rcc::{Config, Rcc};
 use stm32f4xx_hal::spi::Spi;
 use stm32f4xx_hal::timer::SysDelay;
 use tessera::builtin::baked::teapot::{SCENE, SceneLoops};
-use tessera::{Dither, Viewport};
+use tessera::{dither::Dither, Viewport};
 
 /// The crystal of the Black Pill, in MHz.
 const HSE_MHZ: u32 = 25;
@@ -253,7 +253,7 @@ fn init_panel<'b>(
 ///
 /// It links only the tile loops the scene needs (`SceneLoops`, which the baker
 /// writes: direct light, sRGB, no adaptive sampler); the others are left out
-/// of the image (`tessera::Loops`; the README gives the flash this saves), and
+/// of the image (`tessera::tile::Loops`; the README gives the flash this saves), and
 /// settings that needed one would be refused by `linking`, not drawn wrong.
 fn draw_teapot<D>(display: &mut D) -> Result<(), Failure>
 where

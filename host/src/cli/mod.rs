@@ -102,7 +102,7 @@ impl Cli {
             Some(Command::Trade(a)) => trade::run(&a),
             Some(Command::Bake(a)) => bake::run(&a),
             Some(Command::Scenes) => {
-                for b in Builtin::ALL {
+                for &b in Builtin::ALL {
                     println!("{}", b.name());
                 }
                 Ok(())
@@ -158,10 +158,10 @@ fn parse_size(s: &str) -> Result<(u16, u16), String> {
 
 fn parse_depth(s: &str) -> Result<u8, String> {
     match s.trim().parse::<u8>() {
-        Ok(d) if d <= tessera::MAX_DEPTH => Ok(d),
+        Ok(d) if d <= tessera::error::MAX_DEPTH => Ok(d),
         _ => Err(format!(
             "expected a depth from 0 to {} (reflections and refractions), got {s:?}",
-            tessera::MAX_DEPTH
+            tessera::error::MAX_DEPTH
         )),
     }
 }

@@ -22,7 +22,7 @@ pub struct SimulateArgs {
     /// nearest level, as embedded-graphics converts), bayer4 or bayer8 (ordered
     /// dithering by the pixel's position in the frame)
     #[arg(long, default_value = "bayer4", value_parser = parse_dither)]
-    dither: tessera::Dither,
+    dither: tessera::dither::Dither,
     /// Output: a PNG, or with --orbit an animated GIF (.gif) or numbered PNG frames
     /// (NAME-000.png, ...) [default: simulator.png, or simulator-orbit.gif]
     #[arg(short, long)]
@@ -41,8 +41,8 @@ pub struct SimulateArgs {
     window: bool,
 }
 
-/// `--dither`: a [`tessera::Dither`].
-fn parse_dither(s: &str) -> Result<tessera::Dither, String> {
+/// `--dither`: a [`tessera::dither::Dither`].
+fn parse_dither(s: &str) -> Result<tessera::dither::Dither, String> {
     s.parse()
         .map_err(|_| format!("expected none, bayer4 or bayer8, got {s:?}"))
 }

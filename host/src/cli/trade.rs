@@ -72,13 +72,7 @@ fn warn_work(scenes: &[Builtin], vp: Viewport, args: &TradeArgs) -> Result<(), E
         args.truth_dir.as_ref(),
     )?;
     let (w, h) = parse_size(DEFAULT_SIZE).unwrap_or((128, 96));
-    let default = bound(
-        &Builtin::ALL,
-        Viewport::new(w, h),
-        DEFAULT_RUNS,
-        false,
-        None,
-    )?;
+    let default = bound(Builtin::ALL, Viewport::new(w, h), DEFAULT_RUNS, false, None)?;
     let ratio = asked / default.max(f64::MIN_POSITIVE);
     let seconds = limits::TRADE_DEFAULT_SECONDS * ratio;
     if ratio > 1.0 && seconds > limits::WARN_SECONDS {

@@ -388,7 +388,7 @@ mod tests {
     fn checker_parity_agrees_with_the_core_where_indices_saturate() {
         let (a, b) = (V3::new(1.0, 1.0, 1.0), V3::ZERO);
         for scale in [1e20f32, 3.4e38] {
-            let core = tessera::Texture::Checker {
+            let core = tessera::texture::Texture::Checker {
                 a: tessera::Color::WHITE,
                 b: tessera::Color::BLACK,
                 scale,

@@ -254,7 +254,7 @@ fn every_scene_file_baked_renders_like_tessera_render() {
     std::fs::create_dir(&out_dir).unwrap();
     let main = format!(
         "{mods}\n\
-         use tessera::{{BakedScene, Loops, Tile, TileCoord}};\n\n\
+         use tessera::{{BakedScene, Tile, TileCoord, tile::Loops}};\n\n\
          /// The scene at its own size, settings and tile size, as RGB bytes in a file.\n\
          fn render<const N: usize, L: Loops, const S: usize, const P: usize, const T: usize, const B: usize>(\n    \
              scene: &BakedScene<'static, S, P, T, B>,\n    name: &str,\n) {{\n    \

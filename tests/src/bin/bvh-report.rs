@@ -22,9 +22,10 @@
 //! in the flat triangle list, or as built in: smooth, through its BVH).
 
 use std::time::Instant;
+use tessera::testing::ViewHooks as _;
 use tessera::{
-    Bvh, Camera, Color, Frame, Material, Plane, PointLight, RenderSettings, Sampler, Scene,
-    SceneView, Triangle, Vec3, Viewport,
+    Camera, Color, Frame, RenderSettings, Sampler, Scene, SceneView, Vec3, Viewport, bvh::Bvh,
+    geometry::Plane, geometry::Triangle, light::PointLight, material::Material,
 };
 use tessera_tests::extremes::icosphere;
 
@@ -232,7 +233,7 @@ fn balls(n: usize) -> Box<BallScene> {
     for i in 0..n {
         let (x, z) = ((i % side) as f32, (i / side) as f32);
         let c = Vec3::new(-4.0 + (x + 0.5) * step, 0.4 * step, -4.0 + (z + 0.5) * step);
-        let ball = tessera::Sphere::try_new(c, 0.4 * step).expect("sphere");
+        let ball = tessera::geometry::Sphere::try_new(c, 0.4 * step).expect("sphere");
         s.add_sphere(ball, red).expect("sphere");
     }
     s.add_light(PointLight::try_new(Vec3::new(2.0, 8.0, 4.0), Color::WHITE, 60.0).expect("light"))
@@ -349,12 +350,12 @@ fn teapot() -> Result<(), String> {
         bvh.build(list.view().triangles())
             .map_err(|e| e.to_string())?;
         let mesh = view.meshes()[0];
-        let flat_mesh = [tessera::Mesh::new(
+        let flat_mesh = [tessera::mesh::Mesh::new(
             mesh.vertices(),
             mesh.faces(),
             &[],
             mesh.material(),
-            tessera::BakedBvh::new(bvh.nodes(), bvh.order(), bvh.reach()),
+            tessera::bvh::BakedBvh::new(bvh.nodes(), bvh.order(), bvh.reach()),
         )];
         let lists = list.view();
         let no_triangles = teapot_list(view, cam, false)?;

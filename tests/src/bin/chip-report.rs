@@ -96,7 +96,7 @@ fn main() -> ExitCode {
 /// settings encoded linear, for the encoding's cost.
 fn runs() -> Vec<Run> {
     let mut runs = Vec::new();
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         let depths = if b == Builtin::ChapterReflect {
             vec![0, 1, 3]
         } else {
@@ -113,7 +113,7 @@ fn runs() -> Vec<Run> {
             }
         }
     }
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         runs.push(Run {
             tile: TILE,
             encoding: Encoding::Linear,
@@ -134,7 +134,7 @@ fn runs() -> Vec<Run> {
 /// from its exact backend).
 fn core_runs() -> Vec<Run> {
     let mut runs = Vec::new();
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         for sampler in [Centre, Stratified(4)] {
             runs.push(Run {
                 sampler,
@@ -755,7 +755,7 @@ impl Measured {
             "| scene | exact: render_tile | exact: peak - harness | fast-math: render_tile | fast-math: peak - harness |"
         );
         let _ = writeln!(w, "|---|---|---|---|---|");
-        for b in Builtin::ALL {
+        for &b in Builtin::ALL {
             let worst = |be: &Backend, f: &dyn Fn(&firmware::RunResult) -> u64| {
                 runs.iter()
                     .zip(&be.out.runs)

@@ -14,7 +14,7 @@ use image::{RgbImage, imageops};
 use std::fmt::Write as _;
 use tessera::Viewport;
 use tessera::builtin::Builtin;
-use tessera::{Dither, Frame};
+use tessera::{Frame, dither::Dither};
 use tessera_host::simulate::{PanelColor, simulate_tiled};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin dither-report";
@@ -38,7 +38,7 @@ fn main() -> Result<(), String> {
          {SIZE}x{SIZE} (its own sampler and depth, tiles 16) drawn onto a simulated `Rgb565` \
          panel, each pixel converted by `embedded-graphics`' own `From<Rgb888>` (the \
          nearest level: the same panel, byte for byte, as `none`, which this report \
-         checks), to the nearest level by `tessera::Dither::None` (`none`), or by \
+         checks), to the nearest level by `tessera::dither::Dither::None` (`none`), or by \
          ordered dithering with a 4x4 or 8x8 Bayer matrix at the pixel's position in \
          the frame (`bayer4`, `bayer8`). Mean FLIP of what the panel shows \
          (its 5-6-5 levels expanded back to 8 bits, as the simulator shows them) against \
@@ -47,7 +47,7 @@ fn main() -> Result<(), String> {
     let _ = writeln!(doc, "| scene | From<Rgb888> | none | bayer4 | bayer8 |");
     let _ = writeln!(doc, "|---|---|---|---|---|");
     let mut crops: Vec<RgbImage> = Vec::new();
-    for b in Builtin::ALL {
+    for &b in Builtin::ALL {
         let row = b
             .with_scene(|view, cam| -> Result<(String, Vec<RgbImage>), String> {
                 let vp = Viewport::new(SIZE, SIZE);

@@ -9,7 +9,7 @@
 
 use std::fmt::Write;
 use std::path::PathBuf;
-use tessera::{MAX_EXTENT, MIN_LENGTH, Vec3};
+use tessera::{Vec3, error::MAX_EXTENT, error::MIN_LENGTH};
 use tessera_tests::extremes::*;
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin extremes-report";
@@ -68,7 +68,7 @@ fn header(md: &mut String, sphere_ulps: f64, camera_px: f64, ranges: &[(&str, i3
          Every coordinate (camera, light, sphere centre, plane point, triangle vertex, \
          box corner) and the camera's far distance must lie within ±2^60 (about \
          1.15e18), and sphere radii and the camera's near distance must be at least \
-         2^-52 (about 2.2e-16): `tessera::MAX_EXTENT` and `tessera::MIN_LENGTH`. The \
+         2^-52 (about 2.2e-16): `tessera::error::MAX_EXTENT` and `tessera::error::MIN_LENGTH`. The \
          constructors refuse anything beyond with an error naming the value (`sphere \
          radius must be in [2^-52, 2^60] (about 2.2e-16 to 1.15e18)`; a scene file \
          adds the item and the number). Within that range the image does not depend on \

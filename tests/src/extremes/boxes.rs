@@ -2,7 +2,7 @@
 
 use super::{INF, V3, V3Ext, exact_ray};
 use tessera::testing::Shape;
-use tessera::{Aabb, Vec3};
+use tessera::{Vec3, geometry::Aabb};
 
 /// Figures of case 5 for one box.
 #[derive(Clone, Debug, Default)]

@@ -4,7 +4,11 @@
 
 use super::{INF, Rng, V3, V3Ext, exact_ray, ray_towards, show};
 use tessera::testing::Shape;
-use tessera::{Bvh, Camera, Color, Material, Ray, Scene, SceneView, Triangle, Vec3};
+use tessera::testing::ViewHooks as _;
+use tessera::{
+    Camera, Color, Scene, SceneView, Vec3, bvh::Bvh, geometry::Triangle, material::Material,
+    trace::Ray,
+};
 
 /// Figures of one watertightness configuration.
 #[derive(Clone, Debug, Default)]

@@ -130,7 +130,7 @@ fn how_measured(w: &mut String, chip: &ChipSummary) {
          largest channel difference (LSB of 8 bits) and the share of all pixels whose \
          channels are all within 1 LSB. Sampling error counts: a 1-sample setting is \
          compared with the box-filtered (area-averaged) picture.",
-        tessera::MAX_DEPTH
+        tessera::error::MAX_DEPTH
     );
     let scenes: Vec<&str> = CHIP_SCENES.iter().map(|b| b.name()).collect();
     let _ = writeln!(

@@ -2,7 +2,7 @@
 //
 // 5 materials, 1 light, 4 spheres, 1 plane: 484 bytes of flash.
 
-use crate::{Aabb, BakedCamera, BakedScene, Color, Encoding, Loops, Material, MaterialId, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, TileLoop, Triangle, Viewport};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, RenderSettings, Sampler, Viewport, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 // The materials: each constant is a material's reference (its place in MATERIALS).
 /// The material "floor".

@@ -2,7 +2,7 @@
 //
 // 8 materials, 2 lights, 3 spheres, 2 planes, 2 boxes, 4 triangles: 956 bytes of flash.
 
-use crate::{Aabb, BakedCamera, BakedScene, Color, Encoding, Loops, Material, MaterialId, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, TileLoop, Triangle, Viewport};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, RenderSettings, Sampler, Viewport, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A triangle of material `m`.
 const fn t(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3], m: MaterialId) -> Primitive<Triangle> {

@@ -3,7 +3,7 @@
 // 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 1125 BVH nodes: 58864 bytes of flash.
 // Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml).
 
-use crate::{Aabb, BakedBvh, BakedCamera, BakedScene, BvhNode, Color, Encoding, Loops, Material, MaterialId, Mesh, Plane, PointLight, Primitive, RenderSettings, Sampler, Sphere, Texture, TileLoop, Triangle, Viewport};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A node of a hierarchy.
 const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16, axis: u16) -> BvhNode {
