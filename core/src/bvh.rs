@@ -12,7 +12,7 @@
 //! The view links a BVH to the triangles it was built from by a hash of their
 //! vertices ([`crate::Error::BvhMismatch`] otherwise).
 //!
-//! A scene view uses it ([`SceneView::with_bvh`]) when the scene has at least
+//! A scene view uses it ([`crate::SceneView::with_bvh`]) when the scene has at least
 //! [`CROSSOVER`] triangles: then every ray (camera, shadow, reflected, refracted)
 //! searches the other kinds as the flat search does and the triangles through the
 //! BVH, and the tiles build no culling lists. The image is the same bytes with or

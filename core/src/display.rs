@@ -54,100 +54,6 @@ where
     )
 }
 
-/// A frame of a scene as an embedded-graphics [`Drawable`] in the display's colour
-/// `C`, rendered in rows of `N x N` tiles: [`Frame::drawable`].
-///
-/// Its size ([`OriginDimensions`]) is the viewport's, at the origin; draw it through
-/// a translated or clipped target to place it, like any other drawable. Drawing
-/// renders: the pixel memory is one [`Tile<N>`](Tile) on the stack of `draw`
-/// (`3 N^2 + 8` bytes: a tile of 16x16 is 776 bytes), sent with one
-/// `fill_contiguous` per tile.
-///
-/// [`Drawable`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/trait.Drawable.html
-/// [`OriginDimensions`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/geometry/trait.OriginDimensions.html
-#[derive(Clone, Copy, Debug)]
-pub struct Rendering<'a, C, const N: usize> {
-    frame: &'a Frame,
-    scene: SceneView<'a>,
-    color: PhantomData<C>,
-}
-
-impl Frame {
-    /// This frame of `scene` as a [`Drawable`] ([`Rendering`]) with tiles of `N`,
-    /// each pixel converted with the display colour's `From<Rgb888>` (the nearest
-    /// level; for a 16-bit or grey panel, [`Frame::drawable_dithered`] dithers
-    /// instead of banding):
-    ///
-    /// ```
-    /// use embedded_graphics_core::{pixelcolor::Rgb565, prelude::*};
-    /// use tessera::{builtin, RenderSettings, Viewport};
-    ///
-    /// // A display that only counts what it receives.
-    /// struct Count(u32);
-    /// impl OriginDimensions for Count {
-    ///     fn size(&self) -> Size { Size::new(40, 30) }
-    /// }
-    /// impl DrawTarget for Count {
-    ///     type Color = Rgb565;
-    ///     type Error = core::convert::Infallible;
-    ///     fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(&mut self, px: I) -> Result<(), Self::Error> {
-    ///         self.0 += px.into_iter().count() as u32;
-    ///         Ok(())
-    ///     }
-    /// }
-    ///
-    /// let scene = builtin::chapter_direct()?;
-    /// let frame = scene.frame(Viewport::new(40, 30), RenderSettings::default())?;
-    /// let picture = frame.drawable::<_, 16>(&scene.view());
-    /// assert_eq!(picture.size(), Size::new(40, 30));
-    /// let mut display = Count(0);
-    /// picture.draw(&mut display).unwrap();
-    /// assert_eq!(display.0, 40 * 30);
-    /// # Ok::<(), tessera::Error>(())
-    /// ```
-    ///
-    /// [`Drawable`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/trait.Drawable.html
-    #[must_use]
-    pub fn drawable<'a, C, const N: usize>(&'a self, scene: &SceneView<'a>) -> Rendering<'a, C, N> {
-        Rendering {
-            frame: self,
-            scene: *scene,
-            color: PhantomData,
-        }
-    }
-}
-
-impl<C: PixelColor + From<Rgb888>, const N: usize> Drawable for Rendering<'_, C, N> {
-    type Color = C;
-    type Output = ();
-
-    /// Renders the frame tile after tile, in rows, and sends each tile to `target`
-    /// as soon as it is rendered. An error of the target stops the drawing and is
-    /// returned.
-    fn draw<D>(&self, target: &mut D) -> Result<(), D::Error>
-    where
-        D: DrawTarget<Color = C>,
-    {
-        let mut tile = Tile::<N>::new();
-        let (across, down) = self.frame.tile_grid(N);
-        for ty in 0..down {
-            for tx in 0..across {
-                // Every tile of the grid lies in the frame, the one case in which
-                // `render_tile` refuses: there is no render error to report.
-                let coord = TileCoord::new(tx, ty);
-                if self
-                    .frame
-                    .render_tile(&self.scene, coord, &mut tile, &mut ())
-                    .is_ok()
-                {
-                    draw_tile(&tile, target)?;
-                }
-            }
-        }
-        Ok(())
-    }
-}
-
 impl TilePixel for Rgb565 {
     const BLACK: Self = Self::new(0, 0, 0);
     #[inline]
@@ -198,64 +104,121 @@ where
     display.fill_contiguous(&area, tile.pixels())
 }
 
-/// [`draw_tile`] for a panel of fewer bits: each pixel dithered ([`Dither`]) at
-/// its position in the frame, so that the pattern is the same for every tile size
-/// and order.
-pub fn draw_tile_dithered<D, const N: usize>(
-    tile: &Tile<N>,
-    display: &mut D,
-    dither: Dither,
-) -> Result<(), D::Error>
-where
-    D: DrawTarget,
-    D::Color: TilePixel,
-{
-    let (x0, y0) = tile.origin();
-    let area = rectangle(x0, y0, u32::from(tile.width()), u32::from(tile.height()));
-    let w = usize::from(tile.width()).max(1);
-    display.fill_contiguous(
-        &area,
-        tile.pixels().enumerate().map(|(i, p)| {
-            let (dx, dy) = ((i % w) as u32, (i / w) as u32);
-            D::Color::from_rgb8(p, x0.wrapping_add(dx), y0.wrapping_add(dy), dither)
-        }),
-    )
-}
-
-/// A frame as a [`Drawable`] on a panel of fewer bits, dithered:
-/// [`Frame::drawable_dithered`].
+/// A frame of a scene as an embedded-graphics [`Drawable`]: the one way to draw a
+/// whole frame. Tiles of `N x N` in the display's colour `C` (a [`TilePixel`]:
+/// `Rgb888`, or a panel's `Rgb565`, `Rgb555`, `Gray8`, each pixel dithered at its
+/// position in the frame by the frame's [`Dither`] ([`Frame::with_dither`]) unless
+/// [`Drawing::dithered`] says otherwise), each rendered straight into a buffer of
+/// the panel's colour and sent with one `fill_contiguous` ([`draw_panel_tile`]).
+/// Options: [`Drawing::dithered`], [`Drawing::progressive`] (a one-ray-per-block
+/// preview first), [`Drawing::linking`] (only the tile loops `L` a firmware
+/// needs). For tiles a firmware renders and sends itself: [`draw_tile`],
+/// [`draw_panel_tile`].
 ///
-/// `L` is the set of tile loops it links ([`Loops`]): every one unless
-/// [`DitheredRendering::linking`] says fewer.
+/// Its size ([`OriginDimensions`]) is the viewport's, at the origin; draw it
+/// through a translated or clipped target to place it, like any other drawable.
+/// Drawing renders: the pixel memory is one [`Tile<N, C>`](Tile) on the stack of
+/// `draw` (`N^2` pixels of `C` and 8 bytes: a tile of 16x16 is 776 bytes in
+/// `Rgb888`, and a tile of 16x16 `Rgb565` is 520
+/// bytes).
+///
+/// ```
+/// use embedded_graphics_core::{pixelcolor::Rgb565, prelude::*};
+/// use tessera::dither::Dither;
+/// use tessera::display::Drawing;
+/// use tessera::{builtin, RenderSettings, Viewport};
+///
+/// // A display that only counts what it receives.
+/// struct Count(u32);
+/// impl OriginDimensions for Count {
+///     fn size(&self) -> Size { Size::new(40, 30) }
+/// }
+/// impl DrawTarget for Count {
+///     type Color = Rgb565;
+///     type Error = core::convert::Infallible;
+///     fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(&mut self, px: I) -> Result<(), Self::Error> {
+///         self.0 += px.into_iter().count() as u32;
+///         Ok(())
+///     }
+/// }
+///
+/// let scene = builtin::chapter_direct()?;
+/// let frame = scene.frame(Viewport::new(40, 30), RenderSettings::default())?;
+/// let picture = Drawing::<Rgb565, 16>::new(&frame, &scene.view()).dithered(Dither::Bayer4);
+/// assert_eq!(picture.size(), Size::new(40, 30));
+/// let mut display = Count(0);
+/// picture.draw(&mut display).unwrap();
+/// assert_eq!(display.0, 40 * 30);
+/// # Ok::<(), tessera::Error>(())
+/// ```
 ///
 /// [`Drawable`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/trait.Drawable.html
-pub struct DitheredRendering<'a, C, const N: usize, L = AllLoops> {
-    rendering: Rendering<'a, C, N>,
-    dither: Dither,
-    // `fn() -> L`: no bounds on `L` for the traits below, and no `L` stored.
-    loops: PhantomData<fn() -> L>,
+/// [`OriginDimensions`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/geometry/trait.OriginDimensions.html
+pub struct Drawing<'a, C, const N: usize, L = AllLoops> {
+    frame: Frame,
+    scene: SceneView<'a>,
+    /// The preview's block size (0: no preview).
+    block: u32,
+    // `fn() -> _`: no bounds on `C` and `L` for the traits below, none stored.
+    kinds: PhantomData<fn() -> (C, L)>,
 }
 
-// By hand: derived, they would ask `L` (a firmware's `enum` of constants) to be
-// `Clone`, `Copy` and `Debug` too (the panel colour `C` still is).
-impl<C: Copy, const N: usize, L> Clone for DitheredRendering<'_, C, N, L> {
+// By hand: derived, they would ask `C` and `L` (a firmware's `enum` of constants)
+// to be `Clone`, `Copy` and `Debug` too.
+impl<C, const N: usize, L> Clone for Drawing<'_, C, N, L> {
     fn clone(&self) -> Self {
         *self
     }
 }
 
-impl<C: Copy, const N: usize, L> Copy for DitheredRendering<'_, C, N, L> {}
+impl<C, const N: usize, L> Copy for Drawing<'_, C, N, L> {}
 
-impl<C: core::fmt::Debug, const N: usize, L> core::fmt::Debug for DitheredRendering<'_, C, N, L> {
+impl<C, const N: usize, L> core::fmt::Debug for Drawing<'_, C, N, L> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("DitheredRendering")
-            .field("rendering", &self.rendering)
-            .field("dither", &self.dither)
+        f.debug_struct("Drawing")
+            .field("frame", &self.frame)
+            .field("block", &self.block)
             .finish_non_exhaustive()
     }
 }
 
-impl<'a, C, const N: usize, L> DitheredRendering<'a, C, N, L> {
+impl<'a, C, const N: usize> Drawing<'a, C, N> {
+    /// `frame` of `scene`, every tile loop linked, no preview.
+    #[must_use]
+    pub fn new(frame: &Frame, scene: &SceneView<'a>) -> Self {
+        Self {
+            frame: *frame,
+            scene: *scene,
+            block: 0,
+            kinds: PhantomData,
+        }
+    }
+}
+
+impl<'a, C, const N: usize, L> Drawing<'a, C, N, L> {
+    /// The same drawing with its pixels dithered by `dither` (for a panel of
+    /// fewer bits than the tiles' 8 per channel: no banding).
+    #[must_use]
+    pub fn dithered(self, dither: Dither) -> Self {
+        Self {
+            frame: self.frame.with_dither(dither),
+            ..self
+        }
+    }
+
+    /// The same drawing with a quick first picture: one ray per `block x block`
+    /// pixels ([`Frame::preview_color`]), each block drawn with one `fill_solid`
+    /// as soon as it is traced, then the tiles, which replace every preview
+    /// pixel. On a slow chip the picture appears in about `1 / block^2` of a
+    /// direct render's rays (`block` 0 is taken as 1).
+    #[must_use]
+    pub fn progressive(self, block: u32) -> Self {
+        Self {
+            block: block.max(1),
+            ..self
+        }
+    }
+
     /// The same drawing linking only the tile loops of `M` (a firmware with fixed
     /// settings leaves the others out of its image: [`Loops`]).
     ///
@@ -263,62 +226,66 @@ impl<'a, C, const N: usize, L> DitheredRendering<'a, C, N, L> {
     /// [`Error::NotLinked`] if the frame's settings and scene need a loop `M`
     /// leaves out ([`Frame::check_loops`]): checked here, once, so the drawing
     /// itself never meets it.
-    pub fn linking<M: Loops>(self) -> Result<DitheredRendering<'a, C, N, M>, Error> {
-        let r = &self.rendering;
-        r.frame.check_loops::<M>(&r.scene)?;
-        Ok(DitheredRendering {
-            rendering: self.rendering,
-            dither: self.dither,
-            loops: PhantomData,
+    pub fn linking<M: Loops>(self) -> Result<Drawing<'a, C, N, M>, Error> {
+        self.frame.check_loops::<M>(&self.scene)?;
+        Ok(Drawing {
+            frame: self.frame,
+            scene: self.scene,
+            block: self.block,
+            kinds: PhantomData,
         })
     }
 }
 
-impl Frame {
-    /// [`Frame::drawable`] for a panel colour of fewer bits than the tiles'
-    /// (`Rgb565`, `Rgb555`, `Gray8`): each tile rendered into a buffer of the
-    /// panel's colour, each pixel dithered by `dither` at its position in the frame
-    /// (the same pixels as [`draw_tile_dithered`] of an 8-bit tile).
-    #[must_use]
-    pub fn drawable_dithered<'a, C, const N: usize>(
-        &'a self,
-        scene: &SceneView<'a>,
-        dither: Dither,
-    ) -> DitheredRendering<'a, C, N> {
-        DitheredRendering {
-            rendering: Rendering {
-                frame: self,
-                scene: *scene,
-                color: PhantomData,
-            },
-            dither,
-            loops: PhantomData,
+impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawing<'_, C, N, L> {
+    /// The preview pass alone (block 1 without [`Drawing::progressive`]): each
+    /// block's colour sent to `target` with one `fill_solid`.
+    ///
+    /// # Errors
+    /// The target's.
+    pub fn draw_preview<D: DrawTarget<Color = C>>(&self, target: &mut D) -> Result<(), D::Error> {
+        let frame = &self.frame;
+        let block = self.block.max(1);
+        let vp = frame.viewport();
+        let (w, h) = (u32::from(vp.width), u32::from(vp.height));
+        for by in 0..h.div_ceil(block) {
+            for bx in 0..w.div_ceil(block) {
+                let c = frame.preview_color_in::<L, _>(&self.scene, (bx, by), block, &mut ());
+                let (x, y) = (bx * block, by * block);
+                let rgb = frame.settings().encoding.encode(c);
+                let color = C::from_rgb8(rgb, x, y, frame.dither());
+                let area = rectangle(x, y, block.min(w - x), block.min(h - y));
+                target.fill_solid(&area, color)?;
+            }
         }
+        Ok(())
     }
 }
 
-impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable
-    for DitheredRendering<'_, C, N, L>
-{
+impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable for Drawing<'_, C, N, L> {
     type Color = C;
     type Output = ();
 
-    /// As [`Rendering`]'s `draw`, each tile rendered straight into a buffer of the
-    /// panel's colour (`N x N` of `C`: 512 bytes for 16x16 `Rgb565`) with the
-    /// dithering, and sent as it is ([`draw_panel_tile`]).
+    /// The preview (with [`Drawing::progressive`]), then the frame tile after
+    /// tile, in rows, each tile sent to `target` as soon as it is rendered. An
+    /// error of the target stops the drawing and is returned.
     fn draw<D>(&self, target: &mut D) -> Result<(), D::Error>
     where
         D: DrawTarget<Color = C>,
     {
-        let r = &self.rendering;
-        let frame = r.frame.with_dither(self.dither);
+        if self.block > 0 {
+            self.draw_preview(target)?;
+        }
         let mut tile = Tile::<N, C>::blank();
-        let (across, down) = frame.tile_grid(N);
+        let (across, down) = self.frame.tile_grid(N);
         for ty in 0..down {
             for tx in 0..across {
+                // Every tile of the grid lies in the frame, and `L` was checked
+                // when linked: there is no render error to report.
                 let coord = TileCoord::new(tx, ty);
-                if frame
-                    .render_tile_in::<L, N, _, _>(&r.scene, coord, &mut tile, &mut ())
+                if self
+                    .frame
+                    .render_tile_in::<L, N, _, _>(&self.scene, coord, &mut tile, &mut ())
                     .is_ok()
                 {
                     draw_panel_tile(&tile, target)?;
@@ -329,147 +296,7 @@ impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable
     }
 }
 
-/// A frame drawn progressively: a preview of one ray per `block x block` block,
-/// each block filled in one colour, then the tiles as [`DitheredRendering`] draws
-/// them, which replace every preview pixel: the final picture is the direct
-/// render's. [`Frame::drawable_progressive`].
-pub struct ProgressiveRendering<'a, C, const N: usize, L = AllLoops> {
-    tiles: DitheredRendering<'a, C, N, L>,
-    block: u32,
-}
-
-// By hand, as [`DitheredRendering`]'s.
-impl<C: Copy, const N: usize, L> Clone for ProgressiveRendering<'_, C, N, L> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-
-impl<C: Copy, const N: usize, L> Copy for ProgressiveRendering<'_, C, N, L> {}
-
-impl<C: core::fmt::Debug, const N: usize, L> core::fmt::Debug
-    for ProgressiveRendering<'_, C, N, L>
-{
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("ProgressiveRendering")
-            .field("tiles", &self.tiles)
-            .field("block", &self.block)
-            .finish()
-    }
-}
-
-impl<'a, C, const N: usize, L> ProgressiveRendering<'a, C, N, L> {
-    /// The same drawing linking only the tile loops of `M`
-    /// ([`DitheredRendering::linking`]).
-    ///
-    /// # Errors
-    /// [`Error::NotLinked`] if the frame's settings and scene need a loop `M`
-    /// leaves out.
-    pub fn linking<M: Loops>(self) -> Result<ProgressiveRendering<'a, C, N, M>, Error> {
-        Ok(ProgressiveRendering {
-            tiles: self.tiles.linking::<M>()?,
-            block: self.block,
-        })
-    }
-}
-
-impl Frame {
-    /// [`Frame::drawable_dithered`] with a quick first picture: one ray per
-    /// `block x block` pixels ([`Frame::preview_color`]), each block drawn with
-    /// one `fill_solid` as soon as it is traced, then the tiles. On a slow chip
-    /// the picture appears in about `1 / block^2` of a direct render's rays
-    /// (`block` 0 is taken as 1).
-    #[must_use]
-    pub fn drawable_progressive<'a, C, const N: usize>(
-        &'a self,
-        scene: &SceneView<'a>,
-        dither: Dither,
-        block: u32,
-    ) -> ProgressiveRendering<'a, C, N> {
-        ProgressiveRendering {
-            tiles: self.drawable_dithered(scene, dither),
-            block: block.max(1),
-        }
-    }
-
-    /// The preview pass of [`Frame::drawable_progressive`] alone: each block's
-    /// colour sent to `target` with one `fill_solid`.
-    ///
-    /// # Errors
-    /// The target's.
-    pub fn draw_preview<D>(
-        &self,
-        scene: &SceneView<'_>,
-        dither: Dither,
-        block: u32,
-        target: &mut D,
-    ) -> Result<(), D::Error>
-    where
-        D: DrawTarget,
-        D::Color: TilePixel,
-    {
-        self.draw_preview_in::<AllLoops, D>(scene, dither, block, target)
-    }
-
-    /// [`Frame::draw_preview`] with the pixel loops of `L` only.
-    fn draw_preview_in<L: Loops, D>(
-        &self,
-        scene: &SceneView<'_>,
-        dither: Dither,
-        block: u32,
-        target: &mut D,
-    ) -> Result<(), D::Error>
-    where
-        D: DrawTarget,
-        D::Color: TilePixel,
-    {
-        let block = block.max(1);
-        let vp = self.viewport();
-        let (w, h) = (u32::from(vp.width), u32::from(vp.height));
-        for by in 0..h.div_ceil(block) {
-            for bx in 0..w.div_ceil(block) {
-                let c = self.preview_color_in::<L, _>(scene, (bx, by), block, &mut ());
-                let (x, y) = (bx * block, by * block);
-                let color = D::Color::from_rgb8(self.settings().encoding.encode(c), x, y, dither);
-                let area = rectangle(x, y, block.min(w - x), block.min(h - y));
-                target.fill_solid(&area, color)?;
-            }
-        }
-        Ok(())
-    }
-}
-
-impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable
-    for ProgressiveRendering<'_, C, N, L>
-{
-    type Color = C;
-    type Output = ();
-
-    /// The preview, then the tiles.
-    fn draw<D>(&self, target: &mut D) -> Result<(), D::Error>
-    where
-        D: DrawTarget<Color = C>,
-    {
-        let r = &self.tiles.rendering;
-        r.frame
-            .draw_preview_in::<L, D>(&r.scene, self.tiles.dither, self.block, target)?;
-        self.tiles.draw(target)
-    }
-}
-
-impl<C, const N: usize, L> OriginDimensions for ProgressiveRendering<'_, C, N, L> {
-    fn size(&self) -> Size {
-        self.tiles.size()
-    }
-}
-
-impl<C, const N: usize, L> OriginDimensions for DitheredRendering<'_, C, N, L> {
-    fn size(&self) -> Size {
-        self.rendering.size()
-    }
-}
-
-impl<C, const N: usize> OriginDimensions for Rendering<'_, C, N> {
+impl<C, const N: usize, L> OriginDimensions for Drawing<'_, C, N, L> {
     fn size(&self) -> Size {
         let vp = self.frame.viewport();
         Size::new(u32::from(vp.width), u32::from(vp.height))
@@ -533,7 +360,9 @@ mod tests {
             fills: heapless::Vec::new(),
             fail_after: usize::MAX,
         };
-        frame.drawable::<_, 16>(&scene.view()).draw(&mut d).unwrap();
+        Drawing::<_, 16>::new(&frame, &scene.view())
+            .draw(&mut d)
+            .unwrap();
         let want = [
             (0, 0, 16, 16),
             (16, 0, 16, 16),
@@ -558,13 +387,13 @@ mod tests {
             fills: heapless::Vec::new(),
             fail_after: 2,
         };
-        let r = frame.drawable::<_, 16>(&scene.view()).draw(&mut d);
+        let r = Drawing::<_, 16>::new(&frame, &scene.view()).draw(&mut d);
         assert_eq!(r, Err("bus error"));
         assert_eq!(d.fills.len(), 2);
     }
 
     /// The sizes of panel tiles the docs give (`TilePixel`, `Tile::blank`,
-    /// `DitheredRendering`'s `draw`) and README.md's: `2 N^2 + 8` bytes in
+    /// `Drawing`'s `draw`) and docs/firmware.md's: `2 N^2 + 8` bytes in
     /// `Rgb565` (`Rgb555` too), `N^2 + 8` in `Gray8`.
     #[test]
     fn panel_tile_sizes_match_the_docs() {
@@ -701,19 +530,22 @@ mod tests {
                     writes: 0,
                 };
                 let mut direct = fb();
-                frame
-                    .drawable_dithered::<Rgb565, 16>(view, Dither::Bayer4)
+                Drawing::<Rgb565, 16>::new(&frame, view)
+                    .dithered(Dither::Bayer4)
                     .draw(&mut direct)
                     .unwrap();
                 let mut progressive = fb();
-                frame
-                    .drawable_progressive::<Rgb565, 16>(view, Dither::Bayer4, 4)
+                Drawing::<Rgb565, 16>::new(&frame, view)
+                    .dithered(Dither::Bayer4)
+                    .progressive(4)
                     .draw(&mut progressive)
                     .unwrap();
                 assert!(progressive.px == direct.px, "{}", b.name());
                 let mut preview = fb();
-                frame
-                    .draw_preview(view, Dither::Bayer4, 4, &mut preview)
+                Drawing::<_, 16>::new(&frame, view)
+                    .dithered(Dither::Bayer4)
+                    .progressive(4)
+                    .draw_preview(&mut preview)
                     .unwrap();
                 assert_eq!(preview.writes, usize::from(w) * usize::from(h));
                 for by in 0..usize::from(h).div_ceil(4) {
@@ -757,7 +589,9 @@ mod tests {
                     writes: 0,
                 };
                 let mut all = fb();
-                let drawing = frame.drawable_progressive::<Rgb565, 16>(view, Dither::Bayer4, 4);
+                let drawing = Drawing::<Rgb565, 16>::new(&frame, view)
+                    .dithered(Dither::Bayer4)
+                    .progressive(4);
                 drawing.draw(&mut all).unwrap();
                 let direct = view.depth(b.settings().max_depth) == 0;
                 match drawing.linking::<DirectSrgb>() {
@@ -765,7 +599,7 @@ mod tests {
                         assert!(direct, "{}", b.name());
                         // Copy and Debug although `DirectSrgb` is neither.
                         let copy = fewer;
-                        assert!(std::format!("{copy:?}").starts_with("ProgressiveRendering"));
+                        assert!(std::format!("{copy:?}").starts_with("Drawing"));
                         let mut px = fb();
                         fewer.draw(&mut px).unwrap();
                         assert!(px.px == all.px, "{}", b.name());
@@ -802,13 +636,15 @@ mod tests {
                         writes: 0,
                     };
                     let mut direct = fb();
-                    frame
-                        .drawable_dithered::<Rgb888, 16>(view, Dither::Bayer4)
+                    Drawing::<Rgb888, 16>::new(&frame, view)
+                        .dithered(Dither::Bayer4)
                         .draw(&mut direct)
                         .unwrap();
                     let mut preview = fb();
-                    frame
-                        .draw_preview(view, Dither::Bayer4, 4, &mut preview)
+                    Drawing::<_, 16>::new(&frame, view)
+                        .dithered(Dither::Bayer4)
+                        .progressive(4)
+                        .draw_preview(&mut preview)
                         .unwrap();
                     let (w, h) = (usize::from(w), usize::from(h));
                     for by in 0..h.div_ceil(4) {

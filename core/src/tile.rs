@@ -14,9 +14,9 @@
 //! (3 bytes a pixel plus 8 bytes of coordinates; a unit test checks these sizes
 //! and `tests/tests/docs.rs` checks them against `docs/chip-cost.md`.) The
 //! renderer's stack does not depend on `N`: measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md`), `render_tile` needs 1,384 to 2,056 bytes (1.4
+//! painting; `docs/chip-cost.md`), `render_tile` needs 1,424 to 2,008 bytes (1.4
 //! to 2.0 KiB) below its caller, the tile's culling lists (the primitives that may
-//! reach the tile, [`crate::cull`]) and the shader's pending-ray stack
+//! reach the tile, module `cull`) and the shader's pending-ray stack
 //! (`MAX_DEPTH + 1` rays) included.
 
 use crate::camera::{Camera, CameraBasis, Viewport};
@@ -100,7 +100,7 @@ impl TileLoop {
 }
 
 /// Which tile loops a firmware links ([`Frame::render_tile_in`],
-/// [`crate::display::DitheredRendering::linking`]). The render settings are values, so
+/// [`crate::display::Drawing::linking`]). The render settings are values, so
 /// [`Frame::render_tile`] links every [`TileLoop`] ([`AllLoops`]); a firmware
 /// whose settings are fixed names the ones it needs and the others are left out
 /// of the image (the board example's README, `examples/blackpill-st7789`,
@@ -385,7 +385,7 @@ impl Frame {
     /// through the centre of the pixel at the block's middle (clamped to the frame),
     /// with the frame's depth; every primitive is a candidate. A firmware draws a
     /// first picture of the frame this way (`block` 4: a sixteenth of the camera
-    /// rays) before it renders the tiles ([`Frame::drawable_progressive`]).
+    /// rays) before it renders the tiles ([`crate::display::Drawing::progressive`]).
     pub fn preview_color<C: RayCounter>(
         &self,
         scene: &SceneView<'_>,
@@ -1008,8 +1008,7 @@ mod tests {
     use core::mem::size_of;
     extern crate std;
 
-    /// The module docs' table, the crate docs' and [`crate::display::Rendering`]'s 776
-    /// bytes: `3 N^2 + 8`.
+    /// The module docs' table's and the crate docs' bytes: `3 N^2 + 8`.
     #[test]
     fn tile_buffer_sizes_match_the_docs() {
         assert_eq!(size_of::<Tile<8>>(), 8 * 8 * 3 + 8);

@@ -10,7 +10,8 @@ use image::RgbImage;
 use std::fmt;
 use std::io::Write;
 use std::str::FromStr;
-use tessera::{Camera, Frame, SceneView, Vec3, display::TilePixel, dither::Dither};
+use tessera::display::{Drawing, TilePixel};
+use tessera::{Camera, Frame, SceneView, Vec3, dither::Dither};
 
 /// The colour type of the simulated panel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -53,7 +54,7 @@ impl fmt::Display for PanelColor {
 }
 
 /// Draws `frame` onto a simulated panel of colour type `C` as the embedded-graphics
-/// drawable [`tessera::Frame::drawable`] (tiles of N x N, one `fill_contiguous`
+/// drawable [`tessera::display::Drawing`] (tiles of N x N, one `fill_contiguous`
 /// each) and returns what the panel shows, as 8-bit RGB.
 fn panel<C, const N: usize>(
     scene: &SceneView<'_>,
@@ -68,8 +69,12 @@ where
     let mut display =
         SimulatorDisplay::<C>::with_default_color(size, C::from(Rgb888::new(0, 0, 0)));
     let Ok(()) = match dither {
-        None => frame.drawable::<C, N>(scene).draw(&mut display),
-        Some(d) => frame.drawable_dithered::<C, N>(scene, d).draw(&mut display),
+        None => Drawing::<C, N>::new(frame, scene)
+            .dithered(Dither::None)
+            .draw(&mut display),
+        Some(d) => Drawing::<C, N>::new(frame, scene)
+            .dithered(d)
+            .draw(&mut display),
     };
     let out = display.to_rgb_output_image(&OutputSettings::default());
     let buf = out.as_image_buffer();

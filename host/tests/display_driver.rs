@@ -1,4 +1,4 @@
-//! A real display driver as client of `Frame::drawable` (an embedded-graphics
+//! A real display driver as client of `Drawing` (an embedded-graphics
 //! `Drawable`): `mipidsi`'s ST7789 driver over a
 //! recording fake SPI bus, and an emulated ST7789 that decodes the recorded
 //! command/data stream into its 240 x 320 RGB565 frame memory (GRAM).
@@ -29,6 +29,8 @@ use std::cell::RefCell;
 use std::convert::Infallible;
 use std::rc::Rc;
 use tessera::builtin::Builtin;
+use tessera::display::Drawing;
+use tessera::dither::Dither;
 use tessera::{Frame, Viewport};
 
 // ---------------------------------------------------------------------------------
@@ -630,7 +632,7 @@ struct Run {
     transfers: usize,
 }
 
-/// Renders `scene` at `w x h` on the host, and through `Frame::drawable` with tiles of `N`
+/// Renders `scene` at `w x h` on the host, and through `Drawing` with tiles of `N`
 /// onto mipidsi's ST7789 over the fake bus (through a `Tampered` wrapper if
 /// `tamper` is given; the bus fails `fail_after` transfers after the init if given);
 /// then decodes the bus into the emulated panel.
@@ -662,7 +664,7 @@ fn run<const N: usize>(
         .with_scene(|view, camera| {
             let img = tessera_host::render(view, camera, viewport, settings, N).expect("host");
             let frame = Frame::try_new(camera, viewport, settings).expect("frame");
-            let picture = frame.drawable::<_, N>(view);
+            let picture = Drawing::<_, N>::new(&frame, view).dithered(Dither::None);
             let drawn = match tamper {
                 None => picture.draw(&mut display),
                 Some(tamper) => {

@@ -12,7 +12,7 @@
 //! watertight triangle test of Woop, Benthin and Wald (2013), a NaN-safe slab test
 //! for boxes, and hit points carrying an error bound so that secondary rays start
 //! off the surface by exactly as much as rounding requires
-//! ([`crate::ray::offset_origin`]). A surface far larger than the ray's reach (a
+//! (`ray::offset_origin`). A surface far larger than the ray's reach (a
 //! ground of two triangles 10^7 wide seen from a few units) takes rare, out-of-line
 //! paths in `f64` (`wide`).
 

@@ -11,7 +11,7 @@
 //! "Other panels" lists: [`PanelCs`], [`PANEL_SIZE`], [`PANEL_OFFSET`],
 //! [`ROTATION`].
 //!
-//! The picture is drawn progressively (`Frame::drawable_progressive`): first one
+//! The picture is drawn progressively (`Drawing::progressive`): first one
 //! ray per 4x4 block, each block one `fill_solid`, so a rough teapot appears in a
 //! small part of the render time; then tile after tile of 16x16 pixels, each
 //! rendered into one `Rgb565` buffer on the stack with 4x4 Bayer dithering and sent
@@ -41,6 +41,7 @@ use stm32f4xx_hal::rcc::{Config, Rcc};
 use stm32f4xx_hal::spi::Spi;
 use stm32f4xx_hal::timer::SysDelay;
 use tessera::builtin::baked::teapot::{SCENE, SceneLoops};
+use tessera::display::Drawing;
 use tessera::{dither::Dither, Viewport};
 
 /// The crystal of the Black Pill, in MHz.
@@ -261,8 +262,7 @@ where
 {
     let view = SCENE.view()?;
     let frame = SCENE.frame_at(Viewport::new(PICTURE.0, PICTURE.1), SCENE.settings())?;
-    frame
-        .drawable_progressive::<Rgb565, TILE>(&view, Dither::Bayer4, PREVIEW_BLOCK)
+    Drawing::<Rgb565, TILE>::new(&frame, &view).dithered(Dither::Bayer4).progressive(PREVIEW_BLOCK)
         .linking::<SceneLoops>()?
         .draw(display)
         .map_err(|_| Failure::PanelWrite)

@@ -115,7 +115,7 @@ fn run() -> Result<(), Error> {
 /// window, then `tile.pixels()` in the panel's colours (with embedded-graphics,
 /// one `display.fill_contiguous(&rectangle, colours)`; a `Tile<N, Rgb565>`
 /// holds a 16-bit panel's colours already). examples/blackpill-st7789 draws on
-/// an ST7789 so, through `frame.drawable_progressive`.
+/// an ST7789 so, through `tessera::display::Drawing`.
 fn show(tile: &Tile<N>, out: &mut ppm::Ppm, checksum: &mut Fnv1a64) -> Result<(), Error> {
     let (x, y) = tile.origin();
     let mut bytes = [0u8; 3 * N];

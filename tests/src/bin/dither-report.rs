@@ -1,6 +1,6 @@
 //! `dither-report`: what ordered dithering buys on a 16-bit panel. Renders every
 //! built-in scene at 240x240 (its own settings, tiles 16), draws it onto a simulated
-//! `Rgb565` panel (`tessera::Frame::drawable_dithered`, as `tessera simulate`)
+//! `Rgb565` panel (`tessera::display::Drawing::dithered`, as `tessera simulate`)
 //! with each conversion, and measures the mean FLIP of what the panel shows
 //! against the 8-bit image; writes `docs/dither.md` and the side-by-side crops
 //! `docs/images/dither-crops.png` (the chapter-direct floor, 4x: nearest,
