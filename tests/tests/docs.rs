@@ -1105,7 +1105,7 @@ fn a_wrong_figure_fails() {
             "515,816 bytes (50.2 KiB",
             "50.2",
         ),
-        ("docs/firmware.md", "(1.47 to 1.90", "(1.85 to 1.90", "1.85"),
+        ("docs/firmware.md", "(1.45 to 1.87", "(1.85 to 1.87", "1.85"),
         (
             "docs/firmware.md",
             "costs 37 to 59 instructions",
@@ -1126,7 +1126,7 @@ fn a_wrong_figure_fails() {
         ),
         (
             "docs/bvh.md",
-            "estimated 1.47 cycles",
+            "estimated 1.45 cycles",
             "estimated 1.74 cycles",
             "1.74",
         ),
