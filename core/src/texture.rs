@@ -128,6 +128,42 @@ impl Texture {
             },
         }
     }
+
+    /// The exact mean of the texture over the uv box `[lo, hi]` (a box filter):
+    /// what a pixel whose footprint is that box should show, in one evaluation.
+    /// Fringes average `cos^2` analytically along `u`; a checker is the product of
+    /// two square waves, whose box means are differences of their integrals (triangle
+    /// waves). A box narrower than about 1e-4 of a period falls back to the centre.
+    #[must_use]
+    pub(crate) fn eval_box(&self, lo: [f32; 2], hi: [f32; 2]) -> Color {
+        let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+        match *self {
+            Texture::Solid(c) => c,
+            Self::Checker { a, b, scale } => {
+                let su = square_mean(lo[0] * scale, hi[0] * scale);
+                let sv = square_mean(lo[1] * scale, hi[1] * scale);
+                match (su, sv) {
+                    (Some(su), Some(sv)) => {
+                        let even = 0.5 * (1.0 + su * sv);
+                        a * even + b * (1.0 - even)
+                    }
+                    _ => self.eval(mid),
+                }
+            }
+            Self::Fringes { color, spacing } => {
+                let (x0, x1) = (lo[0] / spacing, hi[0] / spacing);
+                let w = x1 - x0;
+                if w.is_nan() || w <= 1e-4 {
+                    return self.eval(mid);
+                }
+                // mean of 0.5 + 0.5 cos(2 pi x) over [x0, x1].
+                let m = 0.5
+                    + 0.5 * (math::sin_turns(x1) - math::sin_turns(x0))
+                        / (core::f32::consts::TAU * w);
+                color * m.clamp(0.0, 1.0)
+            }
+        }
+    }
 }
 
 /// The smallest fringe spacing, `2^-64`.
