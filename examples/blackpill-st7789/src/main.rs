@@ -42,7 +42,7 @@ use stm32f4xx_hal::spi::Spi;
 use stm32f4xx_hal::timer::SysDelay;
 use tessera::builtin::baked::teapot::{SCENE, SceneLoops};
 use tessera::display::Drawing;
-use tessera::{dither::Dither, Viewport};
+use tessera::{Viewport, dither::Dither};
 
 /// The crystal of the Black Pill, in MHz.
 const HSE_MHZ: u32 = 25;
@@ -262,7 +262,9 @@ where
 {
     let view = SCENE.view()?;
     let frame = SCENE.frame_at(Viewport::new(PICTURE.0, PICTURE.1), SCENE.settings())?;
-    Drawing::<Rgb565, TILE>::new(&frame, &view).dithered(Dither::Bayer4).progressive(PREVIEW_BLOCK)
+    Drawing::<Rgb565, TILE>::new(&frame, &view)
+        .dithered(Dither::Bayer4)
+        .progressive(PREVIEW_BLOCK)
         .linking::<SceneLoops>()?
         .draw(display)
         .map_err(|_| Failure::PanelWrite)

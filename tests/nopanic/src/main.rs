@@ -33,11 +33,13 @@
 #![no_std]
 #![no_main]
 
-use tessera::testing::{BuiltinHooks as _};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use tessera::builtin::Builtin;
-use tessera::{Camera, Frame, RenderSettings, Sampler, SceneView, sample::SubPixel, Tile, TileCoord, Viewport};
+use tessera::testing::BuiltinHooks as _;
+use tessera::{
+    Camera, Frame, RenderSettings, Sampler, SceneView, Tile, TileCoord, Viewport, sample::SubPixel,
+};
 
 /// One render. Read with a volatile load: its values are unknown to the compiler.
 #[derive(Clone, Copy)]
