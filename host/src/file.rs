@@ -823,16 +823,11 @@ impl Places {
     }
 }
 
-/// The text of the built-in scene's file, `scenes/NAME.toml` (embedded).
-pub fn builtin_source(b: Builtin) -> &'static str {
-    b.source()
-}
-
 /// The built-in scene as a description, parsed from its embedded file (which the
 /// tests check renders exactly like the core's built-in scene).
 pub fn builtin_desc(b: Builtin) -> SceneDesc {
     let name = format!("scenes/{}.toml", b.name());
-    parse(builtin_source(b), &name)
+    parse(b.source(), &name)
         .unwrap_or_else(|e| panic!("the embedded built-in scene file is broken: {e}"))
 }
 
