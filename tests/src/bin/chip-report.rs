@@ -955,28 +955,16 @@ fn guard_cores(cores: &[CoreMeasure], bless: bool) -> Result<(), String> {
             now.push((baseline::key(&c.core, &g), c.out.runs[i].instructions));
         }
     }
-    let path = baseline::cores_path();
-    if bless {
-        std::fs::write(&path, baseline::render_cores(&now))
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        println!(
-            "wrote {} (commit it with a message that says why)",
-            path.display()
-        );
-        return Ok(());
-    }
-    match std::fs::read_to_string(&path) {
-        Ok(text) => {
-            let base = baseline::parse(&text)?;
-            println!(
-                "instruction counts of the other cores against {}:\n{}",
-                baseline::CORES_FILE,
-                baseline::Comparison::new(&base, &now).table()
-            );
-        }
-        Err(e) => println!("no baseline to compare with ({}: {e})", path.display()),
-    }
-    Ok(())
+    let text = bless.then(|| baseline::render_cores(&now));
+    bless_or_compare(
+        &baseline::cores_path(),
+        text,
+        &now,
+        &format!(
+            "instruction counts of the other cores against {}",
+            baseline::CORES_FILE
+        ),
+    )
 }
 
 /// Compares the guarded runs' counts with the baseline file and prints the table;
@@ -990,23 +978,37 @@ fn guard(runs: &[Run], out: &Output, bless: bool) -> Result<(), String> {
             .ok_or_else(|| format!("the guarded run {g} is not in the run list"))?;
         now.push((g.to_string(), out.runs[i].instructions));
     }
-    let path = baseline::path();
-    if bless {
-        std::fs::write(&path, baseline::render(&now))
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    let text = bless.then(|| baseline::render(&now));
+    bless_or_compare(
+        &baseline::path(),
+        text,
+        &now,
+        &format!("instruction counts against {}", baseline::FILE),
+    )
+}
+
+/// Writes `blessed` to the baseline file `path` when given (a bless run), else
+/// prints `now` against the file's counts under `title`.
+fn bless_or_compare(
+    path: &std::path::Path,
+    blessed: Option<String>,
+    now: &[(String, u64)],
+    title: &str,
+) -> Result<(), String> {
+    if let Some(text) = blessed {
+        std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         println!(
             "wrote {} (commit it with a message that says why)",
             path.display()
         );
         return Ok(());
     }
-    match std::fs::read_to_string(&path) {
+    match std::fs::read_to_string(path) {
         Ok(text) => {
             let base = baseline::parse(&text)?;
             println!(
-                "instruction counts against {}:\n{}",
-                baseline::FILE,
-                baseline::Comparison::new(&base, &now).table()
+                "{title}:\n{}",
+                baseline::Comparison::new(&base, now).table()
             );
         }
         Err(e) => println!("no baseline to compare with ({}: {e})", path.display()),
