@@ -6,7 +6,7 @@ use std::hint::black_box;
 use tessera::builtin::{self, Builtin};
 use tessera::testing::Shape;
 use tessera::{
-    Frame, RenderSettings, Tile, TileCoord, Vec3, Viewport, camera::CameraBasis, geometry::Aabb,
+    RenderSettings, Renderer, Tile, TileCoord, Vec3, Viewport, camera::CameraBasis, geometry::Aabb,
     geometry::Plane, geometry::Sphere, geometry::Triangle, trace::Ray,
 };
 
@@ -100,12 +100,12 @@ fn shading(c: &mut Criterion) {
 fn tiles(c: &mut Criterion) {
     for b in [Builtin::ChapterReflect, Builtin::Showcase] {
         b.with_scene(|view, cam| {
-            let frame =
-                Frame::try_new(cam, Viewport::new(240, 240), RenderSettings::default()).unwrap();
+            let renderer =
+                Renderer::try_new(cam, Viewport::new(240, 240), RenderSettings::default()).unwrap();
             let mut tile = Tile::<16>::new();
             c.bench_function(&format!("tile 16x16 ({}, centre)", b.name()), |bch| {
                 bch.iter(|| {
-                    frame
+                    renderer
                         .render_tile(view, black_box(TileCoord::new(7, 7)), &mut tile, &mut ())
                         .unwrap()
                 })

@@ -17,13 +17,13 @@ use crate::geometry::{Aabb, Plane, Sphere, Triangle};
 use crate::light::PointLight;
 use crate::material::Material;
 use crate::primitive::Primitive;
-use crate::tile::{Frame, RenderSettings};
+use crate::tile::{RenderSettings, Renderer};
 use crate::vec::Vec3;
 use crate::view::{Lists, SceneView, check_material};
 
 /// A camera as a scene file gives it, before [`Camera::try_new`] checks and
 /// normalises it: a baked scene keeps these numbers and makes its camera when
-/// a frame is made ([`BakedScene::frame`]).
+/// a frame is made ([`BakedScene::renderer`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BakedCamera {
     /// Where the camera is.
@@ -64,7 +64,7 @@ impl BakedCamera {
 /// Made in a `const` context (a `static` in flash) with [`BakedScene::new`],
 /// its triangles' hierarchy and its meshes added with
 /// `BakedScene::with_bvh` and `BakedScene::with_meshes` (feature `bvh`);
-/// rendered through [`BakedScene::view`] and [`BakedScene::frame`], which
+/// rendered through [`BakedScene::view`] and [`BakedScene::renderer`], which
 /// check it first:
 ///
 /// ```
@@ -103,9 +103,9 @@ impl BakedCamera {
 /// );
 ///
 /// let view = SCENE.view()?;
-/// let frame = SCENE.frame()?;
+/// let renderer = SCENE.renderer()?;
 /// let mut tile = Tile::<16>::new();
-/// frame.render_tile(&view, TileCoord::new(0, 0), &mut tile, &mut ())?;
+/// renderer.render_tile(&view, TileCoord::new(0, 0), &mut tile, &mut ())?;
 /// # Ok::<(), tessera::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug)]
@@ -131,7 +131,7 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
     BakedScene<'a, S, P, T, B>
 {
     /// A baked scene of these tables, not checked here ([`BakedScene::view`]
-    /// and [`BakedScene::frame`] check it). Primitives refer to materials by
+    /// and [`BakedScene::renderer`] check it). Primitives refer to materials by
     /// their index in `materials`.
     #[must_use]
     #[allow(clippy::too_many_arguments)]
@@ -207,18 +207,22 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
     /// The frame of the scene's camera at its own size and settings.
     ///
     /// # Errors
-    /// As [`Frame::try_new`] (the camera, the viewport and the settings
+    /// As [`Renderer::try_new`] (the camera, the viewport and the settings
     /// checked).
-    pub fn frame(&self) -> Result<Frame, Error> {
-        self.frame_at(self.viewport, self.settings)
+    pub fn renderer(&self) -> Result<Renderer, Error> {
+        self.renderer_at(self.viewport, self.settings)
     }
 
     /// The frame of the scene's camera over `viewport` with `settings`.
     ///
     /// # Errors
-    /// As [`Frame::try_new`].
-    pub fn frame_at(&self, viewport: Viewport, settings: RenderSettings) -> Result<Frame, Error> {
-        Frame::try_new(&self.camera.camera()?, viewport, settings)
+    /// As [`Renderer::try_new`].
+    pub fn renderer_at(
+        &self,
+        viewport: Viewport,
+        settings: RenderSettings,
+    ) -> Result<Renderer, Error> {
+        Renderer::try_new(&self.camera.camera()?, viewport, settings)
     }
 
     /// The view the renderer reads, borrowing the tables where they lie (no
@@ -411,7 +415,7 @@ mod tests {
         let p = floor([0.0, 1.0, 0.0], 0.0);
         let view = scene(&MATERIALS, &s, &p).view().unwrap();
         assert_eq!(view.spheres().len(), 1);
-        assert!(scene(&MATERIALS, &s, &p).frame().is_ok());
+        assert!(scene(&MATERIALS, &s, &p).renderer().is_ok());
     }
 
     #[test]
@@ -481,7 +485,7 @@ mod tests {
         );
         let mut camera = scene(&MATERIALS, &ok_s, &ok_p);
         camera.camera.near = 200.0;
-        assert_eq!(camera.frame().err(), Some(Error::NearNotBeforeFar));
+        assert_eq!(camera.renderer().err(), Some(Error::NearNotBeforeFar));
     }
 
     #[test]

@@ -141,19 +141,19 @@ impl Builtin {
     ///
     /// ```
     /// use tessera::{builtin::Builtin, Tile, TileCoord};
-    /// let (view, frame) = Builtin::Showcase.baked()?;
+    /// let (view, renderer) = Builtin::Showcase.baked()?;
     /// let mut tile = Tile::<16>::new();
-    /// frame.render_tile(&view, TileCoord::new(0, 0), &mut tile, &mut ())?;
+    /// renderer.render_tile(&view, TileCoord::new(0, 0), &mut tile, &mut ())?;
     /// # Ok::<(), tessera::Error>(())
     /// ```
     ///
     /// # Errors
     /// As [`crate::BakedScene::view`] and [`crate::BakedScene::frame`] (none
     /// for data the host baked).
-    pub fn baked(self) -> Result<(SceneView<'static>, crate::Frame), Error> {
+    pub fn baked(self) -> Result<(SceneView<'static>, crate::Renderer), Error> {
         self.with_baked_scene(|view, camera| {
-            let frame = crate::Frame::try_new(camera, baked_viewport(self), self.settings())?;
-            Ok((*view, frame))
+            let renderer = crate::Renderer::try_new(camera, baked_viewport(self), self.settings())?;
+            Ok((*view, renderer))
         })?
     }
 
@@ -545,13 +545,15 @@ mod tests {
     }
 
     /// Every tile of `frame` over `view`, as bytes.
-    fn pixels(view: &SceneView<'_>, frame: &crate::Frame) -> [u8; 3 * 80 * 60] {
+    fn pixels(view: &SceneView<'_>, renderer: &crate::Renderer) -> [u8; 3 * 80 * 60] {
         let mut out = [0; 3 * 80 * 60];
         let mut tile = crate::Tile::<16>::new();
         for ty in 0..4 {
             for tx in 0..5 {
                 let coord = crate::TileCoord::new(tx, ty);
-                frame.render_tile(view, coord, &mut tile, &mut ()).unwrap();
+                renderer
+                    .render_tile(view, coord, &mut tile, &mut ())
+                    .unwrap();
                 for (y, row) in tile.rows().enumerate() {
                     for (x, p) in row.iter().enumerate() {
                         let i = 3 * ((usize::from(ty) * 16 + y) * 80 + usize::from(tx) * 16 + x);
@@ -569,12 +571,12 @@ mod tests {
     fn every_builtin_baked_renders_like_the_built_scene() {
         let vp = crate::Viewport::new(80, 60);
         for &b in Builtin::ALL {
-            let (view, frame) = b.baked().unwrap();
-            assert_eq!(*frame.settings(), b.settings(), "{}", b.name());
-            assert_eq!(frame.viewport(), crate::Viewport::new(320, 240));
+            let (view, renderer) = b.baked().unwrap();
+            assert_eq!(*renderer.settings(), b.settings(), "{}", b.name());
+            assert_eq!(renderer.viewport(), crate::Viewport::new(320, 240));
             let baked = b
                 .with_baked_scene(|v, cam| {
-                    let f = crate::Frame::try_new(cam, vp, b.settings()).unwrap();
+                    let f = crate::Renderer::try_new(cam, vp, b.settings()).unwrap();
                     pixels(v, &f)
                 })
                 .unwrap();
@@ -585,7 +587,7 @@ mod tests {
             );
             let built = b
                 .with_scene(|v, cam| {
-                    let f = crate::Frame::try_new(cam, vp, b.settings()).unwrap();
+                    let f = crate::Renderer::try_new(cam, vp, b.settings()).unwrap();
                     pixels(v, &f)
                 })
                 .unwrap();

@@ -937,15 +937,15 @@ mod baked_tests {
         }
         let vp = crate::Viewport::new(40, 30);
         let render = |v: &SceneView<'_>| {
-            let frame =
-                crate::Frame::try_new(s.camera(), vp, crate::RenderSettings::default()).unwrap();
+            let renderer =
+                crate::Renderer::try_new(s.camera(), vp, crate::RenderSettings::default()).unwrap();
             let mut px = StdVec::new();
-            let (across, down) = frame.tile_grid(8);
+            let (across, down) = renderer.tile_grid(8);
             for ty in 0..down {
                 for tx in 0..across {
                     let mut tile = crate::Tile::<8>::new();
                     let coord = crate::TileCoord::new(tx, ty);
-                    frame.render_tile(v, coord, &mut tile, &mut ()).unwrap();
+                    renderer.render_tile(v, coord, &mut tile, &mut ()).unwrap();
                     px.extend(tile.pixels().map(|p| (p.r, p.g, p.b)));
                 }
             }

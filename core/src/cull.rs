@@ -761,18 +761,19 @@ mod tests {
     fn chapter_tiles() -> StdVec<(StdVec<u16>, StdVec<u16>)> {
         let scene = chapter_direct().unwrap();
         let view = scene.view();
-        let frame = scene
-            .frame(Viewport::new(64, 64), Builtin::ChapterDirect.settings())
+        let renderer = scene
+            .renderer(Viewport::new(64, 64), Builtin::ChapterDirect.settings())
             .unwrap();
         let mut out = StdVec::new();
         for ty in 0..4u8 {
             for tx in 0..4u8 {
                 let (x0, y0) = (f32::from(tx) * 16.0, f32::from(ty) * 16.0);
                 TileStorage::<4, 1, 0, 0>::lend(Some([4, 1, 0, 0]), &mut |lists| {
-                    let picks =
-                        lists
-                            .unwrap()
-                            .build(frame.basis(), &view, (x0, y0, x0 + 16.0, y0 + 16.0));
+                    let picks = lists.unwrap().build(
+                        renderer.basis(),
+                        &view,
+                        (x0, y0, x0 + 16.0, y0 + 16.0),
+                    );
                     let camera = picks.camera.unwrap()[0].to_vec();
                     let floor_bit = 1 << PLANE_RECEIVERS;
                     let shadow = picks.shadow.map_or_else(StdVec::new, |s| {

@@ -15,7 +15,7 @@ use crate::color::Rgb8;
 use crate::dither::Dither;
 use crate::error::Error;
 pub use crate::tile::TilePixel;
-use crate::tile::{AllLoops, Frame, Loops, Tile, TileCoord};
+use crate::tile::{AllLoops, Loops, Renderer, Tile, TileCoord};
 use crate::view::SceneView;
 use core::marker::PhantomData;
 use embedded_graphics_core::Drawable;
@@ -107,7 +107,7 @@ where
 /// A frame of a scene as an embedded-graphics [`Drawable`]: the one way to draw a
 /// whole frame. Tiles of `N x N` in the display's colour `C` (a [`TilePixel`]:
 /// `Rgb888`, or a panel's `Rgb565`, `Rgb555`, `Gray8`, each pixel dithered at its
-/// position in the frame by the frame's [`Dither`] ([`Frame::with_dither`]) unless
+/// position in the frame by the frame's [`Dither`] ([`Renderer::with_dither`]) unless
 /// [`Drawing::dithered`] says otherwise), each rendered straight into a buffer of
 /// the panel's colour and sent with one `fill_contiguous` ([`draw_panel_tile`]).
 /// Options: [`Drawing::dithered`], [`Drawing::progressive`] (a one-ray-per-block
@@ -143,8 +143,8 @@ where
 /// }
 ///
 /// let scene = builtin::chapter_direct()?;
-/// let frame = scene.frame(Viewport::new(40, 30), RenderSettings::default())?;
-/// let picture = Drawing::<Rgb565, 16>::new(&frame, &scene.view()).dithered(Dither::Bayer4);
+/// let renderer = scene.renderer(Viewport::new(40, 30), RenderSettings::default())?;
+/// let picture = Drawing::<Rgb565, 16>::new(&renderer, &scene.view()).dithered(Dither::Bayer4);
 /// assert_eq!(picture.size(), Size::new(40, 30));
 /// let mut display = Count(0);
 /// picture.draw(&mut display).unwrap();
@@ -155,7 +155,7 @@ where
 /// [`Drawable`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/trait.Drawable.html
 /// [`OriginDimensions`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/geometry/trait.OriginDimensions.html
 pub struct Drawing<'a, C, const N: usize, L = AllLoops> {
-    frame: Frame,
+    renderer: Renderer,
     scene: SceneView<'a>,
     /// The preview's block size (0: no preview).
     block: u32,
@@ -176,7 +176,7 @@ impl<C, const N: usize, L> Copy for Drawing<'_, C, N, L> {}
 impl<C, const N: usize, L> core::fmt::Debug for Drawing<'_, C, N, L> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("Drawing")
-            .field("frame", &self.frame)
+            .field("renderer", &self.renderer)
             .field("block", &self.block)
             .finish_non_exhaustive()
     }
@@ -185,9 +185,9 @@ impl<C, const N: usize, L> core::fmt::Debug for Drawing<'_, C, N, L> {
 impl<'a, C, const N: usize> Drawing<'a, C, N> {
     /// `frame` of `scene`, every tile loop linked, no preview.
     #[must_use]
-    pub fn new(frame: &Frame, scene: &SceneView<'a>) -> Self {
+    pub fn new(renderer: &Renderer, scene: &SceneView<'a>) -> Self {
         Self {
-            frame: *frame,
+            renderer: *renderer,
             scene: *scene,
             block: 0,
             kinds: PhantomData,
@@ -201,13 +201,13 @@ impl<'a, C, const N: usize, L> Drawing<'a, C, N, L> {
     #[must_use]
     pub fn dithered(self, dither: Dither) -> Self {
         Self {
-            frame: self.frame.with_dither(dither),
+            renderer: self.renderer.with_dither(dither),
             ..self
         }
     }
 
     /// The same drawing with a quick first picture: one ray per `block x block`
-    /// pixels ([`Frame::preview_color`]), each block drawn with one `fill_solid`
+    /// pixels ([`Renderer::preview_color`]), each block drawn with one `fill_solid`
     /// as soon as it is traced, then the tiles, which replace every preview
     /// pixel. On a slow chip the picture appears in about `1 / block^2` of a
     /// direct render's rays (`block` 0 is taken as 1).
@@ -224,12 +224,12 @@ impl<'a, C, const N: usize, L> Drawing<'a, C, N, L> {
     ///
     /// # Errors
     /// [`Error::NotLinked`] if the frame's settings and scene need a loop `M`
-    /// leaves out ([`Frame::check_loops`]): checked here, once, so the drawing
+    /// leaves out ([`Renderer::check_loops`]): checked here, once, so the drawing
     /// itself never meets it.
     pub fn linking<M: Loops>(self) -> Result<Drawing<'a, C, N, M>, Error> {
-        self.frame.check_loops::<M>(&self.scene)?;
+        self.renderer.check_loops::<M>(&self.scene)?;
         Ok(Drawing {
-            frame: self.frame,
+            renderer: self.renderer,
             scene: self.scene,
             block: self.block,
             kinds: PhantomData,
@@ -244,16 +244,16 @@ impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawing<'_, C, N, L> {
     /// # Errors
     /// The target's.
     pub fn draw_preview<D: DrawTarget<Color = C>>(&self, target: &mut D) -> Result<(), D::Error> {
-        let frame = &self.frame;
+        let renderer = &self.renderer;
         let block = self.block.max(1);
-        let vp = frame.viewport();
+        let vp = renderer.viewport();
         let (w, h) = (u32::from(vp.width), u32::from(vp.height));
         for by in 0..h.div_ceil(block) {
             for bx in 0..w.div_ceil(block) {
-                let c = frame.preview_color_in::<L, _>(&self.scene, (bx, by), block, &mut ());
+                let c = renderer.preview_color_in::<L, _>(&self.scene, (bx, by), block, &mut ());
                 let (x, y) = (bx * block, by * block);
-                let rgb = frame.settings().encoding.encode(c);
-                let color = C::from_rgb8(rgb, x, y, frame.dither());
+                let rgb = renderer.settings().encoding.encode(c);
+                let color = C::from_rgb8(rgb, x, y, renderer.dither());
                 let area = rectangle(x, y, block.min(w - x), block.min(h - y));
                 target.fill_solid(&area, color)?;
             }
@@ -277,14 +277,14 @@ impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable for Drawing<'
             self.draw_preview(target)?;
         }
         let mut tile = Tile::<N, C>::blank();
-        let (across, down) = self.frame.tile_grid(N);
+        let (across, down) = self.renderer.tile_grid(N);
         for ty in 0..down {
             for tx in 0..across {
                 // Every tile of the grid lies in the frame, and `L` was checked
                 // when linked: there is no render error to report.
                 let coord = TileCoord::new(tx, ty);
                 if self
-                    .frame
+                    .renderer
                     .render_tile_in::<L, N, _, _>(&self.scene, coord, &mut tile, &mut ())
                     .is_ok()
                 {
@@ -298,7 +298,7 @@ impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable for Drawing<'
 
 impl<C, const N: usize, L> OriginDimensions for Drawing<'_, C, N, L> {
     fn size(&self) -> Size {
-        let vp = self.frame.viewport();
+        let vp = self.renderer.viewport();
         Size::new(u32::from(vp.width), u32::from(vp.height))
     }
 }
@@ -353,14 +353,14 @@ mod tests {
     #[test]
     fn one_fill_per_tile_covering_the_frame_once() {
         let scene = builtin::chapter_direct().unwrap();
-        let frame = scene
-            .frame(Viewport::new(40, 20), RenderSettings::default())
+        let renderer = scene
+            .renderer(Viewport::new(40, 20), RenderSettings::default())
             .unwrap();
         let mut d = Recorder {
             fills: heapless::Vec::new(),
             fail_after: usize::MAX,
         };
-        Drawing::<_, 16>::new(&frame, &scene.view())
+        Drawing::<_, 16>::new(&renderer, &scene.view())
             .draw(&mut d)
             .unwrap();
         let want = [
@@ -380,14 +380,14 @@ mod tests {
     #[test]
     fn display_errors_are_returned() {
         let scene = builtin::chapter_direct().unwrap();
-        let frame = scene
-            .frame(Viewport::new(40, 20), RenderSettings::default())
+        let renderer = scene
+            .renderer(Viewport::new(40, 20), RenderSettings::default())
             .unwrap();
         let mut d = Recorder {
             fills: heapless::Vec::new(),
             fail_after: 2,
         };
-        let r = Drawing::<_, 16>::new(&frame, &scene.view()).draw(&mut d);
+        let r = Drawing::<_, 16>::new(&renderer, &scene.view()).draw(&mut d);
         assert_eq!(r, Err("bus error"));
         assert_eq!(d.fills.len(), 2);
     }
@@ -430,18 +430,18 @@ mod tests {
         assert_eq!(core::mem::size_of::<Tile<16, Gray8>>(), 264);
         fn check<P: TilePixel + PartialEq + core::fmt::Debug, const N: usize>(
             view: &SceneView<'_>,
-            frame: &Frame,
+            renderer: &Renderer,
             dither: Dither,
         ) {
-            let frame = frame.with_dither(dither);
-            let (across, down) = frame.tile_grid(N);
+            let renderer = renderer.with_dither(dither);
+            let (across, down) = renderer.tile_grid(N);
             for ty in 0..down {
                 for tx in 0..across {
                     let c = TileCoord::new(tx, ty);
                     let mut rgb = Tile::<N>::new();
                     let mut panel = Tile::<N, P>::blank();
-                    frame.render_tile(view, c, &mut rgb, &mut ()).unwrap();
-                    frame.render_tile(view, c, &mut panel, &mut ()).unwrap();
+                    renderer.render_tile(view, c, &mut rgb, &mut ()).unwrap();
+                    renderer.render_tile(view, c, &mut panel, &mut ()).unwrap();
                     let (x0, y0) = rgb.origin();
                     for y in 0..usize::from(rgb.height()) {
                         for x in 0..usize::from(rgb.width()) {
@@ -468,12 +468,12 @@ mod tests {
                         sampler,
                         ..b.settings()
                     };
-                    let frame =
-                        Frame::try_new(cam, crate::Viewport::new(37, 29), settings).unwrap();
-                    check::<Rgb565, 16>(view, &frame, Dither::Bayer4);
-                    check::<Rgb565, 8>(view, &frame, Dither::Bayer8);
-                    check::<Rgb555, 16>(view, &frame, Dither::None);
-                    check::<Gray8, 8>(view, &frame, Dither::Bayer4);
+                    let renderer =
+                        Renderer::try_new(cam, crate::Viewport::new(37, 29), settings).unwrap();
+                    check::<Rgb565, 16>(view, &renderer, Dither::Bayer4);
+                    check::<Rgb565, 8>(view, &renderer, Dither::Bayer8);
+                    check::<Rgb555, 16>(view, &renderer, Dither::None);
+                    check::<Gray8, 8>(view, &renderer, Dither::Bayer4);
                 })
                 .unwrap();
             }
@@ -522,7 +522,8 @@ mod tests {
         for &b in Builtin::ALL {
             b.with_scene(|view, cam| {
                 let (w, h) = (45u16, 34u16);
-                let frame = Frame::try_new(cam, crate::Viewport::new(w, h), b.settings()).unwrap();
+                let renderer =
+                    Renderer::try_new(cam, crate::Viewport::new(w, h), b.settings()).unwrap();
                 let fb = || Fb {
                     w: u32::from(w),
                     h: u32::from(h),
@@ -530,19 +531,19 @@ mod tests {
                     writes: 0,
                 };
                 let mut direct = fb();
-                Drawing::<Rgb565, 16>::new(&frame, view)
+                Drawing::<Rgb565, 16>::new(&renderer, view)
                     .dithered(Dither::Bayer4)
                     .draw(&mut direct)
                     .unwrap();
                 let mut progressive = fb();
-                Drawing::<Rgb565, 16>::new(&frame, view)
+                Drawing::<Rgb565, 16>::new(&renderer, view)
                     .dithered(Dither::Bayer4)
                     .progressive(4)
                     .draw(&mut progressive)
                     .unwrap();
                 assert!(progressive.px == direct.px, "{}", b.name());
                 let mut preview = fb();
-                Drawing::<_, 16>::new(&frame, view)
+                Drawing::<_, 16>::new(&renderer, view)
                     .dithered(Dither::Bayer4)
                     .progressive(4)
                     .draw_preview(&mut preview)
@@ -559,7 +560,7 @@ mod tests {
                     }
                 }
                 let mut rays = RayCount::default();
-                let _ = frame.preview_color(view, (0, 0), 4, &mut rays);
+                let _ = renderer.preview_color(view, (0, 0), 4, &mut rays);
                 assert_eq!(rays.primary, 1);
             })
             .unwrap();
@@ -581,7 +582,8 @@ mod tests {
         for &b in Builtin::ALL {
             b.with_scene(|view, cam| {
                 let (w, h) = (37u16, 29u16);
-                let frame = Frame::try_new(cam, crate::Viewport::new(w, h), b.settings()).unwrap();
+                let renderer =
+                    Renderer::try_new(cam, crate::Viewport::new(w, h), b.settings()).unwrap();
                 let fb = || Fb {
                     w: u32::from(w),
                     h: u32::from(h),
@@ -589,7 +591,7 @@ mod tests {
                     writes: 0,
                 };
                 let mut all = fb();
-                let drawing = Drawing::<Rgb565, 16>::new(&frame, view)
+                let drawing = Drawing::<Rgb565, 16>::new(&renderer, view)
                     .dithered(Dither::Bayer4)
                     .progressive(4);
                 drawing.draw(&mut all).unwrap();
@@ -628,7 +630,8 @@ mod tests {
                         encoding,
                         ..b.settings()
                     };
-                    let frame = Frame::try_new(cam, crate::Viewport::new(w, h), settings).unwrap();
+                    let renderer =
+                        Renderer::try_new(cam, crate::Viewport::new(w, h), settings).unwrap();
                     let fb = || Fb {
                         w: u32::from(w),
                         h: u32::from(h),
@@ -636,12 +639,12 @@ mod tests {
                         writes: 0,
                     };
                     let mut direct = fb();
-                    Drawing::<Rgb888, 16>::new(&frame, view)
+                    Drawing::<Rgb888, 16>::new(&renderer, view)
                         .dithered(Dither::Bayer4)
                         .draw(&mut direct)
                         .unwrap();
                     let mut preview = fb();
-                    Drawing::<_, 16>::new(&frame, view)
+                    Drawing::<_, 16>::new(&renderer, view)
                         .dithered(Dither::Bayer4)
                         .progressive(4)
                         .draw_preview(&mut preview)

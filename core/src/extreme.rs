@@ -205,7 +205,7 @@ fn subnormal_inputs(t: f32) -> Result<ExtremeScene, Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Frame, RenderSettings, Viewport};
+    use crate::{RenderSettings, Renderer, Viewport};
 
     extern crate std;
     use std::vec::Vec as StdVec;
@@ -222,12 +222,13 @@ mod tests {
         s: &Scene<S, P, T, B, M, L>,
     ) -> StdVec<[u8; 3]> {
         let view = s.view();
-        let frame =
-            Frame::try_new(s.camera(), Viewport::new(24, 18), RenderSettings::default()).unwrap();
+        let renderer =
+            Renderer::try_new(s.camera(), Viewport::new(24, 18), RenderSettings::default())
+                .unwrap();
         (0..18u32)
             .flat_map(|y| (0..24u32).map(move |x| (x, y)))
             .map(|(x, y)| {
-                let c = frame.pixel_color(&view, x, y, &mut ()).to_srgb8();
+                let c = renderer.pixel_color(&view, x, y, &mut ()).to_srgb8();
                 [c.r, c.g, c.b]
             })
             .collect()

@@ -21,9 +21,9 @@
 //! use tessera::{builtin, RenderSettings, Tile, TileCoord, Viewport};
 //!
 //! let scene = builtin::chapter_direct()?;
-//! let frame = scene.frame(Viewport::new(40, 30), RenderSettings::default())?;
+//! let renderer = scene.renderer(Viewport::new(40, 30), RenderSettings::default())?;
 //! let mut tile = Tile::<16>::new();
-//! frame.render_tile(&scene.view(), TileCoord::new(2, 1), &mut tile, &mut ())?;
+//! renderer.render_tile(&scene.view(), TileCoord::new(2, 1), &mut tile, &mut ())?;
 //! // The last tile of a 40-pixel-wide frame holds 8 columns and 14 rows.
 //! assert_eq!((tile.width(), tile.height()), (8, 14));
 //! # Ok::<(), tessera::Error>(())
@@ -86,7 +86,7 @@ pub use error::Error;
 pub use primitive::Primitive;
 pub use sample::Sampler;
 pub use scene::Scene;
-pub use tile::{Frame, RenderSettings, Tile, TileCoord};
+pub use tile::{RenderSettings, Renderer, Tile, TileCoord};
 pub use vec::Vec3;
 pub use view::SceneView;
 

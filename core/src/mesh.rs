@@ -199,7 +199,7 @@ impl<'a> Mesh<'a> {
 mod tests {
     use super::*;
     use crate::{
-        Camera, Color, Frame, Scene, SceneView, bvh::Bvh, bvh::BvhNode, light::PointLight,
+        Camera, Color, Renderer, Scene, SceneView, bvh::Bvh, bvh::BvhNode, light::PointLight,
         material::Material,
     };
     use crate::{RenderSettings, Tile, TileCoord, Viewport, geometry::Sphere};
@@ -287,13 +287,13 @@ mod tests {
 
     fn render(v: &SceneView<'_>) -> StdVec<[u8; 3]> {
         let vp = Viewport::new(48, 40);
-        let frame = Frame::try_new(&camera(), vp, RenderSettings::default()).unwrap();
-        let (across, down) = frame.tile_grid(8);
+        let renderer = Renderer::try_new(&camera(), vp, RenderSettings::default()).unwrap();
+        let (across, down) = renderer.tile_grid(8);
         let mut px = std::vec![[0u8; 3]; 48 * 40];
         for ty in 0..down {
             for tx in 0..across {
                 let mut tile = Tile::<8>::new();
-                frame
+                renderer
                     .render_tile(v, TileCoord::new(tx, ty), &mut tile, &mut ())
                     .unwrap();
                 for (k, p) in tile.pixels().enumerate() {

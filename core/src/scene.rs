@@ -15,7 +15,7 @@ use crate::geometry::{Aabb, Plane, Sphere, Triangle};
 use crate::light::PointLight;
 use crate::material::{Material, MaterialId};
 use crate::primitive::Primitive;
-use crate::tile::{Frame, RenderSettings};
+use crate::tile::{RenderSettings, Renderer};
 use crate::vec::Vec3;
 use crate::view::{Lists, SceneView, check_material};
 use heapless::Vec;
@@ -269,9 +269,13 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
     }
 
     /// The frame of this scene's camera for `viewport` and `settings` (all checked):
-    /// [`Frame::try_new`] with [`Scene::camera`].
-    pub fn frame(&self, viewport: Viewport, settings: RenderSettings) -> Result<Frame, Error> {
-        Frame::try_new(self.camera(), viewport, settings)
+    /// [`Renderer::try_new`] with [`Scene::camera`].
+    pub fn renderer(
+        &self,
+        viewport: Viewport,
+        settings: RenderSettings,
+    ) -> Result<Renderer, Error> {
+        Renderer::try_new(self.camera(), viewport, settings)
     }
 
     /// A borrowed, capacity-free view of the scene: what the renderer reads.

@@ -1,6 +1,6 @@
 //! Frames and tiles: the contract between the renderer and whoever owns the pixels.
 //!
-//! A [`Frame`] is the camera basis and the render settings, checked once. The caller
+//! A [`Renderer`] is the camera basis and the render settings, checked once. The caller
 //! owns a [`Tile<N>`] buffer (`N x N` pixels, `N` fixed at compile time) and asks the
 //! frame to render tile `(tx, ty)` into it, in any order. No allocation, no
 //! framebuffer: the RAM is one tile buffer plus the renderer's stack.
@@ -73,7 +73,7 @@ impl RenderSettings {
 /// One instantiation of a tile's pixel loop: the loop without bounces or with them
 /// (mirrors or glass within the frame's depth), in one encoding, or the adaptive
 /// sampler's loop (which encodes each pixel itself). A frame's tiles all take one
-/// ([`Frame::tile_loop`]); a firmware links those it names ([`Loops`]).
+/// ([`Renderer::tile_loop`]); a firmware links those it names ([`Loops`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TileLoop {
     /// No ray bounces; pixels in this encoding.
@@ -99,14 +99,14 @@ impl TileLoop {
     ];
 }
 
-/// Which tile loops a firmware links ([`Frame::render_tile_in`],
+/// Which tile loops a firmware links ([`Renderer::render_tile_in`],
 /// [`crate::display::Drawing::linking`]). The render settings are values, so
-/// [`Frame::render_tile`] links every [`TileLoop`] ([`AllLoops`]); a firmware
+/// [`Renderer::render_tile`] links every [`TileLoop`] ([`AllLoops`]); a firmware
 /// whose settings are fixed names the ones it needs and the others are left out
 /// of the image (the board example's README, `examples/blackpill-st7789`,
 /// measures the flash this saves). A render whose settings need a loop left out
 /// is refused ([`Error::NotLinked`]), never drawn wrong: the check
-/// ([`Frame::check_loops`]) and the tile's choice of loop ask the same
+/// ([`Renderer::check_loops`]) and the tile's choice of loop ask the same
 /// [`Loops::links`].
 ///
 /// ```
@@ -122,9 +122,9 @@ impl TileLoop {
 ///
 /// let scene = builtin::chapter_direct()?;
 /// let settings = RenderSettings { max_depth: 0, ..RenderSettings::default() };
-/// let frame = scene.frame(Viewport::new(32, 32), settings)?;
+/// let renderer = scene.renderer(Viewport::new(32, 32), settings)?;
 /// let mut tile = Tile::<16>::new();
-/// frame.render_tile_in::<DirectSrgb, 16, _, _>(&scene.view(), TileCoord::new(0, 0), &mut tile, &mut ())?;
+/// renderer.render_tile_in::<DirectSrgb, 16, _, _>(&scene.view(), TileCoord::new(0, 0), &mut tile, &mut ())?;
 /// # Ok::<(), tessera::Error>(())
 /// ```
 pub trait Loops {
@@ -134,7 +134,7 @@ pub trait Loops {
     fn links(tile_loop: TileLoop) -> bool;
 }
 
-/// Every tile loop: what [`Frame::render_tile`] links.
+/// Every tile loop: what [`Renderer::render_tile`] links.
 #[derive(Clone, Copy, Debug)]
 pub enum AllLoops {}
 
@@ -146,7 +146,7 @@ impl Loops for AllLoops {
 }
 
 /// Whether `L` links a loop with bounces (`bounces`) or without, in some form:
-/// what the one-ray preview ([`Frame::preview_color`]) needs.
+/// what the one-ray preview ([`Renderer::preview_color`]) needs.
 #[inline(always)]
 fn links_any<L: Loops>(bounces: bool) -> bool {
     use Encoding::{Linear, Srgb};
@@ -193,7 +193,7 @@ pub struct Tile<const N: usize, P = Rgb8> {
 /// A pixel a [`Tile`] holds: the 8-bit [`Rgb8`] (3 bytes), or a panel's own colour
 /// (`embedded-graphics`' `Rgb565` and `Rgb555`, 2 bytes; `Gray8`, 1; `Rgb888`, 3),
 /// made from the 8-bit pixel at its position in the frame with the frame's
-/// [`Dither`] ([`Frame::with_dither`]), so a tile is filled straight in the
+/// [`Dither`] ([`Renderer::with_dither`]), so a tile is filled straight in the
 /// display's format: a 16x16 `Rgb565` tile is 520 bytes instead of 776.
 pub trait TilePixel: Copy {
     /// The colour of the buffer beyond the frame's edge.
@@ -287,7 +287,7 @@ impl<const N: usize, P: TilePixel> Tile<N, P> {
 
 /// A checked camera basis and render settings: what every tile of a frame shares.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Frame {
+pub struct Renderer {
     basis: CameraBasis,
     settings: RenderSettings,
     /// Rays per pixel, and the reciprocal by which their sum is averaged.
@@ -305,7 +305,7 @@ pub struct Frame {
     dither: Dither,
 }
 
-impl Frame {
+impl Renderer {
     /// The frame of `camera` over `viewport` with `settings` (checked).
     pub fn try_new(
         camera: &Camera,
@@ -346,7 +346,7 @@ impl Frame {
         Self { dither, ..self }
     }
 
-    /// How tiles of a panel's colour are filled ([`Frame::with_dither`]).
+    /// How tiles of a panel's colour are filled ([`Renderer::with_dither`]).
     #[must_use]
     pub fn dither(&self) -> Dither {
         self.dither
@@ -396,10 +396,10 @@ impl Frame {
         self.preview_color_in::<AllLoops, C>(scene, block_at, block, count)
     }
 
-    /// [`Frame::preview_color`] with the pixel loops of `L` only (the one with
+    /// [`Renderer::preview_color`] with the pixel loops of `L` only (the one with
     /// bounces where the scene has them within the frame's depth, else the one
     /// without); black if `L` has not the one needed, which
-    /// [`Frame::check_loops`] rules out beforehand.
+    /// [`Renderer::check_loops`] rules out beforehand.
     pub(crate) fn preview_color_in<L: Loops, C: RayCounter>(
         &self,
         scene: &SceneView<'_>,
@@ -438,7 +438,7 @@ impl Frame {
 
     /// The linear colour of pixel `(x, y)`: the mean of its samples, the rays cast
     /// added to `count` (`&mut ()` not to count). Every primitive is a candidate (no
-    /// tile, no culling): the same colour as [`Frame::render_tile`] gives, which the
+    /// tile, no culling): the same colour as [`Renderer::render_tile`] gives, which the
     /// tests check; its [`Encoding::encode`] with the settings' encoding is the
     /// tile's pixel.
     pub fn pixel_color<C: RayCounter>(
@@ -453,7 +453,7 @@ impl Frame {
         let Some(threshold) = self.adaptive else {
             return self.pixel::<_, true>(scene, &picks, depth, x, y, count);
         };
-        // The rule of `Frame::fill_adaptive`, for one pixel.
+        // The rule of `Renderer::fill_adaptive`, for one pixel.
         // The centre rays of the pixel and of its neighbours in the frame.
         let vp = self.viewport();
         let own = self.centre::<_, true>(scene, &picks, depth, x, y, count);
@@ -507,9 +507,9 @@ impl Frame {
     /// The colour of pixel `(x, y)` with the candidates `picks`, rays bouncing down
     /// to `depth` (the scene's, [`SceneView::depth`]): the mean of its samples. The
     /// single-sample samplers trace one ray and return its colour (`(0 + c) * 1 =
-    /// c`) through one out-of-line call ([`Frame::ray_color_call`]); the stratified
+    /// c`) through one out-of-line call ([`Renderer::ray_color_call`]); the stratified
     /// and random samplers hash the pixel once and the sample index per sample, and
-    /// trace each sample inlined in their loop ([`Frame::ray_color`]): without
+    /// trace each sample inlined in their loop ([`Renderer::ray_color`]): without
     /// bounces the whole camera ray then runs without a call (a call per sample
     /// costs more instructions per pixel on the chip).
     #[inline(always)]
@@ -575,7 +575,7 @@ impl Frame {
         crate::shade::trace_with::<C, BOUNCES>(scene, ray, t_far, depth, picks, count, footprint)
     }
 
-    /// [`Frame::ray_color`] out of line, for the single-sample samplers: inlined in
+    /// [`Renderer::ray_color`] out of line, for the single-sample samplers: inlined in
     /// their pixel loop, it costs more instructions per pixel on the chip (the
     /// loop's registers spill around the shader).
     #[inline(never)]
@@ -622,8 +622,8 @@ impl Frame {
     }
 
     /// Fills the pixels of a tile buffer (rows of `stride` pixels) as
-    /// [`Frame::fill`] does where every ray misses: `(x0, y0)` to `(x0 + tw, y0 +
-    /// th)` the background ([`Frame::background_pixel`]), the rest black. Generic
+    /// [`Renderer::fill`] does where every ray misses: `(x0, y0)` to `(x0 + tw, y0 +
+    /// th)` the background ([`Renderer::background_pixel`]), the rest black. Generic
     /// over the pixel type only: one copy whatever the tile size and counter.
     #[inline(never)]
     fn fill_background<P: TilePixel>(
@@ -646,7 +646,7 @@ impl Frame {
         }
     }
 
-    /// [`Frame::fill`] for the adaptive sampler: the centre rays of the tile and of
+    /// [`Renderer::fill`] for the adaptive sampler: the centre rays of the tile and of
     /// a one-pixel apron around it (where the frame has pixels), row after row,
     /// then each pixel either its centre colour or, where it differs from a
     /// neighbour's ([`CentrePixel::differs`]), its stratified samples. Rows are decided
@@ -730,7 +730,7 @@ impl Frame {
     }
 
     /// What a pixel comes to when every ray misses: the background, averaged over
-    /// the samples as [`Frame::pixel`] averages them (for one sample,
+    /// the samples as [`Renderer::pixel`] averages them (for one sample,
     /// `(0 + b) * 1 = b`).
     fn background_pixel(&self, scene: &SceneView<'_>) -> Rgb8 {
         if self.adaptive.is_some() {
@@ -761,12 +761,12 @@ impl Frame {
         self.render_tile_with::<N, C, P, AllLoops>(scene, coord, tile, count)
     }
 
-    /// [`Frame::render_tile`] linking only the tile loops of `L` ([`Loops`]): the
+    /// [`Renderer::render_tile`] linking only the tile loops of `L` ([`Loops`]): the
     /// same pixels, or [`Error::NotLinked`] when the settings and the scene need
-    /// a loop that `L` leaves out ([`Frame::check_loops`]).
+    /// a loop that `L` leaves out ([`Renderer::check_loops`]).
     ///
     /// # Errors
-    /// As [`Frame::render_tile`], and [`Error::NotLinked`].
+    /// As [`Renderer::render_tile`], and [`Error::NotLinked`].
     pub fn render_tile_in<L: Loops, const N: usize, C: RayCounter, P: TilePixel>(
         &self,
         scene: &SceneView<'_>,
@@ -791,7 +791,7 @@ impl Frame {
     }
 
     /// Whether `L` links the loop this frame's tiles take for `scene`
-    /// ([`Frame::tile_loop`]).
+    /// ([`Renderer::tile_loop`]).
     ///
     /// # Errors
     /// [`Error::NotLinked`] naming none in particular: the settings decide.
@@ -1058,18 +1058,18 @@ mod tests {
     /// or the first error. The tile buffer holds another tile's pixels before
     /// each render, so a tile left unfilled would show.
     fn tiles_in<L: Loops>(
-        frame: &Frame,
+        renderer: &Renderer,
         view: &SceneView<'_>,
     ) -> Result<std::vec::Vec<Rgb8>, Error> {
         let mut out = std::vec::Vec::new();
         let mut tile = Tile::<8>::new();
-        let (across, down) = frame.tile_grid(8);
+        let (across, down) = renderer.tile_grid(8);
         for ty in 0..down {
             for tx in 0..across {
                 for (i, p) in tile.pixels.iter_mut().flatten().enumerate() {
                     *p = Rgb8::new(i as u8, 7, 200);
                 }
-                frame.render_tile_in::<L, 8, _, _>(
+                renderer.render_tile_in::<L, 8, _, _>(
                     view,
                     TileCoord::new(tx, ty),
                     &mut tile,
@@ -1083,7 +1083,7 @@ mod tests {
 
     /// One frame, its pixels with every loop, and the loop it needs.
     struct Case<'a, 'v> {
-        frame: &'a Frame,
+        renderer: &'a Renderer,
         view: &'a SceneView<'v>,
         all: &'a [Rgb8],
         need: TileLoop,
@@ -1093,11 +1093,11 @@ mod tests {
     /// else refused (by `check_loops` too); returns whether it was refused.
     fn one<L: Loops>(case: &Case<'_, '_>) -> bool {
         let enough = L::links(case.need);
-        match tiles_in::<L>(case.frame, case.view) {
+        match tiles_in::<L>(case.renderer, case.view) {
             Ok(px) => assert!(enough && px == case.all, "{:?}", case.need),
             Err(e) => assert!(!enough && e == Error::NotLinked, "{:?}: {e}", case.need),
         }
-        assert_eq!(case.frame.check_loops::<L>(case.view).is_ok(), enough);
+        assert_eq!(case.renderer.check_loops::<L>(case.view).is_ok(), enough);
         !enough
     }
 
@@ -1156,9 +1156,9 @@ mod tests {
                         seed: 3,
                         encoding,
                     };
-                    let frame =
-                        Frame::try_new(cam, crate::Viewport::new(20, 13), settings).unwrap();
-                    let all = tiles_in::<AllLoops>(&frame, view).unwrap();
+                    let renderer =
+                        Renderer::try_new(cam, crate::Viewport::new(20, 13), settings).unwrap();
+                    let all = tiles_in::<AllLoops>(&renderer, view).unwrap();
                     let bounces = view.depth(depth) > 0;
                     // The loop the settings and the scene need, derived here on its own.
                     let need = match (sampler, bounces) {
@@ -1166,9 +1166,9 @@ mod tests {
                         (_, false) => TileLoop::Direct(encoding),
                         (_, true) => TileLoop::Bounces(encoding),
                     };
-                    assert_eq!(frame.tile_loop(view), need);
+                    assert_eq!(renderer.tile_loop(view), need);
                     let case = Case {
-                        frame: &frame,
+                        renderer: &renderer,
                         view,
                         all: &all,
                         need,

@@ -632,7 +632,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
     let _ = writeln!(
         body,
         "/// The tile loops this scene needs at its settings, for\n\
-         /// `Frame::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.\n\
+         /// `Renderer::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.\n\
          #[allow(dead_code)]\npub enum SceneLoops {{}}\n\n\
          impl Loops for SceneLoops {{\n    \
              fn links(tile_loop: TileLoop) -> bool {{\n        \
@@ -643,7 +643,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
     let encoding = if srgb { "Srgb" } else { "Linear" };
     let _ = writeln!(
         body,
-        "/// The whole scene: `SCENE.view()?` and `SCENE.frame()?` check it once and render it\n\
+        "/// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it\n\
          /// from where it lies.\n\
          #[allow(dead_code)]\npub static SCENE: BakedScene<'static, {}, {}, {}, {}> = BakedScene::new(\n    \
              BakedCamera {{\n        position: {},\n        forward: {},\n        up: {},\n        \

@@ -768,7 +768,7 @@ fn check(desc: &SceneDesc) -> Result<(), DescError> {
     let scene = desc.to_core()?;
     let settings = desc.settings()?;
     let vp = desc.viewport();
-    tessera::Frame::try_new(scene.camera(), vp, settings).map_err(|e| {
+    tessera::Renderer::try_new(scene.camera(), vp, settings).map_err(|e| {
         let c = &desc.camera;
         match e {
             tessera::Error::EmptyViewport => DescError {

@@ -8,19 +8,19 @@ use image::RgbImage;
 use std::io::{Seek, Write};
 use std::path::Path;
 use tessera::{
-    Camera, Frame, RenderSettings, SceneView, Tile, TileCoord, Viewport, trace::RayCount,
+    Camera, RenderSettings, Renderer, SceneView, Tile, TileCoord, Viewport, trace::RayCount,
 };
 
 /// Renders the whole frame tile by tile with tiles of `N x N`, in the order given
 /// by `order` (a permutation of the tile indices, row-major; `None` = row-major).
 pub fn render_tiles<const N: usize>(
     scene: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     order: Option<&[usize]>,
 ) -> Result<RgbImage, HostError> {
-    let vp = frame.viewport();
+    let vp = renderer.viewport();
     let mut img = RgbImage::new(u32::from(vp.width), u32::from(vp.height));
-    let (across, down) = frame.tile_grid(N);
+    let (across, down) = renderer.tile_grid(N);
     let count = usize::from(across) * usize::from(down);
     let row_major: Vec<usize> = (0..count).collect();
     let order = order.unwrap_or(&row_major);
@@ -30,7 +30,7 @@ pub fn render_tiles<const N: usize>(
             (i % usize::from(across)) as u16,
             (i / usize::from(across)) as u16,
         );
-        frame.render_tile(scene, coord, &mut tile, &mut ())?;
+        renderer.render_tile(scene, coord, &mut tile, &mut ())?;
         place(&mut img, &tile);
     }
     Ok(img)
@@ -65,14 +65,14 @@ fn place_in<const N: usize>(buf: &mut [u8], width: usize, top: usize, tile: &Til
 /// Renders tile `i` (row-major) of `frame`, counting its rays.
 fn one_tile<const N: usize>(
     scene: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     across: usize,
     i: usize,
 ) -> Result<(Tile<N>, RayCount), tessera::Error> {
     let coord = TileCoord::new((i % across) as u16, (i / across) as u16);
     let mut tile = Tile::<N>::new();
     let mut rays = RayCount::default();
-    frame.render_tile(scene, coord, &mut tile, &mut rays)?;
+    renderer.render_tile(scene, coord, &mut tile, &mut rays)?;
     Ok((tile, rays))
 }
 
@@ -80,7 +80,7 @@ fn one_tile<const N: usize>(
 /// the current rayon pool, in order, calling `on_tile` after each (for progress).
 fn tiles_parallel<const N: usize>(
     scene: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     across: usize,
     tiles: std::ops::Range<usize>,
     on_tile: &(dyn Fn() + Sync),
@@ -89,7 +89,7 @@ fn tiles_parallel<const N: usize>(
     tiles
         .into_par_iter()
         .map(|i| {
-            let t = one_tile::<N>(scene, frame, across, i)?;
+            let t = one_tile::<N>(scene, renderer, across, i)?;
             on_tile();
             Ok(t)
         })
@@ -102,14 +102,14 @@ fn tiles_parallel<const N: usize>(
 /// coordinates, and each tile is placed where it belongs.
 pub fn render_parallel<const N: usize>(
     scene: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     on_tile: &(dyn Fn() + Sync),
 ) -> Result<(RgbImage, RayCount), HostError> {
-    let vp = frame.viewport();
-    let (across, down) = frame.tile_grid(N);
+    let vp = renderer.viewport();
+    let (across, down) = renderer.tile_grid(N);
     let across = usize::from(across);
     let count = across * usize::from(down);
-    let tiles = tiles_parallel::<N>(scene, frame, across, 0..count, on_tile)?;
+    let tiles = tiles_parallel::<N>(scene, renderer, across, 0..count, on_tile)?;
     let mut img = RgbImage::new(u32::from(vp.width), u32::from(vp.height));
     let mut rays = RayCount::default();
     for (tile, r) in &tiles {
@@ -132,13 +132,13 @@ fn pool(threads: usize) -> Result<rayon::ThreadPool, HostError> {
 /// of `threads` threads (0 = one per core, at most [`limits::MAX_THREADS`]).
 pub fn render_with(
     scene: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     tile: usize,
     threads: usize,
     on_tile: &(dyn Fn() + Sync),
 ) -> Result<(RgbImage, RayCount), HostError> {
     pool(threads)?
-        .install(|| with_tile_size!(tile, |N| render_parallel::<N>(scene, frame, on_tile)))
+        .install(|| with_tile_size!(tile, |N| render_parallel::<N>(scene, renderer, on_tile)))
 }
 
 /// Renders `frame` with tiles of `tile` pixels (8, 16 or 32) on `threads` threads
@@ -150,7 +150,7 @@ pub fn render_with(
 /// Write errors come back as [`HostError::Write`].
 pub fn render_png<W: Write + Seek + Send>(
     scene: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     tile: usize,
     threads: usize,
     on_tile: &(dyn Fn() + Sync),
@@ -160,7 +160,7 @@ pub fn render_png<W: Write + Seek + Send>(
     let threads = pool.current_num_threads();
     pool.install(|| {
         with_tile_size!(tile, |N| stream::<N, W>(
-            scene, frame, threads, on_tile, out
+            scene, renderer, threads, on_tile, out
         ))
     })
 }
@@ -175,14 +175,14 @@ fn band_rows(across: usize, down: usize, threads: usize) -> usize {
 
 fn stream<const N: usize, W: Write + Seek + Send>(
     scene: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     threads: usize,
     on_tile: &(dyn Fn() + Sync),
     out: W,
 ) -> Result<(RayCount, W), HostError> {
-    let vp = frame.viewport();
+    let vp = renderer.viewport();
     let (width, height) = (usize::from(vp.width), usize::from(vp.height));
-    let (across, down) = frame.tile_grid(N);
+    let (across, down) = renderer.tile_grid(N);
     let (across, down) = (usize::from(across), usize::from(down));
     let group = band_rows(across, down, threads);
     let mut png = png::PngStream::new(out, u32::from(vp.width), u32::from(vp.height))
@@ -192,7 +192,7 @@ fn stream<const N: usize, W: Write + Seek + Send>(
     for first in (0..down).step_by(group) {
         let rows = group.min(down - first);
         let band_tiles = first * across..(first + rows) * across;
-        let tiles = tiles_parallel::<N>(scene, frame, across, band_tiles, on_tile)?;
+        let tiles = tiles_parallel::<N>(scene, renderer, across, band_tiles, on_tile)?;
         let top = first * N;
         for (tile, r) in &tiles {
             place_in(&mut band, width, top, tile);
@@ -216,8 +216,8 @@ pub fn render(
     settings: RenderSettings,
     tile: usize,
 ) -> Result<RgbImage, HostError> {
-    let frame = Frame::try_new(camera, viewport, settings)?;
-    with_tile_size!(tile, |N| render_tiles::<N>(scene, &frame, None))
+    let renderer = Renderer::try_new(camera, viewport, settings)?;
+    with_tile_size!(tile, |N| render_tiles::<N>(scene, &renderer, None))
 }
 
 /// Encodes `img` as a PNG into `out` (see [`png::PngStream`]).
@@ -278,10 +278,10 @@ mod tests {
             .into_inner()
     }
 
-    fn frame(b: Builtin, w: u16, h: u16, f: impl FnOnce(&SceneView<'_>, &Frame)) {
+    fn with_renderer(b: Builtin, w: u16, h: u16, f: impl FnOnce(&SceneView<'_>, &Renderer)) {
         b.with_scene(|view, cam| {
-            let frame = Frame::try_new(cam, Viewport::new(w, h), b.settings()).unwrap();
-            f(view, &frame);
+            let renderer = Renderer::try_new(cam, Viewport::new(w, h), b.settings()).unwrap();
+            f(view, &renderer);
         })
         .unwrap();
     }
@@ -296,7 +296,7 @@ mod tests {
         let dot = RgbImage::from_pixel(1, 1, image::Rgb([1, 2, 3]));
         let mut scenes = Vec::new();
         for &b in Builtin::ALL {
-            frame(b, 160, 120, |v, f| {
+            with_renderer(b, 160, 120, |v, f| {
                 scenes.push(render_tiles::<16>(v, f, None).unwrap());
             });
         }
@@ -352,7 +352,7 @@ mod tests {
             (Builtin::Showcase, 97, 61),
             (Builtin::ChapterReflect, 8, 100),
         ] {
-            frame(b, w, h, |v, f| {
+            with_renderer(b, w, h, |v, f| {
                 let want = streamed(&render_tiles::<16>(v, f, None).unwrap());
                 for tile in TILE_SIZES {
                     for threads in [1, 3] {
@@ -389,7 +389,7 @@ mod tests {
     fn render_png_writes_rows_before_the_last_tile_is_rendered() {
         // The first rows of tiles are compressed and written while later ones are
         // still to render: the image is never whole in memory (beyond KEEP_RAW).
-        frame(Builtin::ChapterReflect, 800, 600, |v, f| {
+        with_renderer(Builtin::ChapterReflect, 800, 600, |v, f| {
             let written = Arc::new(AtomicUsize::new(0));
             let tiles = AtomicUsize::new(0);
             let at_last = AtomicUsize::new(0);
@@ -420,7 +420,7 @@ mod tests {
 
     #[test]
     fn too_many_threads_are_refused_before_any_work() {
-        frame(Builtin::ChapterDirect, 16, 16, |v, f| {
+        with_renderer(Builtin::ChapterDirect, 16, 16, |v, f| {
             let e = render_png(
                 v,
                 f,

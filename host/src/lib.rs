@@ -17,7 +17,7 @@
 /// Runs `$body` with `$n` a `const` tile size (8, 16 or 32, see [`TILE_SIZES`])
 /// equal to the run-time `$tile`; another size is [`HostError::TileSize`]. The
 /// one place where a tile size chosen at run time becomes the core's const
-/// generic: `with_tile_size!(tile, |N| render_tiles::<N>(view, &frame, None))`.
+/// generic: `with_tile_size!(tile, |N| render_tiles::<N>(view, &renderer, None))`.
 #[cfg(feature = "cli")]
 macro_rules! with_tile_size {
     ($tile:expr, |$n:ident| $body:expr) => {

@@ -28,7 +28,7 @@
 //!   most [`MAX_GIF_DELAY_MS`] between frames.
 
 use crate::HostError;
-use tessera::{Camera, Frame, RenderSettings, Sampler, SceneView, Viewport, trace::RayCount};
+use tessera::{Camera, RenderSettings, Renderer, Sampler, SceneView, Viewport, trace::RayCount};
 
 /// The most render threads.
 pub const MAX_THREADS: usize = 256;
@@ -319,7 +319,7 @@ impl Work {
             max_depth: self.depth,
             ..RenderSettings::default()
         };
-        let frame = Frame::try_new(camera, self.viewport, settings)?;
+        let renderer = Renderer::try_new(camera, self.viewport, settings)?;
         let (w, h) = (
             u32::from(self.viewport.width),
             u32::from(self.viewport.height),
@@ -332,7 +332,7 @@ impl Work {
                 // The middle of each of `across x down` equal cells.
                 let x = ((2 * u64::from(i) + 1) * u64::from(w) / (2 * u64::from(across))) as u32;
                 let y = ((2 * u64::from(j) + 1) * u64::from(h) / (2 * u64::from(down))) as u32;
-                let _ = frame.pixel_color(view, x, y, &mut rays);
+                let _ = renderer.pixel_color(view, x, y, &mut rays);
             }
         }
         let ns = start.elapsed().as_secs_f64() * 1e9;

@@ -11,7 +11,7 @@ use std::fmt;
 use std::io::Write;
 use std::str::FromStr;
 use tessera::display::{Drawing, TilePixel};
-use tessera::{Camera, Frame, SceneView, Vec3, dither::Dither};
+use tessera::{Camera, Renderer, SceneView, Vec3, dither::Dither};
 
 /// The colour type of the simulated panel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -58,21 +58,21 @@ impl fmt::Display for PanelColor {
 /// each) and returns what the panel shows, as 8-bit RGB.
 fn panel<C, const N: usize>(
     scene: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     dither: Option<Dither>,
 ) -> Result<RgbImage, HostError>
 where
     C: PixelColor + From<Rgb888> + Into<Rgb888> + TilePixel,
 {
-    let vp = frame.viewport();
+    let vp = renderer.viewport();
     let size = Size::new(u32::from(vp.width), u32::from(vp.height));
     let mut display =
         SimulatorDisplay::<C>::with_default_color(size, C::from(Rgb888::new(0, 0, 0)));
     let Ok(()) = match dither {
-        None => Drawing::<C, N>::new(frame, scene)
+        None => Drawing::<C, N>::new(renderer, scene)
             .dithered(Dither::None)
             .draw(&mut display),
-        Some(d) => Drawing::<C, N>::new(frame, scene)
+        Some(d) => Drawing::<C, N>::new(renderer, scene)
             .dithered(d)
             .draw(&mut display),
     };
@@ -86,10 +86,10 @@ where
 /// `embedded-graphics`' own conversion from `Rgb888` (the nearest level).
 pub fn simulate(
     scene: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     color: PanelColor,
 ) -> Result<RgbImage, HostError> {
-    simulate_tiled(scene, frame, color, 16, None)
+    simulate_tiled(scene, renderer, color, 16, None)
 }
 
 /// [`simulate`] with tiles of `tile` pixels (8, 16 or 32), each pixel converted to
@@ -97,16 +97,16 @@ pub fn simulate(
 /// see [`tessera::dither::Dither`]).
 pub fn simulate_tiled(
     scene: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     color: PanelColor,
     tile: usize,
     dither: Option<Dither>,
 ) -> Result<RgbImage, HostError> {
     with_tile_size!(tile, |N| match color {
-        PanelColor::Rgb565 => panel::<Rgb565, N>(scene, frame, dither),
-        PanelColor::Rgb555 => panel::<Rgb555, N>(scene, frame, dither),
-        PanelColor::Rgb888 => panel::<Rgb888, N>(scene, frame, dither),
-        PanelColor::Gray8 => panel::<Gray8, N>(scene, frame, dither),
+        PanelColor::Rgb565 => panel::<Rgb565, N>(scene, renderer, dither),
+        PanelColor::Rgb555 => panel::<Rgb555, N>(scene, renderer, dither),
+        PanelColor::Rgb888 => panel::<Rgb888, N>(scene, renderer, dither),
+        PanelColor::Gray8 => panel::<Gray8, N>(scene, renderer, dither),
     })
 }
 
@@ -281,15 +281,15 @@ mod tests {
     fn rgb565_panel_shows_the_tiles_quantised_to_565() {
         let b = Builtin::ChapterReflect;
         b.with_scene(|view, cam| {
-            let frame = Frame::try_new(cam, Viewport::new(50, 30), b.settings()).unwrap();
-            let shown = simulate(view, &frame, PanelColor::Rgb565).unwrap();
-            let host = crate::render_tiles::<16>(view, &frame, None).unwrap();
+            let renderer = Renderer::try_new(cam, Viewport::new(50, 30), b.settings()).unwrap();
+            let shown = simulate(view, &renderer, PanelColor::Rgb565).unwrap();
+            let host = crate::render_tiles::<16>(view, &renderer, None).unwrap();
             for (a, h) in shown.pixels().zip(host.pixels()) {
                 let want: Rgb888 = Rgb565::from(Rgb888::new(h[0], h[1], h[2])).into();
                 use embedded_graphics_core::pixelcolor::RgbColor;
                 assert_eq!(a.0, [want.r(), want.g(), want.b()]);
             }
-            let exact = simulate(view, &frame, PanelColor::Rgb888).unwrap();
+            let exact = simulate(view, &renderer, PanelColor::Rgb888).unwrap();
             assert_eq!(exact.as_raw(), host.as_raw());
         })
         .unwrap();
@@ -321,20 +321,21 @@ mod tests {
     fn dithering_is_the_same_for_every_tile_size_and_closer_to_8_bits() {
         for &b in Builtin::ALL {
             b.with_scene(|view, cam| {
-                let frame = Frame::try_new(cam, Viewport::new(72, 56), b.settings()).unwrap();
-                let full = crate::render_tiles::<16>(view, &frame, None).unwrap();
+                let renderer = Renderer::try_new(cam, Viewport::new(72, 56), b.settings()).unwrap();
+                let full = crate::render_tiles::<16>(view, &renderer, None).unwrap();
                 for color in [PanelColor::Rgb565, PanelColor::Rgb555, PanelColor::Gray8] {
                     for d in Dither::ALL {
-                        let at = |t| simulate_tiled(view, &frame, color, t, Some(d)).unwrap();
+                        let at = |t| simulate_tiled(view, &renderer, color, t, Some(d)).unwrap();
                         let p16 = at(16);
                         assert!(p16 == at(8) && p16 == at(32), "{} {color} {d}", b.name());
                     }
                 }
-                let own = simulate_tiled(view, &frame, PanelColor::Rgb565, 16, None).unwrap();
-                let near = simulate_tiled(view, &frame, PanelColor::Rgb565, 16, Some(Dither::None));
+                let own = simulate_tiled(view, &renderer, PanelColor::Rgb565, 16, None).unwrap();
+                let near =
+                    simulate_tiled(view, &renderer, PanelColor::Rgb565, 16, Some(Dither::None));
                 assert!(near.unwrap() == own, "{}", b.name());
                 let flip = |d| {
-                    let p = simulate_tiled(view, &frame, PanelColor::Rgb565, 16, Some(d));
+                    let p = simulate_tiled(view, &renderer, PanelColor::Rgb565, 16, Some(d));
                     crate::compare::mean_flip(&full, &p.unwrap()).unwrap()
                 };
                 let (n, b4) = (flip(Dither::None), flip(Dither::Bayer4));

@@ -15,7 +15,7 @@ use image::RgbImage;
 use std::path::Path;
 use std::time::Instant;
 use tessera::builtin::Builtin;
-use tessera::{Frame, RenderSettings, Sampler, SceneView, Viewport, error::MAX_DEPTH};
+use tessera::{RenderSettings, Renderer, Sampler, SceneView, Viewport, error::MAX_DEPTH};
 
 /// One setting of the trade.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -299,8 +299,8 @@ pub fn measure_scene(
             encoding: CONVERGED.encoding,
         };
         let timed = b.with_scene(|view, cam| {
-            let frame = Frame::try_new(cam, vp, settings)?;
-            timed_renders(view, &frame, setting.tile, runs, pixels)
+            let renderer = Renderer::try_new(cam, vp, settings)?;
+            timed_renders(view, &renderer, setting.tile, runs, pixels)
         })?;
         let (img, mut times) = timed?;
         rows.push(row(b.name(), &backend(), setting, &mut times, &img, truth)?);
@@ -326,7 +326,7 @@ pub fn measure_scene(
 /// (`pixels` in the frame).
 fn timed_renders(
     view: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
     tile: usize,
     runs: usize,
     pixels: f64,
@@ -334,7 +334,7 @@ fn timed_renders(
     let mut times = Vec::new();
     let mut render = || {
         let start = Instant::now();
-        let img = with_tile_size!(tile, |N| crate::render_tiles::<N>(view, frame, None))?;
+        let img = with_tile_size!(tile, |N| crate::render_tiles::<N>(view, renderer, None))?;
         times.push(start.elapsed().as_secs_f64() * 1e9 / pixels);
         Ok::<_, HostError>(img)
     };

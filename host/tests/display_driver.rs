@@ -31,7 +31,7 @@ use std::rc::Rc;
 use tessera::builtin::Builtin;
 use tessera::display::Drawing;
 use tessera::dither::Dither;
-use tessera::{Frame, Viewport};
+use tessera::{Renderer, Viewport};
 
 // ---------------------------------------------------------------------------------
 // The fake hardware: SPI device, DC pin, reset pin and delay share one event log.
@@ -663,8 +663,8 @@ fn run<const N: usize>(
     let (img, drawn) = scene
         .with_scene(|view, camera| {
             let img = tessera_host::render(view, camera, viewport, settings, N).expect("host");
-            let frame = Frame::try_new(camera, viewport, settings).expect("frame");
-            let picture = Drawing::<_, N>::new(&frame, view).dithered(Dither::None);
+            let renderer = Renderer::try_new(camera, viewport, settings).expect("frame");
+            let picture = Drawing::<_, N>::new(&renderer, view).dithered(Dither::None);
             let drawn = match tamper {
                 None => picture.draw(&mut display),
                 Some(tamper) => {

@@ -428,7 +428,7 @@ mod tests {
             ("__aeabi_llsr", Kind::IntHelper),
             ("__aeabi_memcpy4", Kind::Memory),
             ("memset", Kind::Memory),
-            ("Frame::ray_color_call", Kind::Renderer),
+            ("Renderer::ray_color_call", Kind::Renderer),
         ] {
             assert_eq!(kind(name), k, "{name}");
         }
@@ -485,7 +485,7 @@ mod tests {
         let (totals, helpers) = by_kind(&[
             r("__mulsf3", 600, 10, 0),
             r("__aeabi_lmul", 400, 10, 5),
-            r("Frame::fill", 100, 1, 0),
+            r("Renderer::fill", 100, 1, 0),
         ]);
         assert_eq!(helpers, 200);
         assert!(totals.contains(&(Kind::F32Mul, 600)));

@@ -68,8 +68,8 @@ fn render(sampler: Sampler) -> RgbImage {
         seed: 3,
         encoding: tessera::Encoding::Linear,
     };
-    let frame = s.frame(Viewport::new(W, H), settings).unwrap();
-    render_tiles::<16>(&s.view(), &frame, None).unwrap()
+    let renderer = s.renderer(Viewport::new(W, H), settings).unwrap();
+    render_tiles::<16>(&s.view(), &renderer, None).unwrap()
 }
 
 /// What the centre ray of a pixel met, read off its colour.
@@ -158,15 +158,15 @@ fn traces_the_tiles_and_their_apron_once_then_only_the_refined_samples() {
         seed: 3,
         encoding: tessera::Encoding::Linear,
     };
-    let frame = s.frame(Viewport::new(W, H), settings).unwrap();
-    let (across, down) = frame.tile_grid(tile);
+    let renderer = s.renderer(Viewport::new(W, H), settings).unwrap();
+    let (across, down) = renderer.tile_grid(tile);
     let mut count = RayCount::default();
     let mut buf = Tile::<16>::new();
     // Centre rays: each tile's pixels and the ring around them inside the frame.
     let mut centres = 0;
     for ty in 0..down {
         for tx in 0..across {
-            frame
+            renderer
                 .render_tile(&s.view(), TileCoord::new(tx, ty), &mut buf, &mut count)
                 .unwrap();
             let span = |t: u16, n: u16| {
@@ -181,7 +181,7 @@ fn traces_the_tiles_and_their_apron_once_then_only_the_refined_samples() {
     assert_eq!(count.primary as usize, centres + k2 * refined);
     // One pixel on its own: its centre ray and its four neighbours'.
     let mut one = RayCount::default();
-    frame.pixel_color(&s.view(), 20, 20, &mut one);
+    renderer.pixel_color(&s.view(), 20, 20, &mut one);
     assert!(one.primary == 5 || one.primary == 5 + k2 as u64, "{one:?}");
 }
 
@@ -191,8 +191,8 @@ fn frame_pixels_match_the_tiles() {
     for threshold in [0, 6, 255] {
         let sampler = Sampler::Adaptive { k: 2, threshold };
         let img = render(sampler);
-        let frame = s
-            .frame(
+        let renderer = s
+            .renderer(
                 Viewport::new(W, H),
                 RenderSettings {
                     sampler,
@@ -203,7 +203,7 @@ fn frame_pixels_match_the_tiles() {
             )
             .unwrap();
         for (x, y, p) in img.enumerate_pixels() {
-            let q = frame.pixel_color(&s.view(), x, y, &mut ()).to_rgb8();
+            let q = renderer.pixel_color(&s.view(), x, y, &mut ()).to_rgb8();
             assert_eq!(p.0, [q.r, q.g, q.b], "threshold {threshold}: ({x}, {y})");
         }
     }

@@ -5,7 +5,7 @@
 //! Deterministic: fixed seeds, no timing.
 
 use tessera::{
-    Camera, Color, Frame, RenderSettings, Sampler, Scene, Vec3, Viewport, geometry::Triangle,
+    Camera, Color, RenderSettings, Renderer, Sampler, Scene, Vec3, Viewport, geometry::Triangle,
     material::Material,
 };
 
@@ -60,15 +60,15 @@ fn coverage(x: u32, y: u32) -> f64 {
 }
 
 /// RMSE over the edge pixels, averaged (as MSE) over several seeds.
-fn rmse(frame_for: impl Fn(u32) -> Frame, edge: &[(u32, u32, f64)]) -> f64 {
+fn rmse(frame_for: impl Fn(u32) -> Renderer, edge: &[(u32, u32, f64)]) -> f64 {
     let s = scene();
     let view = s.view();
     let seeds = 8;
     let mut se = 0.0;
     for seed in 0..seeds {
-        let frame = frame_for(seed);
+        let renderer = frame_for(seed);
         for &(x, y, truth) in edge {
-            let v = f64::from(frame.pixel_color(&view, x, y, &mut ()).r);
+            let v = f64::from(renderer.pixel_color(&view, x, y, &mut ()).r);
             se += (v - truth) * (v - truth);
         }
     }
@@ -94,10 +94,10 @@ fn stratified_converges_faster_than_random_on_edges() {
         .collect();
     assert!(edge.len() > 60, "{} edge pixels", edge.len());
     let s = scene();
-    let frame = |sampler: Sampler| {
+    let renderer = |sampler: Sampler| {
         let cam = *s.camera();
         move |seed: u32| {
-            Frame::try_new(
+            Renderer::try_new(
                 &cam,
                 Viewport::new(N, N),
                 RenderSettings {
@@ -111,20 +111,20 @@ fn stratified_converges_faster_than_random_on_edges() {
         }
     };
     // The renderer itself is exact away from the edge: check a few interior pixels.
-    let f = frame(Sampler::Centre)(0);
+    let f = renderer(Sampler::Centre)(0);
     assert_eq!(f.pixel_color(&s.view(), 5, 60, &mut ()).r, 1.0);
     assert_eq!(f.pixel_color(&s.view(), 60, 2, &mut ()).r, 0.0);
 
     let random: Vec<(f64, f64)> = [4u16, 16, 64, 256]
         .iter()
-        .map(|&n| (f64::from(n), rmse(frame(Sampler::Random(n)), &edge)))
+        .map(|&n| (f64::from(n), rmse(renderer(Sampler::Random(n)), &edge)))
         .collect();
     let stratified: Vec<(f64, f64)> = [2u8, 4, 8, 16]
         .iter()
         .map(|&k| {
             (
                 f64::from(k) * f64::from(k),
-                rmse(frame(Sampler::Stratified(k)), &edge),
+                rmse(renderer(Sampler::Stratified(k)), &edge),
             )
         })
         .collect();

@@ -13,7 +13,7 @@ use std::path::Path;
 use tessera::builtin::Builtin;
 use tessera::testing::{BuiltinHooks as _, ViewHooks as _};
 use tessera::{
-    Camera, Color, Frame, RenderSettings, Sampler, Scene, SceneView, Vec3, Viewport, bvh::Bvh,
+    Camera, Color, RenderSettings, Renderer, Sampler, Scene, SceneView, Vec3, Viewport, bvh::Bvh,
     geometry::Plane, geometry::Triangle, light::PointLight, material::Material,
 };
 use tessera_host::render_tiles;
@@ -25,17 +25,20 @@ type TestBvh = Bvh<16384, 8192>;
 /// Renders `view` with tiles of 8, 16 and 32, with culling off (tiles of 16), and,
 /// when it has triangles, with its triangles through a BVH (whatever their number,
 /// tiles of 8 and 16); all must be the same bytes. Returns the image.
-fn same_culled_or_not(view: &SceneView<'_>, frame: &Frame, what: &str) -> RgbImage {
-    let off = render_tiles::<16>(&view.without_culling(), frame, None).unwrap();
+fn same_culled_or_not(view: &SceneView<'_>, renderer: &Renderer, what: &str) -> RgbImage {
+    let off = render_tiles::<16>(&view.without_culling(), renderer, None).unwrap();
     let mut renders = vec![
-        ("tiles of 8", render_tiles::<8>(view, frame, None).unwrap()),
+        (
+            "tiles of 8",
+            render_tiles::<8>(view, renderer, None).unwrap(),
+        ),
         (
             "tiles of 16",
-            render_tiles::<16>(view, frame, None).unwrap(),
+            render_tiles::<16>(view, renderer, None).unwrap(),
         ),
         (
             "tiles of 32",
-            render_tiles::<32>(view, frame, None).unwrap(),
+            render_tiles::<32>(view, renderer, None).unwrap(),
         ),
     ];
     if !view.spheres().is_empty() {
@@ -45,7 +48,7 @@ fn same_culled_or_not(view: &SceneView<'_>, frame: &Frame, what: &str) -> RgbIma
         assert!(with.uses_sphere_bvh());
         renders.push((
             "sphere BVH, tiles of 16",
-            render_tiles::<16>(&with, frame, None).unwrap(),
+            render_tiles::<16>(&with, renderer, None).unwrap(),
         ));
         if !view.triangles().is_empty() {
             let mut tris = Box::new(TestBvh::new());
@@ -53,7 +56,7 @@ fn same_culled_or_not(view: &SceneView<'_>, frame: &Frame, what: &str) -> RgbIma
             let both = with.with_bvh_always(&tris).unwrap();
             renders.push((
                 "sphere and triangle BVHs, tiles of 8",
-                render_tiles::<8>(&both, frame, None).unwrap(),
+                render_tiles::<8>(&both, renderer, None).unwrap(),
             ));
         }
     }
@@ -64,11 +67,11 @@ fn same_culled_or_not(view: &SceneView<'_>, frame: &Frame, what: &str) -> RgbIma
         assert!(with.uses_bvh());
         renders.push((
             "BVH, tiles of 8",
-            render_tiles::<8>(&with, frame, None).unwrap(),
+            render_tiles::<8>(&with, renderer, None).unwrap(),
         ));
         renders.push((
             "BVH, tiles of 16",
-            render_tiles::<16>(&with, frame, None).unwrap(),
+            render_tiles::<16>(&with, renderer, None).unwrap(),
         ));
     }
     for (n, on) in renders {
@@ -104,8 +107,8 @@ fn builtin_scenes_render_the_same_culled_or_not() {
                 ..b.settings()
             };
             b.with_scene(|view, cam| {
-                let frame = Frame::try_new(cam, vp, settings).unwrap();
-                same_culled_or_not(view, &frame, &format!("{} {sampler:?}", b.name()));
+                let renderer = Renderer::try_new(cam, vp, settings).unwrap();
+                same_culled_or_not(view, &renderer, &format!("{} {sampler:?}", b.name()));
             })
             .unwrap();
         }
@@ -132,11 +135,11 @@ fn scene_files_render_the_same_culled_or_not() {
         let desc = tessera_host::file::load(path).unwrap();
         let scene = desc.to_core().unwrap();
         let settings = desc.settings().unwrap();
-        let frame = scene
+        let renderer = scene
             .lists()
-            .frame(Viewport::new(64, 48), settings)
+            .renderer(Viewport::new(64, 48), settings)
             .unwrap();
-        scene.with_view(|v| same_culled_or_not(v, &frame, &path.display().to_string()));
+        scene.with_view(|v| same_culled_or_not(v, &renderer, &path.display().to_string()));
     }
 }
 
@@ -153,8 +156,8 @@ fn scaled_scenes_render_the_same_culled_or_not() {
         };
         for &k in ks {
             b.with_scaled_scene(k, |view, cam| {
-                let frame = Frame::try_new(cam, vp, b.settings()).unwrap();
-                same_culled_or_not(view, &frame, &format!("{} scaled by 2^{k}", b.name()));
+                let renderer = Renderer::try_new(cam, vp, b.settings()).unwrap();
+                same_culled_or_not(view, &renderer, &format!("{} scaled by 2^{k}", b.name()));
             })
             .unwrap();
         }
@@ -172,8 +175,8 @@ proptest! {
         let Some(scene) = r.build() else {
             return Ok(());
         };
-        let frame = scene.frame(Viewport::new(40, 30), r.settings(5)).unwrap();
-        same_culled_or_not(&scene.view(), &frame, &format!("{r:?}"));
+        let renderer = scene.renderer(Viewport::new(40, 30), r.settings(5)).unwrap();
+        same_culled_or_not(&scene.view(), &renderer, &format!("{r:?}"));
     }
 }
 
@@ -268,9 +271,9 @@ fn coincident(copies: Copies, plane_point: Vec3, normal: Vec3) {
         seed: 1,
         encoding: tessera::Encoding::Linear,
     };
-    let frame = s.frame(Viewport::new(96, 72), settings).unwrap();
+    let renderer = s.renderer(Viewport::new(96, 72), settings).unwrap();
     let what = format!("coincident {copies:?}, plane at {plane_point:?}");
-    let flat = same_culled_or_not(&s.view(), &frame, &what);
+    let flat = same_culled_or_not(&s.view(), &renderer, &what);
     // The copies are seen (the background is black).
     assert!(flat.pixels().filter(|p| p.0 != [0, 0, 0]).count() > 1000);
 }

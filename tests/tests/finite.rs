@@ -33,22 +33,22 @@ proptest! {
         let Some(scene) = r.build() else {
             return Ok(());
         };
-        let Ok(frame) = scene.frame(Viewport::new(20, 14), r.settings(1)) else {
+        let Ok(renderer) = scene.renderer(Viewport::new(20, 14), r.settings(1)) else {
             return Ok(());
         };
         RENDERED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let view = scene.view();
         for y in 0..14 {
             for x in 0..20 {
-                let colour = frame.pixel_color(&view, x, y, &mut ());
+                let colour = renderer.pixel_color(&view, x, y, &mut ());
                 prop_assert!(
                     colour.is_finite() && colour.min_component() >= 0.0,
                     "pixel ({}, {}) is {:?}", x, y, colour
                 );
             }
         }
-        let eight = render_tiles::<8>(&view, &frame, None).unwrap();
-        prop_assert!(eight == render_tiles::<16>(&view, &frame, None).unwrap(), "tiles of 8 and 16 differ");
-        prop_assert!(eight == render_tiles::<32>(&view, &frame, None).unwrap(), "tiles of 8 and 32 differ");
+        let eight = render_tiles::<8>(&view, &renderer, None).unwrap();
+        prop_assert!(eight == render_tiles::<16>(&view, &renderer, None).unwrap(), "tiles of 8 and 16 differ");
+        prop_assert!(eight == render_tiles::<32>(&view, &renderer, None).unwrap(), "tiles of 8 and 32 differ");
     }
 }

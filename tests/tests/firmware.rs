@@ -328,14 +328,17 @@ fn the_teapot_alone_needs_under_8_kib_beyond_its_tile() {
     let b = Builtin::Teapot;
     let want = b
         .with_scene(|view, cam| {
-            let frame = tessera::Frame::try_new(cam, Viewport::new(64, 64), b.settings()).unwrap();
-            let (across, down) = frame.tile_grid(16);
+            let renderer =
+                tessera::Renderer::try_new(cam, Viewport::new(64, 64), b.settings()).unwrap();
+            let (across, down) = renderer.tile_grid(16);
             let mut tile = tessera::Tile::<16>::new();
             let mut hash = 0x811c_9dc5_u32;
             for ty in 0..down {
                 for tx in 0..across {
                     let coord = tessera::TileCoord::new(tx, ty);
-                    frame.render_tile(view, coord, &mut tile, &mut ()).unwrap();
+                    renderer
+                        .render_tile(view, coord, &mut tile, &mut ())
+                        .unwrap();
                     for p in tile.pixels() {
                         for byte in [p.r, p.g, p.b] {
                             hash = (hash ^ u32::from(byte)).wrapping_mul(0x0100_0193);

@@ -4,7 +4,7 @@
 
 use tessera::builtin::Builtin;
 use tessera::{
-    Camera, Color, Frame, RenderSettings, Scene, Vec3, Viewport, geometry::Sphere,
+    Camera, Color, RenderSettings, Renderer, Scene, Vec3, Viewport, geometry::Sphere,
     material::Material, trace::RayCount,
 };
 
@@ -22,10 +22,10 @@ fn centre_pixel_with_sphere_at(d: f32) -> tessera::color::Rgb8 {
         .unwrap();
     s.add_sphere(Sphere::try_new(Vec3::new(0.0, 0.0, -d), 0.5).unwrap(), red)
         .unwrap();
-    let frame = s
-        .frame(Viewport::new(9, 9), RenderSettings::default())
+    let renderer = s
+        .renderer(Viewport::new(9, 9), RenderSettings::default())
         .unwrap();
-    frame.pixel_color(&s.view(), 4, 4, &mut ()).to_rgb8()
+    renderer.pixel_color(&s.view(), 4, 4, &mut ()).to_rgb8()
 }
 
 #[test]
@@ -45,11 +45,11 @@ fn only_what_lies_between_near_and_far_is_seen() {
 
 fn count(b: Builtin, settings: RenderSettings) -> RayCount {
     b.with_scene(|view, cam| {
-        let frame = Frame::try_new(cam, Viewport::new(40, 30), settings).unwrap();
+        let renderer = Renderer::try_new(cam, Viewport::new(40, 30), settings).unwrap();
         let mut c = RayCount::default();
         for y in 0..30 {
             for x in 0..40 {
-                let _ = frame.pixel_color(view, x, y, &mut c);
+                let _ = renderer.pixel_color(view, x, y, &mut c);
             }
         }
         c
@@ -90,13 +90,13 @@ fn rays_that_cannot_change_a_pixel_are_never_cast() {
 fn unlit_materials_cast_no_shadow_rays() {
     // diffuse 0, specular 0: a light cannot change the colour, so no shadow ray.
     let s = tessera_tests::inside_sphere(1.0, 5.0, 0.0, Color::WHITE).unwrap();
-    let frame = s
-        .frame(Viewport::new(8, 8), RenderSettings::default())
+    let renderer = s
+        .renderer(Viewport::new(8, 8), RenderSettings::default())
         .unwrap();
     let mut c = RayCount::default();
     for y in 0..8 {
         for x in 0..8 {
-            let _ = frame.pixel_color(&s.view(), x, y, &mut c);
+            let _ = renderer.pixel_color(&s.view(), x, y, &mut c);
         }
     }
     assert_eq!((c.primary, c.shadow), (64, 0));
@@ -114,10 +114,10 @@ fn deepest_recursion_through_glass_stays_finite() {
     assert!(c.secondary > c.primary, "{c:?}");
     Builtin::Showcase
         .with_scene(|view, cam| {
-            let frame = Frame::try_new(cam, Viewport::new(40, 30), settings).unwrap();
+            let renderer = Renderer::try_new(cam, Viewport::new(40, 30), settings).unwrap();
             for y in 0..30 {
                 for x in 0..40 {
-                    assert!(frame.pixel_color(view, x, y, &mut ()).is_finite());
+                    assert!(renderer.pixel_color(view, x, y, &mut ()).is_finite());
                 }
             }
         })

@@ -3,18 +3,18 @@
 //! 1-pixel silhouette band, and no NaN or infinity.
 
 use tessera::builtin::Builtin;
-use tessera::{Frame, RenderSettings, Sampler, Viewport};
+use tessera::{RenderSettings, Renderer, Sampler, Viewport};
 use tessera_host::compare::{Accuracy, measure};
 
 fn accuracy(b: Builtin, settings: RenderSettings, vp: Viewport) -> Accuracy {
     let (img, non_finite) = b
         .with_scene(|view, cam| {
-            let frame = Frame::try_new(cam, vp, settings).unwrap();
-            let img = tessera_host::render_tiles::<16>(view, &frame, None).unwrap();
+            let renderer = Renderer::try_new(cam, vp, settings).unwrap();
+            let img = tessera_host::render_tiles::<16>(view, &renderer, None).unwrap();
             let mut nf = 0;
             for y in 0..u32::from(vp.height) {
                 for x in 0..u32::from(vp.width) {
-                    nf += usize::from(!frame.pixel_color(view, x, y, &mut ()).is_finite());
+                    nf += usize::from(!renderer.pixel_color(view, x, y, &mut ()).is_finite());
                 }
             }
             (img, nf)
@@ -59,7 +59,7 @@ fn antialiased_renders_agree_with_the_reference() {
 /// sRGB-encoded renders against the reference encoded the same way in f64, on
 /// every built-in scene with centre sampling and on two adaptive ones (whose rule
 /// compares the encoded centre pixels): the same bar. And the tiles' pixels are
-/// `Frame::pixel_color` encoded by `Color::to_srgb8`.
+/// `Renderer::pixel_color` encoded by `Color::to_srgb8`.
 #[test]
 fn srgb_renders_agree_with_the_reference() {
     let vp = Viewport::new(160, 120);
@@ -80,8 +80,8 @@ fn srgb_renders_agree_with_the_reference() {
         let acc = accuracy(b, settings, vp);
         assert!(acc.meets_bar(), "{} {sampler:?} srgb:\n{acc}", b.name());
         b.with_scene(|view, cam| {
-            let frame = Frame::try_new(cam, vp, settings).unwrap();
-            let img = tessera_host::render_tiles::<16>(view, &frame, None).unwrap();
+            let renderer = Renderer::try_new(cam, vp, settings).unwrap();
+            let img = tessera_host::render_tiles::<16>(view, &renderer, None).unwrap();
             let linear = RenderSettings {
                 encoding: tessera::Encoding::Linear,
                 ..settings
@@ -89,7 +89,7 @@ fn srgb_renders_agree_with_the_reference() {
             let lin = tessera_host::render(view, cam, vp, linear, 16).unwrap();
             assert!(img != lin, "{}: srgb changed nothing", b.name());
             for (x, y, p) in img.enumerate_pixels().step_by(7) {
-                let c = frame.pixel_color(view, x, y, &mut ()).to_srgb8();
+                let c = renderer.pixel_color(view, x, y, &mut ()).to_srgb8();
                 assert_eq!(p.0, [c.r, c.g, c.b], "{} ({x}, {y})", b.name());
             }
         })

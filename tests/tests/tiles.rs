@@ -37,13 +37,13 @@ fn tile_size_and_order_do_not_change_a_pixel() {
                 ..b.settings()
             };
             b.with_scene(|view, cam| {
-                let frame = tessera::Frame::try_new(cam, vp, settings).unwrap();
-                let reference = render_tiles::<16>(view, &frame, None).unwrap();
-                let t8 = render_tiles::<8>(view, &frame, None).unwrap();
-                let t32 = render_tiles::<32>(view, &frame, None).unwrap();
-                let (ax, ay) = frame.tile_grid(8);
+                let renderer = tessera::Renderer::try_new(cam, vp, settings).unwrap();
+                let reference = render_tiles::<16>(view, &renderer, None).unwrap();
+                let t8 = render_tiles::<8>(view, &renderer, None).unwrap();
+                let t32 = render_tiles::<32>(view, &renderer, None).unwrap();
+                let (ax, ay) = renderer.tile_grid(8);
                 let order = shuffled(usize::from(ax) * usize::from(ay), 0x9e37_79b9);
-                let t8_shuffled = render_tiles::<8>(view, &frame, Some(&order)).unwrap();
+                let t8_shuffled = render_tiles::<8>(view, &renderer, Some(&order)).unwrap();
                 let name = b.name();
                 assert_eq!(
                     reference.as_raw(),
@@ -64,7 +64,7 @@ fn tile_size_and_order_do_not_change_a_pixel() {
                 for (x, y, p) in reference.enumerate_pixels() {
                     let q = settings
                         .encoding
-                        .encode(frame.pixel_color(view, x, y, &mut ()));
+                        .encode(renderer.pixel_color(view, x, y, &mut ()));
                     assert_eq!(p.0, [q.r, q.g, q.b], "{name} pixel ({x}, {y})");
                 }
             })
@@ -77,19 +77,20 @@ fn tile_size_and_order_do_not_change_a_pixel() {
 fn partial_edge_tiles_report_their_size_and_out_of_frame_is_an_error() {
     let b = Builtin::ChapterDirect;
     b.with_scene(|view, cam| {
-        let frame = tessera::Frame::try_new(cam, Viewport::new(20, 10), b.settings()).unwrap();
+        let renderer =
+            tessera::Renderer::try_new(cam, Viewport::new(20, 10), b.settings()).unwrap();
         let mut tile = tessera::Tile::<16>::new();
-        frame
+        renderer
             .render_tile(view, tessera::TileCoord::new(1, 0), &mut tile, &mut ())
             .unwrap();
         assert_eq!((tile.width(), tile.height()), (4, 10));
         assert_eq!(tile.pixels().count(), 40);
         assert_eq!(
-            frame.render_tile(view, tessera::TileCoord::new(2, 0), &mut tile, &mut ()),
+            renderer.render_tile(view, tessera::TileCoord::new(2, 0), &mut tile, &mut ()),
             Err(tessera::Error::TileOutOfFrame)
         );
         assert_eq!(
-            frame.render_tile(view, tessera::TileCoord::new(0, 1), &mut tile, &mut ()),
+            renderer.render_tile(view, tessera::TileCoord::new(0, 1), &mut tile, &mut ()),
             Err(tessera::Error::TileOutOfFrame)
         );
     })

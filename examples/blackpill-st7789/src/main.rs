@@ -261,8 +261,8 @@ where
     D: DrawTarget<Color = Rgb565>,
 {
     let view = SCENE.view()?;
-    let frame = SCENE.frame_at(Viewport::new(PICTURE.0, PICTURE.1), SCENE.settings())?;
-    Drawing::<Rgb565, TILE>::new(&frame, &view)
+    let renderer = SCENE.renderer_at(Viewport::new(PICTURE.0, PICTURE.1), SCENE.settings())?;
+    Drawing::<Rgb565, TILE>::new(&renderer, &view)
         .dithered(Dither::Bayer4)
         .progressive(PREVIEW_BLOCK)
         .linking::<SceneLoops>()?

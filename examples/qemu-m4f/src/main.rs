@@ -55,7 +55,7 @@ fn run() -> Result<(), Error> {
     // The scene, checked once and read where it lies, and its frame: the camera,
     // the size and the settings of the scene file.
     let view = scene::SCENE.view()?;
-    let frame = scene::SCENE.frame()?;
+    let renderer = scene::SCENE.renderer()?;
     let (width, height) = (scene::WIDTH, scene::HEIGHT);
     hprintln!(
         "tessera: {}, {}x{} in {}x{} tiles",
@@ -69,12 +69,12 @@ fn run() -> Result<(), Error> {
     let mut out = ppm::Ppm::create(PICTURE, width, height)?;
     let mut checksum = Fnv1a64::new();
     let mut ticks = 0;
-    let (across, down) = frame.tile_grid(N);
+    let (across, down) = renderer.tile_grid(N);
     for ty in 0..down {
         for tx in 0..across {
             let start = clock::ticks();
             // SceneLoops: only the tile loops this scene needs are linked.
-            frame.render_tile_in::<scene::SceneLoops, N, _, _>(
+            renderer.render_tile_in::<scene::SceneLoops, N, _, _>(
                 &view,
                 TileCoord::new(tx, ty),
                 tile,

@@ -5,7 +5,7 @@ use super::{Common, Error, Source, describe, threads, warn_work};
 use clap::Args;
 use image::RgbImage;
 use std::path::PathBuf;
-use tessera::{Frame, RenderSettings, Viewport};
+use tessera::{RenderSettings, Renderer, Viewport};
 use tessera_host::output::{self, Pending};
 use tessera_host::{HostError, compare, limits};
 
@@ -95,12 +95,12 @@ fn core_image(
     threads: usize,
 ) -> Result<(RgbImage, usize), Error> {
     source.with_core(|view, camera| {
-        let frame = Frame::try_new(camera, vp, settings)?;
-        let (img, _) = tessera_host::render_with(view, &frame, tile, threads, &|| {})?;
+        let renderer = Renderer::try_new(camera, vp, settings)?;
+        let (img, _) = tessera_host::render_with(view, &renderer, tile, threads, &|| {})?;
         let mut non_finite = 0;
         for y in 0..u32::from(vp.height) {
             for x in 0..u32::from(vp.width) {
-                if !frame.pixel_color(view, x, y, &mut ()).is_finite() {
+                if !renderer.pixel_color(view, x, y, &mut ()).is_finite() {
                     non_finite += 1;
                 }
             }

@@ -83,7 +83,7 @@ enum Command {
     /// `SCENE` (a `tessera::BakedScene`: camera, size, settings, materials, lights,
     /// every primitive, meshes and BVHs), a constant per material (`MAT_<NAME>`),
     /// `WIDTH`, `HEIGHT`, `TILE` and `SceneLoops` (the tile loops the scene needs).
-    /// Render it with `SCENE.view()?` and `SCENE.frame()?`. A scene with meshes or
+    /// Render it with `SCENE.view()?` and `SCENE.renderer()?`. A scene with meshes or
     /// 100 triangles or more needs the core's feature `bvh` (the file says so).
     #[command(after_long_help = OUTPUT_HELP)]
     Bake(bake::BakeArgs),

@@ -4,7 +4,7 @@ use super::{Common, Error, Source, describe, progress, threads, warn_work};
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
-use tessera::Frame;
+use tessera::Renderer;
 use tessera_host::limits;
 use tessera_host::output::{self, Pending};
 
@@ -37,7 +37,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let threads = threads(args.common.threads);
     let start = Instant::now();
     let (file, rays) = source.with_core(|view, camera| {
-        let frame = Frame::try_new(camera, vp, settings)?;
+        let renderer = Renderer::try_new(camera, vp, settings)?;
         let work = limits::Work::of(view, vp, &settings);
         let what = format!("the render on {threads} thread(s)");
         warn_work(&source, &what, view, camera, work, |w| {
@@ -45,12 +45,12 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         })?;
         // Created before the work, so an unwritable folder is known at once.
         let mut file = Pending::create(target)?;
-        let (across, down) = frame.tile_grid(tile);
+        let (across, down) = renderer.tile_grid(tile);
         let work = u64::from(vp.width) * u64::from(vp.height) * u64::from(settings.sampler.count());
         let bar = progress(u64::from(across) * u64::from(down), work);
         let out = tessera_host::render_png(
             view,
-            &frame,
+            &renderer,
             tile,
             args.common.threads,
             &|| bar.inc(1),

@@ -6,7 +6,7 @@ use clap::Args;
 use image::RgbImage;
 use std::path::PathBuf;
 use std::time::Instant;
-use tessera::{Frame, Viewport};
+use tessera::{Renderer, Viewport};
 use tessera_host::output::{self, Pending, Target};
 use tessera_host::simulate::{self as sim, PanelColor};
 use tessera_host::{HostError, limits};
@@ -175,8 +175,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         };
         let frames = cameras
             .iter()
-            .map(|cam| Frame::try_new(cam, vp, settings))
-            .collect::<Result<Vec<Frame>, _>>()?;
+            .map(|cam| Renderer::try_new(cam, vp, settings))
+            .collect::<Result<Vec<Renderer>, _>>()?;
         let work = limits::Work::of(view, vp, &settings);
         let n = frames.len() as f64;
         let what = format!("drawing {} frame(s) on one thread", frames.len());
@@ -187,8 +187,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             frames.len() as u64,
             u64::from(vp.width) * u64::from(vp.height) * frames.len() as u64,
         );
-        let frames = frames.iter().map(|frame| {
-            let img = sim::simulate_tiled(view, frame, args.color, tile, Some(args.dither))?;
+        let frames = frames.iter().map(|renderer| {
+            let img = sim::simulate_tiled(view, renderer, args.color, tile, Some(args.dither))?;
             bar.inc(1);
             Ok(img)
         });

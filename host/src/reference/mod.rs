@@ -177,7 +177,7 @@ pub fn render(
 ) -> Result<RefImage, DescError> {
     let core = desc.to_core()?;
     core.lists()
-        .frame(viewport, *settings)
+        .renderer(viewport, *settings)
         .map_err(|e| DescError {
             item: "render".into(),
             message: e.to_string(),

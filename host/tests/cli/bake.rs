@@ -160,7 +160,7 @@ fn compile_and_run(dir: &Path, baked: &Path, literals: &[String]) -> Vec<String>
          const LITERALS: &[&str] = &[\n{}];\n\n\
          fn main() {{\n    \
              let view = baked::SCENE.view().expect(\"the baked scene is valid\");\n    \
-             std::hint::black_box((view, baked::SCENE.frame().expect(\"its frame\")));\n    \
+             std::hint::black_box((view, baked::SCENE.renderer().expect(\"its frame\")));\n    \
              for s in LITERALS {{\n        println!(\"{{:?}}\", s.as_bytes());\n    }}\n}}\n",
         baked.to_str().unwrap(),
         literals
@@ -259,14 +259,14 @@ fn every_scene_file_baked_renders_like_tessera_render() {
          fn render<const N: usize, L: Loops, const S: usize, const P: usize, const T: usize, const B: usize>(\n    \
              scene: &BakedScene<'static, S, P, T, B>,\n    name: &str,\n) {{\n    \
              let view = scene.view().expect(\"a valid scene\");\n    \
-             let frame = scene.frame().expect(\"a valid frame\");\n    \
+             let renderer = scene.renderer().expect(\"a valid frame\");\n    \
              let vp = scene.viewport();\n    \
              let (w, h) = (usize::from(vp.width), usize::from(vp.height));\n    \
              let mut rgb = vec![0u8; 3 * w * h];\n    \
              let mut tile = Tile::<N>::new();\n    \
-             let (cols, rows) = frame.tile_grid(N);\n    \
+             let (cols, rows) = renderer.tile_grid(N);\n    \
              for ty in 0..rows {{\n        for tx in 0..cols {{\n            \
-                 frame.render_tile_in::<L, N, _, _>(&view, TileCoord::new(tx, ty), &mut tile, &mut ())\n                \
+                 renderer.render_tile_in::<L, N, _, _>(&view, TileCoord::new(tx, ty), &mut tile, &mut ())\n                \
                      .expect(\"the loops it needs\");\n            \
                  let (x0, y0) = tile.origin();\n            \
                  for (y, row) in tile.rows().enumerate() {{\n                \

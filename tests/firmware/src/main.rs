@@ -66,7 +66,7 @@ use riscv_semihosting::{
     hprintln,
 };
 use semihost::{HostFile, IoError};
-use tessera::{Frame, Tile, TileCoord, Viewport};
+use tessera::{Renderer, Tile, TileCoord, Viewport};
 
 /// Iterations of the calibration loop (2 instructions each).
 const CALIBRATION_LOOPS: u32 = 2_000_000;
@@ -247,15 +247,16 @@ fn render_tiles<const N: usize>(
     tile: &mut Tile<N>,
 ) -> Result<(u64, usize), FwError> {
     run.scene.with_scaled_scene(run.scale, |view, camera| {
-        let frame = Frame::try_new(camera, Viewport::new(run.width, run.height), run.settings())?;
-        let (across, down) = frame.tile_grid(N);
+        let renderer =
+            Renderer::try_new(camera, Viewport::new(run.width, run.height), run.settings())?;
+        let (across, down) = renderer.tile_grid(N);
         let mut ticks = 0;
         let loop_sp = stack::sp();
         for ty in 0..down {
             for tx in 0..across {
                 let t0 = clock::now();
                 tessera_profile_begin();
-                let rendered = frame.render_tile(view, TileCoord::new(tx, ty), tile, &mut ());
+                let rendered = renderer.render_tile(view, TileCoord::new(tx, ty), tile, &mut ());
                 tessera_profile_end();
                 ticks += clock::now() - t0;
                 rendered?;

@@ -11,7 +11,7 @@
 //! before rendering), so that the host can state the RAM it takes beyond the tile
 //! buffer: its statics (from the ELF) plus this stack; `preview` the instructions
 //! (the clock under `-icount shift=0`: SysTick, 40 a tick on mps2-an386) of a
-//! progressive first picture (one ray per 4x4 block, `Frame::preview_color`) and
+//! progressive first picture (one ray per 4x4 block, `Renderer::preview_color`) and
 //! `render` those of the tiles.
 #![no_std]
 #![no_main]
@@ -144,13 +144,13 @@ fn main() -> ! {
 fn draw(tile: &mut Tile<N>) -> Result<(u32, u64, u64), tessera::Error> {
     // The scene's tables where they lie (checked once), at its own settings.
     let view = SCENE.view()?;
-    let frame = SCENE.frame_at(Viewport::new(SIZE, SIZE), SCENE.settings())?;
+    let renderer = SCENE.renderer_at(Viewport::new(SIZE, SIZE), SCENE.settings())?;
     let t0 = clock::now();
     let mut blocks = 0u32;
     for by in 0..u32::from(SIZE).div_ceil(4) {
         for bx in 0..u32::from(SIZE).div_ceil(4) {
-            let c = frame.preview_color(&view, (bx, by), 4, &mut ());
-            let c = frame.settings().encoding.encode(c);
+            let c = renderer.preview_color(&view, (bx, by), 4, &mut ());
+            let c = renderer.settings().encoding.encode(c);
             // Kept (a display would get it): the work cannot be optimised away.
             blocks = blocks.wrapping_add(u32::from(c.r) + u32::from(c.g) + u32::from(c.b));
         }
@@ -158,11 +158,11 @@ fn draw(tile: &mut Tile<N>) -> Result<(u32, u64, u64), tessera::Error> {
     let preview = clock::now() - t0;
     core::hint::black_box(blocks);
     let t0 = clock::now();
-    let (across, down) = frame.tile_grid(N);
+    let (across, down) = renderer.tile_grid(N);
     let mut hash = 0x811c_9dc5_u32;
     for ty in 0..down {
         for tx in 0..across {
-            frame.render_tile(&view, TileCoord::new(tx, ty), tile, &mut ())?;
+            renderer.render_tile(&view, TileCoord::new(tx, ty), tile, &mut ())?;
             for p in tile.pixels() {
                 for byte in [p.r, p.g, p.b] {
                     hash = (hash ^ u32::from(byte)).wrapping_mul(0x0100_0193);

@@ -2,8 +2,8 @@
 //! Cortex-M4F.
 //!
 //! The image renders every built-in scene ([`Builtin::ALL`]) through the core's
-//! public tile API (`Builtin::with_scaled_scene`, `Builtin::with_baked_scene`, `Frame::try_new`,
-//! `Frame::tile_grid`, `Frame::render_tile` for 8, 16 and 32 pixel tiles), with
+//! public tile API (`Builtin::with_scaled_scene`, `Builtin::with_baked_scene`, `Renderer::try_new`,
+//! `Renderer::tile_grid`, `Renderer::render_tile` for 8, 16 and 32 pixel tiles), with
 //! every sampler, and writes each pixel to a volatile sink. Its panic handler calls
 //! a function that exists nowhere, [`panic_is_reachable`]: the optimiser (fat LTO,
 //! opt-level 3, as the firmware test image is built) drops the handler only when no
@@ -24,7 +24,7 @@
 //! compiler cannot bound) added after `render_tile` in [`render`], the release
 //! build stops at the link with the undefined symbol above, for both backends; so
 //! it does with `let _k: u8 = [1u8, 2, 3][usize::from(coord.tx)];` added inside the
-//! core's `Frame::render_tile`; without them, it links.
+//! core's `Renderer::render_tile`; without them, it links.
 //!
 //! Built in CI by `tests/run-all.sh`, with the exact and the fast-math backend, and
 //! run once under qemu (`mps2-an386`, semihosting): it exits with success when every
@@ -38,7 +38,8 @@ use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use tessera::builtin::Builtin;
 use tessera::testing::BuiltinHooks as _;
 use tessera::{
-    Camera, Frame, RenderSettings, Sampler, SceneView, Tile, TileCoord, Viewport, sample::SubPixel,
+    Camera, RenderSettings, Renderer, Sampler, SceneView, Tile, TileCoord, Viewport,
+    sample::SubPixel,
 };
 
 /// One render. Read with a volatile load: its values are unknown to the compiler.
@@ -195,12 +196,12 @@ fn render<const N: usize>(
     tile: &mut Tile<N>,
 ) -> Result<bool, Failure> {
     let draw = |view: &SceneView<'_>, camera: &Camera| {
-        let frame = Frame::try_new(camera, viewport, settings)?;
-        let (across, down) = frame.tile_grid(N);
+        let renderer = Renderer::try_new(camera, viewport, settings)?;
+        let (across, down) = renderer.tile_grid(N);
         let mut lit = false;
         for ty in 0..down {
             for tx in 0..across {
-                frame.render_tile(view, TileCoord::new(tx, ty), tile, &mut ())?;
+                renderer.render_tile(view, TileCoord::new(tx, ty), tile, &mut ())?;
                 for p in tile.pixels() {
                     lit |= (p.r | p.g | p.b) != 0;
                     let word = u32::from_le_bytes([p.r, p.g, p.b, 0]);

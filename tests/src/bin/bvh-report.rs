@@ -24,7 +24,7 @@
 use std::time::Instant;
 use tessera::testing::ViewHooks as _;
 use tessera::{
-    Camera, Color, Frame, RenderSettings, Sampler, Scene, SceneView, Vec3, Viewport, bvh::Bvh,
+    Camera, Color, RenderSettings, Renderer, Sampler, Scene, SceneView, Vec3, Viewport, bvh::Bvh,
     geometry::Plane, geometry::Triangle, light::PointLight, material::Material,
 };
 use tessera_tests::extremes::icosphere;
@@ -87,18 +87,18 @@ fn scene(level: u32, faces: usize) -> Box<MeshScene> {
     s
 }
 
-fn frame(s: &MeshScene, width: u16) -> Frame {
+fn renderer(s: &MeshScene, width: u16) -> Renderer {
     let settings = RenderSettings {
         sampler: Sampler::Centre,
         max_depth: 3,
         seed: 1,
         encoding: tessera::Encoding::Linear,
     };
-    Frame::try_new(s.camera(), Viewport::new(width, width * 3 / 4), settings).expect("frame")
+    Renderer::try_new(s.camera(), Viewport::new(width, width * 3 / 4), settings).expect("frame")
 }
 
-fn render(view: &SceneView<'_>, frame: &Frame) -> image::RgbImage {
-    tessera_host::render_tiles::<16>(view, frame, None).expect("render")
+fn render(view: &SceneView<'_>, renderer: &Renderer) -> image::RgbImage {
+    tessera_host::render_tiles::<16>(view, renderer, None).expect("render")
 }
 
 /// `frame` rendered through `flat` and through `bvh`, which must give the same
@@ -107,21 +107,21 @@ fn render(view: &SceneView<'_>, frame: &Frame) -> image::RgbImage {
 fn side_by_side(
     flat: &SceneView<'_>,
     bvh: &SceneView<'_>,
-    frame: &Frame,
+    renderer: &Renderer,
 ) -> Result<(f64, f64, f64), ()> {
-    if render(flat, frame) != render(bvh, frame) {
+    if render(flat, renderer) != render(bvh, renderer) {
         return Err(());
     }
-    let vp = frame.viewport();
+    let vp = renderer.viewport();
     let px = f64::from(vp.width) * f64::from(vp.height);
     let (mut a, mut b) = (Vec::new(), Vec::new());
     let (n0, s0) = tessera::testing::visits();
     for _ in 0..RUNS {
         let t = Instant::now();
-        render(flat, frame);
+        render(flat, renderer);
         a.push(t.elapsed().as_nanos() as f64 / px);
         let t = Instant::now();
-        render(bvh, frame);
+        render(bvh, renderer);
         b.push(t.elapsed().as_nanos() as f64 / px);
     }
     let (n1, s1) = tessera::testing::visits();
@@ -148,7 +148,7 @@ fn one(args: &[String]) -> Result<(), String> {
         .find(|&&(_, n)| n == faces)
         .ok_or_else(|| format!("FACES is one of {:?}", SIZES.map(|s| s.1)))?;
     let s = scene(level, n);
-    let f = frame(&s, width);
+    let f = renderer(&s, width);
     let mut bvh = Box::new(MeshBvh::new());
     bvh.build(s.view().triangles()).map_err(|e| e.to_string())?;
     let img = match mode.as_str() {
@@ -188,7 +188,7 @@ fn main() -> Result<(), String> {
     println!("|---|---|---|---|---|---|");
     for (level, n) in SIZES {
         let s = scene(level, n);
-        let f = frame(&s, width);
+        let f = renderer(&s, width);
         let mut bvh = Box::new(MeshBvh::new());
         bvh.build(s.view().triangles()).map_err(|e| e.to_string())?;
         let flat_view = s.view();
@@ -259,7 +259,7 @@ fn spheres() -> Result<(), String> {
             seed: 1,
             encoding: tessera::Encoding::Linear,
         };
-        let f = Frame::try_new(s.camera(), Viewport::new(width, width * 3 / 4), settings)
+        let f = Renderer::try_new(s.camera(), Viewport::new(width, width * 3 / 4), settings)
             .map_err(|e| e.to_string())?;
         let mut bvh = Box::new(BallBvh::new());
         bvh.build(s.view().spheres()).map_err(|e| e.to_string())?;
@@ -322,11 +322,11 @@ fn teapot_one(args: &[String]) -> Result<(), String> {
     let b = tessera::builtin::Builtin::Teapot;
     let vp = Viewport::new(width, width * 3 / 4);
     b.with_scene(|view, cam| -> Result<(), String> {
-        let frame = Frame::try_new(cam, vp, b.settings()).map_err(|e| e.to_string())?;
+        let renderer = Renderer::try_new(cam, vp, b.settings()).map_err(|e| e.to_string())?;
         let list = teapot_list(view, cam, true)?;
         let img = match mode.as_str() {
-            "flat" => render(&list.view(), &frame),
-            "bvh" => render(view, &frame),
+            "flat" => render(&list.view(), &renderer),
+            "bvh" => render(view, &renderer),
             "none" => return Ok(()),
             _ => return Err(usage()),
         };
@@ -344,7 +344,7 @@ fn teapot() -> Result<(), String> {
     let vp = Viewport::new(800, 600);
     let px = 800.0 * 600.0;
     b.with_scene(|view, cam| -> Result<(), String> {
-        let frame = Frame::try_new(cam, vp, b.settings()).map_err(|e| e.to_string())?;
+        let renderer = Renderer::try_new(cam, vp, b.settings()).map_err(|e| e.to_string())?;
         let list = teapot_list(view, cam, true)?;
         let mut bvh = Box::new(Bvh::<4096, 2048>::new());
         bvh.build(list.view().triangles())
@@ -363,7 +363,7 @@ fn teapot() -> Result<(), String> {
             .view()
             .with_meshes(&flat_mesh)
             .map_err(|e| e.to_string())?;
-        if render(&lists, &frame) != render(&flat_meshed, &frame) {
+        if render(&lists, &renderer) != render(&flat_meshed, &renderer) {
             return Err("the teapot: the mesh changed the flat list's image".into());
         }
         println!(
@@ -382,7 +382,7 @@ fn teapot() -> Result<(), String> {
             let mut t = Vec::new();
             for _ in 0..runs {
                 let start = Instant::now();
-                render(v, &frame);
+                render(v, &renderer);
                 t.push(start.elapsed().as_nanos() as f64 / px);
             }
             let (n1, s1) = tessera::testing::visits();

@@ -748,7 +748,7 @@ impl Measured {
          `Builtin::with_scene` builds on the stack (this firmware can render any of the \
          four scenes and its frame has room for all of them, so the figure hardly \
          changes between scenes; a firmware with one scene needs less), and the \
-         `Frame`. Each figure is the largest over the scene's runs.\n"
+         `Renderer`. Each figure is the largest over the scene's runs.\n"
         );
         let _ = writeln!(
             w,
@@ -899,7 +899,7 @@ impl Measured {
              counts differ the code differs: the FPv5 FPUs of the Cortex-M7, M33 and M55 \
              have `vminnm`/`vmaxnm` and `vsel`, which LLVM uses for some comparisons and \
              selects; with `target-cpu` the Cortex-M7's and M55's FPUs have double \
-             precision, so the `f64` paths (`geometry::wide`, `Frame::try_new`) are \
+             precision, so the `f64` paths (`geometry::wide`, `Renderer::try_new`) are \
              instructions rather than library calls (an image for a part whose FPU has \
              single precision only needs a build without that flag); LLVM vectorises \
              some loops with the M55's MVE; RISC-V has no conditional select and more \

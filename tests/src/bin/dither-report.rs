@@ -14,7 +14,7 @@ use image::{RgbImage, imageops};
 use std::fmt::Write as _;
 use tessera::Viewport;
 use tessera::builtin::Builtin;
-use tessera::{Frame, dither::Dither};
+use tessera::{Renderer, dither::Dither};
 use tessera_host::simulate::{PanelColor, simulate_tiled};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin dither-report";
@@ -51,13 +51,13 @@ fn main() -> Result<(), String> {
         let row = b
             .with_scene(|view, cam| -> Result<(String, Vec<RgbImage>), String> {
                 let vp = Viewport::new(SIZE, SIZE);
-                let frame = Frame::try_new(cam, vp, b.settings()).map_err(|x| e(&x))?;
+                let renderer = Renderer::try_new(cam, vp, b.settings()).map_err(|x| e(&x))?;
                 let full =
                     tessera_host::render(view, cam, vp, b.settings(), 16).map_err(|x| e(&x))?;
                 let mut cells = Vec::new();
                 let mut shown = Vec::new();
                 for (_, mode) in MODES {
-                    let panel = simulate_tiled(view, &frame, PanelColor::Rgb565, 16, mode)
+                    let panel = simulate_tiled(view, &renderer, PanelColor::Rgb565, 16, mode)
                         .map_err(|x| e(&x))?;
                     let flip =
                         tessera_host::compare::mean_flip(&full, &panel).map_err(|x| e(&x))?;

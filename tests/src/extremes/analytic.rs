@@ -37,13 +37,13 @@ pub fn analytic(r: f32) -> Analytic {
             seed: 1,
             encoding: tessera::Encoding::Linear,
         };
-        let Ok(frame) = scene.frame(Viewport::new(40, 30), settings) else {
+        let Ok(renderer) = scene.renderer(Viewport::new(40, 30), settings) else {
             out.worst_lsb = -1;
             return out;
         };
         for y in 0..30 {
             for x in 0..40 {
-                let p = frame.pixel_color(&scene.view(), x, y, &mut ()).to_rgb8();
+                let p = renderer.pixel_color(&scene.view(), x, y, &mut ()).to_rgb8();
                 for (got, want) in [p.r, p.g, p.b].into_iter().zip(want) {
                     out.channels += 1;
                     out.worst_lsb = out.worst_lsb.max((i32::from(got) - want).abs());

@@ -17,13 +17,13 @@ pub fn lit_sphere_at(
 #[must_use]
 pub fn lit_sphere_error(scene: &tessera::Scene<1, 0, 0, 0, 1, 1>) -> (i32, usize) {
     let want = [0.9f64, 0.6, 0.3].map(|c| (c * 0.72 * 255.0).round() as i32);
-    let frame = scene
-        .frame(Viewport::new(32, 24), RenderSettings::default())
+    let renderer = scene
+        .renderer(Viewport::new(32, 24), RenderSettings::default())
         .expect("frame");
     let (mut worst, mut non_finite) = (0, 0);
     for y in 0..24 {
         for x in 0..32 {
-            let c = frame.pixel_color(&scene.view(), x, y, &mut ());
+            let c = renderer.pixel_color(&scene.view(), x, y, &mut ());
             non_finite += usize::from(!c.is_finite());
             let p = c.to_rgb8();
             for (got, want) in [p.r, p.g, p.b].into_iter().zip(want) {

@@ -1,7 +1,7 @@
 //! Cases 7 and 8: scale invariance of the built-in scenes (`2^k`), and flush-to-zero.
 
 use image::RgbImage;
-use tessera::{Frame, Viewport};
+use tessera::{Renderer, Viewport};
 use tessera_host::desc::{SceneDesc, TextureDesc};
 
 /// The built-in scene descriptions of case 7.
@@ -86,16 +86,16 @@ pub struct Rendered {
     pub non_finite: usize,
 }
 
-/// Renders a description with the core (`Frame::pixel_color`, as a tile does) at
+/// Renders a description with the core (`Renderer::pixel_color`, as a tile does) at
 /// `vp` with the description's own settings; the core's error if it refuses it.
 pub fn render_desc(desc: &SceneDesc, vp: Viewport) -> Result<Rendered, String> {
     let settings = desc.settings().map_err(|e| e.to_string())?;
     let scene = desc.to_core().map_err(|e| e.to_string())?;
-    let frame = Frame::try_new(scene.camera(), vp, settings).map_err(|e| e.to_string())?;
+    let renderer = Renderer::try_new(scene.camera(), vp, settings).map_err(|e| e.to_string())?;
     let mut non_finite = 0;
     let image = scene.with_view(|view| {
         RgbImage::from_fn(u32::from(vp.width), u32::from(vp.height), |x, y| {
-            let c = frame.pixel_color(view, x, y, &mut ());
+            let c = renderer.pixel_color(view, x, y, &mut ());
             non_finite += usize::from(!c.is_finite());
             let p = c.to_rgb8();
             image::Rgb([p.r, p.g, p.b])
@@ -174,7 +174,7 @@ pub fn validated_range(desc: &SceneDesc) -> (i32, i32) {
     let ok = |k: i32| {
         let d = scaled(desc, k);
         match (d.to_core(), d.settings()) {
-            (Ok(scene), Ok(settings)) => scene.lists().frame(SCALE_VIEWPORT, settings).is_ok(),
+            (Ok(scene), Ok(settings)) => scene.lists().renderer(SCALE_VIEWPORT, settings).is_ok(),
             _ => false,
         }
     };

@@ -2,7 +2,7 @@
 //! [`V3`], with the few conversions the battery needs in [`V3Ext`]), ulps, a seeded
 //! generator, and the battery's rays, built exactly.
 
-use tessera::{Frame, Vec3, Viewport, trace::Ray};
+use tessera::{Renderer, Vec3, Viewport, trace::Ray};
 use tessera_host::compare::{Accuracy, measure};
 use tessera_host::desc::SceneDesc;
 pub use tessera_host::reference::vec::V3;
@@ -142,14 +142,14 @@ pub struct Compared {
 pub fn compared(desc: &SceneDesc, vp: Viewport) -> Result<Compared, String> {
     let settings = desc.settings().map_err(|e| e.to_string())?;
     let scene = desc.to_core().map_err(|e| e.to_string())?;
-    let frame = Frame::try_new(scene.camera(), vp, settings).map_err(|e| e.to_string())?;
+    let renderer = Renderer::try_new(scene.camera(), vp, settings).map_err(|e| e.to_string())?;
     let (core, non_finite) = scene.with_view(|view| {
         let img =
-            tessera_host::render_tiles::<16>(view, &frame, None).map_err(|e| e.to_string())?;
+            tessera_host::render_tiles::<16>(view, &renderer, None).map_err(|e| e.to_string())?;
         let (w, h) = img.dimensions();
         let nf = (0..h)
             .flat_map(|y| (0..w).map(move |x| (x, y)))
-            .filter(|&(x, y)| !frame.pixel_color(view, x, y, &mut ()).is_finite())
+            .filter(|&(x, y)| !renderer.pixel_color(view, x, y, &mut ()).is_finite())
             .count();
         Ok::<_, String>((img, nf))
     })?;

@@ -124,7 +124,7 @@ pub const HEIGHT: u16 = 240;
 pub const TILE: usize = 16;
 
 /// The tile loops this scene needs at its settings, for
-/// `Frame::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.
+/// `Renderer::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.
 #[allow(dead_code)]
 pub enum SceneLoops {}
 
@@ -134,7 +134,7 @@ impl Loops for SceneLoops {
     }
 }
 
-/// The whole scene: `SCENE.view()?` and `SCENE.frame()?` check it once and render it
+/// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it
 /// from where it lies.
 #[allow(dead_code)]
 pub static SCENE: BakedScene<'static, 3, 2, 4, 2> = BakedScene::new(
