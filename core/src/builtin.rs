@@ -148,7 +148,7 @@ impl Builtin {
     /// ```
     ///
     /// # Errors
-    /// As [`crate::BakedScene::view`] and [`crate::BakedScene::frame`] (none
+    /// As [`crate::BakedScene::view`] and [`crate::BakedScene::renderer`] (none
     /// for data the host baked).
     pub fn baked(self) -> Result<(SceneView<'static>, crate::Renderer), Error> {
         self.with_baked_scene(|view, camera| {

@@ -56,7 +56,7 @@
 //!
 //! ## Memory
 //!
-//! The lists live on the stack of [`crate::Frame::render_tile`], in fixed-capacity
+//! The lists live on the stack of [`crate::Renderer::render_tile`], in fixed-capacity
 //! storage sized by the scene's capacities (`Scene<S, P, T, B, ..>` lends them, see
 //! [`lend`]): per kind a `u16` index list (camera) and a `u32` list (shadow: index
 //! and a 16-bit mask of the lights it may block), `6 (S + P + T + B)` bytes plus

@@ -3,7 +3,7 @@
 //! textured surface, the four corner rays of the pixel give the footprint's uv box
 //! on that surface ([`uv_box`]), and the texture is averaged exactly over the box
 //! (`Texture::eval_box`, a box filter) instead of evaluated at one point. The tile
-//! loop creates the footprint (`Renderer::pixel`), the hit resolution uses it (see
+//! loop creates the footprint (`Pass::pixel` in `tile`), the hit resolution uses it (see
 //! `trace::resolve`).
 
 use crate::camera::CameraBasis;

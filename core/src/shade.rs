@@ -243,7 +243,21 @@ pub fn trace<C: RayCounter>(
     count: &mut C,
 ) -> Color {
     let depth = view.depth(max_depth);
-    trace_with::<_, true>(view, ray, t_max, depth, &Picks::default(), count, None)
+    let cam = CameraRay {
+        ray,
+        t_max,
+        footprint: None,
+    };
+    trace_with::<_, true>(view, cam, depth, &Picks::default(), count)
+}
+
+/// A camera ray: the ray, how far it looks (the far plane), and the pixel it
+/// carries (`footprint`, where the sampler prefilters textures).
+#[derive(Clone, Copy)]
+pub(crate) struct CameraRay<'a> {
+    pub ray: Ray,
+    pub t_max: f32,
+    pub footprint: Option<&'a Footprint<'a>>,
 }
 
 /// The colour a camera ray brings back: its nearest hit among `picks.camera`,
@@ -252,78 +266,63 @@ pub fn trace<C: RayCounter>(
 /// its pixel (`footprint`), a texture it hits is averaged exactly over the
 /// pixel's footprint (box filter) instead of evaluated at one point.
 ///
-/// With bounces, two calls that never nest: [`primary`] (the camera
-/// ray's own hit, with its searches inlined) and, only when that hit sends
-/// rays, [`bounce`]. The deepest stack is the bounce's, not the sum
-/// of both. Without bounces nothing
-/// else is called, and the camera ray's hit is inlined here
-/// ([`primary_in`]).
+/// Without bounces (`BOUNCES` false: the caller knows the depth is 0) the
+/// camera ray's hit ([`primary`]) is inlined here and nothing else is called.
+/// With bounces, two calls that never nest: [`primary_bouncing`] (the same
+/// [`primary`], out of line) and, only when its hit sends rays, [`bounce`]: the
+/// deepest stack is the bounce's, not the sum of both.
 ///
 /// `max_depth` is the scene's depth, clamped once by the caller
-/// ([`SceneView::depth`]); `BOUNCES` is false when the caller knows it is 0.
+/// ([`SceneView::depth`]).
 #[inline(always)]
 pub(crate) fn trace_with<C: Observer, const BOUNCES: bool>(
     view: &SceneView<'_>,
-    ray: Ray,
-    t_max: f32,
+    cam: CameraRay<'_>,
     max_depth: u8,
     picks: &Picks<'_>,
     count: &mut C,
-    footprint: Option<&Footprint<'_>>,
 ) -> Color {
     if !BOUNCES {
-        return primary_in(
-            view,
-            &ray,
-            t_max,
-            0,
-            picks,
-            count,
-            footprint,
-            &mut [None, None],
-        );
+        return primary(view, &cam, 0, picks, count, &mut [None, None]);
     }
     let mut first = [None, None];
-    let mut total = primary(
-        view, &ray, t_max, max_depth, picks, count, footprint, &mut first,
-    );
+    let mut total = primary_bouncing(view, &cam, max_depth, picks, count, &mut first);
     if first.iter().any(Option::is_some) {
         bounce(view, &first, max_depth, &mut total, count);
     }
     total
 }
 
-/// The camera ray's own colour; the reflected and refracted rays its hit sends
-/// when `max_depth > 0` go to `first` (left as it is otherwise).
+/// [`primary`] out of line, for the camera rays of a scene with bounces: its
+/// stack frame and [`bounce`]'s are then never on the stack together.
 #[inline(never)]
-#[allow(clippy::too_many_arguments)]
-fn primary<C: Observer>(
+fn primary_bouncing<C: Observer>(
     view: &SceneView<'_>,
-    ray: &Ray,
-    t_max: f32,
+    cam: &CameraRay<'_>,
     max_depth: u8,
     picks: &Picks<'_>,
     count: &mut C,
-    footprint: Option<&Footprint<'_>>,
     first: &mut [Option<Pending>; 2],
 ) -> Color {
-    primary_in(view, ray, t_max, max_depth, picks, count, footprint, first)
+    primary(view, cam, max_depth, picks, count, first)
 }
 
-/// [`primary`], inlined (for the camera rays of a scene without
-/// bounces).
+/// The camera ray's own colour; the reflected and refracted rays its hit sends
+/// when `max_depth > 0` go to `first` (left as it is otherwise).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn primary_in<C: Observer>(
+fn primary<C: Observer>(
     view: &SceneView<'_>,
-    ray: &Ray,
-    t_max: f32,
+    cam: &CameraRay<'_>,
     max_depth: u8,
     picks: &Picks<'_>,
     count: &mut C,
-    footprint: Option<&Footprint<'_>>,
     first: &mut [Option<Pending>; 2],
 ) -> Color {
+    let CameraRay {
+        ref ray,
+        t_max,
+        footprint,
+    } = *cam;
     count.primary();
     let nearest = match &picks.camera {
         Some(lists) => search::nearest(view, ray, t_max, Listed(lists), Skip::NONE),
@@ -345,7 +344,7 @@ fn primary_in<C: Observer>(
         }
     }
     // A hit that no light changes and that sends no ray is its ambient colour
-    // (what `local_in` would give). Decided before the hit is rebuilt for the
+    // (what `local` would give). Decided before the hit is rebuilt for the
     // code below, whose out-of-line calls take its address: the hit of this
     // path then never goes to memory (fewer instructions per pixel on the chip,
     // above all on interference, whose unlit screen takes this path).
@@ -357,7 +356,7 @@ fn primary_in<C: Observer>(
         error: core::cell::Cell::new(None),
         ..hit
     };
-    let total = local_in(view, &hit, ray, picks.shadow.as_ref(), count, true);
+    let total = local::<false, _>(view, &hit, ray, picks.shadow.as_ref(), count, true);
     if max_depth > 0 && hit.material.sends_rays() {
         children(&hit, ray, 1.0, 0, first);
     }
@@ -390,7 +389,7 @@ fn bounce<C: Observer>(
         let Some(hit) = hit::resolve(view, &nearest, &p.ray, None) else {
             continue; // unreachable for a validated scene: no material
         };
-        *total += local_in(view, &hit, &p.ray, None, count, false) * p.weight;
+        *total += local::<false, _>(view, &hit, &p.ray, None, count, false) * p.weight;
         if p.depth < max_depth && hit.material.sends_rays() {
             let mut next = [None, None];
             children(&hit, &p.ray, p.weight, p.depth, &mut next);
@@ -401,23 +400,7 @@ fn bounce<C: Observer>(
     }
 }
 
-/// Ambient + direct light at a hit (no secondary rays); the shadow rays test the
-/// candidates of `shadow` (see [`Picks`]). A smooth mesh's hit takes
-/// [`local_smooth`], out of line, so that the other kinds' code is
-/// what it is without meshes.
-#[inline(always)]
-fn local_in<C: Observer>(
-    view: &SceneView<'_>,
-    hit: &Hit<'_>,
-    ray: &Ray,
-    shadow: Option<&ShadowLists<'_>>,
-    count: &mut C,
-    sign: bool,
-) -> Color {
-    local_with::<false, C>(view, hit, ray, shadow, count, sign)
-}
-
-/// [`local_in`] at a hit of a smooth mesh.
+/// [`local`] at a hit of a smooth mesh, out of line.
 #[cfg(feature = "bvh")]
 #[inline(never)]
 fn local_smooth<C: Observer>(
@@ -428,12 +411,16 @@ fn local_smooth<C: Observer>(
     count: &mut C,
     sign: bool,
 ) -> Color {
-    local_with::<true, C>(view, hit, ray, shadow, count, sign)
+    local::<true, C>(view, hit, ray, shadow, count, sign)
 }
 
-/// [`local_in`]; `SMOOTH`: the hit is a smooth mesh's.
+/// Ambient + direct light at a hit (no secondary rays); the shadow rays test the
+/// candidates of `shadow` (see [`Picks`]). `SMOOTH`: the hit is a smooth
+/// mesh's, whose normal is interpolated; callers pass false and a smooth mesh's
+/// hit takes the `SMOOTH` copy out of line, so that the other kinds' code is
+/// what it is without meshes.
 #[inline(always)]
-fn local_with<const SMOOTH: bool, C: Observer>(
+fn local<const SMOOTH: bool, C: Observer>(
     view: &SceneView<'_>,
     hit: &Hit<'_>,
     ray: &Ray,

@@ -14,7 +14,7 @@
 //! (3 bytes a pixel plus 8 bytes of coordinates; a unit test checks these sizes
 //! and `tests/tests/docs.rs` checks them against `docs/chip-cost.md`.) The
 //! renderer's stack does not depend on `N`: measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md`), `render_tile` needs 1,424 to 2,008 bytes (1.4
+//! painting; `docs/chip-cost.md`), `render_tile` needs 1,064 to 2,008 bytes (1.0
 //! to 2.0 KiB) below its caller, the tile's culling lists (the primitives that may
 //! reach the tile, module `cull`) and the shader's pending-ray stack
 //! (`MAX_DEPTH + 1` rays) included.
@@ -27,7 +27,7 @@ use crate::error::Error;
 use crate::error::MAX_DEPTH;
 use crate::prefilter::Footprint;
 use crate::sample::{PixelHash, Sampler, stratified, stratum};
-use crate::shade::{Observer, RayCounter, Signature};
+use crate::shade::{CameraRay, Observer, RayCounter, Signature, trace_with};
 use crate::view::SceneView;
 
 /// How a frame is rendered.
@@ -428,9 +428,9 @@ impl Renderer {
         let depth = scene.depth(self.settings.max_depth);
         let (x, y, picks) = (at(bx, vp.width), at(by, vp.height), &Picks::default());
         if depth > 0 && links_any::<L>(true) {
-            centre.pixel::<_, true>(scene, picks, depth, x, y, count)
+            Pass::new(&centre, scene, picks, depth, count).pixel::<true>(x, y)
         } else if depth == 0 && links_any::<L>(false) {
-            centre.pixel::<_, false>(scene, picks, 0, x, y, count)
+            Pass::new(&centre, scene, picks, 0, count).pixel::<false>(x, y)
         } else {
             Color::BLACK
         }
@@ -450,179 +450,32 @@ impl Renderer {
     ) -> Color {
         let depth = scene.depth(self.settings.max_depth);
         let picks = Picks::default();
+        let mut pass = Pass::new(self, scene, &picks, depth, count);
         let Some(threshold) = self.adaptive else {
-            return self.pixel::<_, true>(scene, &picks, depth, x, y, count);
+            return pass.pixel::<true>(x, y);
         };
-        // The rule of `Renderer::fill_adaptive`, for one pixel.
+        // The rule of `Pass::fill_adaptive`, for one pixel.
         // The centre rays of the pixel and of its neighbours in the frame.
         let vp = self.viewport();
-        let own = self.centre::<_, true>(scene, &picks, depth, x, y, count);
+        let own = pass.centre::<true>(x, y);
         let mut refine = false;
         for (dx, dy) in NEIGHBOURS {
             let (nx, ny) = (x.wrapping_add_signed(dx), y.wrapping_add_signed(dy));
             if nx < u32::from(vp.width) && ny < u32::from(vp.height) {
-                let n = self.centre::<_, true>(scene, &picks, depth, nx, ny, count);
+                let n = pass.centre::<true>(nx, ny);
                 let e = self.settings.encoding;
                 refine |= own.encoded(e).differs(n.encoded(e), threshold);
             }
         }
         if refine {
-            self.pixel::<_, true>(scene, &picks, depth, x, y, count)
+            pass.pixel::<true>(x, y)
         } else {
             own.color
         }
     }
 
-    /// The adaptive sampler's centre sample of pixel `(x, y)`: its colour and the
-    /// signature of its ray tree.
-    #[inline(always)]
-    fn centre<C: RayCounter, const BOUNCES: bool>(
-        &self,
-        scene: &SceneView<'_>,
-        picks: &Picks<'_>,
-        depth: u8,
-        x: u32,
-        y: u32,
-        count: &mut C,
-    ) -> CentreSample {
-        let mut signed = Signature::new(count);
-        let (px, py) = (x as f32, y as f32);
-        let footprint = Footprint::new(&self.basis, px, py);
-        let at = (px + 0.5, py + 0.5);
-        let color = self.ray_color_call::<_, BOUNCES>(
-            scene,
-            picks,
-            depth,
-            at,
-            Some(&footprint),
-            &mut signed,
-        );
-        CentreSample {
-            color,
-            sig: signed.hash,
-            textured: signed.textured,
-        }
-    }
-
-    /// The colour of pixel `(x, y)` with the candidates `picks`, rays bouncing down
-    /// to `depth` (the scene's, [`SceneView::depth`]): the mean of its samples. The
-    /// single-sample samplers trace one ray and return its colour (`(0 + c) * 1 =
-    /// c`) through one out-of-line call ([`Renderer::ray_color_call`]); the stratified
-    /// and random samplers hash the pixel once and the sample index per sample, and
-    /// trace each sample inlined in their loop ([`Renderer::ray_color`]): without
-    /// bounces the whole camera ray then runs without a call (a call per sample
-    /// costs more instructions per pixel on the chip).
-    #[inline(always)]
-    fn pixel<C: Observer, const BOUNCES: bool>(
-        &self,
-        scene: &SceneView<'_>,
-        picks: &Picks<'_>,
-        depth: u8,
-        x: u32,
-        y: u32,
-        count: &mut C,
-    ) -> Color {
-        let s = &self.settings;
-        let (px, py) = (x as f32, y as f32);
-        // One ray: no loop, no average (`(0 + c) * 1 = c`).
-        if let Some((dx, dy)) = self.single {
-            let footprint = matches!(s.sampler, Sampler::Prefiltered)
-                .then(|| Footprint::new(&self.basis, px, py));
-            let at = (px + dx, py + dy);
-            return self.ray_color_call::<C, BOUNCES>(
-                scene,
-                picks,
-                depth,
-                at,
-                footprint.as_ref(),
-                count,
-            );
-        }
-        let hash = PixelHash::new(x, y, s.seed);
-        let mut sum = Color::BLACK;
-        // The stratified sampler's cell (cx, cy) of sample i = cy k + cx.
-        let (mut cx, mut cy) = (0u32, 0u32);
-        for i in 0..self.samples {
-            let (dx, dy) = match s.sampler {
-                Sampler::Stratified(k) | Sampler::Adaptive { k, .. } => {
-                    let d = stratified(hash, i, (cx, cy), self.stratum);
-                    cx += 1;
-                    if cx == u32::from(k) {
-                        (cx, cy) = (0, cy + 1);
-                    }
-                    d
-                }
-                _ => hash.pair(i),
-            };
-            let at = (px + dx, py + dy);
-            sum += self.ray_color::<C, BOUNCES>(scene, picks, depth, at, None, count);
-        }
-        sum * self.inv_count
-    }
-
-    /// The colour the camera ray through the viewport point `at` brings back.
-    #[inline(always)]
-    fn ray_color<C: Observer, const BOUNCES: bool>(
-        &self,
-        scene: &SceneView<'_>,
-        picks: &Picks<'_>,
-        depth: u8,
-        (x, y): (f32, f32),
-        footprint: Option<&Footprint<'_>>,
-        count: &mut C,
-    ) -> Color {
-        let (ray, t_far) = self.basis.ray(x, y);
-        crate::shade::trace_with::<C, BOUNCES>(scene, ray, t_far, depth, picks, count, footprint)
-    }
-
-    /// [`Renderer::ray_color`] out of line, for the single-sample samplers: inlined in
-    /// their pixel loop, it costs more instructions per pixel on the chip (the
-    /// loop's registers spill around the shader).
-    #[inline(never)]
-    fn ray_color_call<C: Observer, const BOUNCES: bool>(
-        &self,
-        scene: &SceneView<'_>,
-        picks: &Picks<'_>,
-        depth: u8,
-        at: (f32, f32),
-        footprint: Option<&Footprint<'_>>,
-        count: &mut C,
-    ) -> Color {
-        self.ray_color::<C, BOUNCES>(scene, picks, depth, at, footprint, count)
-    }
-
-    /// Fills `tile`'s pixels `(x0, y0)` to `(x0 + tw, y0 + th)` with each pixel's
-    /// colour; the rest of the buffer black. Out of line: the loops with and without bounces then each
-    /// have their own frame, and the larger one (the inlined shader of the loop
-    /// without bounces) does not add to the stack of the other.
-    #[inline(never)]
-    #[allow(clippy::too_many_arguments)]
-    fn fill<const N: usize, C: Observer, const BOUNCES: bool, P: TilePixel, const SRGB: bool>(
-        &self,
-        scene: &SceneView<'_>,
-        picks: &Picks<'_>,
-        depth: u8,
-        tile: &mut Tile<N, P>,
-        (x0, y0, tw, th): (u32, u32, usize, usize),
-        count: &mut C,
-    ) {
-        for (j, row) in tile.pixels.iter_mut().enumerate() {
-            let live = if j < th { tw } else { 0 };
-            let Some((live, rest)) = row.split_at_mut_checked(live) else {
-                continue;
-            };
-            for (i, px) in live.iter_mut().enumerate() {
-                let (x, y) = (x0 + i as u32, y0 + j as u32);
-                let rgb =
-                    encode::<SRGB>(self.pixel::<C, BOUNCES>(scene, picks, depth, x, y, count));
-                *px = P::from_rgb8(rgb, x, y, self.dither);
-            }
-            rest.fill(P::BLACK);
-        }
-    }
-
     /// Fills the pixels of a tile buffer (rows of `stride` pixels) as
-    /// [`Renderer::fill`] does where every ray misses: `(x0, y0)` to `(x0 + tw, y0 +
+    /// [`Pass::fill`] does where every ray misses: `(x0, y0)` to `(x0 + tw, y0 +
     /// th)` the background ([`Renderer::background_pixel`]), the rest black. Generic
     /// over the pixel type only: one copy whatever the tile size and counter.
     #[inline(never)]
@@ -646,78 +499,6 @@ impl Renderer {
         }
     }
 
-    /// [`Renderer::fill`] for the adaptive sampler: the centre rays of the tile and of
-    /// a one-pixel apron around it (where the frame has pixels), row after row,
-    /// then each pixel either its centre colour or, where it differs from a
-    /// neighbour's ([`CentrePixel::differs`]), its stratified samples. Rows are decided
-    /// as soon as the row below them is traced: three rows of centre samples are
-    /// kept ([`Window`]), not the tile's.
-    #[inline(never)]
-    #[allow(clippy::too_many_arguments)]
-    fn fill_adaptive<const N: usize, C: RayCounter, const BOUNCES: bool, P: TilePixel>(
-        &self,
-        scene: &SceneView<'_>,
-        picks: &Picks<'_>,
-        depth: u8,
-        tile: &mut Tile<N, P>,
-        (x0, y0, tw, th): (u32, u32, usize, usize),
-        threshold: u8,
-        count: &mut C,
-    ) {
-        let vp = self.viewport();
-        let (w, h) = (i64::from(vp.width), i64::from(vp.height));
-        let (x0i, y0i) = (i64::from(x0), i64::from(y0));
-        let mut window = Window::<N>::new();
-        // Row `r` of the tile (-1 and `th`: the apron) into the window.
-        let trace_row = |r: i64, window: &mut Window<N>, count: &mut C| {
-            let y = y0i + r;
-            if !(0..h).contains(&y) {
-                return;
-            }
-            for i in -1..=tw as i64 {
-                let x = x0i + i;
-                if (0..w).contains(&x) {
-                    let c =
-                        self.centre::<C, BOUNCES>(scene, picks, depth, x as u32, y as u32, count);
-                    window.set(r, i, c.encoded(self.settings.encoding));
-                }
-            }
-        };
-        trace_row(-1, &mut window, count);
-        trace_row(0, &mut window, count);
-        for (j, row) in tile.pixels.iter_mut().enumerate() {
-            let live = if j < th { tw } else { 0 };
-            let Some((live, rest)) = row.split_at_mut_checked(live) else {
-                continue;
-            };
-            let r = j as i64;
-            if !live.is_empty() {
-                trace_row(r + 1, &mut window, count);
-            }
-            for (i, px) in live.iter_mut().enumerate() {
-                let (x, y) = (x0i + i as i64, y0i + r);
-                let own = window.get(r, i as i64);
-                let mut refine = false;
-                for (dx, dy) in NEIGHBOURS {
-                    let (nx, ny) = (x + i64::from(dx), y + i64::from(dy));
-                    if (0..w).contains(&nx) && (0..h).contains(&ny) {
-                        let n = window.get(r + i64::from(dy), i as i64 + i64::from(dx));
-                        refine |= own.differs(n, threshold);
-                    }
-                }
-                let rgb = if refine {
-                    self.settings.encoding.encode(
-                        self.pixel::<C, BOUNCES>(scene, picks, depth, x as u32, y as u32, count),
-                    )
-                } else {
-                    own.color
-                };
-                *px = P::from_rgb8(rgb, x as u32, y as u32, self.dither);
-            }
-            rest.fill(P::BLACK);
-        }
-    }
-
     /// The camera rays a pixel counts where every ray misses (the background is
     /// filled in without tracing them): the adaptive sampler's centre ray, or the
     /// other samplers' samples.
@@ -730,7 +511,7 @@ impl Renderer {
     }
 
     /// What a pixel comes to when every ray misses: the background, averaged over
-    /// the samples as [`Renderer::pixel`] averages them (for one sample,
+    /// the samples as [`Pass::pixel`] averages them (for one sample,
     /// `(0 + b) * 1 = b`).
     fn background_pixel(&self, scene: &SceneView<'_>) -> Rgb8 {
         if self.adaptive.is_some() {
@@ -852,8 +633,8 @@ impl Renderer {
                 return self.fill_background(scene, tile.pixels.as_flattened_mut(), N, area);
             }
             let depth = scene.depth(self.settings.max_depth);
-            let p = &picks;
             let threshold = self.adaptive.unwrap_or(0);
+            let (rows, n) = (tile.pixels.as_flattened_mut(), N);
             // The loop's instantiations, one per tile loop: with bounces or without
             // (no ray-tree bookkeeping per sample where no ray is reflected or
             // refracted), in each encoding (decided once a tile, not per pixel);
@@ -862,28 +643,31 @@ impl Renderer {
             // the others compile away.
             use Encoding::{Linear, Srgb};
             macro_rules! run {
-                ($loop:expr => $fill:expr) => {
+                ($loop:expr, $depth:expr => $fill:ident $(::<$($g:tt),*>)? ($($arg:expr),*)) => {
                     if L::links($loop) {
-                        $fill
+                        Pass::new(self, scene, &picks, $depth, count)
+                            .$fill$(::<$($g),*>)?($($arg),*)
                     }
                 };
             }
             match tile_loop {
-                TileLoop::Direct(Srgb) => run!(TileLoop::Direct(Srgb) =>
-                    self.fill::<N, C, false, P, true>(scene, p, 0, tile, area, count)),
-                TileLoop::Direct(Linear) => run!(TileLoop::Direct(Linear) =>
-                    self.fill::<N, C, false, P, false>(scene, p, 0, tile, area, count)),
-                TileLoop::Bounces(Srgb) => run!(TileLoop::Bounces(Srgb) =>
-                    self.fill::<N, C, true, P, true>(scene, p, depth, tile, area, count)),
-                TileLoop::Bounces(Linear) => run!(TileLoop::Bounces(Linear) =>
-                    self.fill::<N, C, true, P, false>(scene, p, depth, tile, area, count)),
+                TileLoop::Direct(Srgb) => {
+                    run!(TileLoop::Direct(Srgb), 0 => fill::<P, false, true>(rows, n, area))
+                }
+                TileLoop::Direct(Linear) => {
+                    run!(TileLoop::Direct(Linear), 0 => fill::<P, false, false>(rows, n, area))
+                }
+                TileLoop::Bounces(Srgb) => {
+                    run!(TileLoop::Bounces(Srgb), depth => fill::<P, true, true>(rows, n, area))
+                }
+                TileLoop::Bounces(Linear) => {
+                    run!(TileLoop::Bounces(Linear), depth => fill::<P, true, false>(rows, n, area))
+                }
                 TileLoop::Adaptive { bounces: false } => {
-                    run!(TileLoop::Adaptive { bounces: false } =>
-                    self.fill_adaptive::<N, C, false, P>(scene, p, 0, tile, area, threshold, count))
+                    run!(TileLoop::Adaptive { bounces: false }, 0 => fill_adaptive::<N, P, false>(tile, area, threshold))
                 }
                 TileLoop::Adaptive { bounces: true } => {
-                    run!(TileLoop::Adaptive { bounces: true } =>
-                    self.fill_adaptive::<N, C, true, P>(scene, p, depth, tile, area, threshold, count))
+                    run!(TileLoop::Adaptive { bounces: true }, depth => fill_adaptive::<N, P, true>(tile, area, threshold))
                 }
             }
         };
@@ -892,6 +676,238 @@ impl Renderer {
         // `cull::TileStorage::lend`) and runs the loop above with them.
         (scene.tile_storage)(scene.culled_lists(), &mut body);
         Ok(())
+    }
+}
+
+/// What the pixels of one tile share: the renderer, the scene, the tile's
+/// candidates (`picks`), the depth rays bounce to and the counter. Its methods
+/// are the pixel loop in plain form: a pixel's samples ([`Pass::pixel`]), each a
+/// camera ray ([`CameraBasis::ray`]) traced and shaded ([`Pass::sample`]), their
+/// mean encoded into the tile's pixel type ([`Pass::fill`]); the loop's
+/// instantiations are made in one place, [`Renderer::render_tile_in`]'s `run!`.
+struct Pass<'a, C> {
+    renderer: &'a Renderer,
+    scene: &'a SceneView<'a>,
+    picks: &'a Picks<'a>,
+    depth: u8,
+    count: &'a mut C,
+}
+
+impl<'a, C: Observer> Pass<'a, C> {
+    #[inline(always)]
+    fn new(
+        renderer: &'a Renderer,
+        scene: &'a SceneView<'a>,
+        picks: &'a Picks<'a>,
+        depth: u8,
+        count: &'a mut C,
+    ) -> Self {
+        Self {
+            renderer,
+            scene,
+            picks,
+            depth,
+            count,
+        }
+    }
+
+    /// Fills a tile buffer's pixels (rows of `stride`) `(x0, y0)` to `(x0 + tw,
+    /// y0 + th)` with each pixel's colour, encoded (`SRGB`); the rest of the
+    /// buffer black. Out of line: the loops with and without bounces then each
+    /// have their own stack frame, and the larger one (the inlined shader of
+    /// the loop without bounces) does not add to the stack of the other. The
+    /// rows are a slice: one copy whatever the tile size.
+    #[inline(never)]
+    fn fill<P: TilePixel, const BOUNCES: bool, const SRGB: bool>(
+        self,
+        pixels: &mut [P],
+        stride: usize,
+        (x0, y0, tw, th): (u32, u32, usize, usize),
+    ) {
+        // The fields into registers once: the pass arrives in memory.
+        let Pass {
+            renderer,
+            scene,
+            picks,
+            depth,
+            count,
+        } = self;
+        let mut pass = Pass::new(renderer, scene, picks, depth, count);
+        let dither = renderer.dither;
+        for (j, row) in pixels.chunks_mut(stride.max(1)).enumerate() {
+            let live = if j < th { tw } else { 0 };
+            let Some((live, rest)) = row.split_at_mut_checked(live) else {
+                continue;
+            };
+            for (i, px) in live.iter_mut().enumerate() {
+                let (x, y) = (x0 + i as u32, y0 + j as u32);
+                let rgb = encode::<SRGB>(pass.pixel::<BOUNCES>(x, y));
+                *px = P::from_rgb8(rgb, x, y, dither);
+            }
+            rest.fill(P::BLACK);
+        }
+    }
+
+    /// [`Pass::fill`] for the adaptive sampler: the centre rays of the tile and of
+    /// a one-pixel apron around it (where the frame has pixels), row after row,
+    /// then each pixel either its centre colour or, where it differs from a
+    /// neighbour's ([`CentrePixel::differs`]), its stratified samples. Rows are decided
+    /// as soon as the row below them is traced: three rows of centre samples are
+    /// kept ([`Window`]), not the tile's.
+    #[inline(never)]
+    fn fill_adaptive<const N: usize, P: TilePixel, const BOUNCES: bool>(
+        mut self,
+        tile: &mut Tile<N, P>,
+        (x0, y0, tw, th): (u32, u32, usize, usize),
+        threshold: u8,
+    ) where
+        C: RayCounter,
+    {
+        let (vp, settings, dither) = (
+            self.renderer.viewport(),
+            self.renderer.settings,
+            self.renderer.dither,
+        );
+        let (w, h) = (i64::from(vp.width), i64::from(vp.height));
+        let (x0i, y0i) = (i64::from(x0), i64::from(y0));
+        let mut window = Window::<N>::new();
+        // Row `r` of the tile (-1 and `th`: the apron) into the window.
+        let trace_row = |pass: &mut Self, r: i64, window: &mut Window<N>| {
+            let y = y0i + r;
+            if !(0..h).contains(&y) {
+                return;
+            }
+            for i in -1..=tw as i64 {
+                let x = x0i + i;
+                if (0..w).contains(&x) {
+                    let c = pass.centre::<BOUNCES>(x as u32, y as u32);
+                    window.set(r, i, c.encoded(settings.encoding));
+                }
+            }
+        };
+        trace_row(&mut self, -1, &mut window);
+        trace_row(&mut self, 0, &mut window);
+        for (j, row) in tile.pixels.iter_mut().enumerate() {
+            let live = if j < th { tw } else { 0 };
+            let Some((live, rest)) = row.split_at_mut_checked(live) else {
+                continue;
+            };
+            let r = j as i64;
+            if !live.is_empty() {
+                trace_row(&mut self, r + 1, &mut window);
+            }
+            for (i, px) in live.iter_mut().enumerate() {
+                let (x, y) = (x0i + i as i64, y0i + r);
+                let own = window.get(r, i as i64);
+                let mut refine = false;
+                for (dx, dy) in NEIGHBOURS {
+                    let (nx, ny) = (x + i64::from(dx), y + i64::from(dy));
+                    if (0..w).contains(&nx) && (0..h).contains(&ny) {
+                        let n = window.get(r + i64::from(dy), i as i64 + i64::from(dx));
+                        refine |= own.differs(n, threshold);
+                    }
+                }
+                let rgb = if refine {
+                    settings
+                        .encoding
+                        .encode(self.pixel::<BOUNCES>(x as u32, y as u32))
+                } else {
+                    own.color
+                };
+                *px = P::from_rgb8(rgb, x as u32, y as u32, dither);
+            }
+            rest.fill(P::BLACK);
+        }
+    }
+
+    /// The colour of pixel `(x, y)`: the mean of its samples, each one call of
+    /// [`Renderer::sample`]. The single-sample samplers trace one ray and return
+    /// its colour (`(0 + c) * 1 = c`); the stratified and random samplers hash the
+    /// pixel once and the sample index per sample.
+    #[inline(always)]
+    fn pixel<const BOUNCES: bool>(&mut self, x: u32, y: u32) -> Color {
+        let r = self.renderer;
+        let (px, py) = (x as f32, y as f32);
+        // One ray: no loop, no average (`(0 + c) * 1 = c`).
+        if let Some((dx, dy)) = r.single {
+            let footprint = matches!(r.settings.sampler, Sampler::Prefiltered)
+                .then(|| Footprint::new(&r.basis, px, py));
+            let (at, footprint) = ((px + dx, py + dy), footprint.as_ref());
+            return r.sample::<C, BOUNCES>(
+                self.scene, self.picks, self.depth, at, footprint, self.count,
+            );
+        }
+        let hash = PixelHash::new(x, y, r.settings.seed);
+        let mut sum = Color::BLACK;
+        // The stratified sampler's cell (cx, cy) of sample i = cy k + cx.
+        let (mut cx, mut cy) = (0u32, 0u32);
+        for i in 0..r.samples {
+            let (dx, dy) = match r.settings.sampler {
+                Sampler::Stratified(k) | Sampler::Adaptive { k, .. } => {
+                    let d = stratified(hash, i, (cx, cy), r.stratum);
+                    cx += 1;
+                    if cx == u32::from(k) {
+                        (cx, cy) = (0, cy + 1);
+                    }
+                    d
+                }
+                _ => hash.pair(i),
+            };
+            let at = (px + dx, py + dy);
+            sum += r.sample::<C, BOUNCES>(self.scene, self.picks, self.depth, at, None, self.count);
+        }
+        sum * r.inv_count
+    }
+
+    /// The adaptive sampler's centre sample of pixel `(x, y)`: its colour and the
+    /// signature of its ray tree.
+    #[inline(always)]
+    fn centre<const BOUNCES: bool>(&mut self, x: u32, y: u32) -> CentreSample
+    where
+        C: RayCounter,
+    {
+        let mut signed = Signature::new(&mut *self.count);
+        let (px, py) = (x as f32, y as f32);
+        let footprint = Footprint::new(&self.renderer.basis, px, py);
+        let at = (px + 0.5, py + 0.5);
+        let (scene, picks, depth) = (self.scene, self.picks, self.depth);
+        let color = self.renderer.sample::<_, BOUNCES>(
+            scene,
+            picks,
+            depth,
+            at,
+            Some(&footprint),
+            &mut signed,
+        );
+        CentreSample {
+            color,
+            sig: signed.hash,
+            textured: signed.textured,
+        }
+    }
+}
+
+impl Renderer {
+    /// The colour the camera ray through the viewport point `at` brings back: the
+    /// pixel loop's one call per sample. Out of line: inlined, the pixel loop's
+    /// registers spill around the shader.
+    #[inline(never)]
+    fn sample<C: Observer, const BOUNCES: bool>(
+        &self,
+        scene: &SceneView<'_>,
+        picks: &Picks<'_>,
+        depth: u8,
+        (x, y): (f32, f32),
+        footprint: Option<&Footprint<'_>>,
+        count: &mut C,
+    ) -> Color {
+        let (ray, t_max) = self.basis.ray(x, y);
+        let cam = CameraRay {
+            ray,
+            t_max,
+            footprint,
+        };
+        trace_with::<C, BOUNCES>(scene, cam, depth, picks, count)
     }
 }
 

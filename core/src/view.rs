@@ -77,7 +77,7 @@ pub(crate) fn check_material(id: MaterialId, count: usize) -> Result<(), Error> 
 /// compiled once whatever the scene's capacities. The one thing that depends on the
 /// capacities is the room for a tile's culling lists (the primitives that may reach
 /// the tile, listed before its pixels: `6 (S + P + T + B)` bytes and their lengths
-/// on the stack of [`Renderer::render_tile`](crate::Frame::render_tile), for `S`
+/// on the stack of [`Renderer::render_tile`](crate::Renderer::render_tile), for `S`
 /// spheres, `P` planes, `T` triangles and `B` boxes); [`crate::Scene::view`] gives the
 /// view a small function of the scene's type that lends that room, so the
 /// capacities never reach the renderer's code.
