@@ -1157,13 +1157,13 @@ fn a_wrong_figure_fails() {
         ),
         (
             "docs/accuracy.md",
-            "(37 % of the cost",
+            "(36 % of the cost",
             "(35 % of the cost",
             "35",
         ),
         (
             "docs/accuracy.md",
-            "0.93 to 0.98 times",
+            "0.94 to 0.98 times",
             "0.90 to 0.98 times",
             "0.90",
         ),
