@@ -1151,9 +1151,9 @@ fn a_wrong_figure_fails() {
         ),
         (
             "docs/accuracy.md",
-            "(0.00 LSB; 957",
-            "(0.00 LSB; 958",
-            "958",
+            "(0.00 LSB; 965",
+            "(0.00 LSB; 966",
+            "966",
         ),
         (
             "docs/accuracy.md",
