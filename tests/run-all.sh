@@ -108,6 +108,13 @@ say "board example (examples/blackpill-st7789): format and clippy"
 run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
 run cargo clippy --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
 
+# The Raspberry Pi Pico 2 example (an RP2350, both cores, and a Waveshare
+# Pico-LCD-1.3 fed by DMA): its own workspace, for the Cortex-M33; the test
+# `pico2::...` in `cargo test-all` links it and checks the sizes its README states.
+say "Pico 2 example (examples/pico2-st7789): format and clippy"
+run cargo fmt --manifest-path examples/pico2-st7789/Cargo.toml -- --check
+run cargo clippy --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
+
 # The firmware to copy (a scene file on qemu's Cortex-M4F): its own workspace; the
 # tests `qemu_example::...` in `cargo test-all` build it in its folder, as a user
 # does, and run it.

@@ -15,6 +15,7 @@ mod frustum;
 mod golden;
 mod interference;
 mod nofpu;
+mod pico2;
 mod qemu_example;
 mod reference;
 mod tiles;

@@ -1,0 +1,171 @@
+//! The Raspberry Pi Pico 2 example (`examples/pico2-st7789`, an RP2350 with a
+//! Waveshare Pico-LCD-1.3): it builds and links for the Cortex-M33 within the
+//! Pico 2's flash and the RP2350's RAM (the statics and both cores' stacks), the
+//! boot ROM finds its block and the boot stack is core 0's, and its README's sizes
+//! are those of the linked ELF.
+
+use object::{Object, ObjectSection, ObjectSymbol};
+use std::path::PathBuf;
+use tessera_tests::firmware::{self, Sizes};
+use tessera_tests::readme::{figure_after, table_figure, within};
+use tessera_tests::thousands;
+
+/// Where the RP2350 maps the QSPI flash (XIP).
+const FLASH_ORIGIN: u64 = 0x1000_0000;
+/// The Pico 2's flash: 4 MiB.
+const PICO2_FLASH: u64 = 4 * 1024 * 1024;
+/// The RP2350's SRAM: 520 KiB (SRAM0 to SRAM7 striped, then SRAM8 and SRAM9).
+const RP2350_SRAM: u64 = 520 * 1024;
+/// SRAM8 and SRAM9, where `memory.x` puts core 0's stack.
+const CORE0_STACK: (u64, u64) = (0x2008_0000, 0x2008_2000);
+/// The boot ROM looks for the IMAGE_DEF block within the first 4 KiB of flash.
+const BOOT_SEARCH: u64 = 4 * 1024;
+
+fn example() -> PathBuf {
+    firmware::repo_root().join("examples").join("pico2-st7789")
+}
+
+#[test]
+fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
+    let dir = example();
+    let elf = firmware::CORTEX_M33
+        .build_elf(
+            &dir.join("Cargo.toml"),
+            &dir.join("target"),
+            &[],
+            "pico2-st7789",
+            "the Pico 2 example",
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+    let s: Sizes = firmware::sections(&elf).unwrap();
+    let bytes = std::fs::read(&elf).unwrap();
+    let file = object::File::parse(&*bytes).unwrap();
+    let section = |name: &str| file.section_by_name(name);
+    let size = |name: &str| section(name).map_or(0, |sec| sec.size());
+    let symbol = |name: &str| {
+        file.symbols()
+            .find(|sym| sym.name() == Ok(name))
+            .map(|sym| sym.address())
+    };
+
+    // The RP2350's sections besides cortex-m-rt's: the boot block and picotool's
+    // entries are flashed too.
+    let (start_block, bi_entries, end_block) = (
+        size(".start_block"),
+        size(".bi_entries"),
+        size(".end_block"),
+    );
+    let flash = s.flash() + start_block + bi_entries + end_block;
+    let statics = s.ram();
+
+    let (flash_region, ram_region) = firmware::memory_regions(&dir.join("memory.x")).unwrap();
+    assert_eq!(
+        (flash_region, ram_region),
+        (PICO2_FLASH, 512 * 1024),
+        "the Pico 2's flash and the RP2350's striped SRAM"
+    );
+    assert!(flash <= flash_region, "flash {flash} bytes: {s:?}");
+    assert!(statics <= ram_region, "statics {statics} bytes: {s:?}");
+
+    // The boot ROM's IMAGE_DEF block lies in the first 4 KiB of flash.
+    let boot = section(".start_block").expect("a .start_block section");
+    assert!(
+        start_block > 0 && boot.address() >= FLASH_ORIGIN,
+        "no boot block: {start_block} bytes at {:#x}",
+        boot.address()
+    );
+    assert!(
+        boot.address() + start_block <= FLASH_ORIGIN + BOOT_SEARCH,
+        "the boot block ends at {:#x}, beyond the first 4 KiB of flash",
+        boot.address() + start_block
+    );
+
+    // Core 0's stack is SRAM8 and SRAM9: cortex-m-rt's symbols, and the initial
+    // stack pointer of the vector table (its first word).
+    let (top, limit) = (symbol("_stack_start"), symbol("_stack_end"));
+    assert_eq!(
+        (limit, top),
+        (Some(CORE0_STACK.0), Some(CORE0_STACK.1)),
+        "core 0's stack (_stack_end, _stack_start)"
+    );
+    let vectors = section(".vector_table").expect("a vector table");
+    let data = vectors.data().unwrap();
+    let initial_sp = data
+        .get(..4)
+        .map(|w| u64::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]])));
+    assert_eq!(initial_sp, Some(CORE0_STACK.1), "the boot stack pointer");
+    let core0_stack = CORE0_STACK.1 - CORE0_STACK.0;
+
+    // Core 1's stack is a static of 8 KiB (and its "taken" flag).
+    let core1_stack = firmware::symbols(&elf)
+        .unwrap()
+        .into_iter()
+        .find(|sym| sym.name == "pico2_st7789::CORE1_STACK")
+        .map(|sym| sym.size);
+    assert!(
+        core1_stack.is_some_and(|n| n >= 8 * 1024 && n <= s.bss),
+        "core 1's stack: {core1_stack:?}"
+    );
+    let ram = statics + core0_stack;
+    assert!(
+        ram <= RP2350_SRAM,
+        "statics {statics} + core 0's stack {core0_stack} bytes"
+    );
+
+    let readme = std::fs::read_to_string(dir.join("README.md")).unwrap();
+    let mut wrong = Vec::new();
+    // Within 1 %, as the Black Pill's (tests/tests/board.rs): the same sources
+    // built in another folder link a little differently.
+    let mut expect = |what: &str, said: Option<u64>, truth: u64| {
+        if !within(said, truth, 1) {
+            wrong.push(format!("{what}: the README says {said:?}, the ELF {truth}"));
+        }
+    };
+    for (name, truth) in [
+        (".vector_table", s.vector_table),
+        (".start_block", start_block),
+        (".text", s.text),
+        (".bi_entries", bi_entries),
+        (".rodata", s.rodata),
+        (".data", s.data),
+        (".bss", s.bss),
+    ] {
+        expect(name, table_figure(&readme, name), truth);
+    }
+    let said_flash = figure_after(&readme, "- **Flash**: ");
+    expect("flash", said_flash, flash);
+    expect(
+        "static RAM",
+        figure_after(&readme, "- **Static RAM** (`.data` + `.bss`): "),
+        statics,
+    );
+    let said_ram = figure_after(&readme, "- **RAM with core 0's stack**: ");
+    expect("RAM with core 0's stack", said_ram, ram);
+    // The README's figures in KiB and per cent are its bytes'.
+    if let Some(f) = said_flash {
+        let kib = format!(
+            "{} bytes ({:.1} KiB) of 4,096 KiB, {:.1} %",
+            thousands(f),
+            f as f64 / 1024.0,
+            100.0 * f as f64 / PICO2_FLASH as f64
+        );
+        if !readme.contains(&kib) {
+            wrong.push(format!("flash: the README lacks `{kib}`"));
+        }
+    }
+    if let Some(r) = said_ram {
+        let kib = format!(
+            "{} bytes ({:.1} KiB) of the RP2350's 520 KiB",
+            thousands(r),
+            r as f64 / 1024.0
+        );
+        if !readme.contains(&kib) {
+            wrong.push(format!("RAM: the README lacks `{kib}`"));
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "examples/pico2-st7789/README.md is not the linked ELF ({}): {wrong:#?}",
+        elf.display()
+    );
+}
