@@ -14,6 +14,7 @@
 use crate::color::Rgb8;
 use crate::dither::Dither;
 use crate::error::Error;
+use crate::shade::RayCounter;
 pub use crate::tile::TilePixel;
 use crate::tile::{AllLoops, Loops, Renderer, Tile, TileCoord};
 use crate::view::SceneView;
@@ -21,6 +22,7 @@ use core::marker::PhantomData;
 use embedded_graphics_core::Drawable;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{OriginDimensions, Point, Size};
+use embedded_graphics_core::pixelcolor::raw::{RawData, RawU16};
 use embedded_graphics_core::pixelcolor::{Gray8, PixelColor, Rgb555, Rgb565, Rgb888};
 use embedded_graphics_core::primitives::Rectangle;
 
@@ -86,6 +88,81 @@ impl TilePixel for Rgb888 {
     fn from_rgb8(p: Rgb8, _: u32, _: u32, _: Dither) -> Self {
         Self::new(p.r, p.g, p.b)
     }
+}
+
+/// An RGB565 pixel in the order a display controller takes it on the wire: the
+/// high byte (red and the top of green) first, as ST7789, ILI9341 and ST7735
+/// panels read 16-bit colour. A `Tile<N, Rgb565Wire>` is filled in that order
+/// (dithered as [`Rgb565`] is), so its pixels go to the panel as they lie:
+/// [`wire_bytes`] is the tile as one byte slice, what a DMA channel sends, with no
+/// conversion and no copy ([`Drawing::send`] overlaps those transfers with the
+/// rendering of the next tile).
+#[repr(transparent)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Rgb565Wire(pub [u8; 2]);
+
+impl TilePixel for Rgb565Wire {
+    const BLACK: Self = Self([0, 0]);
+    #[inline]
+    fn from_rgb8(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
+        let (r, g, b) = dither.rgb565(p, x, y);
+        Self::from(Rgb565::new(r, g, b))
+    }
+}
+
+impl From<Rgb565> for Rgb565Wire {
+    fn from(c: Rgb565) -> Self {
+        Self(RawU16::from(c).into_inner().to_be_bytes())
+    }
+}
+
+impl From<Rgb565Wire> for Rgb565 {
+    fn from(w: Rgb565Wire) -> Self {
+        Self::from(RawU16::new(u16::from_be_bytes(w.0)))
+    }
+}
+
+/// A tile's pixels ([`Tile::as_slice`]: `width x height` of them, row after row)
+/// as the bytes a panel takes for the tile's window, two a pixel, high byte
+/// first: a view of the tile buffer, not a copy.
+#[must_use]
+pub fn wire_bytes<const N: usize>(tile: &Tile<N, Rgb565Wire>) -> &[u8] {
+    let px = tile.as_slice();
+    // SAFETY: `Rgb565Wire` is `repr(transparent)` over `[u8; 2]`: two bytes, of
+    // alignment 1, no padding, every byte initialised. So `px.len()` of them are
+    // `2 * px.len()` initialised bytes at `px`'s address (at most the tile's
+    // `2 N^2`, far below `isize::MAX`), read-only and borrowed as long as `px`.
+    #[allow(unsafe_code)]
+    unsafe {
+        core::slice::from_raw_parts(px.as_ptr().cast::<u8>(), 2 * px.len())
+    }
+}
+
+/// Where a firmware's tiles go without the CPU waiting: a DMA channel feeding the
+/// panel's bus (SPI, 8080 parallel), or any transfer that runs on while the next
+/// tile renders. [`Drawing::send`] drives it with two tile buffers: it renders
+/// tile `k + 1` into one while the transfer of tile `k` reads the other, then
+/// waits for that transfer ([`TileSink::finish`]) before it starts the next.
+///
+/// The contract that makes a DMA transfer sound: after [`TileSink::start`]
+/// returns, tessera neither writes nor moves `bytes` until the
+/// [`TileSink::finish`] that follows has returned (the buffer lives on the stack
+/// of [`Drawing::send`] throughout). An implementation that hands `bytes` to a
+/// DMA engine relies on that, and must not let the transfer outlive `finish`.
+pub trait TileSink {
+    /// The transfer's error.
+    type Error;
+    /// Starts sending `bytes` ([`wire_bytes`] of a tile) to the panel's window
+    /// `area` (set the window first, then the transfer), without waiting for it.
+    ///
+    /// # Errors
+    /// The sink's; the drawing stops and returns it.
+    fn start(&mut self, area: Rectangle, bytes: &[u8]) -> Result<(), Self::Error>;
+    /// Waits until the transfer started last is done.
+    ///
+    /// # Errors
+    /// The sink's; the drawing stops and returns it.
+    fn finish(&mut self) -> Result<(), Self::Error>;
 }
 
 /// Sends a tile already in the display's colour (`Tile<N, Rgb565>`, rendered with
@@ -296,6 +373,63 @@ impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable for Drawing<'
     }
 }
 
+impl<const N: usize, L: Loops> Drawing<'_, Rgb565Wire, N, L> {
+    /// The frame tile after tile, in rows, each tile's bytes ([`wire_bytes`])
+    /// handed to `sink` as soon as it is rendered while the next tile renders into
+    /// a second buffer: the transfers overlap the rendering, and the time a frame
+    /// takes is about the larger of the two, not their sum. Two tile buffers on
+    /// the stack (`2 N^2 + 8` bytes each). The preview of
+    /// [`Drawing::progressive`] is not sent: draw it first with
+    /// [`Drawing::draw_preview`] on a target if wanted.
+    ///
+    /// # Errors
+    /// The sink's: the drawing stops (after waiting for a transfer in flight).
+    pub fn send<S: TileSink>(&self, sink: &mut S) -> Result<(), S::Error> {
+        self.send_counting(sink, &mut ())
+    }
+
+    /// [`Drawing::send`], the rays cast added to `count`.
+    ///
+    /// # Errors
+    /// As [`Drawing::send`].
+    pub fn send_counting<S: TileSink, R: RayCounter>(
+        &self,
+        sink: &mut S,
+        count: &mut R,
+    ) -> Result<(), S::Error> {
+        let mut tiles = [Tile::<N, Rgb565Wire>::blank(), Tile::blank()];
+        let mut in_flight = false;
+        let (across, down) = self.renderer.tile_grid(N);
+        let coords = (0..down).flat_map(|ty| (0..across).map(move |tx| TileCoord::new(tx, ty)));
+        for (k, coord) in coords.enumerate() {
+            let [a, b] = &mut tiles;
+            let tile = if k % 2 == 0 { a } else { b };
+            // Every tile of the grid lies in the frame, and `L` was checked when
+            // linked: there is no render error to report.
+            let rendered = self
+                .renderer
+                .render_tile_in::<L, N, _, _>(&self.scene, coord, tile, count)
+                .is_ok();
+            // The other buffer's transfer is done before this one starts (and
+            // before that buffer is rendered into again, next turn).
+            if in_flight {
+                in_flight = false;
+                sink.finish()?;
+            }
+            if rendered {
+                let (x0, y0) = tile.origin();
+                let area = rectangle(x0, y0, u32::from(tile.width()), u32::from(tile.height()));
+                sink.start(area, wire_bytes(tile))?;
+                in_flight = true;
+            }
+        }
+        if in_flight {
+            sink.finish()?;
+        }
+        Ok(())
+    }
+}
+
 impl<C, const N: usize, L> OriginDimensions for Drawing<'_, C, N, L> {
     fn size(&self) -> Size {
         let vp = self.renderer.viewport();
@@ -312,6 +446,217 @@ mod tests {
     use embedded_graphics_core::Pixel;
     use embedded_graphics_core::geometry::OriginDimensions;
     use embedded_graphics_core::pixelcolor::Rgb565;
+
+    #[test]
+    fn wire_pixels_are_rgb565_high_byte_first() {
+        for (c, bytes) in [
+            (Rgb565::new(31, 0, 0), [0xf8, 0x00]),
+            (Rgb565::new(0, 63, 0), [0x07, 0xe0]),
+            (Rgb565::new(0, 0, 31), [0x00, 0x1f]),
+            (Rgb565::new(1, 2, 3), [0x08, 0x43]),
+        ] {
+            assert_eq!(Rgb565Wire::from(c).0, bytes);
+            assert_eq!(Rgb565::from(Rgb565Wire(bytes)), c);
+        }
+        let p = Rgb8::new(200, 100, 50);
+        for d in Dither::ALL {
+            for (x, y) in [(0, 0), (3, 1), (2, 7)] {
+                let want = Rgb565Wire::from(Rgb565::from_rgb8(p, x, y, d));
+                assert_eq!(Rgb565Wire::from_rgb8(p, x, y, d), want);
+            }
+        }
+    }
+
+    #[test]
+    fn wire_bytes_are_the_tile_as_a_panel_takes_it() {
+        let b = builtin::Builtin::Showcase;
+        b.with_scene(|view, cam| {
+            // 37 x 21 in tiles of 16: full, right-edge and bottom-edge tiles.
+            let r = Renderer::try_new(cam, Viewport::new(37, 21), b.settings()).unwrap();
+            let (mut wire, mut panel) =
+                (Tile::<16, Rgb565Wire>::blank(), Tile::<16, Rgb565>::blank());
+            for c in [
+                TileCoord::new(0, 0),
+                TileCoord::new(2, 0),
+                TileCoord::new(1, 1),
+            ] {
+                r.render_tile(view, c, &mut wire, &mut ()).unwrap();
+                r.render_tile(view, c, &mut panel, &mut ()).unwrap();
+                let bytes = wire_bytes(&wire);
+                let n = usize::from(wire.width()) * usize::from(wire.height());
+                assert_eq!(bytes.len(), 2 * n, "{c:?}");
+                let want: std::vec::Vec<u8> =
+                    panel.pixels().flat_map(|p| Rgb565Wire::from(p).0).collect();
+                assert_eq!(bytes, &want[..], "{c:?}");
+            }
+        })
+        .unwrap();
+    }
+
+    /// Counts rays on a clock a [`MockBus`] shares: one tick a ray, the time of
+    /// this model.
+    struct Ticks<'c>(&'c core::cell::Cell<u64>);
+
+    impl crate::shade::sealed::Sealed for Ticks<'_> {}
+
+    impl RayCounter for Ticks<'_> {
+        fn primary(&mut self) {
+            self.0.set(self.0.get() + 1);
+        }
+        fn secondary(&mut self) {
+            self.0.set(self.0.get() + 1);
+        }
+        fn shadow(&mut self) {
+            self.0.set(self.0.get() + 1);
+        }
+    }
+
+    /// A panel behind a DMA-like bus: a transfer takes `delay` ticks from its
+    /// start, reads the tile's bytes only when it completes (as a DMA engine
+    /// reads the buffer while it runs: bytes changed before `finish` would show),
+    /// and `finish` before then waits (the clock jumps to the completion).
+    struct MockBus<'c> {
+        clock: &'c core::cell::Cell<u64>,
+        delay: u64,
+        width: usize,
+        panel: std::vec::Vec<Option<[u8; 2]>>,
+        /// The transfer in flight: its window, its bytes, when it completes.
+        flight: Option<(Rectangle, *const u8, usize, u64)>,
+        /// Per transfer: the clock at its start and when `finish` was called.
+        log: std::vec::Vec<(u64, u64)>,
+        fail_at: usize,
+    }
+
+    impl TileSink for MockBus<'_> {
+        type Error = &'static str;
+        fn start(&mut self, area: Rectangle, bytes: &[u8]) -> Result<(), Self::Error> {
+            if self.flight.is_some() {
+                return Err("a transfer started while another is in flight");
+            }
+            if self.log.len() == self.fail_at {
+                return Err("bus fault");
+            }
+            let now = self.clock.get();
+            self.flight = Some((area, bytes.as_ptr(), bytes.len(), now + self.delay));
+            self.log.push((now, 0));
+            Ok(())
+        }
+        fn finish(&mut self) -> Result<(), Self::Error> {
+            let (area, ptr, len, done) = self.flight.take().ok_or("finish with no transfer")?;
+            if let Some(last) = self.log.last_mut() {
+                last.1 = self.clock.get();
+            }
+            self.clock.set(self.clock.get().max(done));
+            // SAFETY: `TileSink`'s contract: the bytes given to `start` stay in
+            // place, unwritten, until this `finish` returns.
+            #[allow(unsafe_code)]
+            let bytes = unsafe { core::slice::from_raw_parts(ptr, len) };
+            let (x0, y0) = (area.top_left.x as usize, area.top_left.y as usize);
+            let w = area.size.width as usize;
+            for (i, px) in bytes.chunks(2).enumerate() {
+                let at = (y0 + i / w) * self.width + x0 + i % w;
+                self.panel[at] = Some([px[0], px[1]]);
+            }
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn send_renders_the_next_tile_while_the_bus_sends_the_last() {
+        let b = builtin::Builtin::ChapterReflect;
+        b.with_scene(|view, cam| {
+            let (w, h) = (45u16, 38u16);
+            let r = Renderer::try_new(cam, Viewport::new(w, h), b.settings()).unwrap();
+            let clock = core::cell::Cell::new(0);
+            // A transfer as long as rendering about 100 pixels' rays: less than a
+            // tile's, so the bus never holds the renderer up here.
+            let mut bus = MockBus {
+                clock: &clock,
+                delay: 150,
+                width: usize::from(w),
+                panel: std::vec![None; usize::from(w) * usize::from(h)],
+                flight: None,
+                log: std::vec::Vec::new(),
+                fail_at: usize::MAX,
+            };
+            Drawing::<Rgb565Wire, 16>::new(&r, view)
+                .send_counting(&mut bus, &mut Ticks(&clock))
+                .unwrap();
+            assert_eq!(bus.log.len(), 9, "3 x 3 tiles, one transfer each");
+            // Rays were traced between each transfer's start and its finish
+            // (the next tile rendered while it was in flight), but the last's.
+            let (last, rest) = bus.log.split_last().unwrap();
+            for (k, (start, finish)) in rest.iter().enumerate() {
+                assert!(
+                    finish > start,
+                    "tile {k}: nothing rendered during its transfer"
+                );
+                assert!(
+                    finish - start >= bus.delay,
+                    "tile {k}: the bus waited on the renderer"
+                );
+            }
+            assert_eq!(last.1, last.0, "nothing is left to render during the last");
+            // Every pixel arrived, as the tiles render it for an Rgb565 panel.
+            let mut rays = ();
+            for y in 0..u32::from(h) {
+                for x in 0..u32::from(w) {
+                    let c = r.pixel_color(view, x, y, &mut rays);
+                    let want = Rgb565Wire::from_rgb8(c.to_srgb8(), x, y, r.dither());
+                    let at = y as usize * usize::from(w) + x as usize;
+                    assert_eq!(bus.panel[at], Some(want.0), "({x}, {y})");
+                }
+            }
+            // The whole frame: the rays plus the last transfer, not plus all nine.
+            let rays_traced = clock.get() - bus.delay;
+            let mut count = crate::trace::RayCount::default();
+            Drawing::<Rgb565Wire, 16>::new(&r, view)
+                .send_counting(&mut NullSink, &mut count)
+                .unwrap();
+            assert_eq!(rays_traced, count.total());
+        })
+        .unwrap();
+    }
+
+    #[test]
+    fn a_sink_error_stops_the_drawing() {
+        let b = builtin::Builtin::ChapterDirect;
+        b.with_scene(|view, cam| {
+            let r = Renderer::try_new(cam, Viewport::new(40, 40), b.settings()).unwrap();
+            let clock = core::cell::Cell::new(0);
+            let mut bus = MockBus {
+                clock: &clock,
+                delay: 10,
+                width: 40,
+                panel: std::vec![None; 1600],
+                flight: None,
+                log: std::vec::Vec::new(),
+                fail_at: 4,
+            };
+            let e = Drawing::<Rgb565Wire, 16>::new(&r, view)
+                .send_counting(&mut bus, &mut Ticks(&clock));
+            assert_eq!(e, Err("bus fault"));
+            assert_eq!(bus.log.len(), 4);
+            assert!(
+                bus.flight.is_none(),
+                "the transfer before the fault was finished"
+            );
+        })
+        .unwrap();
+    }
+
+    /// A sink that sends nothing.
+    struct NullSink;
+
+    impl TileSink for NullSink {
+        type Error = core::convert::Infallible;
+        fn start(&mut self, _: Rectangle, _: &[u8]) -> Result<(), Self::Error> {
+            Ok(())
+        }
+        fn finish(&mut self) -> Result<(), Self::Error> {
+            Ok(())
+        }
+    }
 
     /// Records every fill_contiguous rectangle; fails after `fail_after` fills.
     struct Recorder {

@@ -78,7 +78,7 @@ pub trait RayCounter: sealed::Sealed {
     fn shadow(&mut self);
 }
 
-mod sealed {
+pub(crate) mod sealed {
     pub trait Sealed {}
     impl Sealed for () {}
     impl Sealed for super::RayCount {}

@@ -266,22 +266,135 @@ impl<const N: usize, P: TilePixel> Tile<N, P> {
     #[must_use]
     pub fn pixel(&self, x: usize, y: usize) -> Option<P> {
         if x < usize::from(self.width) && y < usize::from(self.height) {
-            self.pixels.get(y)?.get(x).copied()
+            self.as_slice()
+                .get(y * usize::from(self.width) + x)
+                .copied()
         } else {
             None
         }
     }
+    /// The pixels that hold the tile's picture, row after row with no gap
+    /// (`width x height` of them, at the start of the buffer: an edge tile's rows
+    /// are `width` long, not `N`), ready for one transfer to a display window of
+    /// the tile's size (a panel's pixels in its wire order:
+    /// [`crate::display::Rgb565Wire`], [`crate::display::wire_bytes`]).
+    #[must_use]
+    pub fn as_slice(&self) -> &[P] {
+        let live = usize::from(self.width) * usize::from(self.height);
+        self.pixels.as_flattened().get(..live).unwrap_or(&[])
+    }
     /// The rows that hold pixels, each `width` long, top to bottom.
     pub fn rows(&self) -> impl Iterator<Item = &[P]> {
-        let w = usize::from(self.width);
-        self.pixels
-            .iter()
-            .take(usize::from(self.height))
-            .map(move |r| r.get(..w).unwrap_or(&[]))
+        self.as_slice().chunks(usize::from(self.width).max(1))
     }
     /// The pixels row by row (what `fill_contiguous` wants).
     pub fn pixels(&self) -> impl Iterator<Item = P> + '_ {
         self.rows().flat_map(|r| r.iter().copied())
+    }
+}
+
+/// Hands out a frame's tiles to several cores, each tile once: each core loops
+/// `while let Some(c) = queue.next() { renderer.render_tile(.., c, &mut its_tile,
+/// ..)?; /* send it */ }` with its own tile buffer, and a core that finishes its
+/// tile early takes the next one, so the cores stay busy to the end of the frame
+/// whatever each tile costs. Which core renders a tile changes none of its pixels
+/// (a tile is a function of the scene, the renderer and its coordinate), so the
+/// image is the one core's, byte for byte. Tiles go out row after row of tiles.
+///
+/// One `fetch_add` per tile on an `AtomicU32` (cores with atomic read-modify-write:
+/// Armv7-M, Armv8-M Mainline, RISC-V with the A extension); on cores without it
+/// (Armv6-M, rv32imc) use [`Interleave`]. A `static` queue is shared by both
+/// cores of a dual-core part (RP2350); [`TileQueue::reset`] starts the next frame
+/// once every core has stopped taking tiles.
+#[cfg(target_has_atomic = "32")]
+#[derive(Debug)]
+pub struct TileQueue {
+    next: core::sync::atomic::AtomicU32,
+    across: u16,
+    down: u16,
+}
+
+#[cfg(target_has_atomic = "32")]
+impl TileQueue {
+    /// The queue of a frame of `across x down` tiles ([`Renderer::tile_grid`]).
+    #[must_use]
+    pub const fn new(across: u16, down: u16) -> Self {
+        Self {
+            next: core::sync::atomic::AtomicU32::new(0),
+            across,
+            down,
+        }
+    }
+
+    /// The next tile nobody has taken, or `None` when every tile is taken (and
+    /// ever after, however often it is asked).
+    pub fn next(&self) -> Option<TileCoord> {
+        use core::sync::atomic::Ordering;
+        let total = u32::from(self.across) * u32::from(self.down);
+        // Relaxed: the counter orders nothing else; the pixels a core writes are
+        // its own until it hands them over by other means. Once past the end it
+        // is left there (a load first, so that it cannot wrap after 2^32 asks).
+        if self.next.load(Ordering::Relaxed) >= total {
+            return None;
+        }
+        let k = self.next.fetch_add(1, Ordering::Relaxed);
+        (k < total).then(|| tile_at(k, self.across))
+    }
+
+    /// Starts the frame over: every tile is handed out again. Call it when no core
+    /// is taking tiles.
+    pub fn reset(&self) {
+        self.next.store(0, core::sync::atomic::Ordering::Relaxed);
+    }
+}
+
+/// Tile `k` of a frame `across` tiles wide, row after row.
+fn tile_at(k: u32, across: u16) -> TileCoord {
+    let across = u32::from(across).max(1);
+    // Both fit in u16: k < across * down, each at most u16::MAX.
+    TileCoord::new(
+        u16::try_from(k % across).unwrap_or(u16::MAX),
+        u16::try_from(k / across).unwrap_or(u16::MAX),
+    )
+}
+
+/// A frame's tiles shared by `cores` cores without atomics: core `core` takes
+/// tiles `core`, `core + cores`, `core + 2 cores`, ... row after row (for cores
+/// without atomic read-modify-write, where [`TileQueue`] is not available). Each
+/// tile goes to one core; the image is one core's, byte for byte. The split is
+/// fixed, so a core whose tiles cost more finishes later.
+#[derive(Clone, Debug)]
+pub struct Interleave {
+    k: u32,
+    step: u32,
+    total: u32,
+    across: u16,
+}
+
+impl Interleave {
+    /// The tiles of core `core` (0-based) of `cores` in a frame of `across x
+    /// down` tiles; none when `core >= cores`.
+    #[must_use]
+    pub fn new(core: u32, cores: u32, across: u16, down: u16) -> Self {
+        let total = u32::from(across) * u32::from(down);
+        Self {
+            k: if core < cores { core } else { total },
+            step: cores.max(1),
+            total,
+            across,
+        }
+    }
+}
+
+impl Iterator for Interleave {
+    type Item = TileCoord;
+    fn next(&mut self) -> Option<TileCoord> {
+        if self.k >= self.total {
+            return None;
+        }
+        let c = tile_at(self.k, self.across);
+        self.k = self.k.saturating_add(self.step);
+        Some(c)
     }
 }
 
@@ -474,20 +587,19 @@ impl Renderer {
         }
     }
 
-    /// Fills the pixels of a tile buffer (rows of `stride` pixels) as
-    /// [`Pass::fill`] does where every ray misses: `(x0, y0)` to `(x0 + tw, y0 +
-    /// th)` the background ([`Renderer::background_pixel`]), the rest black. Generic
+    /// Fills a tile buffer as [`Pass::fill`] does where every ray misses: its
+    /// first `th` rows of `tw` pixels (`(x0, y0)` to `(x0 + tw, y0 + th)` of the
+    /// frame) the background ([`Renderer::background_pixel`]), the rest black. Generic
     /// over the pixel type only: one copy whatever the tile size and counter.
     #[inline(never)]
     fn fill_background<P: TilePixel>(
         &self,
         scene: &SceneView<'_>,
         pixels: &mut [P],
-        stride: usize,
         (x0, y0, tw, th): (u32, u32, usize, usize),
     ) {
         let rgb = self.background_pixel(scene);
-        for (j, row) in pixels.chunks_mut(stride.max(1)).enumerate() {
+        for (j, row) in pixels.chunks_mut(tw.max(1)).enumerate() {
             let live = if j < th { tw } else { 0 };
             let Some((live, rest)) = row.split_at_mut_checked(live) else {
                 continue;
@@ -630,11 +742,12 @@ impl Renderer {
                 for _ in 0..(tw * th) as u32 * self.background_rays() {
                     count.primary();
                 }
-                return self.fill_background(scene, tile.pixels.as_flattened_mut(), N, area);
+                return self.fill_background(scene, tile.pixels.as_flattened_mut(), area);
             }
             let depth = scene.depth(self.settings.max_depth);
             let threshold = self.adaptive.unwrap_or(0);
-            let (rows, n) = (tile.pixels.as_flattened_mut(), N);
+            // The tile's pixels are packed: rows of `tw` (see `Tile::as_slice`).
+            let rows = tile.pixels.as_flattened_mut();
             // The loop's instantiations, one per tile loop: with bounces or without
             // (no ray-tree bookkeeping per sample where no ray is reflected or
             // refracted), in each encoding (decided once a tile, not per pixel);
@@ -652,22 +765,22 @@ impl Renderer {
             }
             match tile_loop {
                 TileLoop::Direct(Srgb) => {
-                    run!(TileLoop::Direct(Srgb), 0 => fill::<P, false, true>(rows, n, area))
+                    run!(TileLoop::Direct(Srgb), 0 => fill::<P, false, true>(rows, area))
                 }
                 TileLoop::Direct(Linear) => {
-                    run!(TileLoop::Direct(Linear), 0 => fill::<P, false, false>(rows, n, area))
+                    run!(TileLoop::Direct(Linear), 0 => fill::<P, false, false>(rows, area))
                 }
                 TileLoop::Bounces(Srgb) => {
-                    run!(TileLoop::Bounces(Srgb), depth => fill::<P, true, true>(rows, n, area))
+                    run!(TileLoop::Bounces(Srgb), depth => fill::<P, true, true>(rows, area))
                 }
                 TileLoop::Bounces(Linear) => {
-                    run!(TileLoop::Bounces(Linear), depth => fill::<P, true, false>(rows, n, area))
+                    run!(TileLoop::Bounces(Linear), depth => fill::<P, true, false>(rows, area))
                 }
                 TileLoop::Adaptive { bounces: false } => {
-                    run!(TileLoop::Adaptive { bounces: false }, 0 => fill_adaptive::<N, P, false>(tile, area, threshold))
+                    run!(TileLoop::Adaptive { bounces: false }, 0 => fill_adaptive::<N, P, false>(rows, area, threshold))
                 }
                 TileLoop::Adaptive { bounces: true } => {
-                    run!(TileLoop::Adaptive { bounces: true }, depth => fill_adaptive::<N, P, true>(tile, area, threshold))
+                    run!(TileLoop::Adaptive { bounces: true }, depth => fill_adaptive::<N, P, true>(rows, area, threshold))
                 }
             }
         };
@@ -711,9 +824,9 @@ impl<'a, C: Observer> Pass<'a, C> {
         }
     }
 
-    /// Fills a tile buffer's pixels (rows of `stride`) `(x0, y0)` to `(x0 + tw,
-    /// y0 + th)` with each pixel's colour, encoded (`SRGB`); the rest of the
-    /// buffer black. Out of line: the loops with and without bounces then each
+    /// Fills a tile buffer's first `th` rows of `tw` pixels (`(x0, y0)` to `(x0 +
+    /// tw, y0 + th)` of the frame) with each pixel's colour, encoded (`SRGB`); the
+    /// rest of the buffer black. Out of line: the loops with and without bounces then each
     /// have their own stack frame, and the larger one (the inlined shader of
     /// the loop without bounces) does not add to the stack of the other. The
     /// rows are a slice: one copy whatever the tile size.
@@ -721,7 +834,6 @@ impl<'a, C: Observer> Pass<'a, C> {
     fn fill<P: TilePixel, const BOUNCES: bool, const SRGB: bool>(
         self,
         pixels: &mut [P],
-        stride: usize,
         (x0, y0, tw, th): (u32, u32, usize, usize),
     ) {
         // The fields into registers once: the pass arrives in memory.
@@ -734,7 +846,7 @@ impl<'a, C: Observer> Pass<'a, C> {
         } = self;
         let mut pass = Pass::new(renderer, scene, picks, depth, count);
         let dither = renderer.dither;
-        for (j, row) in pixels.chunks_mut(stride.max(1)).enumerate() {
+        for (j, row) in pixels.chunks_mut(tw.max(1)).enumerate() {
             let live = if j < th { tw } else { 0 };
             let Some((live, rest)) = row.split_at_mut_checked(live) else {
                 continue;
@@ -757,7 +869,7 @@ impl<'a, C: Observer> Pass<'a, C> {
     #[inline(never)]
     fn fill_adaptive<const N: usize, P: TilePixel, const BOUNCES: bool>(
         mut self,
-        tile: &mut Tile<N, P>,
+        pixels: &mut [P],
         (x0, y0, tw, th): (u32, u32, usize, usize),
         threshold: u8,
     ) where
@@ -787,7 +899,7 @@ impl<'a, C: Observer> Pass<'a, C> {
         };
         trace_row(&mut self, -1, &mut window);
         trace_row(&mut self, 0, &mut window);
-        for (j, row) in tile.pixels.iter_mut().enumerate() {
+        for (j, row) in pixels.chunks_mut(tw.max(1)).enumerate() {
             let live = if j < th { tw } else { 0 };
             let Some((live, rest)) = row.split_at_mut_checked(live) else {
                 continue;
@@ -1022,6 +1134,97 @@ impl<const N: usize> Window<N> {
 mod tests {
     use super::*;
     use core::mem::size_of;
+
+    #[test]
+    fn a_queue_hands_out_every_tile_once_however_the_cores_interleave() {
+        let q = TileQueue::new(5, 3);
+        let mut seen = std::vec::Vec::new();
+        // Two "cores" asking in turn, then one alone: each tile once, in order.
+        while let Some(c) = q.next() {
+            seen.push(c);
+            if let Some(c) = q.next() {
+                seen.push(c);
+            }
+        }
+        let want: std::vec::Vec<_> = (0..3)
+            .flat_map(|ty| (0..5).map(move |tx| TileCoord::new(tx, ty)))
+            .collect();
+        assert_eq!(seen, want);
+        assert_eq!(q.next(), None);
+        q.reset();
+        assert_eq!(q.next(), Some(TileCoord::new(0, 0)));
+        assert_eq!(TileQueue::new(0, 7).next(), None);
+    }
+
+    #[test]
+    fn a_queue_shared_by_threads_gives_each_tile_to_one_of_them() {
+        let q = TileQueue::new(37, 29);
+        let taken: std::vec::Vec<std::vec::Vec<TileCoord>> = std::thread::scope(|s| {
+            let hs: std::vec::Vec<_> = (0..4)
+                .map(|_| s.spawn(|| core::iter::from_fn(|| q.next()).collect()))
+                .collect();
+            hs.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        let mut all: std::vec::Vec<_> = taken.concat();
+        all.sort_by_key(|c| (c.ty, c.tx));
+        all.dedup();
+        assert_eq!(all.len(), 37 * 29);
+        assert_eq!(taken.iter().map(std::vec::Vec::len).sum::<usize>(), 37 * 29);
+    }
+
+    #[test]
+    fn interleaved_cores_cover_the_frame_once() {
+        for cores in 1..5 {
+            let mut all: std::vec::Vec<_> = (0..cores)
+                .flat_map(|c| Interleave::new(c, cores, 4, 3))
+                .collect();
+            assert_eq!(all.len(), 12, "{cores} cores");
+            all.sort_by_key(|c| (c.ty, c.tx));
+            all.dedup();
+            assert_eq!(all.len(), 12, "{cores} cores");
+        }
+        assert_eq!(Interleave::new(2, 2, 4, 3).count(), 0);
+        let second: std::vec::Vec<_> = Interleave::new(1, 2, 3, 2).collect();
+        assert_eq!(
+            second,
+            [
+                TileCoord::new(1, 0),
+                TileCoord::new(0, 1),
+                TileCoord::new(2, 1)
+            ]
+        );
+    }
+
+    #[test]
+    fn an_edge_tile_packs_its_rows_and_leaves_the_rest_black() {
+        // 20 x 13 with tiles of 8: tile (2, 1) holds 4 x 5 pixels.
+        let b = crate::builtin::Builtin::ChapterReflect;
+        b.with_scene(|view, cam| {
+            let r = Renderer::try_new(cam, crate::Viewport::new(20, 13), b.settings()).unwrap();
+            let mut tile = Tile::<8>::new();
+            r.render_tile(view, TileCoord::new(2, 1), &mut tile, &mut ())
+                .unwrap();
+            assert_eq!((tile.width(), tile.height()), (4, 5));
+            assert_eq!(tile.as_slice().len(), 20);
+            for y in 0..5 {
+                for x in 0..4 {
+                    let want = r.pixel_color(view, 16 + x, 8 + y, &mut ()).to_srgb8();
+                    assert_eq!(tile.as_slice()[(y * 4 + x) as usize], want, "({x}, {y})");
+                    assert_eq!(tile.pixel(x as usize, y as usize), Some(want));
+                }
+            }
+            assert!(
+                tile.pixels.as_flattened()[20..]
+                    .iter()
+                    .all(|p| *p == Rgb8::BLACK)
+            );
+            assert_eq!(
+                tile.rows().map(<[Rgb8]>::len).collect::<std::vec::Vec<_>>(),
+                [4; 5]
+            );
+        })
+        .unwrap();
+    }
     extern crate std;
 
     /// The module docs' table's and the crate docs' bytes: `3 N^2 + 8`.
