@@ -10,9 +10,10 @@
 //! and waits for frames ([`core1_reset`]).
 //!
 //! A frame: CPU 0 checks the scene's baked tables (`Builtin::with_baked_scene`),
-//! makes the renderer (64x64 pixels, the scene's own settings) and a fresh tile
-//! queue, publishes them as the [`Job`] and, for two cores, bumps [`POSTED`]; then
-//! both CPUs run [`work`]: take a tile from the queue, render it into their own
+//! makes the renderer (64x64 pixels, the scene's own settings), resets the tile
+//! queue ([`QUEUE`], a `tessera::tile::TileQueue`), publishes the scene and the
+//! renderer as the [`Job`] and, for two cores, bumps [`POSTED`]; then both CPUs
+//! run [`work`]: take a tile from the queue, render it into their own
 //! tile buffer, copy it into [`FRAME`] and record which CPU (read from the SSE-200's
 //! CPU_IDENTITY register) rendered it, until the queue is empty. CPU 1 then
 //! stores the frame's number in [`FINISHED`]; CPU 0 waits for it, writes the frame
@@ -41,7 +42,6 @@
 #![no_std]
 #![no_main]
 
-mod queue;
 // The host-file calls of the other firmware image, shared (this one reads no file).
 #[allow(dead_code)]
 #[path = "../../firmware/src/semihost.rs"]
@@ -53,9 +53,9 @@ use core::sync::atomic::{AtomicU8, AtomicU32, Ordering};
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
-use queue::TileQueue;
 use semihost::{HostFile, IoError};
 use tessera::builtin::Builtin;
+use tessera::tile::TileQueue;
 use tessera::{Renderer, SceneView, Tile, TileCoord, Viewport};
 
 /// The frame's size, pixels.
@@ -64,8 +64,12 @@ const WIDTH: u16 = 64;
 const HEIGHT: u16 = 64;
 /// The tile size.
 const N: usize = 16;
+/// The frame's tiles across ...
+const ACROSS: u16 = WIDTH.div_ceil(N as u16);
+/// ... and down.
+const DOWN: u16 = HEIGHT.div_ceil(N as u16);
 /// Tiles of the frame.
-const TILES: usize = (WIDTH as usize).div_ceil(N) * (HEIGHT as usize).div_ceil(N);
+const TILES: usize = ACROSS as usize * DOWN as usize;
 /// Bytes of the frame.
 const FRAME_BYTES: usize = WIDTH as usize * HEIGHT as usize * 3;
 /// CPU 1's stack, bytes.
@@ -123,12 +127,15 @@ impl<T> Shared<T> {
     }
 }
 
-/// A frame's work, shared by both CPUs: the scene, the renderer and the queue.
+/// A frame's work, shared by both CPUs: the scene and the renderer.
 struct Job {
     view: SceneView<'static>,
     renderer: Renderer,
-    queue: TileQueue,
 }
+
+/// The frame's tiles, each handed out once to whichever CPU asks first (one
+/// `fetch_add` a tile); CPU 0 resets it before each frame, while CPU 1 waits.
+static QUEUE: TileQueue = TileQueue::new(ACROSS, DOWN);
 
 /// The current frame's job: written by CPU 0 only while CPU 1 waits (before it
 /// bumps [`POSTED`], after CPU 1 stored the previous frame in [`FINISHED`]); read
@@ -200,7 +207,7 @@ impl fmt::Display for FwError {
             Self::Core1Failed => write!(f, "CPU 1's tile loop failed"),
             Self::Core1Stack => write!(f, "CPU 1's stack overflowed"),
             Self::NotCpu0(id) => write!(f, "main runs on CPU {id}, not CPU 0"),
-            Self::Grid => write!(f, "the frame is not {TILES} tiles"),
+            Self::Grid => write!(f, "the frame is not {ACROSS}x{DOWN} tiles"),
         }
     }
 }
@@ -264,21 +271,17 @@ fn frame(b: Builtin, cores: u32) -> Result<(), FwError> {
         let vp = Viewport::new(WIDTH, HEIGHT);
         Renderer::try_new(camera, vp, b.settings()).map(|r| (*view, r))
     })??;
-    let (across, down) = renderer.tile_grid(N);
-    if usize::from(across) * usize::from(down) != TILES {
+    if renderer.tile_grid(N) != (ACROSS, DOWN) {
         return Err(FwError::Grid);
     }
+    QUEUE.reset();
     for o in &OWNERS {
         o.store(0, Ordering::Relaxed);
     }
     // SAFETY: CPU 1 is waiting (not started, or it finished the previous frame:
     // `FINISHED` was acquired below), so nothing reads the job while it changes.
     unsafe {
-        *JOB.get() = Some(Job {
-            view,
-            renderer,
-            queue: TileQueue::new(across, down),
-        });
+        *JOB.get() = Some(Job { view, renderer });
     }
     let posted = if cores == 2 {
         let n = POSTED.fetch_add(1, Ordering::Release) + 1;
@@ -343,7 +346,7 @@ fn frame(b: Builtin, cores: u32) -> Result<(), FwError> {
     Ok(())
 }
 
-/// One CPU's share of a frame: tiles from the job's queue until it is empty, each
+/// One CPU's share of a frame: tiles from [`QUEUE`] until it is empty, each
 /// rendered into `tile`, copied into [`FRAME`] and recorded in [`OWNERS`]. Returns
 /// how many tiles this CPU rendered. Between the two profiling markers: the
 /// plugin counts this loop's instructions on each CPU. The same code on both
@@ -353,7 +356,7 @@ fn work(core: u8, job: &Job, tile: &mut Tile<N>) -> Result<u32, FwError> {
     tessera_profile_begin();
     let mut done = 0;
     let result = loop {
-        let Some(coord) = job.queue.next() else {
+        let Some(coord) = QUEUE.next() else {
             break Ok(done);
         };
         if let Err(e) = job.renderer.render_tile(&job.view, coord, tile, &mut ()) {
