@@ -142,6 +142,15 @@ pub struct Output {
     pub stdout: String,
 }
 
+/// The host build of the core's frame of `b`: the scene built in RAM, its own
+/// settings, the firmware's size and tiles (what both cores' pixels must equal).
+pub fn host(b: Builtin) -> Result<RgbImage, String> {
+    let vp = tessera::Viewport::new(SIZE, SIZE);
+    b.with_scene(|view, cam| tessera_host::render(view, cam, vp, b.settings(), TILE))
+        .map_err(|e| format!("{}: {e}", b.name()))?
+        .map_err(|e| format!("{}: {e}", b.name()))
+}
+
 /// Runs the firmware `elf` under qemu with the plugin `plugin` and reads back what
 /// it wrote.
 pub fn run(elf: &Path, plugin: &Path) -> Result<Output, String> {

@@ -9,7 +9,6 @@
 //! target; without them they fail and say to run `bash tests/run-all.sh`.
 
 use std::sync::OnceLock;
-use tessera::Viewport;
 use tessera::builtin::Builtin;
 use tessera_tests::dualcore::{self, Output};
 use tessera_tests::firmware;
@@ -38,13 +37,9 @@ fn output() -> &'static Output {
     OUT.get_or_init(run)
 }
 
-/// The host build of the core: the scene built in RAM, its own settings, the
-/// firmware's size and tiles.
+/// The host build of the core ([`dualcore::host`]).
 fn host(b: Builtin) -> image::RgbImage {
-    let vp = Viewport::new(dualcore::SIZE, dualcore::SIZE);
-    b.with_scene(|view, cam| tessera_host::render(view, cam, vp, b.settings(), dualcore::TILE))
-        .unwrap()
-        .unwrap()
+    dualcore::host(b).unwrap()
 }
 
 #[test]
