@@ -101,6 +101,12 @@ run cargo clippy --manifest-path tests/firmware/Cargo.toml --target riscv32imafc
 run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv6m-none-eabi -- -D warnings
 run cargo clippy --manifest-path tests/firmware/Cargo.toml --target riscv32imc-unknown-none-elf -- -D warnings
 
+# Both Cortex-M33 of qemu's mps2-an521 sharing a frame's tiles: its own workspace;
+# the tests `dualcore::...` in `cargo test-all` build it and run it under qemu.
+say "dual-core firmware image (tests/dualcore): format and clippy"
+run cargo fmt --manifest-path tests/dualcore/Cargo.toml -- --check
+run cargo clippy --manifest-path tests/dualcore/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
+
 # The board example (an STM32F411 Black Pill and an ST7789 panel): its own
 # workspace; the test `board::...` in `cargo test-all` links it and checks the
 # sizes its README states.

@@ -205,7 +205,7 @@ const fn srgb_next() -> [u32; 256] {
 /// its first bit pattern (832 bytes of flash). The thresholds are at least 2^16.6
 /// patterns apart (100,925: the first values of codes 189 and 190, near 0.51), so
 /// a bucket of 2^17 holds at most two after its start: [`srgb8`] finishes with two
-/// comparisons instead of a binary search's eight (the encoding costs 39
+/// comparisons instead of a binary search's eight (the encoding costs 42
 /// instructions a pixel on chapter-direct, docs/chip-cost.md; a binary search
 /// costs more). Made at compile time
 /// from the thresholds, which also checks the two-at-most (the build fails

@@ -383,7 +383,8 @@ impl<const N: usize, L: Loops> Drawing<'_, Rgb565Wire, N, L> {
     /// [`Drawing::draw_preview`] on a target if wanted.
     ///
     /// # Errors
-    /// The sink's: the drawing stops (after waiting for a transfer in flight).
+    /// The sink's: the drawing stops at the first (every transfer but a failed
+    /// one has finished by then).
     pub fn send<S: TileSink>(&self, sink: &mut S) -> Result<(), S::Error> {
         self.send_counting(sink, &mut ())
     }

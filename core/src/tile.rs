@@ -14,7 +14,7 @@
 //! (3 bytes a pixel plus 8 bytes of coordinates; a unit test checks these sizes
 //! and `tests/tests/docs.rs` checks them against `docs/chip-cost.md`.) The
 //! renderer's stack does not depend on `N`: measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md`), `render_tile` needs 1,064 to 2,008 bytes (1.0
+//! painting; `docs/chip-cost.md`), `render_tile` needs 1,056 to 2,008 bytes (1.0
 //! to 2.0 KiB) below its caller, the tile's culling lists (the primitives that may
 //! reach the tile, module `cull`) and the shader's pending-ray stack
 //! (`MAX_DEPTH + 1` rays) included.
@@ -301,7 +301,7 @@ impl<const N: usize, P: TilePixel> Tile<N, P> {
 /// (a tile is a function of the scene, the renderer and its coordinate), so the
 /// image is the one core's, byte for byte. Tiles go out row after row of tiles.
 ///
-/// One `fetch_add` per tile on an `AtomicU32` (cores with atomic read-modify-write:
+/// One load and one `fetch_add` a tile on an `AtomicU32` (cores with atomic read-modify-write:
 /// Armv7-M, Armv8-M Mainline, RISC-V with the A extension); on cores without it
 /// (Armv6-M, rv32imc) use [`Interleave`]. A `static` queue is shared by both
 /// cores of a dual-core part (RP2350); [`TileQueue::reset`] starts the next frame
@@ -342,7 +342,10 @@ impl TileQueue {
     }
 
     /// Starts the frame over: every tile is handed out again. Call it when no core
-    /// is taking tiles.
+    /// is taking tiles. The store is relaxed: the other cores see it once the
+    /// caller hands them the new frame with a release that they acquire (the
+    /// handshake that tells them a frame is ready); a core that looks earlier
+    /// finds the queue empty, which costs it the frame's tiles, not pixels.
     pub fn reset(&self) {
         self.next.store(0, core::sync::atomic::Ordering::Relaxed);
     }

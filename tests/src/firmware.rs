@@ -361,6 +361,13 @@ impl Core {
         let dir = TempDir::new()?;
         Ok(self.qemu(&dir.0, elf, &[], None)?.0)
     }
+
+    /// Runs an ELF that needs no run list in the folder `dir`, where the files it
+    /// writes over semihosting stay, with `extra` qemu arguments before `-kernel`
+    /// (a `-plugin`, say), and returns its standard output, as [`run_alone`].
+    pub fn run_in(&self, dir: &Path, elf: &Path, extra: &[String]) -> Result<String, String> {
+        Ok(self.qemu(dir, elf, extra, None)?.0)
+    }
 }
 
 /// The repository's root folder.

@@ -6,10 +6,12 @@
 //! instruction counts ([`baseline`]), the host's profile under callgrind
 //! ([`callgrind`]), the sections of the profile document ([`profile_doc`]), the
 //! speed/accuracy trade report ([`trade_report`]), the profile of the chips
-//! without an FPU by routine ([`nofpu`]) and the random scenes of the property
-//! tests ([`random_scene`]).
+//! without an FPU by routine ([`nofpu`]), the random scenes of the property
+//! tests ([`random_scene`]) and the dual-core firmware image ([`dualcore`]).
 
 pub mod firmware;
+
+pub mod dualcore;
 
 pub mod readme;
 

@@ -33,11 +33,21 @@ pub const TOLERANCE_PER_TILE: u64 = 80;
 /// takes a fraction of a second) with `gcc -shared -fPIC -O2 -Wall -Wextra
 /// -Werror` (or `$CC` when set) and returns the library's path.
 pub fn build_plugin() -> Result<PathBuf, String> {
+    build_plugin_from(PLUGIN_SOURCE)
+}
+
+/// Compiles the qemu plugin `source` (a C file, relative to the repository root)
+/// as [`build_plugin`] does, into `target/profiler/<its name>.so`, and returns the
+/// library's path.
+pub fn build_plugin_from(source: &str) -> Result<PathBuf, String> {
     let root = firmware::repo_root();
-    let src = root.join(PLUGIN_SOURCE);
+    let src = root.join(source);
     let dir = root.join("target").join("profiler");
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let out = dir.join("insn_profile.so");
+    let stem = src
+        .file_stem()
+        .ok_or_else(|| format!("{source} names no file"))?;
+    let out = dir.join(stem).with_extension("so");
     let cc = std::env::var("CC").unwrap_or_else(|_| "gcc".into());
     firmware::checked(
         Command::new(&cc)
@@ -47,7 +57,7 @@ pub fn build_plugin() -> Result<PathBuf, String> {
             .arg(&out)
             .arg(&src),
         &format!("{cc} to build the qemu plugin"),
-        &format!("{cc} failed to build {PLUGIN_SOURCE}"),
+        &format!("{cc} failed to build {source}"),
     )?;
     Ok(out)
 }

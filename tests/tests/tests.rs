@@ -8,6 +8,7 @@ mod convergence;
 mod cores;
 mod culling;
 mod docs;
+mod dualcore;
 mod extremes;
 mod finite;
 mod firmware;

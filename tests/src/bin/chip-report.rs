@@ -39,7 +39,7 @@ use tessera::testing::Extreme;
 use tessera::{Encoding, Viewport};
 use tessera::{Sampler, Sampler::*};
 use tessera_tests::firmware::{self, Core, Output, Run, SceneRef, Sizes, repo_relative};
-use tessera_tests::{baseline, cycles, profile, thousands, thousands_rounded};
+use tessera_tests::{baseline, cycles, dualcore, profile, thousands, thousands_rounded};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin chip-report";
 const SAMPLERS: [Sampler; 5] = [Corner, Centre, Stratified(2), Stratified(4), Random(4)];
@@ -54,6 +54,17 @@ struct Bless {
     /// `tests/chip-baseline-cores.txt` (the other cores).
     cores: bool,
 }
+
+/// The frame of the frame-rate estimates: a 240x240 panel (ST7789).
+const FRAME: u16 = 240;
+/// The SPI clock of the estimates' panel wire, Hz.
+const SPI_HZ: f64 = 50e6;
+/// The Black Pill's clock (STM32F411 at 100 MHz), Hz.
+const BLACK_PILL_HZ: f64 = 100e6;
+/// The Pico 2's clock (RP2350 at 150 MHz), Hz.
+const PICO2_HZ: f64 = 150e6;
+/// The Teensy 4.1's clock (i.MX RT1062 at 600 MHz), Hz.
+const TEENSY_HZ: f64 = 600e6;
 
 fn main() -> ExitCode {
     let mut bless = Bless::default();
@@ -303,6 +314,8 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     let (exact, fast, prof, cores) = measure_all(&runs)?;
     let est = check(&runs, &exact, &prof, bless.m4f)?;
     guard_cores(&cores, bless.cores)?;
+    println!("both Cortex-M33 of mps2-an521...");
+    let dual = dual_core()?;
     let m4f_sqrt = firmware::check_sqrt(&firmware::CORTEX_M4F, &exact.elf)?;
     if m4f_sqrt != firmware::SqrtReport::host() {
         return Err(format!("Cortex-M4F: sqrt {m4f_sqrt:?}"));
@@ -317,6 +330,7 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
         fast,
         est,
         cores,
+        dual,
     };
     let mut d = String::new();
     m.setup(&mut d);
@@ -327,6 +341,8 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     m.image_size(&mut d);
     m.stack(&mut d);
     m.cores(&mut d);
+    m.both_cores(&mut d);
+    m.frames(&mut d);
     m.regenerate(&mut d);
     let path = firmware::repo_root().join("docs").join("chip-cost.md");
     std::fs::write(&path, d).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
@@ -336,6 +352,25 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
 /// What [`measure_all`] measured: both backends of the Cortex-M4F, the exact one's
 /// profiles, and the other cores.
 type Measures = (Backend, Backend, Vec<Profiled>, Vec<CoreMeasure>);
+
+/// Builds the dual-core firmware (`tests/dualcore`) and its per-vCPU counting
+/// plugin, runs it, and checks its frames' pixels against the host's (as
+/// `tests/tests/dualcore.rs` does).
+fn dual_core() -> Result<Vec<dualcore::SceneCounts>, String> {
+    let elf = dualcore::build()?;
+    let plugin = dualcore::build_plugin()?;
+    let out = dualcore::run(&elf, &plugin)?;
+    for f in &out.frames {
+        if f.pixels != dualcore::host(f.scene)? {
+            return Err(format!(
+                "{} on {} core(s) of mps2-an521: pixels differ from the host's",
+                f.scene.name(),
+                f.cores
+            ));
+        }
+    }
+    Ok(out.counts)
+}
 
 /// Builds both firmware images and measures them on three threads: each backend
 /// twice ([`measure`]), and the exact one under the profiling plugin
@@ -434,6 +469,8 @@ struct Measured {
     fast: Backend,
     est: Vec<u64>,
     cores: Vec<CoreMeasure>,
+    /// Each built-in scene on one and on both Cortex-M33 of `mps2-an521`.
+    dual: Vec<dualcore::SceneCounts>,
 }
 
 impl Measured {
@@ -922,6 +959,146 @@ impl Measured {
         let _ = writeln!(w, "\nThe other cores' ELFs:\n");
         for c in cores {
             let _ = writeln!(w, "- {}: `{}`", c.core.title, repo_relative(&c.elf));
+        }
+    }
+
+    /// The frame on both Cortex-M33 of qemu's `mps2-an521`.
+    fn both_cores(&self, w: &mut String) {
+        let _ = writeln!(w, "\n## Both cores of a dual Cortex-M33\n");
+        let _ = writeln!(
+            w,
+            "qemu's `mps2-an521` (two Cortex-M33 sharing SRAM; CPU 0 given an FPU, \
+             `-global sse-200.CPU0_FPU=true`, as both cores of an RP2350 have) runs \
+             `tests/dualcore`: each built-in scene at {}x{} in tiles of {}x{}, with \
+             its own settings, rendered by CPU 0 alone and then by both cores taking \
+             tiles from one `tessera::tile::TileQueue`. Each core's instructions in its \
+             tile loop are counted by a qemu plugin per vCPU \
+             (`tests/profiler/vcpu_count.c`: the SysTick clock is shared under \
+             `-icount`). Both frames' pixels equal the host's, byte for byte (checked \
+             here and by `tests/tests/dualcore.rs`, which also checks that the counts \
+             repeat exactly). The speed-up is one core's instructions over the busier \
+             core's: the frame's time on two cores at one clock, both cores running \
+             at the same rate (qemu alternates them every 10,000 instructions; the \
+             contention for memory a real chip has is not modelled).\n",
+            dualcore::SIZE,
+            dualcore::SIZE,
+            dualcore::TILE,
+            dualcore::TILE
+        );
+        let _ = write!(w, "{}", dualcore::table(&self.dual));
+    }
+
+    /// Frame times and rates on three boards, estimated from the counts above.
+    fn frames(&self, w: &mut String) {
+        let Self {
+            runs,
+            exact,
+            est,
+            cores,
+            ..
+        } = self;
+        let px = f64::from(FRAME) * f64::from(FRAME);
+        // The SPI transfer of a frame of RGB565 at the wire's clock, in ms.
+        let spi_ms = px * 2.0 * 8.0 / SPI_HZ * 1e3;
+        let _ = writeln!(w, "\n## Frames per second: estimates for three boards\n");
+        let _ = writeln!(
+            w,
+            "**Estimates, not measurements: none of these boards is here.** Each built-in \
+             scene with its own settings and centre sampling, a frame of {FRAME}x{FRAME} \
+             pixels ({} of them), at the instructions per pixel measured above at \
+             {SIZE}x{SIZE} (the same picture, sampled more finely: its cost per pixel is \
+             taken to be the same). Cycles: \
+             **Black Pill** (STM32F411, one Cortex-M4F at 100 MHz): the Cortex-M4 cycle \
+             model of [chip-profile.md](chip-profile.md) (`est. cycles/px` above). \
+             **Pico 2** (RP2350, two Cortex-M33 at 150 MHz): the Cortex-M33's \
+             instructions per pixel (the per-core table) times the Cortex-M4F model's \
+             cycles per instruction for the same scene (both cores have a three-stage \
+             pipeline and single-cycle FPU arithmetic; no M33 model is made), for one \
+             core, and for two at the speed-up measured on both cores of \
+             `mps2-an521` (the section above, with the 16 tiles of a 64x64 frame; the \
+             225 of a 240x240 frame should split at least as evenly). \
+             **Teensy 4.1** (i.MX RT1062, one Cortex-M7 at 600 MHz): a range, from the \
+             Cortex-M7's instructions per pixel at two instructions a cycle (its dual \
+             issue at every cycle: the best case) to the Cortex-M4F model's cycles per \
+             instruction (no dual issue at all). All assume zero-wait memory: the \
+             RP2350 runs from QSPI flash through a 16 KiB cache and the F411's flash \
+             has wait states at 100 MHz, so real frames are slower. \
+             The panel: {FRAME}x{FRAME} RGB565 is {} bytes, {spi_ms:.1} ms on a {} MHz \
+             SPI wire; sent tile after tile while the next renders \
+             (`Drawing::send`, a DMA channel) it hides behind the rendering but for the \
+             last tile; sent by a blocking write it adds at least that to every frame \
+             (`fps, blocking SPI`).\n",
+            thousands(px as u64),
+            thousands((px * 2.0) as u64),
+            SPI_HZ / 1e6
+        );
+        let title = |t: &str| cores.iter().find(|c| c.core.title == t);
+        let (Some(m33), Some(m7)) = (title("Cortex-M33"), title("Cortex-M7")) else {
+            let _ = writeln!(w, "(the Cortex-M33 or Cortex-M7 was not measured)");
+            return;
+        };
+        let _ = writeln!(
+            w,
+            "| scene | Black Pill: cycles/px | ms/frame | fps | fps, blocking SPI | Pico 2: cycles/px | one core: fps | two cores: fps | Teensy 4.1: cycles/px | fps |"
+        );
+        let _ = writeln!(w, "|---|---|---|---|---|---|---|---|---|---|");
+        let fps = |cycles_px: f64, hz: f64| hz / (cycles_px * px);
+        // The measured dual-core speed-up of a scene (1: not measured).
+        let speedup = |name: &str| {
+            self.dual
+                .iter()
+                .find(|c| c.scene.name() == name)
+                .map_or(1.0, dualcore::SceneCounts::speedup)
+        };
+        let mut chapter = None;
+        for (i, r) in core_runs().iter().enumerate() {
+            if r.sampler != Centre {
+                continue;
+            }
+            let Some(j) = runs.iter().position(|x| x == r) else {
+                continue;
+            };
+            let m4f_px = exact.out.runs[j].instructions_per_pixel();
+            let m4f_cyc = est[j] as f64 / exact.out.runs[j].pixels_count.max(1) as f64;
+            let cpi = m4f_cyc / m4f_px.max(1.0);
+            let m33_cyc = m33.out.runs[i].instructions_per_pixel() * cpi;
+            let m7_px = m7.out.runs[i].instructions_per_pixel();
+            let (m7_lo, m7_hi) = (m7_px / 2.0, m7_px * cpi);
+            let bp_ms = m4f_cyc * px / BLACK_PILL_HZ * 1e3;
+            let _ = writeln!(
+                w,
+                "| {} | {} | {} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {} to {} | {:.1} to {:.1} |",
+                r.scene.name(),
+                thousands_rounded(m4f_cyc),
+                thousands_rounded(bp_ms),
+                1e3 / bp_ms,
+                1e3 / (bp_ms + spi_ms),
+                thousands_rounded(m33_cyc),
+                fps(m33_cyc, PICO2_HZ),
+                speedup(r.scene.name()) * fps(m33_cyc, PICO2_HZ),
+                thousands_rounded(m7_lo),
+                thousands_rounded(m7_hi),
+                fps(m7_hi, TEENSY_HZ),
+                fps(m7_lo, TEENSY_HZ),
+            );
+            if r.scene.name() == Builtin::ChapterReflect.name() {
+                chapter = Some((m33_cyc, speedup(r.scene.name())));
+            }
+        }
+        if let Some((c, two)) = chapter {
+            // Ten frames a second on both cores of a Pico 2: the cycles a pixel
+            // each core can spend.
+            let budget = 2.0 * PICO2_HZ / (10.0 * px);
+            let _ = writeln!(
+                w,
+                "\nTen frames a second of the chapter's scene (chapter-reflect) at \
+                 {FRAME}x{FRAME} on a Pico 2's two cores leaves {budget:.0} cycles a \
+                 pixel on each; the estimate above is {} ({:.1} times that), about {:.1} \
+                 frames a second with the measured speed-up of {two:.3}.",
+                thousands_rounded(c),
+                c / budget,
+                two * fps(c, PICO2_HZ)
+            );
         }
     }
 
