@@ -1,8 +1,8 @@
 //! The Raspberry Pi Pico 2 example (`examples/pico2-st7789`, an RP2350 with a
 //! Waveshare Pico-LCD-1.3): it builds and links for the Cortex-M33 within the
 //! Pico 2's flash and the RP2350's RAM (the statics and both cores' stacks), the
-//! boot ROM finds its block and the boot stack is core 0's, and its README's sizes
-//! are those of the linked ELF.
+//! boot ROM finds its block and the boot stack is core 0's, its README's sizes
+//! are those of the linked ELF, and its frame-rate estimate is docs/chip-cost.md's.
 
 use object::{Object, ObjectSection, ObjectSymbol};
 use std::path::PathBuf;
@@ -163,9 +163,60 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
             wrong.push(format!("RAM: the README lacks `{kib}`"));
         }
     }
+    // The frame-rate estimate is the report's (docs/chip-cost.md, written by
+    // chip-report): chapter-reflect's cycles a pixel on a Pico 2 and its frames a
+    // second on both cores.
+    for said in pico2_estimate("chapter-reflect") {
+        if !readme.contains(&said) {
+            wrong.push(format!(
+                "estimate: the README lacks `{said}` (docs/chip-cost.md)"
+            ));
+        }
+    }
     assert!(
         wrong.is_empty(),
         "examples/pico2-st7789/README.md is not the linked ELF ({}): {wrong:#?}",
         elf.display()
     );
+}
+
+/// What docs/chip-cost.md's "Frames per second" table estimates for `scene` on a
+/// Pico 2, as the README words it: `N cycles a pixel` and `F frames a second` (two
+/// cores).
+fn pico2_estimate(scene: &str) -> [String; 2] {
+    let report = std::fs::read_to_string(firmware::repo_root().join("docs/chip-cost.md")).unwrap();
+    let section = report
+        .split("\n## ")
+        .find(|s| s.starts_with("Frames per second"))
+        .expect("docs/chip-cost.md has its frames-per-second section");
+    let cells = |line: &str| -> Vec<String> {
+        line.trim()
+            .trim_matches('|')
+            .split('|')
+            .map(|c| c.trim().to_string())
+            .collect()
+    };
+    let header = cells(
+        section
+            .lines()
+            .find(|l| l.starts_with("| scene |"))
+            .expect("the table's header"),
+    );
+    let row = cells(
+        section
+            .lines()
+            .find(|l| l.starts_with(&format!("| {scene} |")))
+            .unwrap_or_else(|| panic!("no row for {scene}")),
+    );
+    let cell = |name: &str| {
+        let i = header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column `{name}` in {header:?}"));
+        row.get(i).cloned().unwrap_or_default()
+    };
+    [
+        format!("{} cycles a pixel", cell("Pico 2: cycles/px")),
+        format!("{} frames a second", cell("two cores: fps")),
+    ]
 }
