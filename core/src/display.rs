@@ -38,6 +38,14 @@ fn rectangle(x: u32, y: u32, w: u32, h: u32) -> Rectangle {
     )
 }
 
+/// The rectangle of the frame a rendered tile covers: its origin and its valid
+/// size (an edge tile's is partial). The window a panel's driver opens for it.
+#[must_use]
+pub fn tile_area<const N: usize, P: TilePixel>(tile: &Tile<N, P>) -> Rectangle {
+    let (x0, y0) = tile.origin();
+    rectangle(x0, y0, u32::from(tile.width()), u32::from(tile.height()))
+}
+
 /// Sends a rendered tile to `display` with one `fill_contiguous` over the tile's
 /// rectangle (its valid part: edge tiles may be partial). For a firmware that
 /// renders and sends the tiles itself, e.g. from a static tile buffer or in an
@@ -47,8 +55,7 @@ where
     D: DrawTarget,
     D::Color: From<Rgb888>,
 {
-    let (x0, y0) = tile.origin();
-    let area = rectangle(x0, y0, u32::from(tile.width()), u32::from(tile.height()));
+    let area = tile_area(tile);
     display.fill_contiguous(
         &area,
         tile.pixels()
@@ -144,20 +151,27 @@ pub fn wire_bytes<const N: usize>(tile: &Tile<N, Rgb565Wire>) -> &[u8] {
 /// tile `k + 1` into one while the transfer of tile `k` reads the other, then
 /// waits for that transfer ([`TileSink::finish`]) before it starts the next.
 ///
-/// The contract that makes a DMA transfer sound: after [`TileSink::start`]
-/// returns, tessera neither writes nor moves `bytes` until the
-/// [`TileSink::finish`] that follows has returned (the buffer lives on the stack
-/// of [`Drawing::send`] throughout). An implementation that hands `bytes` to a
-/// DMA engine relies on that, and must not let the transfer outlive `finish`.
+/// What makes a DMA transfer sound is on the caller: [`TileSink::start`] is an
+/// `unsafe fn` whose caller promises that `bytes` stay in place and unwritten
+/// until the [`TileSink::finish`] that follows has returned ([`Drawing::send`]
+/// keeps that promise: the buffer lives on its stack throughout). So an
+/// implementation may hand `bytes` to a DMA engine that reads them after `start`
+/// returns, as long as the transfer does not outlive `finish`.
 pub trait TileSink {
     /// The transfer's error.
     type Error;
     /// Starts sending `bytes` ([`wire_bytes`] of a tile) to the panel's window
     /// `area` (set the window first, then the transfer), without waiting for it.
     ///
+    /// # Safety
+    /// The caller keeps `bytes` in place and unwritten until the next
+    /// [`TileSink::finish`] on this sink has returned (or, if this call fails,
+    /// until it has returned): the transfer may read them until then.
+    ///
     /// # Errors
     /// The sink's; the drawing stops and returns it.
-    fn start(&mut self, area: Rectangle, bytes: &[u8]) -> Result<(), Self::Error>;
+    #[allow(unsafe_code)] // the declaration: the promise is the caller's
+    unsafe fn start(&mut self, area: Rectangle, bytes: &[u8]) -> Result<(), Self::Error>;
     /// Waits until the transfer started last is done.
     ///
     /// # Errors
@@ -176,8 +190,7 @@ where
     D: DrawTarget,
     D::Color: TilePixel,
 {
-    let (x0, y0) = tile.origin();
-    let area = rectangle(x0, y0, u32::from(tile.width()), u32::from(tile.height()));
+    let area = tile_area(tile);
     display.fill_contiguous(&area, tile.pixels())
 }
 
@@ -418,9 +431,13 @@ impl<const N: usize, L: Loops> Drawing<'_, Rgb565Wire, N, L> {
                 sink.finish()?;
             }
             if rendered {
-                let (x0, y0) = tile.origin();
-                let area = rectangle(x0, y0, u32::from(tile.width()), u32::from(tile.height()));
-                sink.start(area, wire_bytes(tile))?;
+                // SAFETY: this buffer is written again (rendered into) only after
+                // the `finish` at the top of the turn after next, and both
+                // buffers live on this stack frame until the last `finish` below.
+                #[allow(unsafe_code)]
+                unsafe {
+                    sink.start(tile_area(tile), wire_bytes(tile))?;
+                }
                 in_flight = true;
             }
         }
@@ -530,7 +547,8 @@ mod tests {
 
     impl TileSink for MockBus<'_> {
         type Error = &'static str;
-        fn start(&mut self, area: Rectangle, bytes: &[u8]) -> Result<(), Self::Error> {
+        #[allow(unsafe_code)]
+        unsafe fn start(&mut self, area: Rectangle, bytes: &[u8]) -> Result<(), Self::Error> {
             if self.flight.is_some() {
                 return Err("a transfer started while another is in flight");
             }
@@ -651,7 +669,8 @@ mod tests {
 
     impl TileSink for NullSink {
         type Error = core::convert::Infallible;
-        fn start(&mut self, _: Rectangle, _: &[u8]) -> Result<(), Self::Error> {
+        #[allow(unsafe_code)]
+        unsafe fn start(&mut self, _: Rectangle, _: &[u8]) -> Result<(), Self::Error> {
             Ok(())
         }
         fn finish(&mut self) -> Result<(), Self::Error> {

@@ -3,9 +3,10 @@
 //! `tessera` renders a ray-traced scene one fixed-size **tile** at a time, with `f32`
 //! math and fixed-capacity scene lists, so that a chip with a few KiB of RAM and no
 //! framebuffer can draw straight onto its display. There is no allocator, no `std`,
-//! no panicking path and three audited `unsafe` spots (the FPU square roots, Arm's
-//! `vsqrt.f32` and RISC-V's `fsqrt.s`, and a panel tile's pixels seen as bytes,
-//! `display::wire_bytes`).
+//! no panicking path and four audited `unsafe` spots (the FPU square roots, Arm's
+//! `vsqrt.f32` and RISC-V's `fsqrt.s`; a panel tile's pixels seen as bytes,
+//! `display::wire_bytes`; and `Drawing::send` lending those bytes to a DMA
+//! transfer, `display::TileSink::start`).
 //!
 //! Why this shape: a 240x240 RGB framebuffer is 169 KiB, more than most small MCUs
 //! have. A tile of 16x16 pixels is 776 bytes; the caller owns it, renders tile

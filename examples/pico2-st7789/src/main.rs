@@ -50,7 +50,7 @@ use hal::multicore::{Multicore, Stack};
 use hal::pac;
 use rp235x_hal as hal;
 use tessera::builtin::baked::chapter_reflect as scene;
-use tessera::display::{Drawing, Rgb565Wire, TileSink, wire_bytes};
+use tessera::display::{Drawing, Rgb565Wire, TileSink, tile_area, wire_bytes};
 use tessera::tile::TileQueue;
 use tessera::{Camera, Renderer, SceneView, Tile, Vec3, Viewport};
 
@@ -304,9 +304,10 @@ struct TileBytes {
 
 // SAFETY: a `TileBytes` is made only by `DmaPanel::start` from the `bytes` that
 // `TileSink::start` receives, and the transfer that reads them is waited for in
-// `DmaPanel::finish` (and by `start` before it makes the next). The `TileSink`
-// contract keeps those bytes unwritten and in place until `finish` returns: tessera's
-// `Drawing::send` does, and so does this firmware's own sender (`Sender`). The
+// `DmaPanel::finish` (and by `start` before it makes the next). `TileSink::start`'s
+// callers promise (it is an `unsafe fn`) to keep those bytes unwritten and in
+// place until `finish` returns: tessera's `Drawing::send` does, and so does this
+// firmware's own sender (`Sender`). The
 // address and count never change.
 unsafe impl ReadTarget for TileBytes {
     type ReceivedWord = u8;
@@ -409,7 +410,7 @@ impl TileSink for DmaPanel {
     /// Sets the controller's window to `area`, then starts the DMA transfer of
     /// `bytes` to the SPI transmit FIFO and returns (after waiting for a transfer
     /// still in flight, if any: one at a time).
-    fn start(&mut self, area: Rectangle, bytes: &[u8]) -> Result<(), PanelError> {
+    unsafe fn start(&mut self, area: Rectangle, bytes: &[u8]) -> Result<(), PanelError> {
         self.finish()?;
         if bytes.is_empty() {
             return Ok(());
@@ -493,7 +494,10 @@ impl Sender {
     /// done.
     fn start(&mut self, held: Held, tile: &Tile<TILE, Rgb565Wire>) -> Result<(), PanelError> {
         self.finish()?;
-        self.panel.start(area(tile), wire_bytes(tile))?;
+        // SAFETY: `held` names `tile`'s buffer, and no buffer is written while
+        // it is held: core 0 renders into its own only after the `finish` that
+        // ends its transfer, and core 1's go back to core 1 only in `finish`.
+        unsafe { self.panel.start(tile_area(tile), wire_bytes(tile))? };
         self.in_flight = Some(held);
         Ok(())
     }
@@ -507,23 +511,12 @@ impl Sender {
             let Some((i, tile)) = self.from_core1.take() else {
                 return Ok(());
             };
-            self.panel.start(area(tile), wire_bytes(tile))?;
+            // SAFETY: core 1's buffer `i` stays with core 0, unwritten, until
+            // the `finish` that releases it.
+            unsafe { self.panel.start(tile_area(tile), wire_bytes(tile))? };
             self.in_flight = Some(Held::Core1(i));
         }
     }
-}
-
-/// The rectangle of the frame a rendered tile covers.
-fn area(tile: &Tile<TILE, Rgb565Wire>) -> Rectangle {
-    use embedded_graphics_core::geometry::{Point, Size};
-    let (x, y) = tile.origin();
-    Rectangle::new(
-        Point::new(
-            i32::try_from(x).unwrap_or(i32::MAX),
-            i32::try_from(y).unwrap_or(i32::MAX),
-        ),
-        Size::new(u32::from(tile.width()), u32::from(tile.height())),
-    )
 }
 
 /// What stopped the animation; the LED blinks [`Failure::blinks`] times, pauses,
