@@ -48,7 +48,16 @@ pub fn build_plugin_from(source: &str) -> Result<PathBuf, String> {
         .file_stem()
         .ok_or_else(|| format!("{source} names no file"))?;
     let out = dir.join(stem).with_extension("so");
-    let cc = std::env::var("CC").unwrap_or_else(|_| "gcc".into());
+    // `$CC`, else gcc, else `cc` (the C compiler Rust's host builds link with,
+    // so a machine that builds these tests has it).
+    let cc = std::env::var("CC").unwrap_or_else(|_| {
+        let gcc = Command::new("gcc").arg("--version").output();
+        if gcc.is_ok_and(|o| o.status.success()) {
+            "gcc".into()
+        } else {
+            "cc".into()
+        }
+    });
     firmware::checked(
         Command::new(&cc)
             .args([
