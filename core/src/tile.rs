@@ -835,20 +835,11 @@ impl<'a, C: Observer> Pass<'a, C> {
     /// rows are a slice: one copy whatever the tile size.
     #[inline(never)]
     fn fill<P: TilePixel, const BOUNCES: bool, const SRGB: bool>(
-        self,
+        mut self,
         pixels: &mut [P],
         (x0, y0, tw, th): (u32, u32, usize, usize),
     ) {
-        // The fields into registers once: the pass arrives in memory.
-        let Pass {
-            renderer,
-            scene,
-            picks,
-            depth,
-            count,
-        } = self;
-        let mut pass = Pass::new(renderer, scene, picks, depth, count);
-        let dither = renderer.dither;
+        let dither = self.renderer.dither;
         for (j, row) in pixels.chunks_mut(tw.max(1)).enumerate() {
             let live = if j < th { tw } else { 0 };
             let Some((live, rest)) = row.split_at_mut_checked(live) else {
@@ -856,7 +847,7 @@ impl<'a, C: Observer> Pass<'a, C> {
             };
             for (i, px) in live.iter_mut().enumerate() {
                 let (x, y) = (x0 + i as u32, y0 + j as u32);
-                let rgb = encode::<SRGB>(pass.pixel::<BOUNCES>(x, y));
+                let rgb = encode::<SRGB>(self.pixel::<BOUNCES>(x, y));
                 *px = P::from_rgb8(rgb, x, y, dither);
             }
             rest.fill(P::BLACK);

@@ -18,52 +18,10 @@
  * time the instruction executes, whatever the translation blocks look like).
  * State is global: mps2-an386 has a single vCPU.
  *
- * Build: gcc -shared -fPIC -O2 -Wall -Wextra -o insn_profile.so insn_profile.c
+ * Build: gcc -shared -fPIC -O2 -Wall -Wextra -o insn_profile.so insn_profile.c (plugin.h beside it)
  */
-#include <inttypes.h>
-#include <stdbool.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
+#include "plugin.h" /* the plugin API, the arguments */
 
-/*
- * The part of QEMU's plugin API (include/qemu/qemu-plugin.h, API version 1 as
- * shipped by QEMU 7.2) that this plugin uses. Debian installs no header, so the
- * declarations are written here; they follow the stable C ABI of that version.
- */
-typedef uint64_t qemu_plugin_id_t;
-struct qemu_plugin_tb;
-struct qemu_plugin_insn;
-typedef struct qemu_info_t {
-    const char *target_name;
-    struct {
-        int min;
-        int cur;
-    } version;
-    /* further fields (system_emulation, vCPU counts) are not read */
-} qemu_info_t;
-enum qemu_plugin_cb_flags {
-    QEMU_PLUGIN_CB_NO_REGS,
-    QEMU_PLUGIN_CB_R_REGS,
-    QEMU_PLUGIN_CB_RW_REGS,
-};
-typedef void (*qemu_plugin_udata_cb_t)(qemu_plugin_id_t id, void *userdata);
-typedef void (*qemu_plugin_vcpu_udata_cb_t)(unsigned int vcpu_index, void *userdata);
-typedef void (*qemu_plugin_vcpu_tb_trans_cb_t)(qemu_plugin_id_t id, struct qemu_plugin_tb *tb);
-
-void qemu_plugin_register_vcpu_tb_trans_cb(qemu_plugin_id_t id, qemu_plugin_vcpu_tb_trans_cb_t cb);
-void qemu_plugin_register_vcpu_insn_exec_cb(struct qemu_plugin_insn *insn, qemu_plugin_vcpu_udata_cb_t cb,
-                                            enum qemu_plugin_cb_flags flags, void *userdata);
-void qemu_plugin_register_atexit_cb(qemu_plugin_id_t id, qemu_plugin_udata_cb_t cb, void *userdata);
-size_t qemu_plugin_tb_n_insns(const struct qemu_plugin_tb *tb);
-struct qemu_plugin_insn *qemu_plugin_tb_get_insn(const struct qemu_plugin_tb *tb, size_t idx);
-uint64_t qemu_plugin_insn_vaddr(const struct qemu_plugin_insn *insn);
-size_t qemu_plugin_insn_size(const struct qemu_plugin_insn *insn);
-char *qemu_plugin_insn_disas(const struct qemu_plugin_insn *insn);
-
-#define EXPORT __attribute__((visibility("default")))
 EXPORT int qemu_plugin_version = 1;
 
 /* One guest instruction, shared by every translation of its PC. */
@@ -76,7 +34,7 @@ typedef struct Insn {
 } Insn;
 
 static uint64_t begin_pc = UINT64_MAX, end_pc = UINT64_MAX;
-static char *out_path;
+static const char *out_path;
 static bool armed;
 static Insn *prev;                /* last counted instruction, while its successor is unknown */
 static uint64_t arms, rearms, total;
@@ -205,23 +163,13 @@ static void on_exit_write(qemu_plugin_id_t id, void *udata)
 EXPORT int qemu_plugin_install(qemu_plugin_id_t id, const qemu_info_t *info, int argc, char **argv)
 {
     (void)info;
-    for (int i = 0; i < argc; i++) {
-        const char *a = argv[i];
-        if (strncmp(a, "begin=", 6) == 0) {
-            begin_pc = strtoull(a + 6, NULL, 0) & ~1ull;
-        } else if (strncmp(a, "end=", 4) == 0) {
-            end_pc = strtoull(a + 4, NULL, 0) & ~1ull;
-        } else if (strncmp(a, "out=", 4) == 0) {
-            out_path = strdup(a + 4);
-        } else {
-            fprintf(stderr, "insn_profile: unknown argument %s (want begin=, end=, out=)\n", a);
-            return 1;
-        }
-    }
-    if (begin_pc == UINT64_MAX || end_pc == UINT64_MAX || !out_path || begin_pc == end_pc) {
-        fprintf(stderr, "insn_profile: need begin=ADDR end=ADDR (distinct) and out=FILE\n");
+    Markers m;
+    if (!parse_markers("insn_profile", argc, argv, &m)) {
         return 1;
     }
+    begin_pc = m.begin;
+    end_pc = m.end;
+    out_path = m.out;
     qemu_plugin_register_vcpu_tb_trans_cb(id, on_translate);
     qemu_plugin_register_atexit_cb(id, on_exit_write, NULL);
     return 0;

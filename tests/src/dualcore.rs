@@ -9,7 +9,7 @@
 //! `dualcore-<scene>-<cores>.rgb` per frame, a `frame ...` line per frame, then
 //! `core1 stack=...` and `done frames=<n>`.
 
-use crate::firmware::{self, Core, TempDir};
+use crate::firmware::{self, Core, TempDir, field, number};
 use crate::profile;
 use image::RgbImage;
 use std::path::{Path, PathBuf};
@@ -157,36 +157,12 @@ pub fn run(elf: &Path, plugin: &Path) -> Result<Output, String> {
     let markers = profile::markers(elf)?;
     let dir = TempDir::new()?;
     let counts = dir.path().join("counts.txt");
-    let arg = format!(
-        "{},begin={:#x},end={:#x},out={}",
-        plugin.display(),
-        markers.begin,
-        markers.end,
-        counts.display()
-    );
-    if arg.matches(',').count() != 3 {
-        return Err(format!(
-            "qemu's -plugin cannot take a path with a comma: {arg}"
-        ));
-    }
+    let arg = profile::plugin_arg(plugin, markers, &counts)?;
     let stdout = DUAL_M33.run_in(dir.path(), elf, &["-plugin".into(), arg])?;
     let profile = std::fs::read_to_string(&counts)
         .map_err(|e| format!("the plugin wrote no counts ({}): {e}", counts.display()))?;
     parse(&stdout, &profile, dir.path())
         .map_err(|e| format!("{e}\n--- qemu stdout\n{stdout}--- plugin\n{profile}"))
-}
-
-/// The value of `key=` in a line.
-fn field<'a>(line: &'a str, key: &str) -> Result<&'a str, String> {
-    line.split_whitespace()
-        .find_map(|w| w.strip_prefix(key)?.strip_prefix('='))
-        .ok_or_else(|| format!("no {key}= in {line:?}"))
-}
-
-fn number(line: &str, key: &str) -> Result<u64, String> {
-    let v = field(line, key)?;
-    v.parse()
-        .map_err(|_| format!("{key}={v} is not a number in {line:?}"))
 }
 
 /// Reads the firmware's output `stdout`, its frame files in `dir` and the

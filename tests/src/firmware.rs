@@ -807,13 +807,14 @@ fn wait_for_qemu(mut child: Child) -> Result<ExitStatus, String> {
 }
 
 /// The value of `key=` in a result line.
-fn field<'a>(line: &'a str, key: &str) -> Result<&'a str, String> {
+pub(crate) fn field<'a>(line: &'a str, key: &str) -> Result<&'a str, String> {
     line.split_whitespace()
         .find_map(|w| w.strip_prefix(key)?.strip_prefix('='))
         .ok_or_else(|| format!("no {key}= in {line:?}"))
 }
 
-fn number(line: &str, key: &str) -> Result<u64, String> {
+/// The value of `key=` in a result line, as a number.
+pub(crate) fn number(line: &str, key: &str) -> Result<u64, String> {
     let v = field(line, key)?;
     v.parse()
         .map_err(|_| format!("{key}={v} is not a number in {line:?}"))

@@ -194,6 +194,25 @@ pub fn run_on(
 ) -> Result<(RunResult, Profile), String> {
     let dir = TempDir::new()?;
     let out = dir.path().join("profile.txt");
+    let arg = plugin_arg(plugin, markers, &out)?;
+    let output = core.run_with(elf, std::slice::from_ref(run), &["-plugin".into(), arg])?;
+    let text = std::fs::read_to_string(&out)
+        .map_err(|e| format!("the plugin wrote no profile ({}): {e}", out.display()))?;
+    let profile = Profile::parse(&text).map_err(|e| format!("{run}: {e}"))?;
+    let result = output
+        .runs
+        .into_iter()
+        .next()
+        .ok_or_else(|| format!("{run}: no result"))?;
+    Ok((result, profile))
+}
+
+/// The argument of qemu's `-plugin` for one of the repository's plugins
+/// (`tests/profiler/plugin.h`): `plugin`, the markers, and the file it writes.
+///
+/// # Errors
+/// When a path holds a comma, which qemu's option syntax cannot carry.
+pub fn plugin_arg(plugin: &Path, markers: Markers, out: &Path) -> Result<String, String> {
     let arg = format!(
         "{},begin={:#x},end={:#x},out={}",
         plugin.display(),
@@ -206,16 +225,7 @@ pub fn run_on(
             "qemu's -plugin cannot take a path with a comma: {arg}"
         ));
     }
-    let output = core.run_with(elf, std::slice::from_ref(run), &["-plugin".into(), arg])?;
-    let text = std::fs::read_to_string(&out)
-        .map_err(|e| format!("the plugin wrote no profile ({}): {e}", out.display()))?;
-    let profile = Profile::parse(&text).map_err(|e| format!("{run}: {e}"))?;
-    let result = output
-        .runs
-        .into_iter()
-        .next()
-        .ok_or_else(|| format!("{run}: no result"))?;
-    Ok((result, profile))
+    Ok(arg)
 }
 
 /// Tiles of `run`.

@@ -42,6 +42,9 @@
 #![no_std]
 #![no_main]
 
+// The other firmware image's profiling markers, shared.
+#[path = "../../firmware/src/markers.rs"]
+mod markers;
 // The host-file calls of the other firmware image, shared (this one reads no file).
 #[allow(dead_code)]
 #[path = "../../firmware/src/semihost.rs"]
@@ -353,7 +356,7 @@ fn frame(b: Builtin, cores: u32) -> Result<(), FwError> {
 /// CPUs; not inlined, so that the markers bracket the same instructions.
 #[inline(never)]
 fn work(core: u8, job: &Job, tile: &mut Tile<N>) -> Result<u32, FwError> {
-    tessera_profile_begin();
+    markers::tessera_profile_begin();
     let mut done = 0;
     let result = loop {
         let Some(coord) = QUEUE.next() else {
@@ -368,7 +371,7 @@ fn work(core: u8, job: &Job, tile: &mut Tile<N>) -> Result<u32, FwError> {
         }
         done += 1;
     };
-    tessera_profile_end();
+    markers::tessera_profile_end();
     result
 }
 
@@ -405,37 +408,6 @@ fn copy_into_frame(tile: &Tile<N>) {
                 frame.add(at + 2).write(p.b);
             }
         }
-    }
-}
-
-/// Profiling marker: called by each CPU before its tile loop; the plugin
-/// `tests/profiler/vcpu_count.c` starts counting that vCPU's instructions when its
-/// first instruction executes (the host finds it by name in the ELF). An empty
-/// `asm!`, so the call is kept; the comments differ so that the two markers are
-/// not merged into one address.
-#[inline(never)]
-#[unsafe(no_mangle)]
-pub extern "C" fn tessera_profile_begin() {
-    // SAFETY: an assembler comment, no instruction: touches no register or memory.
-    unsafe {
-        core::arch::asm!(
-            "@ tessera_profile_begin",
-            options(nomem, nostack, preserves_flags)
-        )
-    }
-}
-
-/// Profiling marker: called by each CPU after its tile loop; the plugin stops
-/// counting that vCPU's instructions when it executes.
-#[inline(never)]
-#[unsafe(no_mangle)]
-pub extern "C" fn tessera_profile_end() {
-    // SAFETY: an assembler comment, no instruction: touches no register or memory.
-    unsafe {
-        core::arch::asm!(
-            "@ tessera_profile_end",
-            options(nomem, nostack, preserves_flags)
-        )
     }
 }
 

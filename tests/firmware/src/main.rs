@@ -42,6 +42,7 @@
 mod clock;
 #[cfg_attr(target_arch = "riscv32", path = "riscv/faults.rs")]
 mod faults;
+mod markers;
 // The tick rates of the other boards are the harness's.
 #[allow(dead_code)]
 mod protocol;
@@ -255,9 +256,9 @@ fn render_tiles<const N: usize>(
         for ty in 0..down {
             for tx in 0..across {
                 let t0 = clock::now();
-                tessera_profile_begin();
+                markers::tessera_profile_begin();
                 let rendered = renderer.render_tile(view, TileCoord::new(tx, ty), tile, &mut ());
-                tessera_profile_end();
+                markers::tessera_profile_end();
                 ticks += clock::now() - t0;
                 rendered?;
                 write_tile(out, tile, run.width)?;
@@ -265,57 +266,6 @@ fn render_tiles<const N: usize>(
         }
         Ok((ticks, loop_sp))
     })?
-}
-
-/// Profiling marker: called just before each `render_tile`. It does nothing; the
-/// instruction-profiling qemu plugin (`tests/profiler/insn_profile.c`, used by
-/// `chip-profile`) starts counting when its first instruction executes. The host
-/// finds it by name in the ELF's symbol table. Its body is an empty `asm!` (no
-/// instruction: the function is a lone `bx lr`, `ret` on RISC-V), which the
-/// compiler must assume has effects, so the call is kept; the comment in it
-/// differs between the two markers so that they are not merged into one address.
-#[inline(never)]
-#[unsafe(no_mangle)]
-pub extern "C" fn tessera_profile_begin() {
-    // SAFETY: an assembler comment, no instruction: touches no register or memory.
-    #[cfg(target_arch = "arm")]
-    unsafe {
-        core::arch::asm!(
-            "@ tessera_profile_begin",
-            options(nomem, nostack, preserves_flags)
-        )
-    }
-    // SAFETY: as above.
-    #[cfg(target_arch = "riscv32")]
-    unsafe {
-        core::arch::asm!(
-            "# tessera_profile_begin",
-            options(nomem, nostack, preserves_flags)
-        )
-    }
-}
-
-/// Profiling marker: called just after each `render_tile` (see
-/// [`tessera_profile_begin`]); the plugin stops counting when it executes.
-#[inline(never)]
-#[unsafe(no_mangle)]
-pub extern "C" fn tessera_profile_end() {
-    // SAFETY: an assembler comment, no instruction: touches no register or memory.
-    #[cfg(target_arch = "arm")]
-    unsafe {
-        core::arch::asm!(
-            "@ tessera_profile_end",
-            options(nomem, nostack, preserves_flags)
-        )
-    }
-    // SAFETY: as above.
-    #[cfg(target_arch = "riscv32")]
-    unsafe {
-        core::arch::asm!(
-            "# tessera_profile_end",
-            options(nomem, nostack, preserves_flags)
-        )
-    }
 }
 
 /// Writes each row of `tile` at its place in the row-major RGB image.
