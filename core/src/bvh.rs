@@ -66,8 +66,8 @@ pub const CROSSOVER: usize = 100;
 /// [`SceneView::with_sphere_bvh`]: crate::SceneView::with_sphere_bvh
 pub const SPHERE_CROSSOVER: usize = 200;
 
-/// Node tests and searches through a BVH so far (feature `testing` only).
-#[cfg(feature = "testing")]
+/// Node tests and searches through a BVH so far (feature `visit-count` only).
+#[cfg(feature = "visit-count")]
 pub(crate) static VISITS: (
     core::sync::atomic::AtomicUsize,
     core::sync::atomic::AtomicUsize,
@@ -77,7 +77,7 @@ pub(crate) static VISITS: (
 );
 
 /// `(node tests, searches)` through BVHs since the program started (all threads).
-#[cfg(feature = "testing")]
+#[cfg(feature = "visit-count")]
 #[must_use]
 pub fn visits() -> (usize, usize) {
     use core::sync::atomic::Ordering::Relaxed;
@@ -87,7 +87,7 @@ pub fn visits() -> (usize, usize) {
 /// Adds one to a counter of [`VISITS`]. A target without read-modify-write atomics
 /// (`thumbv6m-none-eabi`, `riscv32imc-unknown-none-elf`: single-core chips) adds
 /// with a load and a store.
-#[cfg(feature = "testing")]
+#[cfg(feature = "visit-count")]
 #[inline(always)]
 pub(crate) fn count_visit(counter: &core::sync::atomic::AtomicUsize) {
     use core::sync::atomic::Ordering::Relaxed;

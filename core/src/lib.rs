@@ -116,8 +116,9 @@ pub struct ReadmeExamples;
 #[doc(hidden)]
 pub mod testing {
     /// How many BVH nodes the searches have tested so far, and how many searches
-    /// went through a BVH (the BVH's cost per ray; counted only with this feature).
-    #[cfg(feature = "bvh")]
+    /// went through a BVH (the BVH's cost per ray; counted only with the feature
+    /// `visit-count`).
+    #[cfg(feature = "visit-count")]
     pub use crate::bvh::visits;
     pub use crate::extreme::Extreme;
     pub use crate::geometry::{Candidate, Shape, Surface};

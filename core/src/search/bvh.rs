@@ -6,7 +6,7 @@
 
 use super::{Kind, MeshFace, Nearest, Skip};
 use crate::bvh::{BvhView, DEPTH};
-#[cfg(feature = "testing")]
+#[cfg(feature = "visit-count")]
 use crate::bvh::{VISITS, count_visit};
 use crate::cull::MARGIN;
 use crate::geometry::triangle::{Shear, with_axes};
@@ -52,10 +52,10 @@ fn walk(
     let mut node = 0usize;
     // A node is visited at most once: a bounded loop (which also lets the compiler
     // see that the search returns, and so treat its callers as before).
-    #[cfg(feature = "testing")]
+    #[cfg(feature = "visit-count")]
     count_visit(&VISITS.1);
     for _ in 0..bvh.nodes.len() {
-        #[cfg(feature = "testing")]
+        #[cfg(feature = "visit-count")]
         count_visit(&VISITS.0);
         if let Some(n) = bvh.nodes.get(node)
             && n.may_hit(at.origin, at.inv, at.clear, *t_max)
