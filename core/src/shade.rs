@@ -11,9 +11,9 @@
 //! rays are clipped by the far plane. Colours are linear here; the tile loops encode
 //! them for output ([`crate::Encoding`]: sRGB by default).
 //!
-//! Bounded stack: there is no recursion. A camera ray's own hit is shaded by one
-//! out-of-line call; only if that hit sends reflected or refracted rays does a
-//! second call trace them, so the two never nest. Pending rays wait on a fixed-size
+//! Bounded stack: there is no recursion. A camera ray's own hit is shaded inline
+//! in the pixel loop's call per sample; only if that hit sends reflected or
+//! refracted rays does one more call trace them. Pending rays wait on a fixed-size
 //! stack with their (grey) weight; each ray adds `weight x local colour` and pushes
 //! at most two children. Depth-first, a depth limit `D` needs at most `D + 1` slots,
 //! so the stack holds [`MAX_DEPTH`]` + 1`.
@@ -266,11 +266,11 @@ pub(crate) struct CameraRay<'a> {
 /// its pixel (`footprint`), a texture it hits is averaged exactly over the
 /// pixel's footprint (box filter) instead of evaluated at one point.
 ///
-/// Without bounces (`BOUNCES` false: the caller knows the depth is 0) the
-/// camera ray's hit ([`primary`]) is inlined here and nothing else is called.
-/// With bounces, two calls that never nest: [`primary_bouncing`] (the same
-/// [`primary`], out of line) and, only when its hit sends rays, [`bounce`]: the
-/// deepest stack is the bounce's, not the sum of both.
+/// The camera ray's hit ([`primary`]) is inlined here; with bounces (`BOUNCES`:
+/// the caller knows whether the depth is 0) [`bounce`] is called, out of line,
+/// only when that hit sends rays. (With `primary` out of line too, its stack
+/// frame and `bounce`'s would never add up: less stack in a scene with mirrors,
+/// for one more call per camera ray.)
 ///
 /// `max_depth` is the scene's depth, clamped once by the caller
 /// ([`SceneView::depth`]).
@@ -286,25 +286,11 @@ pub(crate) fn trace_with<C: Observer, const BOUNCES: bool>(
         return primary(view, &cam, 0, picks, count, &mut [None, None]);
     }
     let mut first = [None, None];
-    let mut total = primary_bouncing(view, &cam, max_depth, picks, count, &mut first);
+    let mut total = primary(view, &cam, max_depth, picks, count, &mut first);
     if first.iter().any(Option::is_some) {
         bounce(view, &first, max_depth, &mut total, count);
     }
     total
-}
-
-/// [`primary`] out of line, for the camera rays of a scene with bounces: its
-/// stack frame and [`bounce`]'s are then never on the stack together.
-#[inline(never)]
-fn primary_bouncing<C: Observer>(
-    view: &SceneView<'_>,
-    cam: &CameraRay<'_>,
-    max_depth: u8,
-    picks: &Picks<'_>,
-    count: &mut C,
-    first: &mut [Option<Pending>; 2],
-) -> Color {
-    primary(view, cam, max_depth, picks, count, first)
 }
 
 /// The camera ray's own colour; the reflected and refracted rays its hit sends
