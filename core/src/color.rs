@@ -65,7 +65,7 @@ impl Color {
     /// The colour encoded for a display: each linear component as its correctly
     /// rounded 8-bit sRGB code (IEC 61966-2-1: what monitors and TFT panels
     /// expect; [`Color::to_rgb8`] writes the linear value itself): a bucket table
-    /// and at most two comparisons a channel, 1.8 KiB of tables in flash, no
+    /// and one comparison a channel, no branch, 3 KiB of tables in flash, no
     /// `powf`.
     #[must_use]
     pub fn to_srgb8(self) -> Rgb8 {
@@ -79,8 +79,8 @@ impl Color {
 /// was made: `python3` bisection over the `f32` bit patterns of [0, 1]). For
 /// positive `f32`, the bit patterns are in the order of the values, so the code
 /// of `v` is the number of thresholds at or below its bits, which [`srgb8`] finds
-/// from [`SRGB_STARTS`] and at most two comparisons (1 KiB for the thresholds,
-/// 832 bytes for the buckets, no `powf`).
+/// from the buckets of [`SRGB`] and one comparison (2 KiB for the buckets, 1 KiB
+/// for the thresholds, no `powf`).
 const SRGB_THRESHOLDS: [u32; 255] = [
     0x391f22b4, 0x39eeb40e, 0x3a46eb61, 0x3a8b3e5e, 0x3ab3070b, 0x3adacfb8, 0x3b014c33, 0x3b153089,
     0x3b2914df, 0x3b3cf936, 0x3b50f2d1, 0x3b65fb9b, 0x3b7c3403, 0x3b89d060, 0x3b962333, 0x3ba314bd,
@@ -177,93 +177,94 @@ impl core::str::FromStr for Encoding {
     }
 }
 
-/// The buckets of [`SRGB_STARTS`]: the bit patterns from `SRGB_LO` (2^-13, below
-/// the first threshold, 1.5e-4) to 1.0 cut into runs of `2^SRGB_SHIFT` patterns
-/// (64 per octave); every value below `SRGB_LO` falls in the first.
-const SRGB_LO: u32 = 0x3900_0000;
-const SRGB_SHIFT: u32 = 17;
+/// The buckets of [`SRGB`]: the bit patterns from `SRGB_LO` (2^-13, below the
+/// first threshold, 1.5e-4) up cut into runs of `2^SRGB_SHIFT` patterns (128 per
+/// octave), `SRGB_BUCKETS` of them: a power of two, so that one `usat` clamps
+/// the index and the table needs no bounds check. Every pattern below `SRGB_LO`
+/// as an `i32` (negative values, -0, negative NaNs, +0 and the smallest positive
+/// values) falls in the first bucket, every one from `0x40ff_0000` (7.97) up
+/// (infinity and the positive NaNs too) in the last.
+const SRGB_LO: i32 = 0x3900_0000;
+const SRGB_SHIFT: u32 = 16;
+const SRGB_BUCKETS: usize = 2048;
 const ONE_BITS: u32 = 0x3f80_0000;
-const SRGB_BUCKETS: usize = ((ONE_BITS - SRGB_LO) >> SRGB_SHIFT) as usize;
 
-/// The thresholds and a last one above every value: the comparisons of [`srgb8`]
-/// index it by a `u8` code, never out of range (the bounds check compiles away).
-static SRGB_NEXT: [u32; 256] = srgb_next();
-
-// Compile-time only, as below.
-#[allow(clippy::indexing_slicing)]
-const fn srgb_next() -> [u32; 256] {
-    let mut next = [u32::MAX; 256];
-    let mut k = 0;
-    while k < SRGB_THRESHOLDS.len() {
-        next[k] = SRGB_THRESHOLDS[k];
-        k += 1;
-    }
-    next
+/// The tables of [`srgb8`], one static so that the chip builds one address for
+/// both.
+#[repr(C)]
+struct SrgbTables {
+    /// For each bucket, the code after the one at its first bit pattern (the
+    /// number of thresholds at or below it, plus one), modulo 256: the largest
+    /// code in the bucket, since a bucket holds at most one threshold after
+    /// its start (2 KiB of flash).
+    top: [u8; SRGB_BUCKETS],
+    /// `first[k]` is the bit pattern of the smallest value of code `k`
+    /// (`SRGB_THRESHOLDS[k - 1]`), as an `i32`; `first[0]`, the top of the
+    /// buckets that start at code 255 (255 + 1, modulo 256), is the first
+    /// positive NaN pattern: below it the code is 255, from it on (the
+    /// positive NaNs) 0 (1 KiB).
+    first: [i32; 256],
 }
 
-/// The sRGB code at the start of each bucket: the number of thresholds at or below
-/// its first bit pattern (832 bytes of flash). The thresholds are at least 2^16.6
-/// patterns apart (100,925: the first values of codes 189 and 190, near 0.51), so
-/// a bucket of 2^17 holds at most two after its start: [`srgb8`] finishes with two
-/// comparisons instead of a binary search's eight (the encoding costs 42
-/// instructions a pixel on chapter-direct, docs/chip-cost.md; a binary search
-/// costs more). Made at compile time
-/// from the thresholds, which also checks the two-at-most (the build fails
-/// otherwise).
-static SRGB_STARTS: [u8; SRGB_BUCKETS] = srgb_starts();
+/// The buckets and the first values, made at compile time from the thresholds.
+/// The thresholds are at least 2^16.6 patterns apart (100,925: the first values
+/// of codes 189 and 190, near 0.51), so a bucket of 2^16 holds at most one after
+/// its start: [`srgb8`] finishes with one comparison. The build checks the
+/// one-at-most (it fails otherwise).
+static SRGB: SrgbTables = srgb_tables();
 
-// Compile-time only: an index out of range or a bucket with three thresholds
-// fails the build, never the chip.
+// Compile-time only: an index out of range or a bucket with two thresholds fails
+// the build, never the chip.
 #[allow(clippy::indexing_slicing)]
-const fn srgb_starts() -> [u8; SRGB_BUCKETS] {
-    let mut starts = [0u8; SRGB_BUCKETS];
+const fn srgb_tables() -> SrgbTables {
+    let mut first = [(f32::INFINITY.to_bits() + 1).cast_signed(); 256];
+    let mut k = 0;
+    while k < SRGB_THRESHOLDS.len() {
+        first[k + 1] = SRGB_THRESHOLDS[k].cast_signed();
+        k += 1;
+    }
+    let mut top = [0u8; SRGB_BUCKETS];
     let mut k = 0;
     let mut i = 0;
     while i < SRGB_BUCKETS {
-        let start = SRGB_LO + ((i as u32) << SRGB_SHIFT);
+        let start = SRGB_LO.cast_unsigned() + ((i as u32) << SRGB_SHIFT);
         while k < SRGB_THRESHOLDS.len() && SRGB_THRESHOLDS[k] <= start {
             k += 1;
         }
-        starts[i] = k as u8;
+        top[i] = (k as u8).wrapping_add(1);
         let end = start + (1 << SRGB_SHIFT);
         let mut after = k;
         while after < SRGB_THRESHOLDS.len() && SRGB_THRESHOLDS[after] < end {
             after += 1;
         }
-        assert!(
-            after - k <= 2,
-            "an sRGB bucket holds more than two thresholds"
-        );
+        assert!(after - k <= 1, "an sRGB bucket holds two thresholds");
         i += 1;
     }
-    starts
+    // The first bucket also holds everything below it, code 0: no threshold
+    // there. The last also holds everything above it: it starts from 1.0 up.
+    assert!(SRGB_THRESHOLDS[0] >= SRGB_LO.cast_unsigned() + (1 << SRGB_SHIFT));
+    assert!(SRGB_LO.cast_unsigned() + (((SRGB_BUCKETS - 1) as u32) << SRGB_SHIFT) >= ONE_BITS);
+    SrgbTables { top, first }
 }
 
 /// The correctly rounded 8-bit sRGB code of the linear value `v` (0 below 0 and
-/// for NaN, 255 from 1 on): the code at the start of `v`'s bucket, plus the (at
-/// most two) thresholds between that start and `v`.
+/// for NaN, 255 from 1 on): the largest code of `v`'s bucket, less one if `v` is
+/// below that code's first value. Integer operations only, no branch: on the
+/// Cortex-M4F, two saturating subtractions (`qadd`, `qsub`), a `usat` (with its
+/// shift), two loads and an add.
 #[inline]
 fn srgb8(v: f32) -> u8 {
-    // Integer tests only: the sign bit set (negative, -0, a negative NaN) or +0 is
-    // at most 0 as an `i32`; from 1.0 up the patterns are 1..inf, then NaNs.
-    let bits = v.to_bits();
-    if bits.cast_signed() <= 0 {
-        return 0;
-    }
-    if bits >= ONE_BITS {
-        return if bits > f32::INFINITY.to_bits() {
-            0
-        } else {
-            255
-        };
-    }
-    let bucket = (bits.saturating_sub(SRGB_LO) >> SRGB_SHIFT) as usize;
-    let mut code = SRGB_STARTS.get(bucket).copied().unwrap_or(255);
-    for _ in 0..2 {
-        let next = SRGB_NEXT.get(usize::from(code));
-        code += u8::from(next.is_some_and(|&t| t <= bits));
-    }
-    code
+    let bits = v.to_bits().cast_signed();
+    // Saturating: a negative pattern stays negative (the first bucket), where a
+    // wrapping difference could turn positive.
+    let offset = bits.saturating_sub(SRGB_LO) >> SRGB_SHIFT;
+    let bucket = offset.clamp(0, SRGB_BUCKETS as i32 - 1) as usize;
+    let top = SRGB.top.get(bucket).copied().unwrap_or(0);
+    let first = SRGB.first.get(usize::from(top)).copied().unwrap_or(0);
+    // The sign of the saturated difference is `bits < first` (a signed
+    // comparison, so that every negative pattern is below every first value).
+    let below = (bits.saturating_sub(first).cast_unsigned() >> 31) as u8;
+    top.wrapping_sub(below)
 }
 
 #[inline]
@@ -330,14 +331,16 @@ impl Rgb8 {
 mod tests {
     use super::*;
 
-    /// The tables' sizes the docs give: 832 bytes of buckets, 1 KiB of thresholds
-    /// (1,020 bytes), 1.8 KiB in all.
+    /// The tables' sizes the docs give: 2 KiB of buckets, 1 KiB of thresholds,
+    /// 3 KiB in all.
     #[test]
     fn srgb_tables_have_the_documented_sizes() {
-        let starts = core::mem::size_of_val(&SRGB_STARTS);
-        let thresholds = core::mem::size_of_val(&SRGB_THRESHOLDS);
-        assert_eq!((starts, thresholds), (832, 1_020));
-        assert_eq!(((starts + thresholds) * 10 + 512) / 1024, 18);
+        let top = core::mem::size_of_val(&SRGB.top);
+        let first = core::mem::size_of_val(&SRGB.first);
+        assert_eq!(
+            (top, first, core::mem::size_of_val(&SRGB)),
+            (2_048, 1_024, 3_072)
+        );
     }
 
     #[test]
@@ -395,17 +398,6 @@ mod tests {
             assert!(v < last.0 || c >= last.1);
             last = (v, c);
         }
-        // Around every bucket's start, against the binary search of the
-        // thresholds (the code by definition).
-        for i in 0..=SRGB_BUCKETS as u32 {
-            let start = i64::from(SRGB_LO + (i << SRGB_SHIFT));
-            for d in -3i64..=3 {
-                let bits = (start + d) as u32;
-                let v = f32::from_bits(bits);
-                let code = SRGB_THRESHOLDS.partition_point(|&t| t <= bits);
-                assert_eq!(usize::from(srgb8(v)), code, "{v:e}");
-            }
-        }
         assert_eq!(srgb8(0.0), 0);
         assert_eq!(srgb8(-0.0), 0);
         assert_eq!(srgb8(f32::MIN_POSITIVE / 4.0), 0);
@@ -419,6 +411,69 @@ mod tests {
         // Encoded 0.5 (between codes 127 and 128) is linear 0.21404.
         assert_eq!(Color::splat(0.2141).to_srgb8(), Rgb8::new(128, 128, 128));
         assert_eq!(Color::splat(0.214).to_srgb8(), Rgb8::new(127, 127, 127));
+    }
+
+    /// The code by definition: 0 for NaN and at or below 0, 255 from 1 on, else
+    /// the number of thresholds at or below the bit pattern (a binary search).
+    fn defined(v: f32) -> u8 {
+        let bits = v.to_bits();
+        if v.is_nan() || v <= 0.0 {
+            0
+        } else if v >= 1.0 {
+            255
+        } else {
+            SRGB_THRESHOLDS.partition_point(|&t| t <= bits) as u8
+        }
+    }
+
+    /// [`srgb8`] against the definition: at and around (+-3 patterns) every
+    /// threshold and every bucket boundary, of either sign; the special values;
+    /// every pattern of the first and last buckets' edges; and four million
+    /// patterns spread over all 2^32 and over [0, 1] by a fixed hash. (Every one
+    /// of the 2^32 patterns agrees too: checked once by hand, too slow for the
+    /// suite.)
+    #[test]
+    fn srgb8_is_the_definition_on_every_kind_of_pattern() {
+        let check = |bits: u32| {
+            for b in [bits, bits ^ 0x8000_0000] {
+                let v = f32::from_bits(b);
+                assert_eq!(srgb8(v), defined(v), "{b:#010x} ({v:e})");
+            }
+        };
+        let around = |centre: u32| {
+            for d in -3i64..=3 {
+                check((i64::from(centre) + d) as u32);
+            }
+        };
+        SRGB_THRESHOLDS.iter().copied().for_each(around);
+        for i in 0..=SRGB_BUCKETS as u32 {
+            around(SRGB_LO.cast_unsigned() + (i << SRGB_SHIFT));
+        }
+        for special in [
+            0.0f32,
+            f32::MIN_POSITIVE,
+            f32::MIN_POSITIVE / 4.0,
+            f32::from_bits(1),
+            f32::EPSILON,
+            0.5,
+            1.0,
+            8.0,
+            f32::MAX,
+            f32::INFINITY,
+            f32::NAN,
+        ] {
+            around(special.to_bits());
+        }
+        for bits in [0, 0x7f80_0001, 0x7fc0_0000, 0x7fff_ffff] {
+            around(bits);
+        }
+        let mut h = 0x2545_f491_u32;
+        for n in 0..4_000_000u32 {
+            h ^= h << 13;
+            h ^= h >> 17;
+            h ^= h << 5;
+            check(if n % 2 == 0 { h } else { h % ONE_BITS });
+        }
     }
 
     extern crate std;

@@ -629,7 +629,7 @@ impl Measured {
         let _ = writeln!(
             w,
             "Every figure above encodes the pixels in sRGB, the default (`Color::to_srgb8`: \
-         a bucket table of 832 bytes and at most two comparisons a channel, no `powf`). \
+         a bucket table of 2 KiB and one comparison a channel, no branch, no `powf`). \
          The same renders with `encoding: Encoding::Linear` (the value itself, rounded), \
          exact backend, each scene with its own settings:\n"
         );
