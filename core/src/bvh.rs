@@ -29,6 +29,7 @@
 //!   and so keeps the smallest `(t, index)`: a triangle at the current best time
 //!   replaces a later triangle, never a sphere or a plane found before.
 
+use crate::cull::MARGIN;
 use crate::error::{Error, List};
 use crate::geometry::{Sphere, Triangle};
 use crate::primitive::Primitive;
@@ -699,12 +700,135 @@ impl BvhNode {
         (a(self.min), a(self.max), self.first, self.count, self.axis)
     }
 
-    /// True unless the ray from `origin` (reciprocal direction `inv`) surely misses
-    /// the node's box grown by `clear` before `t_max` (NaN anywhere: true).
+    /// `None` when the ray `r` surely misses the node's box grown by its
+    /// clearance before `t_max`; else the time `t0 >= 0` from which the ray may be
+    /// in that box (a NaN anywhere: `Some`). See [`NodeRay`] for why it never
+    /// rejects a box the ray passes through.
     #[inline(always)]
-    pub(crate) fn may_hit(&self, origin: Vec3, inv: Vec3, clear: f32, t_max: f32) -> bool {
-        let c = Vec3::splat(clear);
-        crate::geometry::Aabb::enclosing(self.min - c, self.max + c).spans(origin, inv, t_max)
+    pub(crate) fn entry(&self, r: &NodeRay, t_max: f32) -> Option<f32> {
+        let (mut t0, mut t1) = (0.0, t_max);
+        let (near, far) = r.x.times(self.min.x, self.max.x);
+        // Comparisons with NaN are false: a NaN slab leaves the span alone.
+        if near > t0 {
+            t0 = near;
+        }
+        if far < t1 {
+            t1 = far;
+        }
+        if t0 > t1 {
+            return None;
+        }
+        let (near, far) = r.y.times(self.min.y, self.max.y);
+        if near > t0 {
+            t0 = near;
+        }
+        if far < t1 {
+            t1 = far;
+        }
+        if t0 > t1 {
+            return None;
+        }
+        let (near, far) = r.z.times(self.min.z, self.max.z);
+        if near > t0 {
+            t0 = near;
+        }
+        if far < t1 {
+            t1 = far;
+        }
+        if t0 > t1 { None } else { Some(t0) }
+    }
+}
+
+/// What a node test needs of a ray, computed once per ray: per axis, the
+/// reciprocal direction and the origin shifted by the clearance `c = MARGIN
+/// (|origin| + reach)` toward each face (module `cull` for [`MARGIN`]).
+///
+/// Why a node test never rejects a box the ray passes through (so that the walk
+/// visits every leaf whose triangles the triangle test could report, see the
+/// module doc): on an axis with bounds `[lo, hi]`, origin `o` and direction `d`,
+/// the test takes the times `(lo - fl(o + c)) fl(1/d)` and `(hi - fl(o - c))
+/// fl(1/d)`, four roundings of relative size `u = 2^-24` each. Where they are
+/// finite, each is the exact time at which the ray crosses the plane `lo - c`
+/// (`hi + c`) moved by at most `4 u (|lo| + |o| + c)` (the plane's distance from
+/// the origin carries the roundings of the shift and the difference; the
+/// reciprocal's and the product's scale the time, which is the plane moved
+/// along the ray's direction by that fraction of its distance). With `m` the
+/// largest coordinate of the triangles' bounds, `|lo|, |hi| <= m`, so the
+/// planes move by less than `4 u (m + |o| + c) < 2^-12 c`, since `c >= 2^-10
+/// (|o| + 2 m)`. So a ray that passes through the box grown by `(1 - 2^-12) c`
+/// between the times 0 and `t_max`, in exact arithmetic, passes the test: the
+/// computed entry time of each slab is at most the exact entry of the grown
+/// box's slab and the computed exit at least its exit. The clearance `c` is far
+/// beyond the triangle test's own error (about `30 u (|o| + |p|)`, module
+/// `cull`), and that bound (and so this argument) holds at every scale: all of
+/// it is relative to `|o| + m`. A zero direction component gives `1/d = +-inf`:
+/// the times are then `+-inf` of the right signs for an origin strictly
+/// inside the grown slab (the differences are nonzero there and rounding keeps
+/// their signs), and NaN (the slab ignored, the box kept) for an origin on its
+/// plane; a NaN or infinite origin or clearance makes every time NaN or
+/// infinite so that no slab rejects wrongly (NaN leaves the span alone).
+///
+/// Unlike [`crate::geometry::Aabb`]'s slab test, the exit is not widened by
+/// `1 + 2 gamma(3)`: that widening covers the rounding of the times of the
+/// box's own faces, which here lie `c` inside the tested planes.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct NodeRay {
+    x: Slab,
+    y: Slab,
+    z: Slab,
+}
+
+/// One axis of a [`NodeRay`].
+#[derive(Clone, Copy, Debug)]
+struct Slab {
+    /// The reciprocal direction.
+    inv: f32,
+    /// `o + c`: a box's time on its low face `lo - c` is `(lo - low) inv`.
+    low: f32,
+    /// `o - c`: a box's time on its high face `hi + c` is `(hi - high) inv`.
+    high: f32,
+    /// True for a negative direction (`-0` included, whose reciprocal is
+    /// `-inf`): the ray meets the high face first.
+    flipped: bool,
+}
+
+impl Slab {
+    #[inline(always)]
+    fn new(o: f32, inv: f32, c: f32) -> Self {
+        Self {
+            inv,
+            low: o + c,
+            high: o - c,
+            flipped: inv < 0.0,
+        }
+    }
+
+    /// The times `(near, far)` at which the ray crosses the grown slab of the
+    /// bounds `[lo, hi]`.
+    #[inline(always)]
+    fn times(&self, lo: f32, hi: f32) -> (f32, f32) {
+        let t_lo = (lo - self.low) * self.inv;
+        let t_hi = (hi - self.high) * self.inv;
+        if self.flipped {
+            (t_hi, t_lo)
+        } else {
+            (t_lo, t_hi)
+        }
+    }
+}
+
+impl NodeRay {
+    /// What a walk of `bvh` needs of `ray`.
+    #[inline(always)]
+    pub(crate) fn new(bvh: &BvhView<'_>, ray: &crate::ray::Ray) -> Self {
+        let inv = crate::geometry::aabb_inverse(ray.dir);
+        let o = ray.origin;
+        let c = MARGIN * (o.abs().max_element() + bvh.reach);
+        Self {
+            x: Slab::new(o.x, inv.x, c),
+            y: Slab::new(o.y, inv.y, c),
+            z: Slab::new(o.z, inv.z, c),
+        }
     }
 }
 
