@@ -31,6 +31,7 @@
 
 use crate::cull::MARGIN;
 use crate::error::{Error, List};
+use crate::geometry::triangle::Axes;
 use crate::geometry::{Sphere, Triangle};
 use crate::primitive::Primitive;
 use crate::vec::Vec3;
@@ -703,11 +704,12 @@ impl BvhNode {
     /// `None` when the ray `r` surely misses the node's box grown by its
     /// clearance before `t_max`; else the time `t0 >= 0` from which the ray may be
     /// in that box (a NaN anywhere: `Some`). See [`NodeRay`] for why it never
-    /// rejects a box the ray passes through.
+    /// rejects a box the ray passes through. `known`: the ray's side on an axis
+    /// where the caller's code knows it.
     #[inline(always)]
-    pub(crate) fn entry(&self, r: &NodeRay, t_max: f32) -> Option<f32> {
+    pub(crate) fn entry(&self, r: &NodeRay, known: Known, t_max: f32) -> Option<f32> {
         let (mut t0, mut t1) = (0.0, t_max);
-        let (near, far) = r.x.times(self.min.x, self.max.x);
+        let (near, far) = r.x.times(self.min.x, self.max.x, known.flipped(0, r.x));
         // Comparisons with NaN are false: a NaN slab leaves the span alone.
         if near > t0 {
             t0 = near;
@@ -715,20 +717,14 @@ impl BvhNode {
         if far < t1 {
             t1 = far;
         }
-        if t0 > t1 {
-            return None;
-        }
-        let (near, far) = r.y.times(self.min.y, self.max.y);
+        let (near, far) = r.y.times(self.min.y, self.max.y, known.flipped(1, r.y));
         if near > t0 {
             t0 = near;
         }
         if far < t1 {
             t1 = far;
         }
-        if t0 > t1 {
-            return None;
-        }
-        let (near, far) = r.z.times(self.min.z, self.max.z);
+        let (near, far) = r.z.times(self.min.z, self.max.z, known.flipped(2, r.z));
         if near > t0 {
             t0 = near;
         }
@@ -780,15 +776,15 @@ pub(crate) struct NodeRay {
 
 /// One axis of a [`NodeRay`].
 #[derive(Clone, Copy, Debug)]
-struct Slab {
+pub(crate) struct Slab {
     /// The reciprocal direction.
     inv: f32,
     /// `o + c`: a box's time on its low face `lo - c` is `(lo - low) inv`.
     low: f32,
     /// `o - c`: a box's time on its high face `hi + c` is `(hi - high) inv`.
     high: f32,
-    /// True for a negative direction (`-0` included, whose reciprocal is
-    /// `-inf`): the ray meets the high face first.
+    /// The sign bit of the direction (that of its reciprocal, `-0` and `-inf`
+    /// included): the ray meets the high face first.
     flipped: bool,
 }
 
@@ -799,20 +795,59 @@ impl Slab {
             inv,
             low: o + c,
             high: o - c,
-            flipped: inv < 0.0,
+            flipped: inv.is_sign_negative(),
         }
     }
 
     /// The times `(near, far)` at which the ray crosses the grown slab of the
-    /// bounds `[lo, hi]`.
+    /// bounds `[lo, hi]`, the high face first when `flipped` (this slab's, or
+    /// the same known otherwise).
     #[inline(always)]
-    fn times(&self, lo: f32, hi: f32) -> (f32, f32) {
+    fn times(&self, lo: f32, hi: f32, flipped: bool) -> (f32, f32) {
         let t_lo = (lo - self.low) * self.inv;
         let t_hi = (hi - self.high) * self.inv;
-        if self.flipped {
-            (t_hi, t_lo)
+        if flipped { (t_hi, t_lo) } else { (t_lo, t_hi) }
+    }
+}
+
+/// A ray's side on one axis where the code that tests nodes knows it when it
+/// is generated: the triangle test's ray frame (`with_axes!`) has the
+/// direction's dominant axis and its sign in its type, so a walk inlined into
+/// it need not choose the near face of that axis at run time.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Known {
+    /// The axis (0, 1, 2), or 3 for none.
+    axis: usize,
+    /// Whether the direction is negative along it.
+    flipped: bool,
+}
+
+impl Known {
+    /// Nothing known.
+    pub(crate) const NONE: Self = Self {
+        axis: 3,
+        flipped: false,
+    };
+
+    /// What the ray frame `A` knows: its z is the direction's dominant axis,
+    /// negative when the frame swaps its x and y (module `triangle`'s
+    /// `frame_axes`). A frame is taken only for a direction whose dominant
+    /// component is neither zero nor NaN, whose sign bit is then that of its
+    /// reciprocal: [`Slab`]'s `flipped`.
+    pub(crate) fn of<A: Axes>() -> Self {
+        Self {
+            axis: A::Z,
+            flipped: A::X != (A::Z + 1) % 3,
+        }
+    }
+
+    /// The side of axis `axis`: known, or the slab's.
+    #[inline(always)]
+    fn flipped(self, axis: usize, slab: Slab) -> bool {
+        if self.axis == axis {
+            self.flipped
         } else {
-            (t_lo, t_hi)
+            slab.flipped
         }
     }
 }

@@ -5,7 +5,7 @@
 //! same bytes with or without them.
 
 use super::{Kind, MeshFace, Nearest, Skip};
-use crate::bvh::{BvhView, DEPTH, NodeRay};
+use crate::bvh::{BvhView, DEPTH, Known, NodeRay};
 #[cfg(feature = "visit-count")]
 use crate::bvh::{VISITS, count_visit};
 use crate::geometry::Candidate;
@@ -29,6 +29,7 @@ use heapless::Vec;
 fn walk<const ANY: bool>(
     bvh: &BvhView<'_>,
     at: &NodeRay,
+    known: Known,
     t_max: &mut f32,
     mut leaf: impl FnMut(&[u16], &mut f32) -> bool,
 ) -> bool {
@@ -40,7 +41,7 @@ fn walk<const ANY: bool>(
     let Some(mut n) = nodes.first() else {
         return false;
     };
-    if n.entry(at, *t_max).is_none() {
+    if n.entry(at, known, *t_max).is_none() {
         return false;
     }
     // The nodes kept for later, with their entry times: at most one per level
@@ -59,7 +60,7 @@ fn walk<const ANY: bool>(
                     count_visit(&VISITS.0);
                     count_visit(&VISITS.0);
                 }
-                match (a.entry(at, *t_max), b.entry(at, *t_max)) {
+                match (a.entry(at, known, *t_max), b.entry(at, known, *t_max)) {
                     (Some(ta), Some(tb)) => {
                         // The nearer first (the first child on a tie).
                         let (near, far, t_far) = if tb < ta {
@@ -124,11 +125,24 @@ pub(super) fn visit<const FIRST: bool>(
     ray: &Ray,
     skip: usize,
     t: &mut f32,
+    test: impl FnMut(usize, f32) -> Option<Candidate>,
+) -> Option<(usize, Candidate)> {
+    visit_known::<FIRST>(bvh, ray, Known::NONE, skip, t, test)
+}
+
+/// [`visit`] where the ray's side on an axis is `known` (see [`Known`]).
+#[inline(always)]
+fn visit_known<const FIRST: bool>(
+    bvh: &BvhView<'_>,
+    ray: &Ray,
+    known: Known,
+    skip: usize,
+    t: &mut f32,
     mut test: impl FnMut(usize, f32) -> Option<Candidate>,
 ) -> Option<(usize, Candidate)> {
     let at = NodeRay::new(bvh, ray);
     let mut found: Option<(usize, Candidate)> = None;
-    walk::<FIRST>(bvh, &at, t, |entries, t| {
+    walk::<FIRST>(bvh, &at, known, t, |entries, t| {
         for &e in entries {
             let i = usize::from(e);
             if i == skip {
@@ -178,7 +192,7 @@ pub(super) fn meshes<const FIRST: bool>(
         } else {
             usize::MAX
         };
-        let found = with_axes!(shear.axes, A => visit::<FIRST>(&mesh.bvh(), ray, face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None);
+        let found = with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), ray, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None);
         if let Some((f, hit)) = found {
             best = Some(Nearest {
                 kind: Kind::Mesh,
