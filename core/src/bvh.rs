@@ -853,6 +853,21 @@ impl Known {
 }
 
 impl NodeRay {
+    /// Whether the direction is negative along `axis` (0, 1, 2), as the node
+    /// test reads it.
+    #[cfg(test)]
+    pub(crate) fn flipped(&self, axis: usize) -> bool {
+        [self.x, self.y, self.z]
+            .get(axis)
+            .is_some_and(|s| s.flipped)
+    }
+
+    /// What [`Known`] claims of `axis`, if anything.
+    #[cfg(test)]
+    pub(crate) fn known(known: Known, axis: usize) -> Option<bool> {
+        (known.axis == axis).then_some(known.flipped)
+    }
+
     /// What a walk of `bvh` needs of `ray`.
     #[inline(always)]
     pub(crate) fn new(bvh: &BvhView<'_>, ray: &crate::ray::Ray) -> Self {

@@ -206,3 +206,48 @@ pub(super) fn meshes<const FIRST: bool>(
     }
     best
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::triangle::with_axes;
+
+    /// The side a ray frame's type claims for its dominant axis is the side
+    /// the node test reads from the ray, for every frame and for directions
+    /// with zeros, negative zeros and tiny components.
+    #[test]
+    fn a_frame_knows_the_side_of_its_dominant_axis() {
+        let bvh = BvhView {
+            nodes: &[],
+            order: &[],
+            reach: 1.0,
+        };
+        let parts = [0.0, -0.0, 1e-30, -1e-30, 0.5, -0.5, 1.0, -1.0];
+        let mut frames = 0;
+        for &x in &parts {
+            for &y in &parts {
+                for &z in &parts {
+                    let ray = Ray {
+                        origin: crate::vec::Vec3::new(1.0, -2.0, 3.0),
+                        dir: crate::vec::Vec3::new(x, y, z),
+                    };
+                    let at = NodeRay::new(&bvh, &ray);
+                    let shear = Shear::new(&ray);
+                    let known = with_axes!(shear.axes, A => Some(Known::of::<A>()), None);
+                    if let Some(k) = known {
+                        frames += 1;
+                        let claims: usize = (0..3)
+                            .filter_map(|a| NodeRay::known(k, a).map(|f| (a, f)))
+                            .map(|(a, f)| {
+                                assert_eq!(f, at.flipped(a), "{ray:?}");
+                                1
+                            })
+                            .sum();
+                        assert_eq!(claims, 1);
+                    }
+                }
+            }
+        }
+        assert!(frames > 400, "{frames}");
+    }
+}
