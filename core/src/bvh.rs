@@ -702,21 +702,18 @@ impl BvhNode {
     }
 
     /// `None` when the ray `r` surely misses the node's box grown by its
-    /// clearance before `t_max`; else the time `t0 >= 0` from which the ray may be
-    /// in that box (a NaN anywhere: `Some`). See [`NodeRay`] for why it never
+    /// clearance between the times 0 and `t_max`; else a time before which the
+    /// ray is not in that box (at most `t_max`; NaN when unknown; a NaN anywhere:
+    /// `Some`). See [`NodeRay`] for why it never
     /// rejects a box the ray passes through. `known`: the ray's side on an axis
     /// where the caller's code knows it.
     #[inline(always)]
     pub(crate) fn entry(&self, r: &NodeRay, known: Known, t_max: f32) -> Option<f32> {
-        let (mut t0, mut t1) = (0.0, t_max);
-        let (near, far) = r.x.times(self.min.x, self.max.x, known.flipped(0, r.x));
-        // Comparisons with NaN are false: a NaN slab leaves the span alone.
-        if near > t0 {
-            t0 = near;
-        }
-        if far < t1 {
-            t1 = far;
-        }
+        // The span `[t0, t1]` of the three slabs, then clipped to `[0, t_max]`:
+        // the largest near time and the smallest far time. Comparisons with NaN
+        // are false: a NaN slab on y or z leaves the span alone; a NaN on x
+        // stays in `t0` (or `t1`), which then rejects nothing.
+        let (mut t0, mut t1) = r.x.times(self.min.x, self.max.x, known.flipped(0, r.x));
         let (near, far) = r.y.times(self.min.y, self.max.y, known.flipped(1, r.y));
         if near > t0 {
             t0 = near;
@@ -731,7 +728,11 @@ impl BvhNode {
         if far < t1 {
             t1 = far;
         }
-        if t0 > t1 { None } else { Some(t0) }
+        if t0 > t1 || t0 > t_max || t1 < 0.0 {
+            None
+        } else {
+            Some(t0)
+        }
     }
 }
 
