@@ -47,9 +47,11 @@ pub const LEAF: usize = 4;
 /// The cost of descending into a node's children, in triangle tests, for the
 /// surface-area heuristic: a node of at most [`LEAF`] triangles is split only when
 /// `TRAVERSAL A + n_1 A_1 + n_2 A_2 < n A` (areas `A` of the node and `A_i` of
-/// the children). 0 splits down to single triangles (2 n nodes); 1 keeps leaves
-/// of 2 to 4 where they cost no more, which saves nodes (flash on a chip).
-pub const TRAVERSAL: f32 = 1.0;
+/// the children). 0 splits down to single triangles (2 n nodes); 2 keeps leaves
+/// of 2 to 4 where a split saves less than two triangle tests: a descent tests
+/// both children's boxes, which on a chip costs about as much as two triangle
+/// tests, and fewer nodes take less flash.
+pub const TRAVERSAL: f32 = 2.0;
 /// The fewest triangles for which [`SceneView::with_bvh`] uses a BVH: below, the
 /// flat list (and the tiles' culling) costs less. Measured on the host by
 /// `cargo run -p tessera-tests --release --bin bvh-report` (an icosphere and parts
