@@ -29,7 +29,9 @@
 //!   and so keeps the smallest `(t, index)`: a triangle at the current best time
 //!   replaces a later triangle, never a sphere or a plane found before.
 
+use crate::cull::MARGIN;
 use crate::error::{Error, List};
+use crate::geometry::triangle::Axes;
 use crate::geometry::{Sphere, Triangle};
 use crate::primitive::Primitive;
 use crate::vec::Vec3;
@@ -45,9 +47,11 @@ pub const LEAF: usize = 4;
 /// The cost of descending into a node's children, in triangle tests, for the
 /// surface-area heuristic: a node of at most [`LEAF`] triangles is split only when
 /// `TRAVERSAL A + n_1 A_1 + n_2 A_2 < n A` (areas `A` of the node and `A_i` of
-/// the children). 0 splits down to single triangles (2 n nodes); 1 keeps leaves
-/// of 2 to 4 where they cost no more, which saves nodes (flash on a chip).
-pub const TRAVERSAL: f32 = 1.0;
+/// the children). 0 splits down to single triangles (2 n nodes); 2 keeps leaves
+/// of 2 to 4 where a split saves less than two triangle tests: a descent tests
+/// both children's boxes, which on a chip costs about as much as two triangle
+/// tests, and fewer nodes take less flash.
+pub const TRAVERSAL: f32 = 2.0;
 /// The fewest triangles for which [`SceneView::with_bvh`] uses a BVH: below, the
 /// flat list (and the tiles' culling) costs less. Measured on the host by
 /// `cargo run -p tessera-tests --release --bin bvh-report` (an icosphere and parts
@@ -699,12 +703,185 @@ impl BvhNode {
         (a(self.min), a(self.max), self.first, self.count, self.axis)
     }
 
-    /// True unless the ray from `origin` (reciprocal direction `inv`) surely misses
-    /// the node's box grown by `clear` before `t_max` (NaN anywhere: true).
+    /// `None` when the ray `r` surely misses the node's box grown by its
+    /// clearance between the times 0 and `t_max`; else a time before which the
+    /// ray is not in that box (at most `t_max`; NaN when unknown; a NaN anywhere:
+    /// `Some`). See [`NodeRay`] for why it never
+    /// rejects a box the ray passes through. `known`: the ray's side on an axis
+    /// where the caller's code knows it.
     #[inline(always)]
-    pub(crate) fn may_hit(&self, origin: Vec3, inv: Vec3, clear: f32, t_max: f32) -> bool {
-        let c = Vec3::splat(clear);
-        crate::geometry::Aabb::enclosing(self.min - c, self.max + c).spans(origin, inv, t_max)
+    pub(crate) fn entry(&self, r: &NodeRay, known: Known, t_max: f32) -> Option<f32> {
+        // The span `[t0, t1]` of the three slabs, then clipped to `[0, t_max]`:
+        // the largest near time and the smallest far time. Comparisons with NaN
+        // are false: a NaN slab on y or z leaves the span alone; a NaN on x
+        // stays in `t0` (or `t1`), which then rejects nothing.
+        let (mut t0, mut t1) = r.x.times(self.min.x, self.max.x, known.flipped(0, r.x));
+        let (near, far) = r.y.times(self.min.y, self.max.y, known.flipped(1, r.y));
+        if near > t0 {
+            t0 = near;
+        }
+        if far < t1 {
+            t1 = far;
+        }
+        let (near, far) = r.z.times(self.min.z, self.max.z, known.flipped(2, r.z));
+        if near > t0 {
+            t0 = near;
+        }
+        if far < t1 {
+            t1 = far;
+        }
+        if t0 > t1 || t0 > t_max || t1 < 0.0 {
+            None
+        } else {
+            Some(t0)
+        }
+    }
+}
+
+/// What a node test needs of a ray, computed once per ray: per axis, the
+/// reciprocal direction and the origin shifted by the clearance `c = MARGIN
+/// (|origin| + reach)` toward each face (module `cull` for [`MARGIN`]).
+///
+/// Why a node test never rejects a box the ray passes through (so that the walk
+/// visits every leaf whose triangles the triangle test could report, see the
+/// module doc): on an axis with bounds `[lo, hi]`, origin `o` and direction `d`,
+/// the test takes the times `(lo - fl(o + c)) fl(1/d)` and `(hi - fl(o - c))
+/// fl(1/d)`, four roundings of relative size `u = 2^-24` each. Where they are
+/// finite, each is the exact time at which the ray crosses the plane `lo - c`
+/// (`hi + c`) moved by at most `4 u (|lo| + |o| + c)` (the plane's distance from
+/// the origin carries the roundings of the shift and the difference; the
+/// reciprocal's and the product's scale the time, which is the plane moved
+/// along the ray's direction by that fraction of its distance). With `m` the
+/// largest coordinate of the triangles' bounds, `|lo|, |hi| <= m`, so the
+/// planes move by less than `4 u (m + |o| + c) < 2^-12 c`, since `c >= 2^-10
+/// (|o| + 2 m)`. So a ray that passes through the box grown by `(1 - 2^-12) c`
+/// between the times 0 and `t_max`, in exact arithmetic, passes the test: the
+/// computed entry time of each slab is at most the exact entry of the grown
+/// box's slab and the computed exit at least its exit. The clearance `c` is far
+/// beyond the triangle test's own error (about `30 u (|o| + |p|)`, module
+/// `cull`), and that bound (and so this argument) holds at every scale: all of
+/// it is relative to `|o| + m`. A zero direction component gives `1/d = +-inf`:
+/// the times are then `+-inf` of the right signs for an origin strictly
+/// inside the grown slab (the differences are nonzero there and rounding keeps
+/// their signs), and NaN (the slab ignored, the box kept) for an origin on its
+/// plane; a NaN or infinite origin or clearance makes every time NaN or
+/// infinite so that no slab rejects wrongly (NaN leaves the span alone).
+///
+/// Unlike [`crate::geometry::Aabb`]'s slab test, the exit is not widened by
+/// `1 + 2 gamma(3)`: that widening covers the rounding of the times of the
+/// box's own faces, which here lie `c` inside the tested planes.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct NodeRay {
+    x: Slab,
+    y: Slab,
+    z: Slab,
+}
+
+/// One axis of a [`NodeRay`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Slab {
+    /// The reciprocal direction.
+    inv: f32,
+    /// `o + c`: a box's time on its low face `lo - c` is `(lo - low) inv`.
+    low: f32,
+    /// `o - c`: a box's time on its high face `hi + c` is `(hi - high) inv`.
+    high: f32,
+    /// The sign bit of the direction (that of its reciprocal, `-0` and `-inf`
+    /// included): the ray meets the high face first.
+    flipped: bool,
+}
+
+impl Slab {
+    #[inline(always)]
+    fn new(o: f32, inv: f32, c: f32) -> Self {
+        Self {
+            inv,
+            low: o + c,
+            high: o - c,
+            flipped: inv.is_sign_negative(),
+        }
+    }
+
+    /// The times `(near, far)` at which the ray crosses the grown slab of the
+    /// bounds `[lo, hi]`, the high face first when `flipped` (this slab's, or
+    /// the same known otherwise).
+    #[inline(always)]
+    fn times(&self, lo: f32, hi: f32, flipped: bool) -> (f32, f32) {
+        let t_lo = (lo - self.low) * self.inv;
+        let t_hi = (hi - self.high) * self.inv;
+        if flipped { (t_hi, t_lo) } else { (t_lo, t_hi) }
+    }
+}
+
+/// A ray's side on one axis where the code that tests nodes knows it when it
+/// is generated: the triangle test's ray frame (`with_axes!`) has the
+/// direction's dominant axis and its sign in its type, so a walk inlined into
+/// it need not choose the near face of that axis at run time.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Known {
+    /// The axis (0, 1, 2), or 3 for none.
+    axis: usize,
+    /// Whether the direction is negative along it.
+    flipped: bool,
+}
+
+impl Known {
+    /// Nothing known.
+    pub(crate) const NONE: Self = Self {
+        axis: 3,
+        flipped: false,
+    };
+
+    /// What the ray frame `A` knows: its z is the direction's dominant axis,
+    /// negative when the frame swaps its x and y (module `triangle`'s
+    /// `frame_axes`). A frame is taken only for a direction whose dominant
+    /// component is neither zero nor NaN, whose sign bit is then that of its
+    /// reciprocal: [`Slab`]'s `flipped`.
+    pub(crate) fn of<A: Axes>() -> Self {
+        Self {
+            axis: A::Z,
+            flipped: A::X != (A::Z + 1) % 3,
+        }
+    }
+
+    /// The side of axis `axis`: known, or the slab's.
+    #[inline(always)]
+    fn flipped(self, axis: usize, slab: Slab) -> bool {
+        if self.axis == axis {
+            self.flipped
+        } else {
+            slab.flipped
+        }
+    }
+}
+
+impl NodeRay {
+    /// Whether the direction is negative along `axis` (0, 1, 2), as the node
+    /// test reads it.
+    #[cfg(test)]
+    pub(crate) fn flipped(&self, axis: usize) -> bool {
+        [self.x, self.y, self.z]
+            .get(axis)
+            .is_some_and(|s| s.flipped)
+    }
+
+    /// What [`Known`] claims of `axis`, if anything.
+    #[cfg(test)]
+    pub(crate) fn known(known: Known, axis: usize) -> Option<bool> {
+        (known.axis == axis).then_some(known.flipped)
+    }
+
+    /// What a walk of `bvh` needs of `ray`.
+    #[inline(always)]
+    pub(crate) fn new(bvh: &BvhView<'_>, ray: &crate::ray::Ray) -> Self {
+        let inv = crate::geometry::aabb_inverse(ray.dir);
+        let o = ray.origin;
+        let c = MARGIN * (o.abs().max_element() + bvh.reach);
+        Self {
+            x: Slab::new(o.x, inv.x, c),
+            y: Slab::new(o.y, inv.y, c),
+            z: Slab::new(o.z, inv.z, c),
+        }
     }
 }
 

@@ -113,20 +113,33 @@ impl Shear {
     #[inline]
     pub(crate) fn new(ray: &Ray) -> Self {
         // The ray frame: z is the direction's dominant axis, so the shear is bounded.
-        let kz = ray.dir.max_dimension();
-        let neg = ray.dir.get(kz) < 0.0;
-        let (kx, ky) = frame_axes(kz, neg);
-        let d = ray.dir.permute(kx, ky, kz);
+        let (dir, o) = (ray.dir, ray.origin);
+        let kz = dir.max_dimension();
+        let neg = dir.get(kz) < 0.0;
         // The arm of `with_axes!` for (kz, neg).
-        let axes = (2 * kz + usize::from(neg)) as u8;
+        let axes = 2 * kz + usize::from(neg);
+        // `(v[kx], v[ky], v[kz])` with `(kx, ky) = frame_axes(kz, neg)`, both
+        // vectors at once, in the order of the arms of `with_axes!`.
+        let (d, origin) = match axes {
+            0 => (Vec3::new(dir.y, dir.z, dir.x), Vec3::new(o.y, o.z, o.x)),
+            1 => (Vec3::new(dir.z, dir.y, dir.x), Vec3::new(o.z, o.y, o.x)),
+            2 => (Vec3::new(dir.z, dir.x, dir.y), Vec3::new(o.z, o.x, o.y)),
+            3 => (Vec3::new(dir.x, dir.z, dir.y), Vec3::new(o.x, o.z, o.y)),
+            4 => (dir, o),
+            _ => (Vec3::new(dir.y, dir.x, dir.z), Vec3::new(o.y, o.x, o.z)),
+        };
         let (sx, sy, sz) = (d.x / d.z, d.y / d.z, 1.0 / d.z);
         Self {
             // A zero (or NaN) direction has no frame.
-            axes: if d.z == 0.0 || d.z.is_nan() { 6 } else { axes },
+            axes: if d.z == 0.0 || d.z.is_nan() {
+                6
+            } else {
+                axes as u8
+            },
             sx,
             sy,
             sz,
-            origin: ray.origin.permute(kx, ky, kz),
+            origin,
         }
     }
 }
@@ -499,6 +512,24 @@ impl Shape for Triangle {
 mod tests {
     use super::*;
     use crate::geometry::test_rand as rand;
+
+    /// The ray frame's vectors are the components `(kx, ky, kz)` of
+    /// [`frame_axes`], for every dominant axis and sign.
+    #[test]
+    fn shear_permutes_as_frame_axes() {
+        for kz in 0..3 {
+            for neg in [false, true] {
+                let dir = Vec3::new(0.25, 0.5, 0.125).with(kz, if neg { -0.75 } else { 0.75 });
+                let origin = Vec3::new(1.0, 2.0, 3.0);
+                let s = Shear::new(&Ray { origin, dir });
+                let (kx, ky) = frame_axes(kz, neg);
+                let d = dir.permute(kx, ky, kz);
+                assert_eq!(usize::from(s.axes), 2 * kz + usize::from(neg));
+                assert_eq!(s.origin, origin.permute(kx, ky, kz));
+                assert_eq!((s.sx, s.sy, s.sz), (d.x / d.z, d.y / d.z, 1.0 / d.z));
+            }
+        }
+    }
 
     const INF: f32 = f32::INFINITY;
     const FAR: Vec3 = Vec3::new(148_376.0, 1234.0, -223_423.0);

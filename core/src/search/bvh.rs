@@ -5,89 +5,85 @@
 //! same bytes with or without them.
 
 use super::{Kind, MeshFace, Nearest, Skip};
-use crate::bvh::{BvhView, DEPTH};
+use crate::bvh::{BvhView, DEPTH, Known, NodeRay};
 #[cfg(feature = "visit-count")]
 use crate::bvh::{VISITS, count_visit};
-use crate::cull::MARGIN;
+use crate::geometry::Candidate;
 use crate::geometry::triangle::{Shear, with_axes};
-use crate::geometry::{Candidate, aabb_inverse};
 use crate::mesh::Mesh;
 use crate::ray::Ray;
-use crate::vec::Vec3;
 #[cfg(doc)]
 use crate::view::SceneView;
-
-/// What the BVH traversal needs of a ray: its origin, its reciprocal direction and
-/// the clearance its nodes are grown by (see the module `bvh`).
-struct NodeRay {
-    origin: Vec3,
-    inv: Vec3,
-    clear: f32,
-}
-
-impl NodeRay {
-    /// What the walk of `bvh` needs of `ray`.
-    fn new(bvh: &BvhView<'_>, ray: &Ray) -> Self {
-        Self {
-            origin: ray.origin,
-            inv: aabb_inverse(ray.dir),
-            clear: MARGIN * (ray.origin.abs().max_element() + bvh.reach),
-        }
-    }
-}
+use heapless::Vec;
 
 /// Calls `leaf(entries, t_max)` for the triangles (entries of `bvh.order`) of
 /// every leaf whose grown box the ray may pass through before `*t_max` (which
-/// `leaf` may narrow: a nearest-hit search), nearer child first; stops when
-/// `leaf` returns true and returns it.
+/// `leaf` may narrow: a nearest-hit search); stops when `leaf` returns true and
+/// returns it. An inner node tests both children before descending: into the
+/// one the ray enters first, the other kept with its entry time. With `ANY`
+/// (`*t_max` stays as it is) a kept node is visited when its turn comes; without,
+/// only if its entry time is still within `*t_max`, which is exactly what its
+/// test would now answer (its exits were at least that entry time, so only
+/// `t_max` can have moved below it).
 #[inline(always)]
-fn walk(
+fn walk<const ANY: bool>(
     bvh: &BvhView<'_>,
     at: &NodeRay,
+    known: Known,
     t_max: &mut f32,
     mut leaf: impl FnMut(&[u16], &mut f32) -> bool,
 ) -> bool {
-    let mut stack = [0u16; DEPTH];
-    let mut top = 0;
-    let mut node = 0usize;
-    // A node is visited at most once: a bounded loop (which also lets the compiler
-    // see that the search returns, and so treat its callers as before).
+    let nodes = bvh.nodes;
     #[cfg(feature = "visit-count")]
     count_visit(&VISITS.1);
-    for _ in 0..bvh.nodes.len() {
-        #[cfg(feature = "visit-count")]
-        count_visit(&VISITS.0);
-        if let Some(n) = bvh.nodes.get(node)
-            && n.may_hit(at.origin, at.inv, at.clear, *t_max)
-        {
-            if n.count == 0 {
-                let first = n.first;
-                // The child on the side the ray comes from first (a negative
-                // direction has a negative reciprocal, -0 included).
-                let positive = match n.axis {
-                    0 => at.inv.x >= 0.0,
-                    1 => at.inv.y >= 0.0,
-                    _ => at.inv.z >= 0.0,
-                };
-                let (near, far) = if positive {
-                    (first, first.wrapping_add(1))
-                } else {
-                    (first.wrapping_add(1), first)
-                };
-                // The stack holds at most one far child per level above the
-                // current node, and the build keeps every node above depth
-                // `DEPTH`: it never fills. (If it did, only the far child would be
-                // searched: never reached, the arm only keeps the walk total.)
-                match stack.get_mut(top) {
-                    Some(slot) => {
-                        *slot = far;
-                        top += 1;
-                        node = usize::from(near);
-                    }
-                    None => node = usize::from(far),
+    #[cfg(feature = "visit-count")]
+    count_visit(&VISITS.0);
+    let Some(mut n) = nodes.first() else {
+        return false;
+    };
+    if n.entry(at, known, *t_max).is_none() {
+        return false;
+    }
+    // The nodes kept for later, with their entry times: at most one per level
+    // above the current node, and the build keeps every node above depth
+    // `DEPTH`, so it never fills (if it did, the node would only be dropped: never
+    // reached, the arm only keeps the walk total). Not zeroed: a `Vec`.
+    let mut stack: Vec<(u16, f32), DEPTH> = Vec::new();
+    // A node is visited at most once: a bounded loop (which also lets the compiler
+    // see that the search returns, and so treat its callers as before).
+    for _ in 0..nodes.len() {
+        if n.count == 0 {
+            let first = usize::from(n.first);
+            if let Some([a, b]) = nodes.get(first..first + 2) {
+                #[cfg(feature = "visit-count")]
+                {
+                    count_visit(&VISITS.0);
+                    count_visit(&VISITS.0);
                 }
-                continue;
+                match (a.entry(at, known, *t_max), b.entry(at, known, *t_max)) {
+                    (Some(ta), Some(tb)) => {
+                        // The nearer first (the first child on a tie).
+                        let (near, far, t_far) = if tb < ta {
+                            (b, n.first, ta)
+                        } else {
+                            (a, n.first.wrapping_add(1), tb)
+                        };
+                        let _ = stack.push((far, t_far));
+                        n = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        n = a;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        n = b;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
             }
+        } else {
             let start = usize::from(n.first);
             let entries = bvh
                 .order
@@ -97,11 +93,22 @@ fn walk(
                 return true;
             }
         }
-        if top == 0 {
-            return false;
+        // The next kept node still worth visiting.
+        loop {
+            let Some((i, t)) = stack.pop() else {
+                return false;
+            };
+            if !ANY && t > *t_max {
+                continue;
+            }
+            match nodes.get(usize::from(i)) {
+                Some(next) => {
+                    n = next;
+                    break;
+                }
+                None => return false,
+            }
         }
-        top -= 1;
-        node = stack.get(top).map_or(usize::MAX, |&n| usize::from(n));
     }
     false
 }
@@ -118,11 +125,24 @@ pub(super) fn visit<const FIRST: bool>(
     ray: &Ray,
     skip: usize,
     t: &mut f32,
+    test: impl FnMut(usize, f32) -> Option<Candidate>,
+) -> Option<(usize, Candidate)> {
+    visit_known::<FIRST>(bvh, ray, Known::NONE, skip, t, test)
+}
+
+/// [`visit`] where the ray's side on an axis is `known` (see [`Known`]).
+#[inline(always)]
+fn visit_known<const FIRST: bool>(
+    bvh: &BvhView<'_>,
+    ray: &Ray,
+    known: Known,
+    skip: usize,
+    t: &mut f32,
     mut test: impl FnMut(usize, f32) -> Option<Candidate>,
 ) -> Option<(usize, Candidate)> {
     let at = NodeRay::new(bvh, ray);
     let mut found: Option<(usize, Candidate)> = None;
-    walk(bvh, &at, t, |entries, t| {
+    walk::<FIRST>(bvh, &at, known, t, |entries, t| {
         for &e in entries {
             let i = usize::from(e);
             if i == skip {
@@ -172,7 +192,7 @@ pub(super) fn meshes<const FIRST: bool>(
         } else {
             usize::MAX
         };
-        let found = with_axes!(shear.axes, A => visit::<FIRST>(&mesh.bvh(), ray, face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None);
+        let found = with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), ray, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None);
         if let Some((f, hit)) = found {
             best = Some(Nearest {
                 kind: Kind::Mesh,
@@ -185,4 +205,49 @@ pub(super) fn meshes<const FIRST: bool>(
         }
     }
     best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::triangle::with_axes;
+
+    /// The side a ray frame's type claims for its dominant axis is the side
+    /// the node test reads from the ray, for every frame and for directions
+    /// with zeros, negative zeros and tiny components.
+    #[test]
+    fn a_frame_knows_the_side_of_its_dominant_axis() {
+        let bvh = BvhView {
+            nodes: &[],
+            order: &[],
+            reach: 1.0,
+        };
+        let parts = [0.0, -0.0, 1e-30, -1e-30, 0.5, -0.5, 1.0, -1.0];
+        let mut frames = 0;
+        for &x in &parts {
+            for &y in &parts {
+                for &z in &parts {
+                    let ray = Ray {
+                        origin: crate::vec::Vec3::new(1.0, -2.0, 3.0),
+                        dir: crate::vec::Vec3::new(x, y, z),
+                    };
+                    let at = NodeRay::new(&bvh, &ray);
+                    let shear = Shear::new(&ray);
+                    let known = with_axes!(shear.axes, A => Some(Known::of::<A>()), None);
+                    if let Some(k) = known {
+                        frames += 1;
+                        let claims: usize = (0..3)
+                            .filter_map(|a| NodeRay::known(k, a).map(|f| (a, f)))
+                            .map(|(a, f)| {
+                                assert_eq!(f, at.flipped(a), "{ray:?}");
+                                1
+                            })
+                            .sum();
+                        assert_eq!(claims, 1);
+                    }
+                }
+            }
+        }
+        assert!(frames > 400, "{frames}");
+    }
 }
