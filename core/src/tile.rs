@@ -14,8 +14,8 @@
 //! (3 bytes a pixel plus 8 bytes of coordinates; a unit test checks these sizes
 //! and `tests/tests/docs.rs` checks them against `docs/chip-cost.md`.) The
 //! renderer's stack does not depend on `N`: measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md`), `render_tile` needs 1,056 to 2,008 bytes (1.0
-//! to 2.0 KiB) below its caller, the tile's culling lists (the primitives that may
+//! painting; `docs/chip-cost.md`), `render_tile` needs 1,056 to 2,280 bytes (1.0
+//! to 2.2 KiB) below its caller, the tile's culling lists (the primitives that may
 //! reach the tile, module `cull`) and the shader's pending-ray stack
 //! (`MAX_DEPTH + 1` rays) included.
 

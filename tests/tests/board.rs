@@ -33,7 +33,7 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
     );
     assert!(s.flash() <= flash && s.ram() <= ram, "{s:?}");
     // It renders the teapot from flash: the baked mesh and BVH are in .rodata.
-    assert!(s.rodata >= 58_624, "{s:?}");
+    assert!(s.rodata >= 46_080, "{s:?}");
 
     let readme = std::fs::read_to_string(dir.join("README.md")).unwrap();
     let mut wrong = Vec::new();
