@@ -49,11 +49,15 @@ mod markers;
 #[allow(dead_code)]
 #[path = "../../firmware/src/semihost.rs"]
 mod semihost;
+// CPU 0's fault and panic handlers: the firmware test image's (CPU 1 has its own,
+// `core1_fault`).
+#[path = "../../firmware/src/faults.rs"]
+mod faults;
 
 use core::cell::UnsafeCell;
 use core::fmt::{self, Write as _};
 use core::sync::atomic::{AtomicU8, AtomicU32, Ordering};
-use cortex_m_rt::{ExceptionFrame, entry, exception};
+use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
 use semihost::{HostFile, IoError};
@@ -571,30 +575,5 @@ impl fmt::Write for Name {
         dst.copy_from_slice(s.as_bytes());
         self.len = end;
         Ok(())
-    }
-}
-
-#[exception]
-unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
-    hprintln!("hard fault: on CPU 0: {:?}", frame);
-    debug::exit(EXIT_FAILURE);
-    loop {
-        cortex_m::asm::bkpt();
-    }
-}
-
-#[exception]
-unsafe fn DefaultHandler(irq: i16) {
-    hprintln!("hard fault: unexpected exception {} on CPU 0", irq);
-    debug::exit(EXIT_FAILURE);
-}
-
-#[panic_handler]
-fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
-    cortex_m::interrupt::disable();
-    hprintln!("panic: {}", info);
-    debug::exit(EXIT_FAILURE);
-    loop {
-        cortex_m::asm::bkpt();
     }
 }

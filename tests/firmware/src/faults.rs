@@ -1,6 +1,7 @@
-//! The fault and panic handlers of the firmware images (`tessera-fw` and
-//! `tessera-teapot` include this file): each reports over semihosting and exits
-//! qemu with a failure, which the host-side harness turns into an error.
+//! The fault and panic handlers of the firmware images (`tessera-fw`,
+//! `tessera-teapot`, `tessera-sqrt` and, for its CPU 0, `tests/dualcore` include
+//! this file): each reports over semihosting (a `hard fault` or `panic` line) and
+//! exits qemu with a failure, which the host-side harness turns into an error.
 
 use cortex_m_rt::{ExceptionFrame, exception};
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE};
@@ -17,7 +18,7 @@ unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
 
 #[exception]
 unsafe fn DefaultHandler(irq: i16) {
-    hprintln!("unexpected exception {}", irq);
+    hprintln!("hard fault: unexpected exception {}", irq);
     debug::exit(EXIT_FAILURE);
 }
 
