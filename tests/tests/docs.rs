@@ -1089,8 +1089,8 @@ fn a_wrong_figure_fails() {
         ),
         (
             "docs/firmware.md",
-            "384,616 bytes (375.6 KiB",
-            "384,616 bytes (50.2 KiB",
+            "384,632 bytes (375.6 KiB",
+            "384,632 bytes (50.2 KiB",
             "50.2",
         ),
         ("docs/firmware.md", "(1.53 to 1.90", "(1.75 to 1.90", "1.75"),
