@@ -2,8 +2,8 @@
 //! what it can hit".
 //!
 //! Built without allocation into storage the caller owns ([`Bvh`], capacities `N`
-//! nodes and `T` triangles), by binned surface-area heuristic ([`BINS`] bins on the
-//! axis where the triangles' centroids spread most; a node of at most [`LEAF`]
+//! nodes and `T` triangles), by binned surface-area heuristic ([`BINS`] bins of the
+//! triangles' centroids on each axis, the cheapest split kept; a node of at most [`LEAF`]
 //! triangles stays a leaf when splitting does not pay), to a depth of at most
 //! [`DEPTH`], so that a traversal needs a stack of [`DEPTH`] node indices. A node is
 //! 32 bytes: its triangles' exact bounds, and either the index of its first child
@@ -238,6 +238,15 @@ pub(crate) fn list_bounds<G: Bounded>(list: &[Primitive<G>]) -> (Vec3, Vec3) {
         .fold(EMPTY, |b, t| union(b, bounds(&t.geometry)))
 }
 
+/// The bin of `t`'s centroid on `axis`, bins of width `1 / scale` from `lo`.
+fn bin_of<G: Bounded>(t: &G, axis: usize, lo: f32, scale: f32) -> usize {
+    let (b0, b1) = bounds(t);
+    let c = along((b0 + b1) * 0.5, axis);
+    // Truncation of a non-negative finite value (NaN would give 0).
+    let k = ((c - lo) * scale) as usize;
+    k.min(BINS - 1)
+}
+
 /// Component `axis` of `v`.
 fn along(v: Vec3, axis: usize) -> f32 {
     match axis {
@@ -414,23 +423,60 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
         };
         let (cmin, cmax) = self.range_bounds(triangles, start, end, centroid);
         let spread = cmax - cmin;
-        let axis = spread.max_dimension();
+        // The cheapest split over the three axes (an axis whose centroids do not
+        // spread has none).
+        let mut best: Option<(usize, usize, f32)> = None;
+        for axis in 0..3 {
+            if let Some((s, cost)) = self.best_on(triangles, start, end, axis, cmin, spread)
+                && best.is_none_or(|(_, _, c)| cost < c)
+            {
+                best = Some((axis, s, cost));
+            }
+        }
+        let (axis, s, cost) = best?;
+        let (lo, extent) = (along(cmin, axis), along(spread, axis));
+        let scale = BINS as f32 / extent;
+        let bin = |t: &G| bin_of(t, axis, lo, scale);
+        let area = half_area((node.min, node.max));
+        if count <= LEAF && cost + TRAVERSAL * area >= count as f32 * area {
+            return None;
+        }
+        // Partition: the triangles of bins below `s` first.
+        let order = self.order.get_mut(start..end)?;
+        let (mut i, mut j) = (0, order.len());
+        while i < j {
+            let t = &triangles.get(usize::from(*order.get(i)?))?.geometry;
+            if bin(t) < s {
+                i += 1;
+            } else {
+                j -= 1;
+                order.swap(i, j);
+            }
+        }
+        (i > 0 && i < count).then_some((axis, start + i))
+    }
+
+    /// The cheapest binned split of `order[start..end]` on `axis` (centroids from
+    /// `cmin`, spreading `spread`): the first bin of the second child and the cost
+    /// of the split, `None` when the centroids do not spread on that axis.
+    fn best_on<G: Bounded>(
+        &self,
+        triangles: &[Primitive<G>],
+        start: usize,
+        end: usize,
+        axis: usize,
+        cmin: Vec3,
+        spread: Vec3,
+    ) -> Option<(usize, f32)> {
         let (lo, extent) = (along(cmin, axis), along(spread, axis));
         if !(extent > 0.0 && extent.is_finite()) {
             return None;
         }
         let scale = BINS as f32 / extent;
-        let bin = |t: &G| {
-            let (b0, b1) = bounds(t);
-            let c = along((b0 + b1) * 0.5, axis);
-            // Truncation of a non-negative finite value (NaN would give 0).
-            let k = ((c - lo) * scale) as usize;
-            k.min(BINS - 1)
-        };
         let mut bins = [(0usize, EMPTY); BINS];
         for &i in self.order.get(start..end)? {
             let t = &triangles.get(usize::from(i))?.geometry;
-            if let Some(b) = bins.get_mut(bin(t)) {
+            if let Some(b) = bins.get_mut(bin_of(t, axis, lo, scale)) {
                 b.0 += 1;
                 b.1 = union(b.1, bounds(t));
             }
@@ -456,24 +502,7 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
                 best = Some((s + 1, cost));
             }
         }
-        let (s, cost) = best?;
-        let area = half_area((node.min, node.max));
-        if count <= LEAF && cost + TRAVERSAL * area >= count as f32 * area {
-            return None;
-        }
-        // Partition: the triangles of bins below `s` first.
-        let order = self.order.get_mut(start..end)?;
-        let (mut i, mut j) = (0, order.len());
-        while i < j {
-            let t = &triangles.get(usize::from(*order.get(i)?))?.geometry;
-            if bin(t) < s {
-                i += 1;
-            } else {
-                j -= 1;
-                order.swap(i, j);
-            }
-        }
-        (i > 0 && i < count).then_some((axis, start + i))
+        best
     }
 
     /// The nodes (the root first), for the view and the tests.
