@@ -1114,13 +1114,13 @@ fn a_wrong_figure_fails() {
         ),
         (
             "docs/bvh.md",
-            "estimated 1.53 cycles",
+            "estimated 1.54 cycles",
             "estimated 1.74 cycles",
             "1.74",
         ),
         (
             "docs/bvh.md",
-            "costs 3,172 instructions",
+            "costs 3,033 instructions",
             "costs 4,334 instructions",
             "4,334",
         ),
