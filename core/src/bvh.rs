@@ -981,6 +981,40 @@ mod tests {
         assert!(bvh.node_count() < 2 * 400);
     }
 
+    /// The build splits on the axis whose split is cheapest, not on the one
+    /// where the centroids spread most: two rows of small triangles 0.5 apart
+    /// in y, each 8 long in x, split into the two rows (children whose boxes do
+    /// not meet), where a split across x would give two boxes each spanning
+    /// both rows (a surface-area cost about twice as large).
+    #[test]
+    fn the_split_takes_the_cheapest_axis() {
+        let mut tris = std::vec::Vec::new();
+        for row in [0.0f32, 0.5] {
+            for i in 0..32 {
+                let x = i as f32 * 0.25;
+                tris.push(tri(
+                    [x, row, 0.0],
+                    [x + 0.2, row, 0.0],
+                    [x, row + 0.05, 0.1],
+                ));
+            }
+        }
+        let mut bvh: Bvh<256, 64> = Bvh::new();
+        bvh.build(&tris).unwrap();
+        let v = bvh.view();
+        let root = v.nodes[0];
+        assert_eq!((root.count, root.axis), (0, 1), "{root:?}");
+        let (a, b) = (
+            v.nodes[usize::from(root.first)],
+            v.nodes[usize::from(root.first) + 1],
+        );
+        let (low, high) = if a.min.y < b.min.y { (a, b) } else { (b, a) };
+        assert!(low.max.y < high.min.y, "{low:?} {high:?}");
+        // Each child holds one whole row.
+        assert_eq!((low.min.y, low.max.y), (0.0, 0.05));
+        assert_eq!((high.min.y, high.max.y), (0.5, 0.55));
+    }
+
     /// A view takes a BVH only if it was built from its triangles, and uses it
     /// only from [`CROSSOVER`] triangles on.
     #[test]
