@@ -238,13 +238,36 @@ pub(crate) fn list_bounds<G: Bounded>(list: &[Primitive<G>]) -> (Vec3, Vec3) {
         .fold(EMPTY, |b, t| union(b, bounds(&t.geometry)))
 }
 
-/// The bin of `t`'s centroid on `axis`, bins of width `1 / scale` from `lo`.
-fn bin_of<G: Bounded>(t: &G, axis: usize, lo: f32, scale: f32) -> usize {
-    let (b0, b1) = bounds(t);
-    let c = along((b0 + b1) * 0.5, axis);
-    // Truncation of a non-negative finite value (NaN would give 0).
-    let k = ((c - lo) * scale) as usize;
-    k.min(BINS - 1)
+/// [`BINS`] bins of the triangles' centroids along one axis, from the smallest
+/// centroid to the largest.
+#[derive(Clone, Copy)]
+struct Binning {
+    axis: usize,
+    lo: f32,
+    /// Bins per unit length.
+    scale: f32,
+}
+
+impl Binning {
+    /// The bins on `axis` of centroids from `cmin` spreading `spread`; `None`
+    /// when they do not spread on that axis.
+    fn new(axis: usize, cmin: Vec3, spread: Vec3) -> Option<Self> {
+        let (lo, extent) = (along(cmin, axis), along(spread, axis));
+        (extent > 0.0 && extent.is_finite()).then(|| Self {
+            axis,
+            lo,
+            scale: BINS as f32 / extent,
+        })
+    }
+
+    /// The bin of `t`'s centroid.
+    fn of<G: Bounded>(self, t: &G) -> usize {
+        let (b0, b1) = bounds(t);
+        let c = along((b0 + b1) * 0.5, self.axis);
+        // Truncation of a non-negative finite value (NaN would give 0).
+        let k = ((c - self.lo) * self.scale) as usize;
+        k.min(BINS - 1)
+    }
 }
 
 /// Component `axis` of `v`.
@@ -425,18 +448,16 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
         let spread = cmax - cmin;
         // The cheapest split over the three axes (an axis whose centroids do not
         // spread has none).
-        let mut best: Option<(usize, usize, f32)> = None;
+        let mut best: Option<(Binning, usize, f32)> = None;
         for axis in 0..3 {
-            if let Some((s, cost)) = self.best_on(triangles, start, end, axis, cmin, spread)
+            if let Some(bins) = Binning::new(axis, cmin, spread)
+                && let Some((s, cost)) = self.best_on(triangles, start, end, bins)
                 && best.is_none_or(|(_, _, c)| cost < c)
             {
-                best = Some((axis, s, cost));
+                best = Some((bins, s, cost));
             }
         }
-        let (axis, s, cost) = best?;
-        let (lo, extent) = (along(cmin, axis), along(spread, axis));
-        let scale = BINS as f32 / extent;
-        let bin = |t: &G| bin_of(t, axis, lo, scale);
+        let (bins, s, cost) = best?;
         let area = half_area((node.min, node.max));
         if count <= LEAF && cost + TRAVERSAL * area >= count as f32 * area {
             return None;
@@ -446,37 +467,29 @@ impl<const N: usize, const T: usize> Bvh<N, T> {
         let (mut i, mut j) = (0, order.len());
         while i < j {
             let t = &triangles.get(usize::from(*order.get(i)?))?.geometry;
-            if bin(t) < s {
+            if bins.of(t) < s {
                 i += 1;
             } else {
                 j -= 1;
                 order.swap(i, j);
             }
         }
-        (i > 0 && i < count).then_some((axis, start + i))
+        (i > 0 && i < count).then_some((bins.axis, start + i))
     }
 
-    /// The cheapest binned split of `order[start..end]` on `axis` (centroids from
-    /// `cmin`, spreading `spread`): the first bin of the second child and the cost
-    /// of the split, `None` when the centroids do not spread on that axis.
+    /// The cheapest split of `order[start..end]` between two of the bins
+    /// `binning`: the first bin of the second child and the cost of the split.
     fn best_on<G: Bounded>(
         &self,
         triangles: &[Primitive<G>],
         start: usize,
         end: usize,
-        axis: usize,
-        cmin: Vec3,
-        spread: Vec3,
+        binning: Binning,
     ) -> Option<(usize, f32)> {
-        let (lo, extent) = (along(cmin, axis), along(spread, axis));
-        if !(extent > 0.0 && extent.is_finite()) {
-            return None;
-        }
-        let scale = BINS as f32 / extent;
         let mut bins = [(0usize, EMPTY); BINS];
         for &i in self.order.get(start..end)? {
             let t = &triangles.get(usize::from(i))?.geometry;
-            if let Some(b) = bins.get_mut(bin_of(t, axis, lo, scale)) {
+            if let Some(b) = bins.get_mut(binning.of(t)) {
                 b.0 += 1;
                 b.1 = union(b.1, bounds(t));
             }
