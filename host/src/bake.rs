@@ -159,13 +159,8 @@ fn hierarchy(s: &mut String, name: &str, nodes: &[BvhNode], order: &[u16]) -> us
         nodes.len()
     );
     for node in nodes {
-        let (min, max, first, count, axis) = node.parts();
-        let _ = writeln!(
-            s,
-            "    n({}, {}, {first}, {count}, {axis}),",
-            vec3(min),
-            vec3(max)
-        );
+        let (min, max, first, count) = node.parts();
+        let _ = writeln!(s, "    n({}, {}, {first}, {count}),", vec3(min), vec3(max));
     }
     let _ = writeln!(
         s,
@@ -714,8 +709,8 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
         let _ = writeln!(
             s,
             "/// A node of a hierarchy.\n\
-             const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16, axis: u16) -> BvhNode {{\n    \
-                 BvhNode::new(min, max, first, count, axis)\n}}\n"
+             const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16) -> BvhNode {{\n    \
+                 BvhNode::new(min, max, first, count)\n}}\n"
         );
     }
     s + body.trim_end() + "\n"

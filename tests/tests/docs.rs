@@ -1089,8 +1089,8 @@ fn a_wrong_figure_fails() {
         ),
         (
             "docs/firmware.md",
-            "384,392 bytes (375.4 KiB",
-            "384,392 bytes (50.2 KiB",
+            "384,452 bytes (375.4 KiB",
+            "384,452 bytes (50.2 KiB",
             "50.2",
         ),
         ("docs/firmware.md", "(1.54 to 1.90", "(1.75 to 1.90", "1.75"),
