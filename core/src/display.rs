@@ -783,7 +783,8 @@ mod tests {
 
     /// A tile rendered in a panel's colour is the 8-bit tile dithered pixel by
     /// pixel at its frame position (every built-in scene, every sampler kind, the
-    /// adaptive one included, tiles of 8 and 16), and takes 2 bytes a pixel.
+    /// adaptive and sparse ones included, tiles of 8 and 16), and takes 2 bytes a
+    /// pixel.
     #[test]
     fn panel_tiles_are_the_8_bit_tiles_dithered() {
         use crate::builtin::Builtin;
@@ -827,6 +828,7 @@ mod tests {
                 Sampler::Centre,
                 Sampler::Stratified(2),
                 Sampler::Adaptive { k: 2, threshold: 8 },
+                Sampler::sparse(),
             ] {
                 b.with_scene(|view, cam| {
                     let settings = RenderSettings {

@@ -169,7 +169,7 @@ pub enum Error {
     /// A sampler with zero samples (stratified 0 or random 0), or more than 64x64
     /// (adaptive: fewer than 2x2 or more than 64x64).
     BadSampleCount,
-    /// An adaptive sampler's threshold that is not an integer from 0 to 255.
+    /// An adaptive or sparse sampler's threshold that is not an integer from 0 to 255.
     BadThreshold,
     /// Sampler text that is none of `corner`, `centre`, `prefiltered`,
     /// `offset:X,Y`, `stratified:K`, `random:N`, `adaptive:K[,T]`.
@@ -241,18 +241,19 @@ impl fmt::Display for Error {
                  adaptive k: 2 to 64)",
             ),
             Self::BadThreshold => f.write_str(
-                "the adaptive sampler's threshold is a colour difference in 8-bit units, \
-                 an integer from 0 to 255 (adaptive:K,T)",
+                "the adaptive and sparse samplers' threshold is a colour difference in \
+                 8-bit units, an integer from 0 to 255 (adaptive:K,T or sparse:T)",
             ),
             Self::UnknownSampler => f.write_str(
                 "unknown sampler: the samplers are corner, centre, prefiltered, offset:X,Y \
                  (each in [0, 1)), stratified:K (1-64), random:N (1-4096) and \
-                 adaptive:K (2-64) or adaptive:K,T (T: 0-255)",
+                 adaptive:K (2-64) or adaptive:K,T (T: 0-255), and sparse or sparse:T",
             ),
             Self::TileOutOfFrame => f.write_str("tile coordinate is outside the frame"),
             Self::NotLinked => f.write_str(
                 "the settings need a tile loop that is not linked (the Loops given leave out \
-                 bounces, direct light, an encoding or the adaptive sampler that they need)",
+                 bounces, direct light, an encoding, or the adaptive or sparse sampler that \
+                 they need)",
             ),
             Self::ReflectionAndTransmissionAboveOne => f.write_str(
                 "material reflectivity + transparency must be <= 1 \

@@ -95,9 +95,43 @@ pub enum Sampler {
         /// default).
         threshold: u8,
     },
+    /// Sparse sampling, fewer rays than pixels: the ray of [`Sampler::Prefiltered`]
+    /// (the centre, its texture averaged over the pixel) through every pixel whose
+    /// frame coordinates are both even, a quarter of them; each other pixel is the
+    /// mean of its two traced neighbours (a pixel between two of them in a row or
+    /// a column) or four (a pixel between four, diagonally) where those met the
+    /// same things (the primitive or none, and the shadow of each light) and
+    /// agree within `threshold` in each 8-bit channel (the output's 8 bits, as
+    /// [`Sampler::Adaptive`] compares them); elsewhere, and where a neighbour
+    /// lies beyond the frame, its own prefiltered ray. The mean is taken of the
+    /// linear colours. Shading and textures are interpolated between rays two
+    /// pixels apart where they vary slowly (a highlight or a texture's detail
+    /// narrower than that may be smoothed or missed); edges, shadows and steps
+    /// of colour get their own rays. The
+    /// decision depends only on the traced pixels, so the image is the same for
+    /// every tile size, order and thread count; a tile traces the even pixels of
+    /// a one-pixel apron around it, two rows of them at a time.
+    Sparse {
+        /// Largest channel difference (8-bit units of the output's encoding)
+        /// between the traced neighbours of a pixel that still interpolates it
+        /// ([`Sampler::SPARSE_THRESHOLD`] by default).
+        threshold: u8,
+    },
 }
 
 impl Sampler {
+    /// The colour difference (8-bit units) up to which [`Sampler::Sparse`]
+    /// interpolates a pixel when the text form gives none (`sparse`).
+    pub const SPARSE_THRESHOLD: u8 = 4;
+
+    /// Sparse sampling with the default threshold.
+    #[must_use]
+    pub const fn sparse() -> Self {
+        Self::Sparse {
+            threshold: Self::SPARSE_THRESHOLD,
+        }
+    }
+
     /// The colour difference (8-bit units) above which [`Sampler::Adaptive`]
     /// refines neighbouring pixels when the text form gives none (`adaptive:K`).
     pub const ADAPTIVE_THRESHOLD: u8 = 64;
@@ -128,11 +162,13 @@ impl Sampler {
     }
 
     /// Camera rays per pixel; for [`Sampler::Adaptive`], the most a pixel takes
-    /// (its centre ray and `k x k` samples; most pixels take one).
+    /// (its centre ray and `k x k` samples; most pixels take one); for
+    /// [`Sampler::Sparse`] also the most (a pixel takes one ray or none).
     #[must_use]
     pub fn count(&self) -> u32 {
         match *self {
             Self::Corner | Self::Centre | Self::Offset(_) | Self::Prefiltered => 1,
+            Self::Sparse { .. } => 1,
             Self::Stratified(k) => u32::from(k) * u32::from(k),
             Self::Adaptive { k, .. } => u32::from(k) * u32::from(k) + 1,
             Self::Random(n) => u32::from(n),
@@ -145,7 +181,7 @@ impl Sampler {
     pub fn offset(&self, px: u32, py: u32, index: u32, seed: u32) -> (f32, f32) {
         match *self {
             Self::Corner => (0.0, 0.0),
-            Self::Centre | Self::Prefiltered => (0.5, 0.5),
+            Self::Centre | Self::Prefiltered | Self::Sparse { .. } => (0.5, 0.5),
             Self::Offset(s) => (s.x, s.y),
             Self::Stratified(k) | Self::Adaptive { k, .. } => {
                 let k = u32::from(k.max(1));
@@ -159,7 +195,8 @@ impl Sampler {
 
 /// The text form of every sampler, as scene files and the command line write it:
 /// `corner`, `centre`, `prefiltered`, `offset:X,Y`, `stratified:K`, `random:N`,
-/// `adaptive:K` (the default threshold) or `adaptive:K,T`.
+/// `adaptive:K` (the default threshold) or `adaptive:K,T`, `sparse` (the default
+/// threshold) or `sparse:T`.
 /// [`Sampler::from_str`](core::str::FromStr::from_str) reads it back (and `center`).
 impl core::fmt::Display for Sampler {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -174,6 +211,10 @@ impl core::fmt::Display for Sampler {
                 write!(f, "adaptive:{k}")
             }
             Self::Adaptive { k, threshold } => write!(f, "adaptive:{k},{threshold}"),
+            Self::Sparse { threshold } if threshold == Self::SPARSE_THRESHOLD => {
+                f.write_str("sparse")
+            }
+            Self::Sparse { threshold } => write!(f, "sparse:{threshold}"),
         }
     }
 }
@@ -196,7 +237,11 @@ impl core::str::FromStr for Sampler {
                 "corner" => Self::Corner,
                 "centre" | "center" => Self::Centre,
                 "prefiltered" => Self::Prefiltered,
+                "sparse" => Self::sparse(),
                 _ => return Err(Error::UnknownSampler),
+            },
+            Some(("sparse", t)) => Self::Sparse {
+                threshold: t.trim().parse().map_err(|_| Error::BadThreshold)?,
             },
             Some(("stratified", k)) => {
                 Self::Stratified(k.trim().parse().map_err(|_| Error::BadSampleCount)?)

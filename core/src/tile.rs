@@ -72,7 +72,7 @@ impl RenderSettings {
 
 /// One instantiation of a tile's pixel loop: the loop without bounces or with them
 /// (mirrors or glass within the frame's depth), in one encoding, or the adaptive
-/// sampler's loop (which encodes each pixel itself). A frame's tiles all take one
+/// or the sparse sampler's loop (which encode each pixel themselves). A frame's tiles all take one
 /// ([`Renderer::tile_loop`]); a firmware links those it names ([`Loops`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TileLoop {
@@ -85,17 +85,24 @@ pub enum TileLoop {
         /// Whether rays bounce.
         bounces: bool,
     },
+    /// The sparse sampler, without or with bounces.
+    Sparse {
+        /// Whether rays bounce.
+        bounces: bool,
+    },
 }
 
 impl TileLoop {
     /// Every tile loop.
-    pub const ALL: [Self; 6] = [
+    pub const ALL: [Self; 8] = [
         Self::Direct(Encoding::Srgb),
         Self::Direct(Encoding::Linear),
         Self::Bounces(Encoding::Srgb),
         Self::Bounces(Encoding::Linear),
         Self::Adaptive { bounces: false },
         Self::Adaptive { bounces: true },
+        Self::Sparse { bounces: false },
+        Self::Sparse { bounces: true },
     ];
 }
 
@@ -154,10 +161,12 @@ fn links_any<L: Loops>(bounces: bool) -> bool {
         L::links(TileLoop::Bounces(Srgb))
             || L::links(TileLoop::Bounces(Linear))
             || L::links(TileLoop::Adaptive { bounces: true })
+            || L::links(TileLoop::Sparse { bounces: true })
     } else {
         L::links(TileLoop::Direct(Srgb))
             || L::links(TileLoop::Direct(Linear))
             || L::links(TileLoop::Adaptive { bounces: false })
+            || L::links(TileLoop::Sparse { bounces: false })
     }
 }
 
@@ -414,6 +423,8 @@ pub struct Renderer {
     /// The adaptive sampler's threshold (`None` for the other samplers); its
     /// refined pixels are the stratified sampler's (`samples`, `stratum`).
     adaptive: Option<u8>,
+    /// The sparse sampler's threshold (`None` for the other samplers).
+    sparse: Option<u8>,
     /// The sub-pixel offset of a single-sample sampler (`None` for the stratified
     /// and random ones): decided once, not per pixel.
     single: Option<(f32, f32)>,
@@ -445,11 +456,15 @@ impl Renderer {
             },
             single: match sampler {
                 Sampler::Corner => Some((0.0, 0.0)),
-                Sampler::Centre | Sampler::Prefiltered => Some((0.5, 0.5)),
+                Sampler::Centre | Sampler::Prefiltered | Sampler::Sparse { .. } => Some((0.5, 0.5)),
                 Sampler::Offset(o) => Some((o.x(), o.y())),
                 Sampler::Stratified(_) | Sampler::Random(_) | Sampler::Adaptive { .. } => None,
             },
             adaptive,
+            sparse: match settings.sampler {
+                Sampler::Sparse { threshold } => Some(threshold),
+                _ => None,
+            },
             dither: Dither::Bayer4,
         })
     }
@@ -534,6 +549,7 @@ impl Renderer {
             inv_count: 1.0,
             stratum: 1.0,
             adaptive: None,
+            sparse: None,
             single: Some((0.5, 0.5)),
             settings: RenderSettings {
                 sampler: Sampler::Centre,
@@ -567,6 +583,9 @@ impl Renderer {
         let depth = scene.depth(self.settings.max_depth);
         let picks = Picks::default();
         let mut pass = Pass::new(self, scene, &picks, depth, count);
+        if let Some(threshold) = self.sparse {
+            return pass.sparse_pixel(x, y, threshold);
+        }
         let Some(threshold) = self.adaptive else {
             return pass.pixel::<true>(x, y);
         };
@@ -625,11 +644,32 @@ impl Renderer {
         }
     }
 
+    /// The camera rays the sparse sampler casts for the tile of `tw x th` pixels
+    /// at `(x0, y0)` where every ray misses: its traced pixels of the tile and of
+    /// its apron (the grid of even pixels over them) and the tile's pixels with a
+    /// neighbour beyond the frame (every other pixel is interpolated).
+    fn sparse_background_rays(&self, (x0, y0, tw, th): (u32, u32, usize, usize)) -> u32 {
+        let vp = self.viewport();
+        let (w, h) = (u32::from(vp.width), u32::from(vp.height));
+        // The even coordinates of [a - 1, a + n] within the frame.
+        let evens = |a: u32, n: usize, size: u32| {
+            let lo = a & !1;
+            let hi = (a + n as u32).min(size - 1);
+            (hi - lo) / 2 + 1
+        };
+        let grid = evens(x0, tw, w) * evens(y0, th, h);
+        let (x1, y1) = (x0 + tw as u32, y0 + th as u32);
+        // The last column and row when they are odd: a neighbour beyond the frame.
+        let col = u32::from(x1 == w && w % 2 == 0);
+        let row = u32::from(y1 == h && h % 2 == 0);
+        grid + col * th as u32 + row * tw as u32 - col * row
+    }
+
     /// What a pixel comes to when every ray misses: the background, averaged over
     /// the samples as [`Pass::pixel`] averages them (for one sample,
     /// `(0 + b) * 1 = b`).
     fn background_pixel(&self, scene: &SceneView<'_>) -> Rgb8 {
-        if self.adaptive.is_some() {
+        if self.adaptive.is_some() || self.sparse.is_some() {
             // Every centre ray misses alike: no pixel is refined.
             return self.settings.encoding.encode(scene.background);
         }
@@ -679,10 +719,11 @@ impl Renderer {
     #[must_use]
     pub fn tile_loop(&self, scene: &SceneView<'_>) -> TileLoop {
         let bounces = scene.depth(self.settings.max_depth) > 0;
-        match (self.adaptive, bounces) {
-            (Some(_), bounces) => TileLoop::Adaptive { bounces },
-            (None, false) => TileLoop::Direct(self.settings.encoding),
-            (None, true) => TileLoop::Bounces(self.settings.encoding),
+        match (self.adaptive, self.sparse, bounces) {
+            (Some(_), _, bounces) => TileLoop::Adaptive { bounces },
+            (None, Some(_), bounces) => TileLoop::Sparse { bounces },
+            (None, None, false) => TileLoop::Direct(self.settings.encoding),
+            (None, None, true) => TileLoop::Bounces(self.settings.encoding),
         }
     }
 
@@ -720,8 +761,8 @@ impl Renderer {
         tile.width = u16::try_from(tw).unwrap_or(0);
         tile.height = u16::try_from(th).unwrap_or(0);
         // Every sample of the tile lies in [x0, x0 + tw] x [y0, y0 + th]; the
-        // adaptive sampler's also in the one-pixel apron around it.
-        let apron = usize::from(self.adaptive.is_some());
+        // adaptive and sparse samplers' also in the one-pixel apron around it.
+        let apron = usize::from(self.adaptive.is_some() || self.sparse.is_some());
         let rect = (
             x0.saturating_sub(apron) as f32,
             y0.saturating_sub(apron) as f32,
@@ -742,13 +783,18 @@ impl Renderer {
             if picks.camera.is_some_and(|c| c.iter().all(|l| l.is_empty())) {
                 // No primitive reaches the tile: every ray misses alike. Its rays
                 // are counted, not traced.
-                for _ in 0..(tw * th) as u32 * self.background_rays() {
+                let rays = if self.sparse.is_some() {
+                    self.sparse_background_rays(area)
+                } else {
+                    (tw * th) as u32 * self.background_rays()
+                };
+                for _ in 0..rays {
                     count.primary();
                 }
                 return self.fill_background(scene, tile.pixels.as_flattened_mut(), area);
             }
             let depth = scene.depth(self.settings.max_depth);
-            let threshold = self.adaptive.unwrap_or(0);
+            let threshold = self.adaptive.or(self.sparse).unwrap_or(0);
             // The tile's pixels are packed: rows of `tw` (see `Tile::as_slice`).
             let rows = tile.pixels.as_flattened_mut();
             // The loop's instantiations, one per tile loop: with bounces or without
@@ -784,6 +830,12 @@ impl Renderer {
                 }
                 TileLoop::Adaptive { bounces: true } => {
                     run!(TileLoop::Adaptive { bounces: true }, depth => fill_adaptive::<N, P, true>(rows, area, threshold))
+                }
+                TileLoop::Sparse { bounces: false } => {
+                    run!(TileLoop::Sparse { bounces: false }, 0 => fill_sparse::<N, P, false>(rows, area, threshold))
+                }
+                TileLoop::Sparse { bounces: true } => {
+                    run!(TileLoop::Sparse { bounces: true }, depth => fill_sparse::<N, P, true>(rows, area, threshold))
                 }
             }
         };
@@ -924,6 +976,95 @@ impl<'a, C: Observer> Pass<'a, C> {
             }
             rest.fill(P::BLACK);
         }
+    }
+
+    /// [`Pass::fill`] for the sparse sampler: row after row, the traced pixels
+    /// (both coordinates even, [`Sampler::Sparse`]) of the rows the row needs
+    /// (its own when even, the one above and the one below when odd), over the
+    /// tile's columns and the apron's, kept two rows at a time ([`Grid`]); then
+    /// each pixel its traced colour, the mean of its traced neighbours
+    /// ([`sparse_blend`]), or its own ray.
+    #[inline(never)]
+    fn fill_sparse<const N: usize, P: TilePixel, const BOUNCES: bool>(
+        mut self,
+        pixels: &mut [P],
+        (x0, y0, tw, th): (u32, u32, usize, usize),
+        threshold: u8,
+    ) where
+        C: RayCounter,
+    {
+        let (vp, encoding, dither) = (
+            self.renderer.viewport(),
+            self.renderer.settings.encoding,
+            self.renderer.dither,
+        );
+        let frame = (u32::from(vp.width), u32::from(vp.height));
+        // The even columns of [x0 - 1, x0 + tw] within the frame.
+        let columns = (x0 & !1, (x0 + tw as u32).min(frame.0.saturating_sub(1)));
+        let mut grid = Grid::<N>::new(columns.0);
+        for (j, row) in pixels.chunks_mut(tw.max(1)).enumerate() {
+            let live = if j < th { tw } else { 0 };
+            let Some((live, rest)) = row.split_at_mut_checked(live) else {
+                continue;
+            };
+            let y = y0 + j as u32;
+            if !live.is_empty() {
+                for g in [y & !1, (y | 1) + 1] {
+                    if g < frame.1 && (g == y || y % 2 == 1) && !grid.holds(g) {
+                        let slot = grid.slot_for(g);
+                        for (k, gx) in (columns.0..=columns.1).step_by(2).enumerate() {
+                            let c = self.centre::<BOUNCES>(gx, g);
+                            slot.set(k, GridSample::new(c, encoding));
+                        }
+                    }
+                }
+            }
+            for (i, px) in live.iter_mut().enumerate() {
+                let x = x0 + i as u32;
+                let rgb = match sparse_parents((x, y), frame) {
+                    Parents::Own if x.is_multiple_of(2) && y.is_multiple_of(2) => {
+                        grid.get(x, y).pixel.color
+                    }
+                    Parents::Own => encoding.encode(self.centre::<BOUNCES>(x, y).color),
+                    Parents::Two(at) => {
+                        let two = at.map(|(gx, gy)| grid.get(gx, gy));
+                        match sparse_blend(&two, threshold) {
+                            Some(c) => encoding.encode(c),
+                            None => encoding.encode(self.centre::<BOUNCES>(x, y).color),
+                        }
+                    }
+                    Parents::Four(at) => {
+                        let four = at.map(|(gx, gy)| grid.get(gx, gy));
+                        match sparse_blend(&four, threshold) {
+                            Some(c) => encoding.encode(c),
+                            None => encoding.encode(self.centre::<BOUNCES>(x, y).color),
+                        }
+                    }
+                };
+                *px = P::from_rgb8(rgb, x, y, dither);
+            }
+            rest.fill(P::BLACK);
+        }
+    }
+
+    /// The sparse sampler's linear colour of pixel `(x, y)` on its own: the rule
+    /// of [`Pass::fill_sparse`], its traced neighbours traced here.
+    fn sparse_pixel(&mut self, x: u32, y: u32, threshold: u8) -> Color
+    where
+        C: RayCounter,
+    {
+        let vp = self.renderer.viewport();
+        let frame = (u32::from(vp.width), u32::from(vp.height));
+        let encoding = self.renderer.settings.encoding;
+        let traced = |pass: &mut Self, (gx, gy): (u32, u32)| {
+            GridSample::new(pass.centre::<true>(gx, gy), encoding)
+        };
+        let blended = match sparse_parents((x, y), frame) {
+            Parents::Own => None,
+            Parents::Two(at) => sparse_blend(&at.map(|a| traced(self, a)), threshold),
+            Parents::Four(at) => sparse_blend(&at.map(|a| traced(self, a)), threshold),
+        };
+        blended.unwrap_or_else(|| self.centre::<true>(x, y).color)
     }
 
     /// The colour of pixel `(x, y)`: the mean of its samples, each one call of
@@ -1070,6 +1211,161 @@ impl CentrePixel {
                 && (a.r.abs_diff(b.r) > threshold
                     || a.g.abs_diff(b.g) > threshold
                     || a.b.abs_diff(b.b) > threshold)
+    }
+}
+
+/// Which traced pixels the sparse sampler may interpolate pixel `(x, y)` from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Parents {
+    /// None: a traced pixel (both coordinates even), or one with a neighbour
+    /// beyond the frame; its own ray.
+    Own,
+    /// The two traced pixels either side of it in its row or its column.
+    Two([(u32, u32); 2]),
+    /// The four traced pixels diagonally around it.
+    Four([(u32, u32); 4]),
+}
+
+/// The traced neighbours of pixel `(x, y)` in a frame of `(w, h)` pixels
+/// ([`Sampler::Sparse`]).
+#[inline(always)]
+fn sparse_parents((x, y): (u32, u32), (w, h): (u32, u32)) -> Parents {
+    let (odd_x, odd_y) = (x % 2 == 1, y % 2 == 1);
+    // An odd coordinate's neighbours are the even ones either side; the one
+    // after it must lie in the frame.
+    if odd_x && x + 1 >= w || odd_y && y + 1 >= h {
+        return Parents::Own;
+    }
+    match (odd_x, odd_y) {
+        (false, false) => Parents::Own,
+        (true, false) => Parents::Two([(x - 1, y), (x + 1, y)]),
+        (false, true) => Parents::Two([(x, y - 1), (x, y + 1)]),
+        (true, true) => Parents::Four([
+            (x - 1, y - 1),
+            (x + 1, y - 1),
+            (x - 1, y + 1),
+            (x + 1, y + 1),
+        ]),
+    }
+}
+
+/// The mean of the linear colours of `samples` (two or four traced pixels)
+/// when they met the same things and each 8-bit channel spans at most
+/// `threshold` over them; `None` otherwise.
+#[inline(always)]
+fn sparse_blend<const K: usize>(samples: &[GridSample; K], threshold: u8) -> Option<Color> {
+    let first = samples.first()?;
+    let (mut lo, mut hi) = (first.pixel.color, first.pixel.color);
+    for s in samples {
+        if s.pixel.sig != first.pixel.sig {
+            return None;
+        }
+        let c = s.pixel.color;
+        lo = Rgb8::new(lo.r.min(c.r), lo.g.min(c.g), lo.b.min(c.b));
+        hi = Rgb8::new(hi.r.max(c.r), hi.g.max(c.g), hi.b.max(c.b));
+    }
+    if hi.r - lo.r > threshold || hi.g - lo.g > threshold || hi.b - lo.b > threshold {
+        return None;
+    }
+    match samples.as_slice() {
+        [a, b] => Some((a.color + b.color) * 0.5),
+        [a, b, c, d] => Some(((a.color + b.color) + (c.color + d.color)) * 0.25),
+        _ => None,
+    }
+}
+
+/// A traced pixel of the sparse sampler: its linear colour and what the
+/// decision compares of it.
+#[derive(Clone, Copy, Default)]
+struct GridSample {
+    color: Color,
+    pixel: CentrePixel,
+}
+
+impl GridSample {
+    #[inline(always)]
+    fn new(c: CentreSample, encoding: Encoding) -> Self {
+        Self {
+            color: c.color,
+            pixel: c.encoded(encoding),
+        }
+    }
+}
+
+/// Two rows of the sparse sampler's traced pixels (even rows), each over the
+/// even columns from `first` on: at most `N / 2 + 2` of them, kept in `mid` and
+/// then `extra`.
+struct Grid<const N: usize> {
+    first: u32,
+    rows: [GridRow<N>; 2],
+}
+
+/// One row of a [`Grid`]: its `y` (`u32::MAX` before it is traced).
+struct GridRow<const N: usize> {
+    y: u32,
+    mid: [GridSample; N],
+    extra: [GridSample; 2],
+}
+
+impl<const N: usize> GridRow<N> {
+    #[inline(always)]
+    fn set(&mut self, k: usize, s: GridSample) {
+        let at = match self.mid.get_mut(k) {
+            Some(at) => at,
+            None => match self.extra.get_mut(k - N) {
+                Some(at) => at,
+                None => return,
+            },
+        };
+        *at = s;
+    }
+}
+
+impl<const N: usize> Grid<N> {
+    fn new(first: u32) -> Self {
+        let row = || GridRow {
+            y: u32::MAX,
+            mid: [GridSample::default(); N],
+            extra: [GridSample::default(); 2],
+        };
+        Self {
+            first,
+            rows: [row(), row()],
+        }
+    }
+
+    /// Whether row `y` is kept.
+    #[inline(always)]
+    fn holds(&self, y: u32) -> bool {
+        self.rows.iter().any(|r| r.y == y)
+    }
+
+    /// The slot row `y` is traced into: the one of a row above the other's
+    /// (rows are asked for from the top down, a row at most two above the one
+    /// before).
+    #[inline(always)]
+    fn slot_for(&mut self, y: u32) -> &mut GridRow<N> {
+        let [a, b] = &mut self.rows;
+        let older = if a.y == u32::MAX || b.y != u32::MAX && a.y < b.y {
+            a
+        } else {
+            b
+        };
+        older.y = y;
+        older
+    }
+
+    /// The traced pixel `(x, y)` (kept: an even `x` from `first` on, a row held).
+    #[inline(always)]
+    fn get(&self, x: u32, y: u32) -> GridSample {
+        let k = ((x - self.first) / 2) as usize;
+        let Some(row) = self.rows.iter().find(|r| r.y == y) else {
+            return GridSample::default();
+        };
+        match row.mid.get(k) {
+            Some(s) => *s,
+            None => row.extra.get(k - N).copied().unwrap_or_default(),
+        }
     }
 }
 

@@ -309,6 +309,7 @@ fn sampler(s: tessera::Sampler) -> String {
         S::Adaptive { k, threshold } => {
             format!("Sampler::Adaptive {{ k: {k}, threshold: {threshold} }}")
         }
+        S::Sparse { threshold } => format!("Sampler::Sparse {{ threshold: {threshold} }}"),
     }
 }
 
@@ -607,13 +608,17 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
             .iter()
             .any(tessera::material::Material::sends_rays);
     let srgb = st.encoding == tessera::Encoding::Srgb;
-    let adaptive = matches!(st.sampler, tessera::Sampler::Adaptive { .. });
-    let tile_loop = match (adaptive, bounces, srgb) {
-        (true, bounces, _) => format!("TileLoop::Adaptive {{ bounces: {bounces} }}"),
-        (false, false, true) => "TileLoop::Direct(Encoding::Srgb)".to_owned(),
-        (false, false, false) => "TileLoop::Direct(Encoding::Linear)".to_owned(),
-        (false, true, true) => "TileLoop::Bounces(Encoding::Srgb)".to_owned(),
-        (false, true, false) => "TileLoop::Bounces(Encoding::Linear)".to_owned(),
+    let tile_loop = match (st.sampler, bounces, srgb) {
+        (tessera::Sampler::Adaptive { .. }, bounces, _) => {
+            format!("TileLoop::Adaptive {{ bounces: {bounces} }}")
+        }
+        (tessera::Sampler::Sparse { .. }, bounces, _) => {
+            format!("TileLoop::Sparse {{ bounces: {bounces} }}")
+        }
+        (_, false, true) => "TileLoop::Direct(Encoding::Srgb)".to_owned(),
+        (_, false, false) => "TileLoop::Direct(Encoding::Linear)".to_owned(),
+        (_, true, true) => "TileLoop::Bounces(Encoding::Srgb)".to_owned(),
+        (_, true, false) => "TileLoop::Bounces(Encoding::Linear)".to_owned(),
     };
     let _ = writeln!(
         body,

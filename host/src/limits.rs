@@ -284,9 +284,12 @@ impl Work {
             .iter()
             .filter(|l| l.intensity() > 0.0 && l.color().max_component() > 0.0)
             .count();
-        // The adaptive sampler also traces the centre rays of an apron round each
-        // tile: fewer than one more a pixel.
-        let apron = matches!(settings.sampler, Sampler::Adaptive { .. });
+        // The adaptive and sparse samplers also trace the centre rays of an apron
+        // round each tile: fewer than one more a pixel.
+        let apron = matches!(
+            settings.sampler,
+            Sampler::Adaptive { .. } | Sampler::Sparse { .. }
+        );
         Self {
             viewport,
             sampler: settings.sampler,

@@ -52,6 +52,7 @@ pub fn grid(base: RenderSettings) -> Vec<Setting> {
         Sampler::Random(4),
         Sampler::Random(16),
         Sampler::adaptive(4),
+        Sampler::sparse(),
     ] {
         let depths: &[u8] = if base.max_depth == 0 {
             &[0]
@@ -523,12 +524,12 @@ mod tests {
 
     #[test]
     fn grid_is_the_product_of_samplers_and_depths_without_duplicates() {
-        // Nine samplers at depths 0, 1 and 3 (the scene's own is 1), two more tiles.
+        // Ten samplers at depths 0, 1 and 3 (the scene's own is 1), two more tiles.
         let g = grid(Builtin::ChapterReflect.settings());
-        assert_eq!(g.len(), 9 * 3 + 2);
+        assert_eq!(g.len(), 10 * 3 + 2);
         // The showcase's own depth, 5, adds a fourth; a scene without bounces has one.
-        assert_eq!(grid(Builtin::Showcase.settings()).len(), 9 * 4 + 2);
-        assert_eq!(grid(Builtin::ChapterDirect.settings()).len(), 9 + 2);
+        assert_eq!(grid(Builtin::Showcase.settings()).len(), 10 * 4 + 2);
+        assert_eq!(grid(Builtin::ChapterDirect.settings()).len(), 10 + 2);
         for (i, a) in g.iter().enumerate() {
             assert!(!g[i + 1..].contains(a));
         }

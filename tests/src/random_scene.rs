@@ -25,14 +25,14 @@ pub enum Values {
     /// sphere's surface or a plane's point. The camera is kept within the accepted
     /// ranges (a refused camera refuses the whole scene); most recipes hold a
     /// value some other constructor refuses. Depths 0 to 8; the samplers
-    /// `Centre`, `Stratified(2)`, `Prefiltered` and `Adaptive`.
+    /// `Centre`, `Stratified(2)`, `Prefiltered`, `Adaptive` and `Sparse`.
     Wild,
     /// An ordinary scene: shapes within a few units of the origin, a camera up to
     /// 8 units away looking at a point near it (far plane at 100), colours and
     /// weights in `[0, 1]`, a fixed ambient light and background, textures at
     /// fixed scales, white lights of intensity 1 to 60. Depths 0 to 3; the
-    /// samplers `Centre`, `Stratified(2)`, `Random(2)`, `Prefiltered` and
-    /// `Adaptive`.
+    /// samplers `Centre`, `Stratified(2)`, `Random(2)`, `Prefiltered`,
+    /// `Adaptive` and `Sparse`.
     Tame,
 }
 
@@ -309,6 +309,7 @@ impl Values {
                     Sampler::Stratified(2),
                     Sampler::Prefiltered,
                     adaptive,
+                    Sampler::sparse(),
                 ]),
                 0u8..=8,
             )
@@ -320,6 +321,7 @@ impl Values {
                     Sampler::Random(2),
                     Sampler::Prefiltered,
                     adaptive,
+                    Sampler::sparse(),
                 ]),
                 0u8..4,
             )

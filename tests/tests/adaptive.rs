@@ -16,15 +16,15 @@ use tessera::{
 };
 use tessera_host::render_tiles;
 
-const AMBIENT: f32 = 0.2;
-const W: u16 = 45;
-const H: u16 = 34;
+pub(crate) const AMBIENT: f32 = 0.2;
+pub(crate) const W: u16 = 45;
+pub(crate) const H: u16 = 34;
 
 /// A red sphere casting a shadow on a green floor, seen from above (no
 /// horizon: every lit floor pixel is several steps above the shadow's level);
 /// one light. No texture: the adaptive sampler's centre ray (prefiltered) is
-/// the centre sampler's.
-fn scene() -> Scene<1, 1, 0, 0, 2, 1> {
+/// the centre sampler's. (The sparse sampler's tests use it too.)
+pub(crate) fn scene() -> Scene<1, 1, 0, 0, 2, 1> {
     let cam = Camera::try_new(
         Vec3::new(0.0, 5.0, 4.0),
         Vec3::new(0.0, -5.0, -4.5),
@@ -73,7 +73,7 @@ fn render(sampler: Sampler) -> RgbImage {
 }
 
 /// What the centre ray of a pixel met, read off its colour.
-fn class(p: [u8; 3]) -> u8 {
+pub(crate) fn class(p: [u8; 3]) -> u8 {
     let shadowed_floor = (0.8 * AMBIENT * 255.0f32).round() as u8;
     match p {
         [0, 0, b] if b > 0 => 0,               // sky

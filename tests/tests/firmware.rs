@@ -61,7 +61,13 @@ pub(crate) fn identity_runs() -> Vec<Run> {
     let mut runs = Vec::new();
     for &b in Builtin::ALL {
         let adaptive = Adaptive { k: 2, threshold: 8 };
-        for sampler in [Centre, Stratified(2), Random(3), adaptive] {
+        for sampler in [
+            Centre,
+            Stratified(2),
+            Random(3),
+            adaptive,
+            Sampler::sparse(),
+        ] {
             runs.push(with(b, sampler, 7, 64, 64));
         }
     }
@@ -81,6 +87,7 @@ pub(crate) fn identity_runs() -> Vec<Run> {
         (Builtin::Showcase, Stratified(2), 8),
         (Builtin::Teapot, Centre, 32),
         (Builtin::ChapterDirect, Adaptive { k: 2, threshold: 8 }, 16),
+        (Builtin::ChapterReflect, Sampler::sparse(), 8),
     ] {
         runs.push(Run {
             tile,

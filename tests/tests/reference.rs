@@ -45,6 +45,8 @@ fn antialiased_renders_agree_with_the_reference() {
         (Builtin::Showcase, Sampler::Random(4)),
         (Builtin::Showcase, Sampler::adaptive(3)),
         (Builtin::Interference, Sampler::adaptive(3)),
+        (Builtin::Showcase, Sampler::sparse()),
+        (Builtin::Teapot, Sampler::Sparse { threshold: 255 }),
     ] {
         let settings = RenderSettings {
             sampler,
@@ -57,8 +59,8 @@ fn antialiased_renders_agree_with_the_reference() {
 }
 
 /// sRGB-encoded renders against the reference encoded the same way in f64, on
-/// every built-in scene with centre sampling and on two adaptive ones (whose rule
-/// compares the encoded centre pixels): the same bar. And the tiles' pixels are
+/// every built-in scene with centre sampling, on two adaptive ones and two sparse
+/// ones (whose rules compare the encoded centre pixels): the same bar. And the tiles' pixels are
 /// `Renderer::pixel_color` encoded by `Color::to_srgb8`.
 #[test]
 fn srgb_renders_agree_with_the_reference() {
@@ -70,6 +72,8 @@ fn srgb_renders_agree_with_the_reference() {
         .collect();
     cases.push((Builtin::Showcase, Sampler::adaptive(3)));
     cases.push((Builtin::ChapterDirect, Sampler::adaptive(2)));
+    cases.push((Builtin::ChapterReflect, Sampler::sparse()));
+    cases.push((Builtin::Interference, Sampler::sparse()));
     for (b, sampler) in cases {
         let settings = RenderSettings {
             sampler,

@@ -19,4 +19,5 @@ mod nofpu;
 mod pico2;
 mod qemu_example;
 mod reference;
+mod sparse;
 mod tiles;

@@ -30,6 +30,10 @@ fn tile_size_and_order_do_not_change_a_pixel() {
             // colour step too.
             Sampler::adaptive(3),
             Sampler::Adaptive { k: 2, threshold: 0 },
+            // The apron's traced pixels decide; threshold 255 interpolates
+            // wherever the signatures agree.
+            Sampler::sparse(),
+            Sampler::Sparse { threshold: 255 },
         ] {
             let settings = RenderSettings {
                 sampler,

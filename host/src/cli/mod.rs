@@ -121,7 +121,8 @@ struct Common {
     #[arg(long, value_parser = parse_size)]
     size: Option<(u16, u16)>,
     /// Samples per pixel: corner, centre, prefiltered, offset:X,Y, stratified:K, random:N,
-    /// adaptive:K or adaptive:K,T (K x K samples only where a pixel needs them)
+    /// adaptive:K or adaptive:K,T (K x K samples only where a pixel needs them), sparse or
+    /// sparse:T (a ray through a quarter of the pixels, the others interpolated where they agree)
     #[arg(long)]
     sampler: Option<tessera::Sampler>,
     /// Reflection/refraction depth: 0 (no reflected or refracted ray) to 8
@@ -227,11 +228,15 @@ fn warn_work(
 }
 
 /// `NAME: WxH, N samples/px (SAMPLER), depth D`: the start of every summary line.
-/// The adaptive sampler's count is the most a pixel takes (`at most 17
-/// samples/px (adaptive:4)`): most pixels take one.
+/// The adaptive and sparse samplers' count is the most a pixel takes (`at most
+/// 17 samples/px (adaptive:4)`): most pixels take one (adaptive) or none
+/// (sparse).
 fn describe(source: &Source, vp: Viewport, settings: &RenderSettings) -> String {
     let n = settings.sampler.count();
-    let bound = if matches!(settings.sampler, tessera::Sampler::Adaptive { .. }) {
+    let bound = if matches!(
+        settings.sampler,
+        tessera::Sampler::Adaptive { .. } | tessera::Sampler::Sparse { .. }
+    ) {
         "at most "
     } else {
         ""

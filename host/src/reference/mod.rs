@@ -205,6 +205,15 @@ pub fn render(
             threshold,
         ));
     }
+    if let tessera::Sampler::Sparse { threshold } = settings.sampler {
+        return Ok(sparse(
+            &tracer,
+            &camera,
+            (width, height),
+            settings,
+            threshold,
+        ));
+    }
     let count = settings.sampler.count();
     let mut pixels = Vec::with_capacity((width * height) as usize);
     let mut signature = Vec::with_capacity(pixels.capacity());
@@ -239,6 +248,98 @@ pub fn render(
     })
 }
 
+/// A pixel's prefiltered centre ray in `f64`, as the adaptive and sparse
+/// samplers trace it: its colour, signature, what its camera ray met (the
+/// primitive and the shadow of each light), whether on a textured surface, and
+/// its 8-bit channels.
+fn centre(
+    tracer: &Tracer<'_>,
+    camera: &RefCamera,
+    (x, y): (u32, u32),
+    encoding: tessera::Encoding,
+) -> (V3, Signature, u64, bool, [u8; 3]) {
+    let (px, py) = (f64::from(x), f64::from(y));
+    let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+        .map(|(dx, dy)| camera.ray(px + dx, py + dy).0);
+    let (ray, t_far) = camera.ray(px + 0.5, py + 0.5);
+    let mut sig = Signature::default();
+    let color = tracer.trace_camera_prefiltered(&ray, t_far, &corners, &mut sig);
+    let (probe, textured) = tracer.camera_probe(&ray, t_far);
+    let bytes = color.to_array().map(|v| encode8(v, encoding));
+    (color, sig, probe, textured, bytes)
+}
+
+/// The sparse sampler in `f64`: the prefiltered centre ray of every pixel
+/// whose coordinates are both even; each other pixel the mean of its two or
+/// four traced neighbours (in its row or column, or diagonally) when they met
+/// the same things and each 8-bit channel spans at
+/// most `threshold` over them, else (and when a neighbour lies beyond the
+/// frame) its own prefiltered centre ray.
+fn sparse(
+    tracer: &Tracer<'_>,
+    camera: &RefCamera,
+    (width, height): (u32, u32),
+    settings: &tessera::RenderSettings,
+    threshold: u8,
+) -> RefImage {
+    let e = settings.encoding;
+    let mut traced = std::collections::HashMap::new();
+    for y in (0..height).step_by(2) {
+        for x in (0..width).step_by(2) {
+            traced.insert((x, y), centre(tracer, camera, (x, y), e));
+        }
+    }
+    let mut pixels = Vec::with_capacity((width * height) as usize);
+    let mut signature = Vec::with_capacity(pixels.capacity());
+    for y in 0..height {
+        for x in 0..width {
+            let near: Vec<(u32, u32)> = match (x % 2, y % 2) {
+                (1, 0) => vec![(x - 1, y), (x + 1, y)],
+                (0, 1) => vec![(x, y - 1), (x, y + 1)],
+                (1, 1) => vec![
+                    (x - 1, y - 1),
+                    (x + 1, y - 1),
+                    (x - 1, y + 1),
+                    (x + 1, y + 1),
+                ],
+                _ => vec![],
+            };
+            let near: Option<Vec<_>> = near.iter().map(|a| traced.get(a)).collect();
+            let blend = near.filter(|n| !n.is_empty()).and_then(|n| {
+                let first = n[0];
+                let agree = n.iter().all(|s| s.2 == first.2)
+                    && (0..3).all(|c| {
+                        let (lo, hi) = n
+                            .iter()
+                            .fold((u8::MAX, 0), |(lo, hi), s| (lo.min(s.4[c]), hi.max(s.4[c])));
+                        hi - lo <= threshold
+                    });
+                agree.then(|| {
+                    let sum = n.iter().fold(V3::ZERO, |a, s| a + s.0);
+                    (sum * (1.0 / n.len() as f64), first.1)
+                })
+            });
+            let (color, sig) = match (traced.get(&(x, y)), blend) {
+                (Some(t), _) => (t.0, t.1),
+                (None, Some(b)) => b,
+                (None, None) => {
+                    let t = centre(tracer, camera, (x, y), e);
+                    (t.0, t.1)
+                }
+            };
+            pixels.push(color.to_array());
+            signature.push(sig.0);
+        }
+    }
+    RefImage {
+        width,
+        height,
+        pixels,
+        signature,
+        encoding: e,
+    }
+}
+
 /// The adaptive sampler in `f64`: every pixel's prefiltered centre ray first,
 /// then, for each pixel whose centre differs from one of its four neighbours'
 /// (another camera-hit signature, or on untextured hits an 8-bit channel more
@@ -251,19 +352,10 @@ fn adaptive(
     k: u8,
     threshold: u8,
 ) -> RefImage {
-    let q = |v: f64| encode8(v, settings.encoding);
     let mut centres = Vec::with_capacity((width * height) as usize);
     for y in 0..height {
         for x in 0..width {
-            let (px, py) = (f64::from(x), f64::from(y));
-            let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
-                .map(|(dx, dy)| camera.ray(px + dx, py + dy).0);
-            let (ray, t_far) = camera.ray(px + 0.5, py + 0.5);
-            let mut sig = Signature::default();
-            let color = tracer.trace_camera_prefiltered(&ray, t_far, &corners, &mut sig);
-            let (probe, textured) = tracer.camera_probe(&ray, t_far);
-            let bytes = color.to_array().map(q);
-            centres.push((color, sig, probe, textured, bytes));
+            centres.push(centre(tracer, camera, (x, y), settings.encoding));
         }
     }
     let at = |x: i64, y: i64| {
