@@ -147,6 +147,25 @@ impl Encoding {
             Self::Srgb => c.to_srgb8(),
         }
     }
+
+    /// A linear colour that this encoding writes as `p`: `p / 255` (linear), or
+    /// of each sRGB code the smallest value that has it (the table of
+    /// [`Color::to_srgb8`]); `self.encode(self.decode(p)) == p` for every `p`.
+    #[must_use]
+    pub fn decode(self, p: Rgb8) -> Color {
+        let one = |v: u8| match self {
+            Self::Linear => f32::from(v) / 255.0,
+            Self::Srgb if v == 0 => 0.0,
+            Self::Srgb => f32::from_bits(
+                SRGB.first
+                    .get(usize::from(v))
+                    .copied()
+                    .unwrap_or(0)
+                    .cast_unsigned(),
+            ),
+        };
+        Color::new(one(p.r), one(p.g), one(p.b))
+    }
 }
 
 impl core::fmt::Display for Encoding {
@@ -341,6 +360,24 @@ mod tests {
             (top, first, core::mem::size_of_val(&SRGB)),
             (2_048, 1_024, 3_072)
         );
+    }
+
+    #[test]
+    fn decode_gives_back_every_code() {
+        for e in [Encoding::Linear, Encoding::Srgb] {
+            for v in 0..=255u8 {
+                let p = Rgb8::new(v, 255 - v, v / 2);
+                assert_eq!(e.encode(e.decode(p)), p, "{e} {v}");
+            }
+        }
+        // sRGB's: the smallest linear value of the code (the one below is the
+        // code before): for 128, where the curve crosses 127.5 / 255,
+        // ((127.5 / 255 + 0.055) / 1.055)^2.4.
+        let c = Encoding::Srgb.decode(Rgb8::new(128, 1, 255));
+        let boundary = ((127.5f64 / 255.0 + 0.055) / 1.055).powf(2.4) as f32;
+        assert!((c.r - boundary).abs() < 1e-6, "{c:?} {boundary}");
+        assert_eq!(srgb8(f32::from_bits(c.g.to_bits() - 1)), 0);
+        assert_eq!(c.b, f32::from_bits(SRGB_THRESHOLDS[254]));
     }
 
     #[test]

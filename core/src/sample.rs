@@ -104,7 +104,9 @@ pub enum Sampler {
     /// agree within `threshold` in each 8-bit channel (the output's 8 bits, as
     /// [`Sampler::Adaptive`] compares them); elsewhere, and where a neighbour
     /// lies beyond the frame, its own prefiltered ray. The mean is taken of the
-    /// linear colours. Shading and textures are interpolated between rays two
+    /// 8-bit pixels, each channel rounded half up (for neighbours within a few
+    /// levels of each other, the mean of their linear colours to within a
+    /// level). Shading and textures are interpolated between rays two
     /// pixels apart where they vary slowly (a highlight or a texture's detail
     /// narrower than that may be smoothed or missed); edges, shadows and steps
     /// of colour get their own rays. The

@@ -572,7 +572,8 @@ impl Renderer {
     /// added to `count` (`&mut ()` not to count). Every primitive is a candidate (no
     /// tile, no culling): the same colour as [`Renderer::render_tile`] gives, which the
     /// tests check; its [`Encoding::encode`] with the settings' encoding is the
-    /// tile's pixel.
+    /// tile's pixel. (A pixel the sparse sampler interpolates is a mean of 8-bit
+    /// pixels: its colour here is [`Encoding::decode`] of it.)
     pub fn pixel_color<C: RayCounter>(
         &self,
         scene: &SceneView<'_>,
@@ -1001,7 +1002,7 @@ impl<'a, C: Observer> Pass<'a, C> {
         let frame = (u32::from(vp.width), u32::from(vp.height));
         // The even columns of [x0 - 1, x0 + tw] within the frame.
         let columns = (x0 & !1, (x0 + tw as u32).min(frame.0.saturating_sub(1)));
-        let mut grid = Grid::<N>::new(columns.0);
+        let mut grid = Grid::<N>::new();
         for (j, row) in pixels.chunks_mut(tw.max(1)).enumerate() {
             let live = if j < th { tw } else { 0 };
             let Some((live, rest)) = row.split_at_mut_checked(live) else {
@@ -1014,32 +1015,41 @@ impl<'a, C: Observer> Pass<'a, C> {
                         let slot = grid.slot_for(g);
                         for (k, gx) in (columns.0..=columns.1).step_by(2).enumerate() {
                             let c = self.centre::<BOUNCES>(gx, g);
-                            slot.set(k, GridSample::new(c, encoding));
+                            slot.set(k, c.encoded(encoding));
                         }
                     }
                 }
             }
+            // The traced rows this row takes its pixels from: its own (even), or
+            // the one above and, but on the frame's last row, the one below (odd).
+            let odd_y = y % 2 == 1;
+            let rows = match (grid.row(y & !1), grid.row(y + 1)) {
+                (Some(u), _) if !odd_y => Some((u, u)),
+                (Some(u), Some(l)) => Some((u, l)),
+                // The frame's last row, odd: no row below.
+                _ => None,
+            };
             for (i, px) in live.iter_mut().enumerate() {
                 let x = x0 + i as u32;
-                let rgb = match sparse_parents((x, y), frame) {
-                    Parents::Own if x.is_multiple_of(2) && y.is_multiple_of(2) => {
-                        grid.get(x, y).pixel.color
-                    }
-                    Parents::Own => encoding.encode(self.centre::<BOUNCES>(x, y).color),
-                    Parents::Two(at) => {
-                        let two = at.map(|(gx, gy)| grid.get(gx, gy));
-                        match sparse_blend(&two, threshold) {
-                            Some(c) => encoding.encode(c),
-                            None => encoding.encode(self.centre::<BOUNCES>(x, y).color),
+                let k = ((x - columns.0) / 2) as usize;
+                let odd_x = x % 2 == 1;
+                let mean = match rows {
+                    // A neighbour beyond the frame.
+                    _ if odd_x && x + 1 >= frame.0 => None,
+                    None => None,
+                    Some((u, l)) => match (odd_x, odd_y) {
+                        (false, false) => Some(u.at(k).color),
+                        (true, false) => sparse_blend([u.at(k), u.at(k + 1)], threshold),
+                        (false, true) => sparse_blend([u.at(k), l.at(k)], threshold),
+                        (true, true) => {
+                            sparse_blend([u.at(k), u.at(k + 1), l.at(k), l.at(k + 1)], threshold)
                         }
-                    }
-                    Parents::Four(at) => {
-                        let four = at.map(|(gx, gy)| grid.get(gx, gy));
-                        match sparse_blend(&four, threshold) {
-                            Some(c) => encoding.encode(c),
-                            None => encoding.encode(self.centre::<BOUNCES>(x, y).color),
-                        }
-                    }
+                    },
+                };
+                let rgb = match mean {
+                    Some(rgb) => rgb,
+                    // Its own ray, the prefiltered one (no signature needed).
+                    None => encoding.encode(self.pixel::<BOUNCES>(x, y)),
                 };
                 *px = P::from_rgb8(rgb, x, y, dither);
             }
@@ -1056,15 +1066,17 @@ impl<'a, C: Observer> Pass<'a, C> {
         let vp = self.renderer.viewport();
         let frame = (u32::from(vp.width), u32::from(vp.height));
         let encoding = self.renderer.settings.encoding;
-        let traced = |pass: &mut Self, (gx, gy): (u32, u32)| {
-            GridSample::new(pass.centre::<true>(gx, gy), encoding)
-        };
+        let traced =
+            |pass: &mut Self, (gx, gy): (u32, u32)| pass.centre::<true>(gx, gy).encoded(encoding);
         let blended = match sparse_parents((x, y), frame) {
             Parents::Own => None,
-            Parents::Two(at) => sparse_blend(&at.map(|a| traced(self, a)), threshold),
-            Parents::Four(at) => sparse_blend(&at.map(|a| traced(self, a)), threshold),
+            Parents::Two(at) => sparse_blend(at.map(|a| traced(self, a)).each_ref(), threshold),
+            Parents::Four(at) => sparse_blend(at.map(|a| traced(self, a)).each_ref(), threshold),
         };
-        blended.unwrap_or_else(|| self.centre::<true>(x, y).color)
+        match blended {
+            Some(rgb) => encoding.decode(rgb),
+            None => self.pixel::<true>(x, y),
+        }
     }
 
     /// The colour of pixel `(x, y)`: the mean of its samples, each one call of
@@ -1077,8 +1089,11 @@ impl<'a, C: Observer> Pass<'a, C> {
         let (px, py) = (x as f32, y as f32);
         // One ray: no loop, no average (`(0 + c) * 1 = c`).
         if let Some((dx, dy)) = r.single {
-            let footprint = matches!(r.settings.sampler, Sampler::Prefiltered)
-                .then(|| Footprint::new(&r.basis, px, py));
+            let footprint = matches!(
+                r.settings.sampler,
+                Sampler::Prefiltered | Sampler::Sparse { .. }
+            )
+            .then(|| Footprint::new(&r.basis, px, py));
             let (at, footprint) = ((px + dx, py + dy), footprint.as_ref());
             return r.sample::<C, BOUNCES>(
                 self.scene, self.picks, self.depth, at, footprint, self.count,
@@ -1249,67 +1264,70 @@ fn sparse_parents((x, y): (u32, u32), (w, h): (u32, u32)) -> Parents {
     }
 }
 
-/// The mean of the linear colours of `samples` (two or four traced pixels)
-/// when they met the same things and each 8-bit channel spans at most
-/// `threshold` over them; `None` otherwise.
+/// The mean of the 8-bit pixels of `samples` (two or four traced pixels, each
+/// channel rounded half up) when they met the same things and each channel
+/// spans at most `threshold` over them; `None` otherwise.
 #[inline(always)]
-fn sparse_blend<const K: usize>(samples: &[GridSample; K], threshold: u8) -> Option<Color> {
-    let first = samples.first()?;
-    let (mut lo, mut hi) = (first.pixel.color, first.pixel.color);
-    for s in samples {
-        if s.pixel.sig != first.pixel.sig {
+fn sparse_blend<const K: usize>(samples: [&CentrePixel; K], threshold: u8) -> Option<Rgb8> {
+    let (first, rest) = samples.split_first()?;
+    let (mut lo, mut hi) = (first.color, first.color);
+    let c = first.color;
+    let mut sum = [u16::from(c.r), u16::from(c.g), u16::from(c.b)];
+    for s in rest {
+        if s.sig != first.sig {
             return None;
         }
-        let c = s.pixel.color;
+        let c = s.color;
         lo = Rgb8::new(lo.r.min(c.r), lo.g.min(c.g), lo.b.min(c.b));
         hi = Rgb8::new(hi.r.max(c.r), hi.g.max(c.g), hi.b.max(c.b));
+        sum = [
+            sum[0] + u16::from(c.r),
+            sum[1] + u16::from(c.g),
+            sum[2] + u16::from(c.b),
+        ];
     }
     if hi.r - lo.r > threshold || hi.g - lo.g > threshold || hi.b - lo.b > threshold {
         return None;
     }
-    match samples.as_slice() {
-        [a, b] => Some((a.color + b.color) * 0.5),
-        [a, b, c, d] => Some(((a.color + b.color) + (c.color + d.color)) * 0.25),
-        _ => None,
-    }
-}
-
-/// A traced pixel of the sparse sampler: its linear colour and what the
-/// decision compares of it.
-#[derive(Clone, Copy, Default)]
-struct GridSample {
-    color: Color,
-    pixel: CentrePixel,
-}
-
-impl GridSample {
-    #[inline(always)]
-    fn new(c: CentreSample, encoding: Encoding) -> Self {
-        Self {
-            color: c.color,
-            pixel: c.encoded(encoding),
-        }
-    }
+    // K is 2 or 4: the mean rounded half up, by a shift.
+    let shift = K.trailing_zeros();
+    let mean = |v: u16| ((v + (K as u16 >> 1)) >> shift) as u8;
+    Some(Rgb8::new(mean(sum[0]), mean(sum[1]), mean(sum[2])))
 }
 
 /// Two rows of the sparse sampler's traced pixels (even rows), each over the
-/// even columns from `first` on: at most `N / 2 + 2` of them, kept in `mid` and
-/// then `extra`.
+/// even columns from the tile's first on: at most `N / 2 + 2` of them, kept in
+/// `mid` and then `extra`.
 struct Grid<const N: usize> {
-    first: u32,
     rows: [GridRow<N>; 2],
 }
 
 /// One row of a [`Grid`]: its `y` (`u32::MAX` before it is traced).
 struct GridRow<const N: usize> {
     y: u32,
-    mid: [GridSample; N],
-    extra: [GridSample; 2],
+    mid: [CentrePixel; N],
+    extra: [CentrePixel; 2],
 }
 
 impl<const N: usize> GridRow<N> {
+    /// The traced pixel of the `k`-th even column from the grid's first (`k`
+    /// is at most `N / 2 + 1`; beyond the row, a pixel of no colour and no
+    /// signature, never asked for).
     #[inline(always)]
-    fn set(&mut self, k: usize, s: GridSample) {
+    fn at(&self, k: usize) -> &CentrePixel {
+        const NONE: CentrePixel = CentrePixel {
+            color: Rgb8::new(0, 0, 0),
+            sig: 0,
+            textured: false,
+        };
+        match self.mid.get(k) {
+            Some(s) => s,
+            None => self.extra.get(k.wrapping_sub(N)).unwrap_or(&NONE),
+        }
+    }
+
+    #[inline(always)]
+    fn set(&mut self, k: usize, s: CentrePixel) {
         let at = match self.mid.get_mut(k) {
             Some(at) => at,
             None => match self.extra.get_mut(k - N) {
@@ -1322,14 +1340,13 @@ impl<const N: usize> GridRow<N> {
 }
 
 impl<const N: usize> Grid<N> {
-    fn new(first: u32) -> Self {
+    fn new() -> Self {
         let row = || GridRow {
             y: u32::MAX,
-            mid: [GridSample::default(); N],
-            extra: [GridSample::default(); 2],
+            mid: [CentrePixel::default(); N],
+            extra: [CentrePixel::default(); 2],
         };
         Self {
-            first,
             rows: [row(), row()],
         }
     }
@@ -1355,17 +1372,10 @@ impl<const N: usize> Grid<N> {
         older
     }
 
-    /// The traced pixel `(x, y)` (kept: an even `x` from `first` on, a row held).
+    /// Row `y`, if it is kept.
     #[inline(always)]
-    fn get(&self, x: u32, y: u32) -> GridSample {
-        let k = ((x - self.first) / 2) as usize;
-        let Some(row) = self.rows.iter().find(|r| r.y == y) else {
-            return GridSample::default();
-        };
-        match row.mid.get(k) {
-            Some(s) => *s,
-            None => row.extra.get(k - N).copied().unwrap_or_default(),
-        }
+    fn row(&self, y: u32) -> Option<&GridRow<N>> {
+        self.rows.iter().find(|r| r.y == y)
     }
 }
 

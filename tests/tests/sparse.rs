@@ -3,8 +3,8 @@
 //! means of their traced neighbours.
 //!
 //! The expectations are computed here from another render: the prefiltered
-//! image (the sparse sampler's ray in every pixel) gives each pixel's linear
-//! colour, its 8-bit pixel and its class (what its ray met, read off the pixel
+//! image (the sparse sampler's ray in every pixel) gives each pixel's 8-bit
+//! pixel and its class (what its ray met, read off the pixel
 //! as in the adaptive sampler's tests, same scene); the rule is applied to
 //! that image.
 
@@ -81,12 +81,13 @@ fn expected(t: u8) -> (Vec<Option<[u8; 3]>>, usize) {
                 hi - lo <= t
             });
             if same && spread {
-                let mean = match cs.as_slice() {
-                    [a, b] => (*a + *b) * 0.5,
-                    [a, b, c, d] => ((*a + *b) + (*c + *d)) * 0.25,
-                    _ => unreachable!("two or four neighbours"),
+                // Each channel's mean, rounded half up.
+                let k = px.len() as u32;
+                let mean = |c: usize| {
+                    let sum: u32 = px.iter().map(|p| u32::from(p[c])).sum();
+                    ((sum + k / 2) / k) as u8
                 };
-                want.push(Some(byte(mean)));
+                want.push(Some([mean(0), mean(1), mean(2)]));
             } else {
                 want.push(None);
                 own += 1;

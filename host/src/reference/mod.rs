@@ -270,8 +270,9 @@ fn centre(
 }
 
 /// The sparse sampler in `f64`: the prefiltered centre ray of every pixel
-/// whose coordinates are both even; each other pixel the mean of its two or
-/// four traced neighbours (in its row or column, or diagonally) when they met
+/// whose coordinates are both even; each other pixel the mean of the 8-bit
+/// pixels of its two or four traced neighbours (in its row or column, or
+/// diagonally) when they met
 /// the same things and each 8-bit channel spans at
 /// most `threshold` over them, else (and when a neighbour lies beyond the
 /// frame) its own prefiltered centre ray.
@@ -314,9 +315,18 @@ fn sparse(
                             .fold((u8::MAX, 0), |(lo, hi), s| (lo.min(s.4[c]), hi.max(s.4[c])));
                         hi - lo <= threshold
                     });
+                // The mean of their 8-bit codes, rounded half up, in linear
+                // terms: the smallest value the encoding writes as it.
                 agree.then(|| {
-                    let sum = n.iter().fold(V3::ZERO, |a, s| a + s.0);
-                    (sum * (1.0 / n.len() as f64), first.1)
+                    let k = n.len() as u32;
+                    let mean = |c: usize| {
+                        let sum: u32 = n.iter().map(|s| u32::from(s.4[c])).sum();
+                        ((sum + k / 2) / k) as u8
+                    };
+                    let p = tessera::color::Rgb8::new(mean(0), mean(1), mean(2));
+                    let c = e.decode(p);
+                    let c = V3::new(f64::from(c.r), f64::from(c.g), f64::from(c.b));
+                    (c, first.1)
                 })
             });
             let (color, sig) = match (traced.get(&(x, y)), blend) {
