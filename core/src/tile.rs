@@ -29,6 +29,9 @@ use crate::prefilter::Footprint;
 use crate::sample::{PixelHash, Sampler, stratified, stratum};
 use crate::shade::{CameraRay, Observer, RayCounter, Signature, trace_with};
 use crate::view::SceneView;
+use sparse::{Grid, Parents, sparse_blend, sparse_parents};
+
+mod sparse;
 
 /// How a frame is rendered.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -1226,156 +1229,6 @@ impl CentrePixel {
                 && (a.r.abs_diff(b.r) > threshold
                     || a.g.abs_diff(b.g) > threshold
                     || a.b.abs_diff(b.b) > threshold)
-    }
-}
-
-/// Which traced pixels the sparse sampler may interpolate pixel `(x, y)` from.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Parents {
-    /// None: a traced pixel (both coordinates even), or one with a neighbour
-    /// beyond the frame; its own ray.
-    Own,
-    /// The two traced pixels either side of it in its row or its column.
-    Two([(u32, u32); 2]),
-    /// The four traced pixels diagonally around it.
-    Four([(u32, u32); 4]),
-}
-
-/// The traced neighbours of pixel `(x, y)` in a frame of `(w, h)` pixels
-/// ([`Sampler::Sparse`]).
-#[inline(always)]
-fn sparse_parents((x, y): (u32, u32), (w, h): (u32, u32)) -> Parents {
-    let (odd_x, odd_y) = (x % 2 == 1, y % 2 == 1);
-    // An odd coordinate's neighbours are the even ones either side; the one
-    // after it must lie in the frame.
-    if odd_x && x + 1 >= w || odd_y && y + 1 >= h {
-        return Parents::Own;
-    }
-    match (odd_x, odd_y) {
-        (false, false) => Parents::Own,
-        (true, false) => Parents::Two([(x - 1, y), (x + 1, y)]),
-        (false, true) => Parents::Two([(x, y - 1), (x, y + 1)]),
-        (true, true) => Parents::Four([
-            (x - 1, y - 1),
-            (x + 1, y - 1),
-            (x - 1, y + 1),
-            (x + 1, y + 1),
-        ]),
-    }
-}
-
-/// The mean of the 8-bit pixels of `samples` (two or four traced pixels, each
-/// channel rounded half up) when they met the same things and each channel
-/// spans at most `threshold` over them; `None` otherwise.
-#[inline(always)]
-fn sparse_blend<const K: usize>(samples: [&CentrePixel; K], threshold: u8) -> Option<Rgb8> {
-    let (first, rest) = samples.split_first()?;
-    let (mut lo, mut hi) = (first.color, first.color);
-    let c = first.color;
-    let mut sum = [u16::from(c.r), u16::from(c.g), u16::from(c.b)];
-    for s in rest {
-        if s.sig != first.sig {
-            return None;
-        }
-        let c = s.color;
-        lo = Rgb8::new(lo.r.min(c.r), lo.g.min(c.g), lo.b.min(c.b));
-        hi = Rgb8::new(hi.r.max(c.r), hi.g.max(c.g), hi.b.max(c.b));
-        sum = [
-            sum[0] + u16::from(c.r),
-            sum[1] + u16::from(c.g),
-            sum[2] + u16::from(c.b),
-        ];
-    }
-    if hi.r - lo.r > threshold || hi.g - lo.g > threshold || hi.b - lo.b > threshold {
-        return None;
-    }
-    // K is 2 or 4: the mean rounded half up, by a shift.
-    let shift = K.trailing_zeros();
-    let mean = |v: u16| ((v + (K as u16 >> 1)) >> shift) as u8;
-    Some(Rgb8::new(mean(sum[0]), mean(sum[1]), mean(sum[2])))
-}
-
-/// Two rows of the sparse sampler's traced pixels (even rows), each over the
-/// even columns from the tile's first on: at most `N / 2 + 2` of them, kept in
-/// `mid` and then `extra`.
-struct Grid<const N: usize> {
-    rows: [GridRow<N>; 2],
-}
-
-/// One row of a [`Grid`]: its `y` (`u32::MAX` before it is traced).
-struct GridRow<const N: usize> {
-    y: u32,
-    mid: [CentrePixel; N],
-    extra: [CentrePixel; 2],
-}
-
-impl<const N: usize> GridRow<N> {
-    /// The traced pixel of the `k`-th even column from the grid's first (`k`
-    /// is at most `N / 2 + 1`; beyond the row, a pixel of no colour and no
-    /// signature, never asked for).
-    #[inline(always)]
-    fn at(&self, k: usize) -> &CentrePixel {
-        const NONE: CentrePixel = CentrePixel {
-            color: Rgb8::new(0, 0, 0),
-            sig: 0,
-            textured: false,
-        };
-        match self.mid.get(k) {
-            Some(s) => s,
-            None => self.extra.get(k.wrapping_sub(N)).unwrap_or(&NONE),
-        }
-    }
-
-    #[inline(always)]
-    fn set(&mut self, k: usize, s: CentrePixel) {
-        let at = match self.mid.get_mut(k) {
-            Some(at) => at,
-            None => match self.extra.get_mut(k - N) {
-                Some(at) => at,
-                None => return,
-            },
-        };
-        *at = s;
-    }
-}
-
-impl<const N: usize> Grid<N> {
-    fn new() -> Self {
-        let row = || GridRow {
-            y: u32::MAX,
-            mid: [CentrePixel::default(); N],
-            extra: [CentrePixel::default(); 2],
-        };
-        Self {
-            rows: [row(), row()],
-        }
-    }
-
-    /// Whether row `y` is kept.
-    #[inline(always)]
-    fn holds(&self, y: u32) -> bool {
-        self.rows.iter().any(|r| r.y == y)
-    }
-
-    /// The slot row `y` is traced into: the one of a row above the other's
-    /// (rows are asked for from the top down, a row at most two above the one
-    /// before).
-    #[inline(always)]
-    fn slot_for(&mut self, y: u32) -> &mut GridRow<N> {
-        let [a, b] = &mut self.rows;
-        let older = if a.y == u32::MAX || b.y != u32::MAX && a.y < b.y {
-            a
-        } else {
-            b
-        };
-        older.y = y;
-        older
-    }
-
-    /// Row `y`, if it is kept.
-    #[inline(always)]
-    fn row(&self, y: u32) -> Option<&GridRow<N>> {
-        self.rows.iter().find(|r| r.y == y)
     }
 }
 

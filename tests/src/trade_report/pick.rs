@@ -21,6 +21,7 @@ pub(super) fn paragraph(entries: &[Entry], fringes: &[FringeResult]) -> Result<S
     noise(&mut p, entries, &no_texture)?;
     depth(&mut p, entries)?;
     adaptive(&mut p, entries)?;
+    sparse(&mut p, entries)?;
     for b in approximations() {
         approximation(&mut p, entries, b.name)?;
     }
@@ -455,6 +456,49 @@ fn adaptive(p: &mut String, entries: &[Entry]) -> Result<(), String> {
         } else {
             missed.join(", ")
         },
+    );
+    Ok(())
+}
+
+/// The sparse sampler against the prefiltered one (its ray, in every pixel),
+/// scene by scene: mean FLIP, and the share of the chip's estimated cycles and
+/// of the host time.
+fn sparse(p: &mut String, entries: &[Entry]) -> Result<(), String> {
+    let _ = write!(
+        p,
+        "**Sparse sampling traces fewer rays than pixels** (the prefiltered ray through a \
+         quarter of the pixels, the others interpolated from their traced neighbours \
+         where these met the same things and agree within {} levels, else traced); \
+         against prefiltered, exact math, at each scene's depth, at {}:",
+        tessera::Sampler::SPARSE_THRESHOLD,
+        super::SIZE
+    );
+    for b in super::SCENES {
+        let (s, d) = (b.name(), b.settings().max_depth);
+        let sp = find(entries, s, EXACT, "sparse", d, 16)?;
+        let pre = find(entries, s, EXACT, "prefiltered", d, 16)?;
+        let chip = match (sp.cycles(), pre.cycles()) {
+            (Some(x), Some(y)) => x / y,
+            _ => f64::NAN,
+        };
+        let host = sp.row.ns_median / pre.row.ns_median;
+        let _ = write!(
+            p,
+            " {s}, FLIP {} against {} at {:.0}% of the chip's cycles ({} against {}) and \
+             {:.0}% of the host time;",
+            flip(sp.row.flip),
+            flip(pre.row.flip),
+            100.0 * chip,
+            chip_of(sp),
+            chip_of(pre),
+            100.0 * host,
+        );
+    }
+    p.pop();
+    let _ = write!(
+        p,
+        ". The larger the frame, the more it saves (at 240x240 on the chip: \
+         [chip-cost.md](chip-cost.md#with-the-sparse-sampler)). "
     );
     Ok(())
 }
