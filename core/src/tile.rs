@@ -988,12 +988,33 @@ impl<'a, C: Observer> Pass<'a, C> {
     /// tile's columns and the apron's, kept two rows at a time ([`Grid`]); then
     /// each pixel its traced colour, the mean of its traced neighbours
     /// ([`sparse_blend`]), or its own ray.
-    #[inline(never)]
+    #[inline(always)]
     fn fill_sparse<const N: usize, P: TilePixel, const BOUNCES: bool>(
+        self,
+        pixels: &mut [P],
+        area: (u32, u32, usize, usize),
+        threshold: u8,
+    ) where
+        C: RayCounter,
+    {
+        // A row of the grid holds at most N / 2 + 2 traced pixels: N of them
+        // from 4 on, 4 below.
+        let mut big = [[CentrePixel::default(); N]; 2];
+        let mut small = [[CentrePixel::default(); 4]; 2];
+        let ([b0, b1], [s0, s1]) = (&mut big, &mut small);
+        let cells: [&mut [CentrePixel]; 2] = if N >= 4 { [b0, b1] } else { [s0, s1] };
+        self.fill_sparse_in::<P, BOUNCES>(pixels, area, threshold, Grid::new(cells));
+    }
+
+    /// [`Pass::fill_sparse`] in the rows of `grid`: one copy whatever the tile
+    /// size.
+    #[inline(never)]
+    fn fill_sparse_in<P: TilePixel, const BOUNCES: bool>(
         mut self,
         pixels: &mut [P],
         (x0, y0, tw, th): (u32, u32, usize, usize),
         threshold: u8,
+        mut grid: Grid<'_>,
     ) where
         C: RayCounter,
     {
@@ -1005,7 +1026,6 @@ impl<'a, C: Observer> Pass<'a, C> {
         let frame = (u32::from(vp.width), u32::from(vp.height));
         // The even columns of [x0 - 1, x0 + tw] within the frame.
         let columns = (x0 & !1, (x0 + tw as u32).min(frame.0.saturating_sub(1)));
-        let mut grid = Grid::<N>::new();
         for (j, row) in pixels.chunks_mut(tw.max(1)).enumerate() {
             let live = if j < th { tw } else { 0 };
             let Some((live, rest)) = row.split_at_mut_checked(live) else {

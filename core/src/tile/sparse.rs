@@ -76,58 +76,55 @@ pub(super) fn sparse_blend<const K: usize>(
 }
 
 /// Two rows of the sparse sampler's traced pixels (even rows), each over the
-/// even columns from the tile's first on: at most `N / 2 + 2` of them, kept in
-/// `mid` and then `extra`.
-pub(super) struct Grid<const N: usize> {
-    rows: [GridRow<N>; 2],
+/// even columns from the tile's first on: at most `N / 2 + 2` of them for a
+/// tile of `N`, in the cells the tile loop lends ([`Grid::new`]), so that the
+/// loop has one copy whatever the tile size.
+pub(super) struct Grid<'a> {
+    rows: [GridRow<'a>; 2],
 }
 
 /// One row of a [`Grid`]: its `y` (`u32::MAX` before it is traced).
-pub(super) struct GridRow<const N: usize> {
+pub(super) struct GridRow<'a> {
     y: u32,
-    mid: [CentrePixel; N],
-    extra: [CentrePixel; 2],
+    cells: &'a mut [CentrePixel],
 }
 
-impl<const N: usize> GridRow<N> {
-    /// The traced pixel of the `k`-th even column from the grid's first (`k`
-    /// is at most `N / 2 + 1`; beyond the row, a pixel of no colour and no
-    /// signature, never asked for).
+/// The pixel [`GridRow::at`] gives beyond a row (never asked for).
+const NONE: CentrePixel = CentrePixel {
+    color: Rgb8::new(0, 0, 0),
+    sig: 0,
+    textured: false,
+};
+
+impl GridRow<'_> {
+    /// The traced pixel of the `k`-th even column from the grid's first.
     #[inline(always)]
     pub(super) fn at(&self, k: usize) -> &CentrePixel {
-        const NONE: CentrePixel = CentrePixel {
-            color: Rgb8::new(0, 0, 0),
-            sig: 0,
-            textured: false,
-        };
-        match self.mid.get(k) {
-            Some(s) => s,
-            None => self.extra.get(k.wrapping_sub(N)).unwrap_or(&NONE),
-        }
+        self.cells.get(k).unwrap_or(&NONE)
     }
 
     #[inline(always)]
     pub(super) fn set(&mut self, k: usize, s: CentrePixel) {
-        let at = match self.mid.get_mut(k) {
-            Some(at) => at,
-            None => match self.extra.get_mut(k - N) {
-                Some(at) => at,
-                None => return,
-            },
-        };
-        *at = s;
+        if let Some(at) = self.cells.get_mut(k) {
+            *at = s;
+        }
     }
 }
 
-impl<const N: usize> Grid<N> {
-    pub(super) fn new() -> Self {
-        let row = || GridRow {
-            y: u32::MAX,
-            mid: [CentrePixel::default(); N],
-            extra: [CentrePixel::default(); 2],
-        };
+impl<'a> Grid<'a> {
+    /// Two rows in `cells`, each at least `N / 2 + 2` long for tiles of `N`.
+    pub(super) fn new([a, b]: [&'a mut [CentrePixel]; 2]) -> Self {
         Self {
-            rows: [row(), row()],
+            rows: [
+                GridRow {
+                    y: u32::MAX,
+                    cells: a,
+                },
+                GridRow {
+                    y: u32::MAX,
+                    cells: b,
+                },
+            ],
         }
     }
 
@@ -141,7 +138,7 @@ impl<const N: usize> Grid<N> {
     /// (rows are asked for from the top down, a row at most two above the one
     /// before).
     #[inline(always)]
-    pub(super) fn slot_for(&mut self, y: u32) -> &mut GridRow<N> {
+    pub(super) fn slot_for(&mut self, y: u32) -> &mut GridRow<'a> {
         let [a, b] = &mut self.rows;
         let older = if a.y == u32::MAX || b.y != u32::MAX && a.y < b.y {
             a
@@ -154,7 +151,7 @@ impl<const N: usize> Grid<N> {
 
     /// Row `y`, if it is kept.
     #[inline(always)]
-    pub(super) fn row(&self, y: u32) -> Option<&GridRow<N>> {
+    pub(super) fn row(&self, y: u32) -> Option<&GridRow<'a>> {
         self.rows.iter().find(|r| r.y == y)
     }
 }
