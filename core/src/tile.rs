@@ -988,7 +988,10 @@ impl<'a, C: Observer> Pass<'a, C> {
     /// tile's columns and the apron's, kept two rows at a time ([`Grid`]); then
     /// each pixel its traced colour, the mean of its traced neighbours
     /// ([`sparse_blend`]), or its own ray.
-    #[inline(always)]
+    ///
+    /// Out of line and small: its cells are on its own frame, not on that of
+    /// the tile loop that calls it, whose other loops then do not carry them.
+    #[inline(never)]
     fn fill_sparse<const N: usize, P: TilePixel, const BOUNCES: bool>(
         self,
         pixels: &mut [P],
