@@ -13,9 +13,10 @@
 //!
 //! (3 bytes a pixel plus 8 bytes of coordinates; a unit test checks these sizes
 //! and `tests/tests/docs.rs` checks them against `docs/chip-cost.md`.) The
-//! renderer's stack does not depend on `N`: measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md`), `render_tile` needs 1,056 to 2,280 bytes (1.0
-//! to 2.2 KiB) below its caller, the tile's culling lists (the primitives that may
+//! renderer's stack does not depend on `N` (but for the sparse sampler's two rows
+//! of traced pixels, `16 N` bytes): measured on a Cortex-M4F (qemu, stack
+//! painting; `docs/chip-cost.md`), `render_tile` needs 1,544 to 2,520 bytes (1.5
+//! to 2.5 KiB) below its caller, the tile's culling lists (the primitives that may
 //! reach the tile, module `cull`) and the shader's pending-ray stack
 //! (`MAX_DEPTH + 1` rays) included.
 

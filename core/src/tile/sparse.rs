@@ -169,6 +169,12 @@ mod tests {
     }
 
     #[test]
+    fn a_traced_pixel_takes_8_bytes_of_a_row() {
+        // Two rows of N: the 16 N bytes the tile module's doc gives.
+        assert_eq!(core::mem::size_of::<CentrePixel>(), 8);
+    }
+
+    #[test]
     fn a_pixel_takes_the_traced_pixels_around_it_within_the_frame() {
         let frame = (6, 5);
         assert_eq!(sparse_parents((2, 4), frame), Parents::Own);

@@ -253,7 +253,7 @@ fn init_panel<'b>(
 /// of one ray per 4x4 block, then the 16x16 tiles, Bayer 4x4 dithered).
 ///
 /// It links only the tile loops the scene needs (`SceneLoops`, which the baker
-/// writes: direct light, sRGB, no adaptive sampler); the others are left out
+/// writes: direct light, sRGB, no adaptive or sparse sampler); the others are left out
 /// of the image (`tessera::tile::Loops`; the README gives the flash this saves), and
 /// settings that needed one would be refused by `linking`, not drawn wrong.
 fn draw_teapot<D>(display: &mut D) -> Result<(), Failure>
