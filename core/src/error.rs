@@ -246,8 +246,9 @@ impl fmt::Display for Error {
             ),
             Self::UnknownSampler => f.write_str(
                 "unknown sampler: the samplers are corner, centre, prefiltered, offset:X,Y \
-                 (each in [0, 1)), stratified:K (1-64), random:N (1-4096) and \
-                 adaptive:K (2-64) or adaptive:K,T (T: 0-255), and sparse or sparse:T",
+                 (each in [0, 1)), stratified:K (1-64), random:N (1-4096), \
+                 adaptive:K (2-64) or adaptive:K,T (T: 0-255), and sparse or sparse:T \
+                 (T: 0-255)",
             ),
             Self::TileOutOfFrame => f.write_str("tile coordinate is outside the frame"),
             Self::NotLinked => f.write_str(

@@ -375,6 +375,8 @@ mod tests {
             (Sampler::Random(16), "random:16"),
             (Sampler::adaptive(4), "adaptive:4"),
             (Sampler::Adaptive { k: 3, threshold: 0 }, "adaptive:3,0"),
+            (Sampler::sparse(), "sparse"),
+            (Sampler::Sparse { threshold: 0 }, "sparse:0"),
         ] {
             let mut shown = heapless::String::<32>::new();
             write!(shown, "{sampler}").unwrap();
@@ -392,6 +394,16 @@ mod tests {
             })
         );
         assert_eq!(Sampler::adaptive(4).count(), 17);
+        assert_eq!(
+            "sparse: 255".parse(),
+            Ok(Sampler::Sparse { threshold: 255 })
+        );
+        assert_eq!(
+            "sparse:4".parse(),
+            Ok(Sampler::sparse()),
+            "the default threshold prints as `sparse`"
+        );
+        assert_eq!(Sampler::sparse().count(), 1);
     }
 
     #[test]
@@ -403,6 +415,7 @@ mod tests {
             "offset:0.5",
             "offset:a,0",
             "Corner",
+            "Sparse",
         ] {
             assert_eq!(
                 text.parse::<Sampler>(),
@@ -432,6 +445,10 @@ mod tests {
             "adaptive:4,-1",
             "adaptive:4,",
             "adaptive:4,0.5",
+            "sparse:256",
+            "sparse:-1",
+            "sparse:",
+            "sparse:x",
         ] {
             assert_eq!(
                 text.parse::<Sampler>(),
