@@ -106,13 +106,13 @@ pub enum Sampler {
     /// lies beyond the frame, its own prefiltered ray. The mean is taken of the
     /// 8-bit pixels, each channel rounded half up (for neighbours within a few
     /// levels of each other, the mean of their linear colours to within a
-    /// level). Shading and textures are interpolated between rays two
-    /// pixels apart where they vary slowly (a highlight or a texture's detail
-    /// narrower than that may be smoothed or missed); edges, shadows and steps
-    /// of colour get their own rays. The
-    /// decision depends only on the traced pixels, so the image is the same for
-    /// every tile size, order and thread count; a tile traces the even pixels of
-    /// a one-pixel apron around it, two rows of them at a time.
+    /// level). Shading and textures are interpolated between rays two pixels
+    /// apart where they vary slowly (a highlight or a texture's detail narrower
+    /// than that may be smoothed or missed); edges, shadows and steps of colour
+    /// get their own rays. The decision depends only on the traced pixels, so
+    /// the image is the same for every tile size, order and thread count; a
+    /// tile traces the even pixels of a one-pixel apron around it, two rows of
+    /// them at a time.
     Sparse {
         /// Largest channel difference (8-bit units of the output's encoding)
         /// between the traced neighbours of a pixel that still interpolates it
@@ -169,8 +169,11 @@ impl Sampler {
     #[must_use]
     pub fn count(&self) -> u32 {
         match *self {
-            Self::Corner | Self::Centre | Self::Offset(_) | Self::Prefiltered => 1,
-            Self::Sparse { .. } => 1,
+            Self::Corner
+            | Self::Centre
+            | Self::Offset(_)
+            | Self::Prefiltered
+            | Self::Sparse { .. } => 1,
             Self::Stratified(k) => u32::from(k) * u32::from(k),
             Self::Adaptive { k, .. } => u32::from(k) * u32::from(k) + 1,
             Self::Random(n) => u32::from(n),

@@ -15,7 +15,7 @@
 //! and `tests/tests/docs.rs` checks them against `docs/chip-cost.md`.) The
 //! renderer's stack does not depend on `N` (but for the sparse sampler's two rows
 //! of traced pixels, `16 N` bytes): measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md`), `render_tile` needs 1,544 to 2,520 bytes (1.5
+//! painting; `docs/chip-cost.md`), `render_tile` needs 1,552 to 2,528 bytes (1.5
 //! to 2.5 KiB) below its caller, the tile's culling lists (the primitives that may
 //! reach the tile, module `cull`) and the shader's pending-ray stack
 //! (`MAX_DEPTH + 1` rays) included.
@@ -108,6 +108,22 @@ impl TileLoop {
         Self::Sparse { bounces: false },
         Self::Sparse { bounces: true },
     ];
+
+    /// The loop a frame's tiles take for `scene` with `settings` (what
+    /// [`Renderer::tile_loop`] gives, and what `tessera bake` names in a baked
+    /// scene's `SceneLoops`): the adaptive or the sparse sampler's, with bounces
+    /// when rays reach a mirror or glass within the settings' depth; else the
+    /// loop with bounces or without, in the settings' encoding.
+    #[must_use]
+    pub fn of(settings: &RenderSettings, scene: &SceneView<'_>) -> Self {
+        let bounces = scene.depth(settings.max_depth) > 0;
+        match (settings.sampler, bounces) {
+            (Sampler::Adaptive { .. }, bounces) => Self::Adaptive { bounces },
+            (Sampler::Sparse { .. }, bounces) => Self::Sparse { bounces },
+            (_, false) => Self::Direct(settings.encoding),
+            (_, true) => Self::Bounces(settings.encoding),
+        }
+    }
 }
 
 /// Which tile loops a firmware links ([`Renderer::render_tile_in`],
@@ -427,8 +443,6 @@ pub struct Renderer {
     /// The adaptive sampler's threshold (`None` for the other samplers); its
     /// refined pixels are the stratified sampler's (`samples`, `stratum`).
     adaptive: Option<u8>,
-    /// The sparse sampler's threshold (`None` for the other samplers).
-    sparse: Option<u8>,
     /// The sub-pixel offset of a single-sample sampler (`None` for the stratified
     /// and random ones): decided once, not per pixel.
     single: Option<(f32, f32)>,
@@ -465,10 +479,6 @@ impl Renderer {
                 Sampler::Stratified(_) | Sampler::Random(_) | Sampler::Adaptive { .. } => None,
             },
             adaptive,
-            sparse: match settings.sampler {
-                Sampler::Sparse { threshold } => Some(threshold),
-                _ => None,
-            },
             dither: Dither::Bayer4,
         })
     }
@@ -553,7 +563,6 @@ impl Renderer {
             inv_count: 1.0,
             stratum: 1.0,
             adaptive: None,
-            sparse: None,
             single: Some((0.5, 0.5)),
             settings: RenderSettings {
                 sampler: Sampler::Centre,
@@ -588,7 +597,7 @@ impl Renderer {
         let depth = scene.depth(self.settings.max_depth);
         let picks = Picks::default();
         let mut pass = Pass::new(self, scene, &picks, depth, count);
-        if let Some(threshold) = self.sparse {
+        if let Some(threshold) = self.sparse() {
             return pass.sparse_pixel(x, y, threshold);
         }
         let Some(threshold) = self.adaptive else {
@@ -674,7 +683,7 @@ impl Renderer {
     /// the samples as [`Pass::pixel`] averages them (for one sample,
     /// `(0 + b) * 1 = b`).
     fn background_pixel(&self, scene: &SceneView<'_>) -> Rgb8 {
-        if self.adaptive.is_some() || self.sparse.is_some() {
+        if self.adaptive.is_some() || self.sparse().is_some() {
             // Every centre ray misses alike: no pixel is refined.
             return self.settings.encoding.encode(scene.background);
         }
@@ -723,12 +732,14 @@ impl Renderer {
     /// tile no primitive reaches, which is filled with the background at once).
     #[must_use]
     pub fn tile_loop(&self, scene: &SceneView<'_>) -> TileLoop {
-        let bounces = scene.depth(self.settings.max_depth) > 0;
-        match (self.adaptive, self.sparse, bounces) {
-            (Some(_), _, bounces) => TileLoop::Adaptive { bounces },
-            (None, Some(_), bounces) => TileLoop::Sparse { bounces },
-            (None, None, false) => TileLoop::Direct(self.settings.encoding),
-            (None, None, true) => TileLoop::Bounces(self.settings.encoding),
+        TileLoop::of(&self.settings, scene)
+    }
+
+    /// The sparse sampler's threshold (`None` for the other samplers).
+    fn sparse(&self) -> Option<u8> {
+        match self.settings.sampler {
+            Sampler::Sparse { threshold } => Some(threshold),
+            _ => None,
         }
     }
 
@@ -767,7 +778,7 @@ impl Renderer {
         tile.height = u16::try_from(th).unwrap_or(0);
         // Every sample of the tile lies in [x0, x0 + tw] x [y0, y0 + th]; the
         // adaptive and sparse samplers' also in the one-pixel apron around it.
-        let apron = usize::from(self.adaptive.is_some() || self.sparse.is_some());
+        let apron = usize::from(self.adaptive.is_some() || self.sparse().is_some());
         let rect = (
             x0.saturating_sub(apron) as f32,
             y0.saturating_sub(apron) as f32,
@@ -788,7 +799,7 @@ impl Renderer {
             if picks.camera.is_some_and(|c| c.iter().all(|l| l.is_empty())) {
                 // No primitive reaches the tile: every ray misses alike. Its rays
                 // are counted, not traced.
-                let rays = if self.sparse.is_some() {
+                let rays = if self.sparse().is_some() {
                     self.sparse_background_rays(area)
                 } else {
                     (tw * th) as u32 * self.background_rays()
@@ -799,7 +810,7 @@ impl Renderer {
                 return self.fill_background(scene, tile.pixels.as_flattened_mut(), area);
             }
             let depth = scene.depth(self.settings.max_depth);
-            let threshold = self.adaptive.or(self.sparse).unwrap_or(0);
+            let threshold = self.adaptive.or(self.sparse()).unwrap_or(0);
             // The tile's pixels are packed: rows of `tw` (see `Tile::as_slice`).
             let rows = tile.pixels.as_flattened_mut();
             // The loop's instantiations, one per tile loop: with bounces or without

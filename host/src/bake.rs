@@ -16,6 +16,7 @@
 use crate::desc::{DescError, HostBvh, HostScene, SceneDesc};
 use std::fmt::Write as _;
 use tessera::bvh::BvhNode;
+use tessera::tile::TileLoop;
 
 /// `s` as a Rust string literal (with its quotes) that reads back to `s` and
 /// cannot leave its place in the generated file: one line of printable text,
@@ -289,6 +290,14 @@ fn texture(t: &tessera::texture::Texture) -> String {
             color(c),
             lit(spacing)
         ),
+    }
+}
+
+/// The name of `e`'s variant of `Encoding`.
+fn variant(e: tessera::Encoding) -> &'static str {
+    match e {
+        tessera::Encoding::Linear => "Linear",
+        tessera::Encoding::Srgb => "Srgb",
     }
 }
 
@@ -602,23 +611,12 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
 
     // Size, settings, loops, the scene.
     let st = &b.settings;
-    let bounces = st.max_depth > 0
-        && view
-            .materials()
-            .iter()
-            .any(tessera::material::Material::sends_rays);
-    let srgb = st.encoding == tessera::Encoding::Srgb;
-    let tile_loop = match (st.sampler, bounces, srgb) {
-        (tessera::Sampler::Adaptive { .. }, bounces, _) => {
-            format!("TileLoop::Adaptive {{ bounces: {bounces} }}")
-        }
-        (tessera::Sampler::Sparse { .. }, bounces, _) => {
-            format!("TileLoop::Sparse {{ bounces: {bounces} }}")
-        }
-        (_, false, true) => "TileLoop::Direct(Encoding::Srgb)".to_owned(),
-        (_, false, false) => "TileLoop::Direct(Encoding::Linear)".to_owned(),
-        (_, true, true) => "TileLoop::Bounces(Encoding::Srgb)".to_owned(),
-        (_, true, false) => "TileLoop::Bounces(Encoding::Linear)".to_owned(),
+    // The loop the core's renderer takes for these settings, spelt as code.
+    let tile_loop = match TileLoop::of(st, &view) {
+        TileLoop::Direct(e) => format!("TileLoop::Direct(Encoding::{})", variant(e)),
+        TileLoop::Bounces(e) => format!("TileLoop::Bounces(Encoding::{})", variant(e)),
+        TileLoop::Adaptive { bounces } => format!("TileLoop::Adaptive {{ bounces: {bounces} }}"),
+        TileLoop::Sparse { bounces } => format!("TileLoop::Sparse {{ bounces: {bounces} }}"),
     };
     let _ = writeln!(
         body,
@@ -640,7 +638,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
              }}\n}}\n"
     );
     let c = &b.camera;
-    let encoding = if srgb { "Srgb" } else { "Linear" };
+    let encoding = variant(st.encoding);
     let _ = writeln!(
         body,
         "/// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it\n\

@@ -10,8 +10,8 @@
 
 use super::adaptive::{H, W, class, scene};
 use tessera::{
-    Color, Encoding, RenderSettings, Sampler, Tile, TileCoord, Viewport, builtin::Builtin,
-    trace::RayCount,
+    Camera, Color, Encoding, RenderSettings, Sampler, Scene, Tile, TileCoord, Vec3, Viewport,
+    builtin::Builtin, geometry::Sphere, material::Material, trace::RayCount,
 };
 use tessera_host::render_tiles;
 
@@ -225,4 +225,57 @@ fn stays_close_to_the_prefiltered_image_with_fewer_rays() {
             b.name()
         );
     }
+}
+
+/// Where no primitive reaches a tile, its rays are counted, not traced: as
+/// many as tracing it would cast (the even pixels of the tile and its apron,
+/// and the pixels with a neighbour beyond the frame: here the last row, odd),
+/// counted here from the rule; and every pixel is the background.
+#[test]
+fn an_empty_view_counts_the_rays_it_does_not_trace() {
+    let cam = Camera::try_new(
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, -1.0),
+        Vec3::Y,
+        50.0,
+        0.1,
+        100.0,
+    )
+    .unwrap();
+    let mut s: Scene<1, 0, 0, 0, 1, 0> = Scene::new(cam);
+    let bg = Color::new(0.0, 0.0, 0.7);
+    s.set_background(bg).unwrap();
+    let m = s.add_material(Material::matte(Color::WHITE)).unwrap();
+    // Behind the camera: no tile's lists hold it.
+    s.add_sphere(Sphere::try_new(Vec3::new(0.0, 0.0, 5.0), 1.0).unwrap(), m)
+        .unwrap();
+    let r = s
+        .renderer(Viewport::new(W, H), settings(Sampler::sparse()))
+        .unwrap();
+    let (across, down) = r.tile_grid(16);
+    let (mut count, mut buf, mut grid) = (RayCount::default(), Tile::<16>::new(), 0);
+    let evens = |t: u16, n: u16| {
+        let lo = (usize::from(t) * 16).saturating_sub(1);
+        let hi = ((usize::from(t) + 1) * 16 + 1).min(usize::from(n));
+        (lo..hi).filter(|v| v % 2 == 0).count()
+    };
+    let want = bg.to_rgb8();
+    for ty in 0..down {
+        for tx in 0..across {
+            r.render_tile(&s.view(), TileCoord::new(tx, ty), &mut buf, &mut count)
+                .unwrap();
+            grid += evens(tx, W) * evens(ty, H);
+            for y in 0..usize::from(buf.height()) {
+                for x in 0..usize::from(buf.width()) {
+                    assert_eq!(buf.pixel(x, y), Some(want));
+                }
+            }
+        }
+    }
+    let edge = (0..u32::from(H))
+        .flat_map(|y| (0..u32::from(W)).map(move |x| (x, y)))
+        .filter(|&(x, y)| neighbours(x, y).is_none())
+        .count();
+    assert_eq!(edge, usize::from(W), "the last row, odd");
+    assert_eq!(count.primary as usize, grid + edge);
 }

@@ -214,28 +214,24 @@ pub fn render(
             threshold,
         ));
     }
-    let count = settings.sampler.count();
     let mut pixels = Vec::with_capacity((width * height) as usize);
     let mut signature = Vec::with_capacity(pixels.capacity());
     for y in 0..height {
         for x in 0..width {
             let mut sig = Signature::default();
-            let mut sum = V3::ZERO;
-            if settings.sampler == tessera::Sampler::Prefiltered {
-                let (px, py) = (f64::from(x), f64::from(y));
-                let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
-                    .map(|(dx, dy)| camera.ray(px + dx, py + dy).0);
-                let (ray, t_far) = camera.ray(px + 0.5, py + 0.5);
-                sum = tracer.trace_camera_prefiltered(&ray, t_far, &corners, &mut sig);
+            let color = if settings.sampler == tessera::Sampler::Prefiltered {
+                prefiltered(&tracer, &camera, (x, y), &mut sig)
             } else {
-                for i in 0..count {
-                    let (dx, dy) = settings.sampler.offset(x, y, i, settings.seed);
-                    let (ray, t_far) =
-                        camera.ray(f64::from(x) + f64::from(dx), f64::from(y) + f64::from(dy));
-                    sum = sum + tracer.trace_camera(&ray, t_far, &mut sig);
-                }
-            }
-            pixels.push((sum * (1.0 / f64::from(count))).to_array());
+                mean(
+                    &tracer,
+                    &camera,
+                    settings.sampler,
+                    settings.seed,
+                    (x, y),
+                    &mut sig,
+                )
+            };
+            pixels.push(color.to_array());
             signature.push(sig.0);
         }
     }
@@ -248,6 +244,42 @@ pub fn render(
     })
 }
 
+/// The colour of pixel `(x, y)`'s prefiltered centre ray in `f64` (its
+/// texture averaged over the footprint of the pixel's corner rays), its ray
+/// tree signed into `sig`.
+fn prefiltered(
+    tracer: &Tracer<'_>,
+    camera: &RefCamera,
+    (x, y): (u32, u32),
+    sig: &mut Signature,
+) -> V3 {
+    let (px, py) = (f64::from(x), f64::from(y));
+    let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+        .map(|(dx, dy)| camera.ray(px + dx, py + dy).0);
+    let (ray, t_far) = camera.ray(px + 0.5, py + 0.5);
+    tracer.trace_camera_prefiltered(&ray, t_far, &corners, sig)
+}
+
+/// The mean colour of pixel `(x, y)`'s samples by `sampler` in `f64`, their
+/// ray trees signed into `sig`.
+fn mean(
+    tracer: &Tracer<'_>,
+    camera: &RefCamera,
+    sampler: tessera::Sampler,
+    seed: u32,
+    (x, y): (u32, u32),
+    sig: &mut Signature,
+) -> V3 {
+    let count = sampler.count();
+    let mut sum = V3::ZERO;
+    for i in 0..count {
+        let (dx, dy) = sampler.offset(x, y, i, seed);
+        let (ray, t_far) = camera.ray(f64::from(x) + f64::from(dx), f64::from(y) + f64::from(dy));
+        sum = sum + tracer.trace_camera(&ray, t_far, sig);
+    }
+    sum * (1.0 / f64::from(count))
+}
+
 /// A pixel's prefiltered centre ray in `f64`, as the adaptive and sparse
 /// samplers trace it: its colour, signature, what its camera ray met (the
 /// primitive and the shadow of each light), whether on a textured surface, and
@@ -258,12 +290,9 @@ fn centre(
     (x, y): (u32, u32),
     encoding: tessera::Encoding,
 ) -> (V3, Signature, u64, bool, [u8; 3]) {
-    let (px, py) = (f64::from(x), f64::from(y));
-    let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
-        .map(|(dx, dy)| camera.ray(px + dx, py + dy).0);
-    let (ray, t_far) = camera.ray(px + 0.5, py + 0.5);
     let mut sig = Signature::default();
-    let color = tracer.trace_camera_prefiltered(&ray, t_far, &corners, &mut sig);
+    let color = prefiltered(tracer, camera, (x, y), &mut sig);
+    let (ray, t_far) = camera.ray(f64::from(x) + 0.5, f64::from(y) + 0.5);
     let (probe, textured) = tracer.camera_probe(&ray, t_far);
     let bytes = color.to_array().map(|v| encode8(v, encoding));
     (color, sig, probe, textured, bytes)
@@ -272,8 +301,7 @@ fn centre(
 /// The sparse sampler in `f64`: the prefiltered centre ray of every pixel
 /// whose coordinates are both even; each other pixel the mean of the 8-bit
 /// pixels of its two or four traced neighbours (in its row or column, or
-/// diagonally) when they met
-/// the same things and each 8-bit channel spans at
+/// diagonally) when they met the same things and each 8-bit channel spans at
 /// most `threshold` over them, else (and when a neighbour lies beyond the
 /// frame) its own prefiltered centre ray.
 fn sparse(
@@ -333,8 +361,8 @@ fn sparse(
                 (Some(t), _) => (t.0, t.1),
                 (None, Some(b)) => b,
                 (None, None) => {
-                    let t = centre(tracer, camera, (x, y), e);
-                    (t.0, t.1)
+                    let mut sig = Signature::default();
+                    (prefiltered(tracer, camera, (x, y), &mut sig), sig)
                 }
             };
             pixels.push(color.to_array());
@@ -397,15 +425,8 @@ fn adaptive(
                 continue;
             }
             let mut sig = Signature::default();
-            let mut sum = V3::ZERO;
-            let count = stratified.count();
-            for i in 0..count {
-                let (dx, dy) = stratified.offset(x, y, i, settings.seed);
-                let (ray, t_far) =
-                    camera.ray(f64::from(x) + f64::from(dx), f64::from(y) + f64::from(dy));
-                sum = sum + tracer.trace_camera(&ray, t_far, &mut sig);
-            }
-            pixels.push((sum * (1.0 / f64::from(count))).to_array());
+            let color = mean(tracer, camera, stratified, settings.seed, (x, y), &mut sig);
+            pixels.push(color.to_array());
             signature.push(sig.0);
         }
     }
