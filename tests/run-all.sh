@@ -9,8 +9,9 @@
 #
 # The workspace commands are the cargo aliases of .cargo/config.toml (`cargo lint`,
 # `cargo lint-fast`, `cargo fw-core`, `cargo test-all`): they are defined there only.
-# Every step runs even when one before it failed; the last lines are always the
-# summary `tests: N passed, M failed` and then the failed steps, if any (exit 1).
+# Every step runs even when one before it failed; the failed steps, if any, are
+# listed (`failed: <command>`, exit 1) before the last line, which is always the
+# summary `tests: N passed, M failed`, also when the script stops early.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -24,17 +25,17 @@ run() {
   "$@" 2>&1 | tee -a "$log" || failed+=("$*")
 }
 # The closing lines, also when the script stops early (an installation that fails):
-# one count for every test run (cargo prints one line per test binary, the last of
-# which is often an empty doc-test binary), then what failed.
+# what failed, then one count for every test run (cargo prints one line per test
+# binary, the last of which is often an empty doc-test binary).
 finish() {
   local status=$?
+  if [ "${#failed[@]}" -ne 0 ]; then
+    printf 'failed: %s\n' "${failed[@]}"
+    [ "$status" -ne 0 ] || status=1
+  fi
   awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed;?$/) p += $(i-1); if ($i ~ /^failed;?$/) f += $(i-1) } }
        END { printf "tests: %d passed, %d failed\n", p, f }' "$log"
   rm -f "$log"
-  if [ "${#failed[@]}" -ne 0 ]; then
-    printf 'failed: %s\n' "${failed[@]}" >&2
-    [ "$status" -ne 0 ] || status=1
-  fi
   exit "$status"
 }
 trap finish EXIT
@@ -50,12 +51,13 @@ for target in "${targets[@]}"; do
 done
 rustup component list --installed | grep -q '^clippy' || rustup component add clippy
 rustup component list --installed | grep -q '^rustfmt' || rustup component add rustfmt
+# qemu: tests/install-qemu.sh checks its install plan by simulation on every run
+# (a conflict fails this step, qemu present or not) and installs what is missing.
+say "qemu-system-arm and qemu-system-misc (qemu-system-riscv32): the install plan, checked, and the install"
+run bash tests/install-qemu.sh
 if ! command -v qemu-system-arm >/dev/null 2>&1 || ! command -v qemu-system-riscv32 >/dev/null 2>&1; then
-  say "installing qemu-system-arm and qemu-system-misc (qemu-system-riscv32)"
-  sudo_cmd=""
-  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
-  $sudo_cmd apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq qemu-system-arm qemu-system-misc >/dev/null
+  echo "qemu is missing and could not be installed: the firmware tests cannot run (the message above says what to do)" >&2
+  exit 1
 fi
 qemu-system-arm --version | head -n 1
 qemu-system-riscv32 --version | head -n 1

@@ -22,7 +22,7 @@ use tessera_tests::firmware::{self, Core, SqrtReport};
 /// square root's check, and checks them against the host and the baseline.
 fn renders_like_the_host(core: &Core) {
     let fail = |e: String| -> ! { panic!("{}: {e}", core.title) };
-    core.qemu_version().unwrap_or_else(|e| fail(e));
+    let qemu = core.qemu_version().unwrap_or_else(|e| fail(e));
     let elf = core.build(&[]).unwrap_or_else(|e| fail(e));
 
     let mut runs = identity_runs();
@@ -41,6 +41,7 @@ fn renders_like_the_host(core: &Core) {
     let path = baseline::cores_path();
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    baseline::same_qemu(baseline::CORES_FILE, &text, &qemu).unwrap_or_else(|e| fail(e));
     let base = baseline::parse(&text).unwrap_or_else(|e| panic!("{e}"));
     let now: Vec<(String, u64)> = runs[identity..]
         .iter()

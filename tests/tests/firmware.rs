@@ -253,6 +253,8 @@ fn instruction_counts_stay_within_the_baseline() {
     let path = baseline::path();
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let qemu = firmware::qemu_version().unwrap_or_else(|e| panic!("{e}"));
+    baseline::same_qemu(baseline::FILE, &text, &qemu).unwrap_or_else(|e| panic!("{e}"));
     let base = baseline::parse(&text).unwrap_or_else(|e| panic!("{e}"));
     let runs = baseline::runs();
     let out = run(&runs);

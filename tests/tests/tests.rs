@@ -14,6 +14,7 @@ mod finite;
 mod firmware;
 mod frustum;
 mod golden;
+mod install;
 mod interference;
 mod nofpu;
 mod pico2;

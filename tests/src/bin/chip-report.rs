@@ -353,8 +353,8 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     let (flash, ram) = firmware::memory_budget()?;
     let runs = runs();
     let (exact, fast, prof, cores) = measure_all(&runs)?;
-    let est = check(&runs, &exact, &prof, bless.m4f)?;
-    guard_cores(&cores, bless.cores)?;
+    let est = check(&runs, &exact, &prof, bless.m4f, &qemu)?;
+    guard_cores(&cores, bless.cores, &qemu)?;
     println!("both Cortex-M33 of mps2-an521...");
     let dual = dual_core()?;
     let m4f_sqrt = firmware::check_sqrt(&firmware::CORTEX_M4F, &exact.elf)?;
@@ -481,6 +481,7 @@ fn check(
     exact: &Backend,
     prof: &[Profiled],
     bless: bool,
+    qemu: &str,
 ) -> Result<Vec<u64>, String> {
     // The plugin's exact counts against the SysTick counts of the list (another
     // SysTick phase than the run alone: up to a tick a tile apart).
@@ -488,7 +489,7 @@ fn check(
         profile::agree(r, res.instructions, p.total)?;
     }
     let est: Vec<u64> = prof.iter().map(|p| p.cycles).collect();
-    guard(runs, &exact.out, bless)?;
+    guard(runs, &exact.out, bless, qemu)?;
 
     // The exact backend is bit-identical to the host build.
     for (r, res) in runs.iter().zip(&exact.out.runs) {
@@ -1259,7 +1260,7 @@ impl Measured {
 
 /// Compares the other cores' counts of the guarded runs with their baseline file
 /// and prints the table; with `bless`, rewrites the file from these counts instead.
-fn guard_cores(cores: &[CoreMeasure], bless: bool) -> Result<(), String> {
+fn guard_cores(cores: &[CoreMeasure], bless: bool, qemu: &str) -> Result<(), String> {
     let mut now = Vec::new();
     for c in cores {
         for g in baseline::runs() {
@@ -1270,10 +1271,11 @@ fn guard_cores(cores: &[CoreMeasure], bless: bool) -> Result<(), String> {
             now.push((baseline::key(&c.core, &g), c.out.runs[i].instructions));
         }
     }
-    let text = bless.then(|| baseline::render_cores(&now));
+    let text = bless.then(|| baseline::render_cores(&now, qemu));
     bless_or_compare(
         &baseline::cores_path(),
         text,
+        qemu,
         &now,
         &format!(
             "instruction counts of the other cores against {}",
@@ -1284,7 +1286,7 @@ fn guard_cores(cores: &[CoreMeasure], bless: bool) -> Result<(), String> {
 
 /// Compares the guarded runs' counts with the baseline file and prints the table;
 /// with `bless`, rewrites the file from these counts instead.
-fn guard(runs: &[Run], out: &Output, bless: bool) -> Result<(), String> {
+fn guard(runs: &[Run], out: &Output, bless: bool, qemu: &str) -> Result<(), String> {
     let mut now = Vec::new();
     for g in baseline::runs() {
         let i = runs
@@ -1293,20 +1295,23 @@ fn guard(runs: &[Run], out: &Output, bless: bool) -> Result<(), String> {
             .ok_or_else(|| format!("the guarded run {g} is not in the run list"))?;
         now.push((g.to_string(), out.runs[i].instructions));
     }
-    let text = bless.then(|| baseline::render(&now));
+    let text = bless.then(|| baseline::render(&now, qemu));
     bless_or_compare(
         &baseline::path(),
         text,
+        qemu,
         &now,
         &format!("instruction counts against {}", baseline::FILE),
     )
 }
 
 /// Writes `blessed` to the baseline file `path` when given (a bless run), else
-/// prints `now` against the file's counts under `title`.
+/// prints `now` against the file's counts under `title` (an error when the file
+/// was counted under another qemu series than `qemu`).
 fn bless_or_compare(
     path: &std::path::Path,
     blessed: Option<String>,
+    qemu: &str,
     now: &[(String, u64)],
     title: &str,
 ) -> Result<(), String> {
@@ -1320,6 +1325,7 @@ fn bless_or_compare(
     }
     match std::fs::read_to_string(path) {
         Ok(text) => {
+            baseline::same_qemu(&path.display().to_string(), &text, qemu)?;
             let base = baseline::parse(&text)?;
             println!(
                 "{title}:\n{}",
