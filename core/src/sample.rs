@@ -237,6 +237,14 @@ impl core::str::FromStr for Sampler {
     /// offset's range error for `offset:X,Y` outside `[0, 1)`.
     fn from_str(s: &str) -> Result<Self, Error> {
         let number = |t: &str| t.trim().parse().map_err(|_| Error::UnknownSampler);
+        // A count or a threshold is digits alone: no sign (`+4` as `-0` is refused).
+        fn digits<T: core::str::FromStr>(t: &str, err: Error) -> Result<T, Error> {
+            let t = t.trim();
+            if t.is_empty() || !t.bytes().all(|b| b.is_ascii_digit()) {
+                return Err(err);
+            }
+            t.parse().map_err(|_| err)
+        }
         let sampler = match s.split_once(':') {
             None => match s {
                 "corner" => Self::Corner,
@@ -246,22 +254,18 @@ impl core::str::FromStr for Sampler {
                 _ => return Err(Error::UnknownSampler),
             },
             Some(("sparse", t)) => Self::Sparse {
-                threshold: t.trim().parse().map_err(|_| Error::BadThreshold)?,
+                threshold: digits(t, Error::BadThreshold)?,
             },
-            Some(("stratified", k)) => {
-                Self::Stratified(k.trim().parse().map_err(|_| Error::BadSampleCount)?)
-            }
-            Some(("random", n)) => {
-                Self::Random(n.trim().parse().map_err(|_| Error::BadSampleCount)?)
-            }
+            Some(("stratified", k)) => Self::Stratified(digits(k, Error::BadSampleCount)?),
+            Some(("random", n)) => Self::Random(digits(n, Error::BadSampleCount)?),
             Some(("adaptive", rest)) => {
                 let (k, threshold) = match rest.split_once(',') {
                     Some((k, t)) => (k, Some(t)),
                     None => (rest, None),
                 };
-                let k = k.trim().parse().map_err(|_| Error::BadSampleCount)?;
+                let k = digits(k, Error::BadSampleCount)?;
                 let threshold = match threshold {
-                    Some(t) => t.trim().parse().map_err(|_| Error::BadThreshold)?,
+                    Some(t) => digits(t, Error::BadThreshold)?,
                     None => Self::ADAPTIVE_THRESHOLD,
                 };
                 Self::Adaptive { k, threshold }
@@ -436,6 +440,12 @@ mod tests {
             "adaptive:65",
             "adaptive:",
             "adaptive:x,3",
+            // A sign, either one, is refused on every count.
+            "stratified:+4",
+            "stratified:-0",
+            "random:+1",
+            "adaptive:+4",
+            "adaptive:-0,3",
         ] {
             assert_eq!(
                 text.parse::<Sampler>(),
@@ -452,6 +462,12 @@ mod tests {
             "sparse:-1",
             "sparse:",
             "sparse:x",
+            // ... and on every threshold.
+            "sparse:+4",
+            "sparse:-0",
+            "sparse: +4 ",
+            "adaptive:4,+3",
+            "adaptive:4,-0",
         ] {
             assert_eq!(
                 text.parse::<Sampler>(),

@@ -20,7 +20,7 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let cli = cli::Cli::parse();
+    let cli = cli::Cli::try_parse().unwrap_or_else(|e| cli::escaped(e).exit());
     if let Err(e) = tessera_host::output::clean_up_on_signals() {
         eprintln!("tessera: warning: {}", tessera_host::escape(&e.to_string()));
     }

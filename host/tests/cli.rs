@@ -310,7 +310,21 @@ fn simulate_saves_what_a_240x240_rgb565_panel_shows() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
     assert!(
-        stdout.contains("240x240") && stdout.contains("rgb565 panel"),
+        stdout.contains("240x240") && stdout.contains("panel colour rgb565, dither bayer4"),
+        "{stdout}"
+    );
+    // Each colour named so, none after a wrong article ("an gray8").
+    let out = bin()
+        .current_dir(&dir)
+        .args([
+            "simulate", "--color", "gray8", "--size", "8x8", "-o", "g.png",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("panel colour gray8") && !stdout.contains(" an "),
         "{stdout}"
     );
     let shown = image::open(dir.join("panel.png")).unwrap().to_rgb8();
@@ -405,4 +419,41 @@ fn the_help_says_how_outputs_are_written() {
             assert!(help.contains(key), "{cmd} --help lacks {key:?}: {help}");
         }
     }
+}
+
+/// A value clap quotes back (an invalid value, an unknown argument, an unknown
+/// subcommand) reaches the terminal escaped, as values from scene files do: a
+/// window-title sequence in `--sampler` is shown as text. Colours are forced on
+/// (`CLICOLOR_FORCE`), as on a terminal, where clap passes what it quotes through.
+#[test]
+fn values_clap_quotes_back_are_escaped() {
+    let title = "x\u{1b}]0;pwned\u{7}";
+    for args in [
+        vec!["render", "--sampler", title],
+        vec!["render", "--size", title],
+        vec!["compare", "--encoding", title],
+        vec!["simulate", "--dither", title],
+        vec!["render", &format!("--samp{title}")],
+        vec![title],
+    ] {
+        let out = bin()
+            .args(&args)
+            .env("CLICOLOR_FORCE", "1")
+            .output()
+            .unwrap();
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            !stderr.contains("\u{1b}]") && !stderr.contains('\u{7}'),
+            "{args:?}: a raw sequence reached the terminal: {stderr:?}"
+        );
+        assert!(
+            stderr.contains(r"x\u{1b}]0;pwned\u{7}"),
+            "{args:?}: {stderr:?}"
+        );
+    }
+    // Help is printed as it is, on stdout.
+    let out = bin().args(["render", "--help"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert!(text(&out.stdout).contains("--sampler"));
 }

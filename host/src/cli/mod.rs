@@ -143,6 +143,40 @@ struct Common {
     threads: usize,
 }
 
+/// `e` with every value of the command line it quotes (an invalid value, an
+/// unknown argument or subcommand, a suggestion or tip that repeats one) through
+/// [`tessera_host::escape`]: clap echoes them as typed, and a value holding an
+/// escape sequence would reach the terminal. The usage line, which clap makes
+/// from the command's own definition, keeps its lines and styles; a tip loses
+/// its colour.
+pub fn escaped(mut e: clap::Error) -> clap::Error {
+    use clap::builder::StyledStr;
+    use clap::error::{ContextKind, ContextValue};
+    let styled = |s: &StyledStr| StyledStr::from(tessera_host::escape(&s.to_string()));
+    let quoted: Vec<_> = e
+        .context()
+        .filter(|(kind, _)| *kind != ContextKind::Usage)
+        .filter_map(|(kind, value)| {
+            let value = match value {
+                ContextValue::String(s) => ContextValue::String(tessera_host::escape(s)),
+                ContextValue::Strings(v) => {
+                    ContextValue::Strings(v.iter().map(|s| tessera_host::escape(s)).collect())
+                }
+                ContextValue::StyledStr(s) => ContextValue::StyledStr(styled(s)),
+                ContextValue::StyledStrs(v) => {
+                    ContextValue::StyledStrs(v.iter().map(styled).collect())
+                }
+                _ => return None,
+            };
+            Some((kind, value))
+        })
+        .collect();
+    for (kind, value) in quoted {
+        e.insert(kind, value);
+    }
+    e
+}
+
 // The value parsers below return clap's message (a `String`): a bad value is a
 // usage error, exit status 2, not an `Error`.
 

@@ -203,7 +203,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let secs = start.elapsed().as_secs_f64();
     output::commit(files)?;
     println!(
-        "{}, {count} frame(s) on an {} panel, dither {}: {secs:.3} s",
+        "{}, {count} frame(s), panel colour {}, dither {}: {secs:.3} s",
         describe(&source, vp, &settings),
         args.color,
         args.dither,
