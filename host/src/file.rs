@@ -343,7 +343,36 @@ fn toml_message(text: &str, e: &toml::de::Error) -> (Option<usize>, Option<usize
     {
         message = format!("duplicate key `{key}`");
     }
-    (line, column, crate::escape(&message))
+    (line, column, crate::escape(&shortest_floats(&message)))
+}
+
+/// `message` with the number of each ``floating point `X` `` (serde's words for a
+/// float where another type is expected, `X` in every digit: 5e-324 as 330
+/// characters) in the shortest form of [`num`], marked as a float (`1e300`,
+/// `-0.5`, `100000.0`).
+fn shortest_floats(message: &str) -> String {
+    const FLOAT: &str = "floating point `";
+    let mut out = String::new();
+    let mut rest = message;
+    while let Some(at) = rest.find(FLOAT) {
+        let start = at + FLOAT.len();
+        out.push_str(&rest[..start]);
+        rest = &rest[start..];
+        let end = rest.find('`').unwrap_or(rest.len());
+        match rest[..end].parse::<f64>() {
+            Ok(x) => {
+                let short = num(x);
+                out.push_str(&short);
+                if short.bytes().all(|b| b.is_ascii_digit() || b == b'-') {
+                    out.push_str(".0");
+                }
+            }
+            Err(_) => out.push_str(&rest[..end]),
+        }
+        rest = &rest[end..];
+    }
+    out.push_str(rest);
+    out
 }
 
 /// The key of a TOML error's `span` (which covers the last part of a key) as
@@ -1023,6 +1052,27 @@ color = [0.9, 0.1, 0.1]
         assert!(
             m.starts_with("t.toml:12:9: invalid value: integer `-5`"),
             "{m}"
+        );
+        // A float where an integer is expected: in its shortest form, not all
+        // its digits (5e-324 has 330 of them).
+        for (written, shown) in [
+            ("5e-324", "5e-324"),
+            ("1e300", "1e300"),
+            ("-0.5", "-0.5"),
+            ("1e5", "100000.0"),
+            ("2.5", "2.5"),
+            ("-inf", "-inf"),
+        ] {
+            let m = msg(&format!("{HEAD}\n[render]\nwidth = {written}\n"));
+            assert_eq!(
+                m,
+                format!("t.toml:12:9: invalid type: floating point `{shown}`, expected u16")
+            );
+        }
+        let m = msg(&format!("{HEAD}\n[render]\ndepth = 1e-300\n"));
+        assert_eq!(
+            m,
+            "t.toml:12:9: invalid type: floating point `1e-300`, expected u8"
         );
         let m = msg(&format!("{HEAD}\n[[sphere]]\ncenter = [0, 0]\n"));
         assert_eq!(

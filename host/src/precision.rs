@@ -1,6 +1,20 @@
 //! What `f32` and the `f64` paths cannot place: the loader's warnings about
-//! triangle edges far longer than their distance to the camera, and about
-//! surfaces far larger than their distance.
+//! numbers whose rounding to `f32` moves a surface, or leaves the camera, by more
+//! than a fraction of a pixel, about triangle edges far longer than their
+//! distance to the camera, and about surfaces far larger than their distance.
+//!
+//! The core gets every number of the scene in `f32`; the `f64` reference gets
+//! them as written. A surface whose numbers are not exact in `f32` is drawn where
+//! the rounded numbers put it: a sphere's centre and radius, a plane's unit
+//! normal and its offset from the origin (as the core holds it), a triangle's
+//! vertices (list and mesh faces, after the mesh's scale and translation), a
+//! box's corners. [`rounding_warnings`] measures that move at the surface's point
+//! nearest the camera (for a tilted triangle far larger than its distance, the
+//! rounded vertices' plane can pass far from the written one there) against the
+//! pixel footprint at that distance (the distance times one pixel's angle at the
+//! centre of the scene's own frame), and the camera's position against the
+//! footprint at the nearest surface: near the camera everything is placed to the
+//! spacing of `f32` numbers at the camera's coordinates.
 //!
 //! The core decides whether a ray crosses a triangle with Woop's watertight test,
 //! in `f32`, from the vertices relative to the ray's origin. A vertex `M` away is
@@ -86,11 +100,13 @@ fn in_plane(f: &Face, p: [f64; 3]) -> bool {
 }
 
 /// The warnings of `desc` about what `f32` and the `f64` paths cannot place:
-/// triangles and spheres too large for their distance ([`SIZE_RATIO`]), then
-/// triangle edges receding along the view ([`EDGE_RATIO`]).
+/// surfaces moved by the rounding of their numbers and a camera held too coarsely
+/// ([`rounding_warnings`]), triangles and spheres too large for their distance
+/// ([`SIZE_RATIO`]), then triangle edges receding along the view ([`EDGE_RATIO`]).
 #[must_use]
 pub fn warnings(desc: &SceneDesc) -> Vec<String> {
-    let mut out = size_warnings(desc);
+    let mut out = rounding_warnings(desc);
+    out.extend(size_warnings(desc));
     out.extend(edge_warnings(desc));
     out
 }
@@ -187,6 +203,272 @@ fn size_warnings(desc: &SceneDesc) -> Vec<String> {
         out.push(format!(
             "{more} more surface(s) too large for their distance (the first {MAX_WARNINGS} are named above)"
         ));
+    }
+    out
+}
+
+/// Above this many pixels of the footprint at its distance from the camera, the
+/// move of a surface by the rounding of its numbers to `f32` is warned about.
+/// Measured (`tessera compare` at 320x240, a ground sphere 2 below the camera
+/// with a unit sphere on it): moved by 0.26 to 3 pixels it meets the accuracy
+/// bar (a smooth surface moved a little shades almost alike, and its outline is
+/// in the silhouette band, which is not counted), moved by 10 pixels it misses
+/// it (35,061 pixels, up to 83 LSB: the unit sphere's shadow and contact move),
+/// by 41 pixels by 87 LSB. The warning comes before the bar fails, where an
+/// outline may be drawn a pixel off.
+pub const ROUNDING_PIXELS: f64 = 0.5;
+
+/// Above this many pixels of the footprint at the nearest surface, the spacing
+/// of `f32` numbers at the camera's position (or the error of its view
+/// direction) is warned about: everything near the camera, its rays' origins,
+/// the hit points, the shadow rays' origins, is placed only that finely.
+/// Measured on the minimal scene with a floor, moved away from the origin with
+/// its camera: 0.2 pixel (3e4 out) meets the bar, 0.41 (5e4) misses it by two
+/// pixels 3 LSB off, 0.81 (7e4, 1e5) by 31 pixels, 3.2 (3e5) by 261 pixels up to
+/// 14 LSB.
+pub const CAMERA_PIXELS: f64 = 0.25;
+
+/// `x` rounded to `f32`, back in `f64`.
+fn r32(x: f64) -> f64 {
+    f64::from(x as f32)
+}
+
+/// `a` rounded to `f32`.
+fn r3(a: [f64; 3]) -> [f64; 3] {
+    a.map(r32)
+}
+
+/// True when every number of `a` is exact in `f32`.
+fn exact(a: &[f64]) -> bool {
+    a.iter().all(|&x| r32(x) == x)
+}
+
+/// `x` to three significant digits, shortest form ([`num`]).
+fn sig(x: f64) -> String {
+    num(format!("{x:.2e}").parse().unwrap_or(x))
+}
+
+/// What one pixel spans at unit distance: its angle at the centre of the
+/// scene's own frame (`2 tan(fovy / 2) / height`).
+fn pixel_angle(desc: &SceneDesc) -> f64 {
+    let height = f64::from(desc.render.height.max(1));
+    2.0 * (desc.camera.fovy.to_radians() / 2.0).tan() / height
+}
+
+/// A surface as the rounding check sees it: its name, how far the rounding of
+/// its numbers moves it at its point nearest the camera, that point's distance
+/// from the camera, and what to do about it.
+struct Moved {
+    name: String,
+    by: f64,
+    distance: f64,
+    advice: &'static str,
+}
+
+const MOVE_ORIGIN: &str = "move the origin near the camera (translate the whole scene) or use \
+     numbers exact in f32 (integers below 2^24 times a power of two)";
+const SPLIT: &str = "split the triangle into smaller ones, move the origin near the camera, or \
+     use vertices exact in f32 (integers below 2^24 times a power of two)";
+const SPHERE: &str = "use a centre and radius exact in f32 (integers below 2^24 times a power of \
+     two) or a smaller sphere, or move the origin near the camera";
+
+/// Each surface of `desc` with the move of its `f32` numbers at its point nearest
+/// the camera (`cam`, in `f64` as written).
+fn moves(desc: &SceneDesc, cam: [f64; 3]) -> Vec<Moved> {
+    let mut out = Vec::new();
+    for (i, s) in desc.spheres.iter().enumerate() {
+        let to_cam = sub(cam, s.center);
+        let d = length(to_cam);
+        let u = if d > 0.0 {
+            to_cam.map(|x| x / d)
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        let by = if exact(&s.center) && exact(&[s.radius]) {
+            0.0
+        } else {
+            // The written surface's point nearest the camera, against the
+            // rounded sphere.
+            let p = [0, 1, 2].map(|k| s.center[k] + s.radius * u[k]);
+            (length(sub(p, r3(s.center))) - r32(s.radius)).abs()
+        };
+        out.push(Moved {
+            name: format!("sphere {}", i + 1),
+            by,
+            distance: (d - s.radius).abs(),
+            advice: SPHERE,
+        });
+    }
+    for (i, pl) in desc.planes.iter().enumerate() {
+        let n = pl.normal.map(|x| x / length(pl.normal));
+        let h = dot(sub(cam, pl.point), n);
+        let p = [0, 1, 2].map(|k| cam[k] - h * n[k]);
+        // The core's plane: the rounded unit normal and the rounded offset from
+        // the origin, `N . point / |N|` of the rounded numbers.
+        let (n32, q32) = (r3(pl.normal), r3(pl.point));
+        let len = length(n32);
+        let unit = r3(n32.map(|x| x / len));
+        let offset = r32(dot(n32, q32) / len);
+        out.push(Moved {
+            name: format!("plane {}", i + 1),
+            by: (dot(unit, p) - offset).abs(),
+            distance: h.abs(),
+            advice: MOVE_ORIGIN,
+        });
+    }
+    let faces = desc
+        .triangles
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (format!("triangle {}", i + 1), t.vertices));
+    let mesh_faces = desc.meshes.iter().enumerate().flat_map(|(i, m)| {
+        m.faces
+            .iter()
+            .enumerate()
+            .map(move |(j, f)| (format!("mesh {} ({:?}), face {}", i + 1, m.obj, j + 1), *f))
+    });
+    for (name, f) in faces.chain(mesh_faces) {
+        let p = nearest_on_triangle(cam, &f);
+        let by = if f.iter().all(|v| exact(v)) {
+            0.0
+        } else {
+            // The plane of the rounded vertices at the written triangle's point
+            // nearest the camera: far from the vertices, a tilt by their
+            // rounding is multiplied by the distance.
+            let g = f.map(r3);
+            let n = cross(sub(g[1], g[0]), sub(g[2], g[0]));
+            let len = length(n);
+            if len > 0.0 {
+                (dot(n, sub(p, g[0])) / len).abs()
+            } else {
+                0.0
+            }
+        };
+        out.push(Moved {
+            name,
+            by,
+            distance: length(sub(p, cam)),
+            advice: SPLIT,
+        });
+    }
+    for (i, b) in desc.boxes.iter().enumerate() {
+        let p = [0, 1, 2].map(|k| cam[k].clamp(b.min[k], b.max[k]));
+        let round = |x: f64| (r32(x) - x).abs();
+        let (by, distance) = if p == cam {
+            // Inside: the nearest face.
+            (0..3)
+                .flat_map(|k| [(b.min[k], cam[k] - b.min[k]), (b.max[k], b.max[k] - cam[k])])
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+                .map_or((0.0, 0.0), |(face, d)| (round(face), d))
+        } else {
+            // Outside: the faces the nearest point lies on.
+            let by = (0..3)
+                .map(|k| {
+                    if cam[k] < b.min[k] {
+                        round(b.min[k])
+                    } else if cam[k] > b.max[k] {
+                        round(b.max[k])
+                    } else {
+                        0.0
+                    }
+                })
+                .fold(0.0, f64::max);
+            (by, length(sub(p, cam)))
+        };
+        out.push(Moved {
+            name: format!("box {}", i + 1),
+            by,
+            distance,
+            advice: MOVE_ORIGIN,
+        });
+    }
+    out
+}
+
+/// The warnings about surfaces moved by more than [`ROUNDING_PIXELS`] by the
+/// rounding of their numbers to `f32`, and about a camera whose position (or
+/// view direction) `f32` holds more coarsely than [`CAMERA_PIXELS`] at the
+/// nearest surface.
+#[must_use]
+pub fn rounding_warnings(desc: &SceneDesc) -> Vec<String> {
+    let c = &desc.camera;
+    let cam = c.position;
+    let angle = pixel_angle(desc);
+    // A pixel's span at `distance`: nothing is seen nearer than `near`.
+    let footprint = |distance: f64| distance.max(c.near) * angle;
+    let moved = moves(desc, cam);
+    let mut out = Vec::new();
+    let mut more = 0;
+    for m in &moved {
+        let pixels = m.by / footprint(m.distance);
+        // False for NaN: no warning.
+        if !(pixels > ROUNDING_PIXELS && m.distance <= c.far) {
+            continue;
+        }
+        if out.len() == MAX_WARNINGS {
+            more += 1;
+            continue;
+        }
+        out.push(format!(
+            "{}: rounding its numbers to f32 moves it by {} units where it is nearest the \
+             camera, {} pixels at its distance from the camera ({}; a pixel spans {} there), \
+             above {ROUNDING_PIXELS}: the f32 core draws it there, the f64 reference where the \
+             file says (docs/limits.md); {}",
+            m.name,
+            sig(m.by),
+            sig(pixels),
+            sig(m.distance),
+            sig(footprint(m.distance)),
+            m.advice
+        ));
+    }
+    if more > 0 {
+        out.push(format!(
+            "{more} more surface(s) moved by their rounding to f32 (the first {MAX_WARNINGS} \
+             are named above)"
+        ));
+    }
+    // The camera: the spacing of f32 numbers at its coordinates, against the
+    // footprint at the nearest surface.
+    let nearest = moved
+        .iter()
+        .map(|m| m.distance)
+        .fold(f64::INFINITY, f64::min);
+    if nearest.is_finite() {
+        let largest = cam.iter().fold(0.0f64, |a, &x| a.max(x.abs())) as f32;
+        let spacing = f64::from(largest.next_up() - largest);
+        let pixels = spacing / footprint(nearest);
+        if pixels > CAMERA_PIXELS {
+            let p = |v: [f64; 3]| format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]));
+            out.push(format!(
+                "camera: at {} its position, and the rays and hit points near it, are held in \
+                 f32 only to {} units (the spacing of f32 numbers there), {} pixels at the \
+                 nearest surface ({} from the camera; a pixel spans {} there), above \
+                 {CAMERA_PIXELS}: the image may miss the accuracy bar (docs/limits.md); move \
+                 the origin near the camera (translate the whole scene)",
+                p(cam),
+                sig(spacing),
+                sig(pixels),
+                sig(nearest),
+                sig(footprint(nearest))
+            ));
+        }
+    }
+    // Its view direction: `look_at - position` in f32, against the written one.
+    if let (Some(at), Ok(n)) = (c.look_at, desc.camera_numbers()) {
+        let (f32dir, f64dir) = (n.forward.map(f64::from), sub(at, cam));
+        let off = length(cross(f32dir, f64dir)) / (length(f32dir) * length(f64dir));
+        let pixels = off / angle;
+        if pixels > CAMERA_PIXELS {
+            out.push(format!(
+                "camera: its view direction, look_at - position rounded to f32, is off by {} \
+                 radians, {} pixels, above {CAMERA_PIXELS}: the whole image is turned by that \
+                 much (docs/limits.md); move the origin near the camera, put look_at farther \
+                 away, or give forward instead",
+                sig(off),
+                sig(pixels)
+            ));
+        }
     }
     out
 }

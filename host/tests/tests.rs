@@ -20,6 +20,8 @@ mod lite_deps;
 mod messages;
 #[cfg(feature = "cli")]
 mod outputs;
+#[cfg(feature = "cli")]
+mod precision_warnings;
 
 /// Every file of `tests/` (and every folder with a `mod.rs`) is a module of this
 /// binary: with `autotests = false` cargo would neither build a file left out nor
