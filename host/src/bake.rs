@@ -235,42 +235,74 @@ fn api_path(name: &str) -> String {
     format!("{module}{name}")
 }
 
-/// The constant names of the materials: `MAT_` and the name in upper case,
-/// each run of characters that are not ASCII letters or digits as one `_`
-/// (none at either end), at most 32 characters of it; a name with no letter or
-/// digit is `MAT_<index>`; a constant taken already gets `_2`, `_3`... (names
-/// that differ only in case or punctuation).
+/// The longest stem of a material's constant, in characters.
+const STEM_MAX: usize = 32;
+
+/// The stem of a material's constant: `name` in upper case, each run of
+/// characters that are not ASCII letters or digits as one `_` (none at either
+/// end), at most [`STEM_MAX`] characters of it; `None` when `name` has no ASCII
+/// letter or digit. A stem is made of `A`-`Z`, `0`-`9` and `_`, neither starts
+/// nor ends with `_`, and never holds two `_` in a row.
+fn stem(name: &str) -> Option<String> {
+    let mut stem = String::new();
+    for c in name.chars() {
+        if c.is_ascii_alphanumeric() {
+            stem.push(c.to_ascii_uppercase());
+        } else if !stem.is_empty() && !stem.ends_with('_') {
+            stem.push('_');
+        }
+        if stem.len() == STEM_MAX {
+            break;
+        }
+    }
+    let stem = stem.trim_end_matches('_');
+    (!stem.is_empty()).then(|| stem.to_string())
+}
+
+/// The constant a material called `name` has when no other material shares its
+/// stem: `MAT_<STEM>` (`MAT_FLOOR` for "floor"); `None` for a name with no ASCII
+/// letter or digit.
+fn own_constant(name: &str) -> Option<String> {
+    stem(name).map(|s| format!("MAT_{s}"))
+}
+
+/// The constant names of the materials, one per material, in their order:
+/// - `MAT_<STEM>` for a material whose stem (its name in upper case, each run
+///   of characters that are not ASCII letters or digits as one `_`, none at
+///   either end, at most 32 characters of it) no other material has;
+/// - `MAT_<STEM>__<k>` for each of the materials that share a stem (names that
+///   differ only in case or punctuation, or long names alike in their first 32
+///   characters), `k` = 1, 2, ... in their order: none of them is `MAT_<STEM>`,
+///   so code that names such a material by its stem does not compile instead
+///   of meaning one of them;
+/// - `MAT__<index>` for a name with no ASCII letter or digit (its place in
+///   `MATERIALS`).
+///
+/// No constant is another's, and none is what another material's own name
+/// gives: a stem never holds `__` and neither starts nor ends with `_`, so
+/// `MAT_<STEM>` has no `__`; `MAT__<index>` has `_` right after `MAT_`, which no
+/// `MAT_<STEM>__<k>` has; and in `MAT_<STEM>__<k>` the first `__` comes right
+/// after the stem, so the stem and `k` read back from the constant. Each is a
+/// Rust identifier in upper case.
 #[must_use]
 pub fn material_constants(names: &[String]) -> Vec<String> {
-    let mut taken = std::collections::HashSet::new();
-    names
+    let stems: Vec<Option<String>> = names.iter().map(|n| stem(n)).collect();
+    let mut sharing = std::collections::HashMap::<&str, usize>::new();
+    for s in stems.iter().flatten() {
+        *sharing.entry(s.as_str()).or_default() += 1;
+    }
+    let mut seen = std::collections::HashMap::<&str, usize>::new();
+    stems
         .iter()
         .enumerate()
-        .map(|(i, n)| {
-            let mut stem = String::new();
-            for c in n.chars() {
-                if c.is_ascii_alphanumeric() {
-                    stem.push(c.to_ascii_uppercase());
-                } else if !stem.is_empty() && !stem.ends_with('_') {
-                    stem.push('_');
-                }
-                if stem.len() == 32 {
-                    break;
-                }
+        .map(|(i, s)| match s.as_deref() {
+            None => format!("MAT__{i}"),
+            Some(s) if sharing[s] == 1 => format!("MAT_{s}"),
+            Some(s) => {
+                let k = seen.entry(s).or_default();
+                *k += 1;
+                format!("MAT_{s}__{k}")
             }
-            let stem = stem.trim_end_matches('_');
-            let stem = if stem.is_empty() {
-                format!("MAT_{i}")
-            } else {
-                format!("MAT_{stem}")
-            };
-            let mut name = stem.clone();
-            let mut k = 2;
-            while !taken.insert(name.clone()) {
-                name = format!("{stem}_{k}");
-                k += 1;
-            }
-            name
         })
         .collect()
 }
@@ -342,7 +374,8 @@ fn table(s: &mut String, doc: &str, name: &str, ty: &str, items: &[String]) {
 /// escaped: strings of the input go in as [`rust_string`] literals).
 ///
 /// Writes a constant `MAT_<NAME>` per material (its reference: primitives use
-/// these, never a bare index), `MATERIALS`, `LIGHTS`, `SPHERES`, `PLANES`,
+/// these, never a bare index; see [`material_constants`], the header lists
+/// the numbered ones with their names), `MATERIALS`, `LIGHTS`, `SPHERES`, `PLANES`,
 /// `TRIANGLES` (with their hierarchy `NODES`, `ORDER` when there are enough
 /// of them for it to pay), `BOXES`, each mesh's `MESH{i}_VERTICES`, `_FACES`,
 /// `_NORMALS`, `_NODES`, `_ORDER` in `MESHES`; `WIDTH`, `HEIGHT` and `TILE`;
@@ -693,6 +726,26 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
             "// Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml)."
         );
     }
+    // The materials whose constant their name alone does not give (see
+    // `material_constants`): names alike but for case, punctuation or what
+    // follows the 32 characters a constant keeps, and names without a letter
+    // or digit.
+    let numbered: Vec<String> = b
+        .names
+        .iter()
+        .zip(&consts)
+        .filter(|&(n, c)| own_constant(n).as_ref() != Some(c))
+        .map(|(n, c)| format!("//   {c} is the material {}", rust_string(n)))
+        .collect();
+    if !numbered.is_empty() {
+        let _ = writeln!(
+            s,
+            "//\n// Numbered material constants (names that give the same constant, or none):"
+        );
+        for line in numbered {
+            let _ = writeln!(s, "{line}");
+        }
+    }
     let _ = writeln!(s);
     names.sort_unstable();
     names.dedup();
@@ -868,18 +921,216 @@ mod tests {
         assert_eq!(
             material_constants(&names),
             [
-                "MAT_FLOOR",
-                "MAT_FLOOR_2",
-                "MAT_FLOOR_3",
+                "MAT_FLOOR__1",
+                "MAT_FLOOR__2",
+                "MAT_FLOOR__3",
                 "MAT_GLASS_PANE",
                 "MAT_2D",
-                "MAT_5",
-                "MAT_6",
+                "MAT__5",
+                "MAT__6",
                 "MAT_MAIL",
                 "MAT_A_B",
                 "MAT_A_VERY_LONG_MATERIAL_NAME_THAT_G",
             ]
         );
+    }
+
+    fn strings(names: &[&str]) -> Vec<String> {
+        names.iter().map(|s| s.to_string()).collect()
+    }
+
+    /// Issue 37: `floor_2` keeps `MAT_FLOOR_2` whatever the order, and `floor`
+    /// and `Floor` (one stem) are numbered in their order, neither taking
+    /// `MAT_FLOOR` nor `MAT_FLOOR_2`.
+    #[test]
+    fn floor_and_floor_2_keep_apart_in_every_order() {
+        let orders = [
+            ["floor", "Floor", "floor_2"],
+            ["floor", "floor_2", "Floor"],
+            ["Floor", "floor", "floor_2"],
+            ["Floor", "floor_2", "floor"],
+            ["floor_2", "floor", "Floor"],
+            ["floor_2", "Floor", "floor"],
+        ];
+        for names in orders {
+            let consts = material_constants(&strings(&names));
+            let mut k = 0;
+            for (n, c) in names.iter().zip(&consts) {
+                if *n == "floor_2" {
+                    assert_eq!(c, "MAT_FLOOR_2", "{names:?} -> {consts:?}");
+                } else {
+                    k += 1;
+                    assert_eq!(*c, format!("MAT_FLOOR__{k}"), "{names:?} -> {consts:?}");
+                }
+            }
+        }
+    }
+
+    /// Long names alike in their first 32 characters (after upper case and
+    /// punctuation), and a short name that is those 32 characters, share a
+    /// stem: each is numbered, and a long name that differs within them keeps
+    /// its own constant.
+    #[test]
+    fn long_names_alike_in_their_first_32_characters_are_numbered() {
+        let names = strings(&[
+            "a very long material name that goes on and on",
+            "a very long material name that goes elsewhere",
+            "A_VERY_LONG_MATERIAL_NAME_THAT_G",
+            "a very long material name that hides",
+            "a very long material name thatt went",
+            "a very long material name thatt",
+        ]);
+        assert_eq!(
+            material_constants(&names),
+            [
+                "MAT_A_VERY_LONG_MATERIAL_NAME_THAT_G__1",
+                "MAT_A_VERY_LONG_MATERIAL_NAME_THAT_G__2",
+                "MAT_A_VERY_LONG_MATERIAL_NAME_THAT_G__3",
+                "MAT_A_VERY_LONG_MATERIAL_NAME_THAT_H",
+                "MAT_A_VERY_LONG_MATERIAL_NAME_THATT__1",
+                "MAT_A_VERY_LONG_MATERIAL_NAME_THATT__2",
+            ]
+        );
+    }
+
+    /// A name of digits keeps its digits; a name with no letter or digit is
+    /// numbered by its place in a form no name gives: the material called `5`
+    /// and the sixth material, unnamed, have two constants, in either order.
+    #[test]
+    fn digit_names_never_meet_the_numbers_of_unnamed_materials() {
+        let names = strings(&["5", "-", "", "x", "0", "!", "6"]);
+        assert_eq!(
+            material_constants(&names),
+            [
+                "MAT_5", "MAT__1", "MAT__2", "MAT_X", "MAT_0", "MAT__5", "MAT_6"
+            ]
+        );
+        let names = strings(&["x", "y", "z", "w", "v", "", "5"]);
+        assert_eq!(
+            material_constants(&names),
+            [
+                "MAT_X", "MAT_Y", "MAT_Z", "MAT_W", "MAT_V", "MAT__5", "MAT_5"
+            ]
+        );
+    }
+
+    /// Every list of up to four names from a small alphabet chosen to meet
+    /// (case, punctuation, digits, the numbering's own forms, no letter, 32
+    /// characters): the constants are upper-case identifiers, one per material,
+    /// none is what another material's name gives on its own, and a material
+    /// whose stem no other has keeps what its name gives on its own.
+    #[test]
+    fn material_constants_keep_apart_for_every_small_list() {
+        let alphabet = [
+            "a",
+            "A",
+            "a 2",
+            "a__2",
+            "a_1",
+            "a 2 1",
+            "1",
+            "2",
+            "",
+            "-",
+            "mat",
+            "MAT__1",
+            "x y z x y z x y z x y z x y z x y z!",
+            "x y z x y z x y z x y z x y z x y z?",
+            "XYZXYZXYZXYZXYZXYZ",
+        ];
+        let n = alphabet.len();
+        let mut lists = 0;
+        for len in 1..=4u32 {
+            for mut code in 0..n.pow(len) {
+                let mut names = Vec::new();
+                for _ in 0..len {
+                    names.push(alphabet[code % n].to_string());
+                    code /= n;
+                }
+                lists += 1;
+                let consts = material_constants(&names);
+                assert_eq!(consts.len(), names.len());
+                let own: Vec<Option<String>> = names
+                    .iter()
+                    .map(|m| material_constants(std::slice::from_ref(m)))
+                    .map(|c| c[0].clone())
+                    .map(|c| (c != "MAT__0").then_some(c))
+                    .collect();
+                for (i, c) in consts.iter().enumerate() {
+                    let body = c.strip_prefix("MAT_").unwrap_or_else(|| panic!("{c}"));
+                    assert!(
+                        body.chars()
+                            .all(|x| x.is_ascii_uppercase() || x.is_ascii_digit() || x == '_'),
+                        "{names:?} -> {consts:?}"
+                    );
+                    for j in (0..names.len()).filter(|&j| j != i) {
+                        assert_ne!(c, &consts[j], "{names:?} -> {consts:?}");
+                        assert_ne!(Some(c), own[j].as_ref(), "{names:?} -> {consts:?}");
+                    }
+                    let alone = (0..names.len()).all(|j| j == i || own[j] != own[i]);
+                    if alone && own[i].is_some() {
+                        assert_eq!(Some(c), own[i].as_ref(), "{names:?} -> {consts:?}");
+                    }
+                }
+            }
+        }
+        assert_eq!(lists, 15 + 15 * 15 + 15 * 15 * 15 + 15 * 15 * 15 * 15);
+    }
+
+    /// The header names each material whose constant is numbered (and no
+    /// other), its name as a string literal.
+    #[test]
+    fn the_header_lists_the_numbered_material_constants() {
+        let mut text = String::from(
+            "[camera]\nposition = [0, 1, 5]\nlook_at = [0, 0, 0]\nnear = 0.1\nfar = 100\n",
+        );
+        for (i, name) in ["floor", "Floor", "floor_2", "-", "a\\nb"]
+            .iter()
+            .enumerate()
+        {
+            text += &format!(
+                "\n[[material]]\nname = \"{name}\"\n\n[[sphere]]\ncenter = [{i}, 0, 0]\n\
+                 radius = 0.5\nmaterial = \"{name}\"\n"
+            );
+        }
+        let desc = crate::file::parse(&text, "t.toml").unwrap();
+        let source = scene_source(&desc, "t.toml", "crate").unwrap();
+        let head: Vec<&str> = source
+            .lines()
+            .take_while(|l| !l.starts_with("use "))
+            .collect();
+        let listed: Vec<&str> = head
+            .iter()
+            .copied()
+            .skip_while(|l| !l.starts_with("// Numbered material constants"))
+            .skip(1)
+            .take_while(|l| !l.is_empty())
+            .collect();
+        assert_eq!(
+            listed,
+            [
+                "//   MAT_FLOOR__1 is the material \"floor\"",
+                "//   MAT_FLOOR__2 is the material \"Floor\"",
+                "//   MAT__3 is the material \"-\"",
+            ],
+            "{source}"
+        );
+        for (i, c) in [
+            "MAT_FLOOR__1",
+            "MAT_FLOOR__2",
+            "MAT_FLOOR_2",
+            "MAT__3",
+            "MAT_A_B",
+        ]
+        .iter()
+        .enumerate()
+        {
+            let line = format!("pub const {c}: MaterialId = MaterialId({i});");
+            assert!(source.contains(&line), "{line} in\n{source}");
+        }
+        // A scene whose names all give their own constants lists none.
+        let teapot = builtin_source(tessera::builtin::Builtin::Teapot);
+        assert!(!teapot.contains("Numbered"), "{teapot}");
     }
 
     #[test]
