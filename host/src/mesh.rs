@@ -6,6 +6,10 @@
 //! whose vertices are collinear once in `f32` are left out and counted (no ray can
 //! hit a triangle of zero area, and the core refuses one); every other face is
 //! kept, so that a vertex out of range is refused with the face it belongs to.
+//! A face's texture coordinate and normal indices are checked as its vertex
+//! indices are, though neither is read: one out of range is a broken file.
+//! A UTF-8 byte-order mark at the start of the file is skipped; one further on
+//! is refused (outside comments).
 
 use crate::desc::{Face, MAX_TRIANGLES, MeshDesc, core_triangle_of, num, too_many};
 use std::io::{BufRead, Read};
@@ -79,6 +83,9 @@ pub fn read(
         (BUILTIN_TEAPOT.to_string(), obj)
     };
     *budget = budget.saturating_sub(text.len());
+    // A UTF-8 byte-order mark (Windows tools write one) is no part of the text:
+    // read as a word it would hide the first line's statement.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     // Lines (`l`) and points (`p`) are no faces, but tobj reads them as faces:
     // blanked (their line breaks kept, so that line numbers stay right).
     let text: String = text
@@ -92,7 +99,7 @@ pub fn read(
             }
         })
         .collect();
-    bound_faces(&text).map_err(|(line, why)| format!("{shown}:{line}: {why}"))?;
+    check_lines(&text).map_err(|(line, why)| format!("{shown}:{line}: {why}"))?;
     let mut reader = Consumed {
         rest: text.as_bytes(),
         at: 0,
@@ -106,19 +113,11 @@ pub fn read(
         Err(tobj::LoadError::OpenFileFailed)
     });
     let (models, _) = loaded.map_err(|e| {
-        // tobj checks face indices when an object ends (at `o`, `g`, `usemtl` or
-        // the end): the face at fault is found here; else the line being parsed
-        // when tobj stopped, the last one consumed.
-        let line = match e {
-            tobj::LoadError::FaceVertexOutOfBounds
-            | tobj::LoadError::FaceTexCoordOutOfBounds
-            | tobj::LoadError::FaceNormalOutOfBounds => first_bad_face(&text),
-            _ => None,
-        }
-        .unwrap_or_else(|| {
-            let done = text[..reader.at].trim_end_matches(['\n', '\r']);
-            done.matches('\n').count() + 1
-        });
+        // The line being parsed when tobj stopped, the last one consumed. (Face
+        // indices, which tobj checks only when an object ends, are checked line by
+        // line before: see `check_lines`.)
+        let done = text[..reader.at].trim_end_matches(['\n', '\r']);
+        let line = done.matches('\n').count() + 1;
         format!("{shown}:{line}: not a valid OBJ file: {e}")
     })?;
     let (mut faces, mut degenerate) = (Vec::new(), 0);
@@ -177,73 +176,130 @@ pub const MAX_FACE_VERTICES: usize = MAX_TRIANGLES + 2;
 /// million vertices 340 MB).
 pub const MAX_OBJ_TRIANGLES: usize = 2 * MAX_TRIANGLES;
 
-/// Checks the faces of OBJ `text` as tobj will read them (lines whose first word
-/// is `f`): at most [`MAX_FACE_VERTICES`] vertices a face and
-/// [`MAX_OBJ_TRIANGLES`] triangles in all. Else the 1-based line at fault and
-/// why.
-fn bound_faces(text: &str) -> Result<(), (usize, String)> {
+/// Checks the lines of OBJ `text` as tobj will read them, before it does
+/// (without allocating): else the 1-based line at fault and why.
+///
+/// - A face (a line whose first word is `f`) has at most [`MAX_FACE_VERTICES`]
+///   vertices, and the faces make at most [`MAX_OBJ_TRIANGLES`] triangles in all.
+/// - Every index of a face, to a vertex (`v`), a texture coordinate (`vt`) or a
+///   normal (`vn`), names one defined before its line: OBJ indices count from 1,
+///   or back from the last one when negative. tessera reads neither texture
+///   coordinates nor normals, but a file that names ones it lacks is broken
+///   (tobj lets some of them by: an index 0, or one counting back one past the
+///   first, reads as none at all, and an index to a kind the file has none of is
+///   not looked at). An index that is not an integer is left to tobj, which
+///   refuses it on its line.
+/// - A byte-order mark (U+FEFF) past the start of the text (two files joined) is
+///   refused, but in a comment or on a line of nothing else: read as a word, it
+///   would hide the statement of its line.
+fn check_lines(text: &str) -> Result<(), (usize, String)> {
     let mut triangles = 0;
+    // The vertices, texture coordinates and normals so far.
+    let mut defined = [0i64; 3];
     for (n, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
-        if words.next() != Some("f") {
+        let first = words.next().unwrap_or("");
+        // A comment, or no word but marks: nothing hidden.
+        let bare = first.trim_start_matches('\u{feff}');
+        if bare.is_empty() || bare.starts_with('#') {
             continue;
         }
-        let vertices = words.clone().take(MAX_FACE_VERTICES + 1).count();
-        if vertices > MAX_FACE_VERTICES {
+        if line.contains('\u{feff}') {
             return Err((
                 n + 1,
-                format!(
-                    "a face of {} vertices, more than the {MAX_FACE_VERTICES} whose fan fills \
-                     the scene's {MAX_TRIANGLES} triangles",
-                    words.count()
-                ),
+                "a byte-order mark (U+FEFF) past the start of the file, where it hides \
+                 the line's words (two files joined?)"
+                    .to_string(),
             ));
         }
-        triangles += vertices.saturating_sub(2);
-        if triangles > MAX_OBJ_TRIANGLES {
-            return Err((
-                n + 1,
-                format!(
-                    "the faces up to this line make more than {MAX_OBJ_TRIANGLES} triangles \
-                     (twice the {MAX_TRIANGLES} the scene holds, degenerate faces included)"
-                ),
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// The line of the first face (`f`) with a vertex, texture or normal index
-/// outside the elements defined before it (OBJ indices count from 1, or back
-/// from the last one when negative).
-fn first_bad_face(text: &str) -> Option<usize> {
-    let (mut v, mut vt, mut vn) = (0i64, 0i64, 0i64);
-    for (n, line) in text.lines().enumerate() {
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => v += 1,
-            Some("vt") => vt += 1,
-            Some("vn") => vn += 1,
-            Some("f") => {
-                for w in words {
-                    for (k, part) in w.split('/').enumerate() {
-                        let count = [v, vt, vn].get(k).copied().unwrap_or(0);
-                        let ok = match part.parse::<i64>() {
-                            Ok(i) if i > 0 => i <= count,
-                            Ok(i) if i < 0 => i >= -count,
-                            Ok(_) => false,
-                            Err(_) => part.is_empty() && k > 0,
-                        };
-                        if !ok {
-                            return Some(n + 1);
-                        }
-                    }
+        match first {
+            "v" => defined[0] += 1,
+            "vt" => defined[1] += 1,
+            "vn" => defined[2] += 1,
+            "f" => {
+                let vertices = words.clone().take(MAX_FACE_VERTICES + 1).count();
+                if vertices > MAX_FACE_VERTICES {
+                    return Err((
+                        n + 1,
+                        format!(
+                            "a face of {} vertices, more than the {MAX_FACE_VERTICES} whose \
+                             fan fills the scene's {MAX_TRIANGLES} triangles",
+                            words.count()
+                        ),
+                    ));
+                }
+                triangles += vertices.saturating_sub(2);
+                if triangles > MAX_OBJ_TRIANGLES {
+                    return Err((
+                        n + 1,
+                        format!(
+                            "the faces up to this line make more than {MAX_OBJ_TRIANGLES} \
+                             triangles (twice the {MAX_TRIANGLES} the scene holds, degenerate \
+                             faces included)"
+                        ),
+                    ));
+                }
+                for (corner, word) in words.enumerate() {
+                    bad_corner(word, defined).map_err(|why| {
+                        (
+                            n + 1,
+                            format!(
+                                "not a valid OBJ file: corner {} of the face: {why}",
+                                corner + 1
+                            ),
+                        )
+                    })?;
                 }
             }
             _ => {}
         }
     }
-    None
+    Ok(())
+}
+
+/// Checks one corner of a face (`v`, `v/vt`, `v//vn` or `v/vt/vn`) against the
+/// vertices, texture coordinates and normals `defined` before it; else why not.
+/// Parts that are not integers (or more than three) are left to tobj.
+fn bad_corner(word: &str, defined: [i64; 3]) -> Result<(), String> {
+    const KINDS: [(&str, &str, &str); 3] = [
+        ("vertex", "vertex (v)", "vertices (v)"),
+        (
+            "texture coordinate",
+            "texture coordinate (vt)",
+            "texture coordinates (vt)",
+        ),
+        ("normal", "normal (vn)", "normals (vn)"),
+    ];
+    for ((part, count), (kind, one, many)) in word.split('/').zip(defined).zip(KINDS) {
+        let defined = || {
+            let what = if count == 1 { one } else { many };
+            format!("the {count} {what} before this line")
+        };
+        if part.is_empty() {
+            if kind == "vertex" {
+                return Err("no vertex index".to_string());
+            }
+            continue;
+        }
+        let Ok(i) = part.parse::<i64>() else {
+            continue;
+        };
+        if i == 0 {
+            return Err(format!(
+                "{kind} index 0: OBJ indices count from 1 (back from the last when negative)"
+            ));
+        }
+        if i > count {
+            return Err(format!("{kind} index {i} is beyond {}", defined()));
+        }
+        if i < -count {
+            return Err(format!(
+                "{kind} index {i} counts back past the first of {}",
+                defined()
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The OBJ text as tobj reads it, remembering how far it got.
@@ -415,7 +471,8 @@ mod tests {
             (
                 mesh(""),
                 &[("x.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n")],
-                "x.obj:3: not a valid OBJ file: face vertex index out of bounds",
+                "x.obj:3: not a valid OBJ file: corner 3 of the face: vertex index 3 is beyond \
+                 the 2 vertices (v) before this line",
             ),
             (
                 mesh(""),
@@ -567,5 +624,248 @@ mod tests {
             e.contains("only-here-4f2a.obj: cannot read the OBJ file"),
             "{e}"
         );
+    }
+
+    /// The faces `super::read` makes of OBJ `text` (written as `x.obj`), or its
+    /// error.
+    fn faces_of(text: &str) -> Result<(Vec<crate::desc::Face>, usize), String> {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("x.obj"), text).unwrap();
+        let mut budget = super::MAX_OBJ_BYTES;
+        super::read(&unplaced("x.obj"), dir.path(), &mut budget, 100)
+    }
+
+    /// The fixture `name` of `host/tests/fixtures`.
+    fn fixture(name: &str) -> std::path::PathBuf {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fixtures")
+            .join(name)
+    }
+
+    /// An OBJ file that starts with a UTF-8 byte-order mark reads as the same file
+    /// without it: its first vertex counts, so every face has the vertices its
+    /// indices name (also when a face names the last vertex).
+    #[test]
+    fn a_byte_order_mark_at_the_start_is_not_read() {
+        for obj in [
+            // No face names the last vertex: read wrong, the mesh would be shifted.
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n",
+            // The last face names the last vertex.
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n",
+            // Relative indices count back from the last vertex.
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf -4 -3 -1\n",
+        ] {
+            let plain = faces_of(obj).unwrap();
+            assert_eq!(
+                faces_of(&format!("\u{feff}{obj}")),
+                Ok(plain.clone()),
+                "{obj:?}"
+            );
+            // The faces by hand: the file's `v` lines, then each face's indices.
+            let vs: Vec<[f64; 3]> = obj
+                .lines()
+                .filter_map(|l| l.strip_prefix("v "))
+                .map(|l| {
+                    let x: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
+                    [x[0], x[1], x[2]]
+                })
+                .collect();
+            let want: Vec<crate::desc::Face> = obj
+                .lines()
+                .filter_map(|l| l.strip_prefix("f "))
+                .map(|f| {
+                    let v: Vec<[f64; 3]> = f
+                        .split_whitespace()
+                        .map(|w| {
+                            let i: i64 = w.parse().unwrap();
+                            let n = i64::try_from(vs.len()).unwrap();
+                            vs[usize::try_from(if i < 0 { n + i } else { i - 1 }).unwrap()]
+                        })
+                        .collect();
+                    [v[0], v[1], v[2]]
+                })
+                .collect();
+            assert_eq!(plain, (want, 0), "{obj:?}");
+        }
+        // A file as a Windows tool writes it: the mark, CRLF line ends, texture
+        // coordinates and normals; its faces by hand, polygons as fans.
+        let bytes = std::fs::read(fixture("bom-crlf.obj")).unwrap();
+        assert!(bytes.starts_with("\u{feff}v ".as_bytes()) && bytes.ends_with(b"\r\n"));
+        let text = String::from_utf8(bytes).unwrap();
+        let vs: Vec<[f64; 3]> = text
+            .lines()
+            .filter_map(|l| l.trim_start_matches('\u{feff}').strip_prefix("v "))
+            .map(|l| {
+                let x: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
+                [x[0], x[1], x[2]]
+            })
+            .collect();
+        assert_eq!(vs.len(), 5);
+        let mut want = Vec::new();
+        for f in text.lines().filter_map(|l| l.strip_prefix("f ")) {
+            let v: Vec<[f64; 3]> = f
+                .split_whitespace()
+                .map(|w| vs[w.split('/').next().unwrap().parse::<usize>().unwrap() - 1])
+                .collect();
+            for k in 2..v.len() {
+                want.push([v[0], v[k - 1], v[k]]);
+            }
+        }
+        assert_eq!(want.len(), 4);
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::copy(fixture("bom-crlf.obj"), dir.path().join("x.obj")).unwrap();
+        let mut budget = super::MAX_OBJ_BYTES;
+        let read = super::read(&unplaced("x.obj"), dir.path(), &mut budget, 100);
+        assert_eq!(read, Ok((want, 0)));
+        // The mark is OBJ text read: it counts against the budget.
+        assert_eq!(budget, super::MAX_OBJ_BYTES - text.len());
+    }
+
+    /// The line checks before tobj read the first line of a file with a
+    /// byte-order mark as its words: a face there is bounded and its indices
+    /// checked.
+    #[test]
+    fn the_line_checks_read_past_a_byte_order_mark() {
+        let vertices = super::MAX_FACE_VERTICES + 1;
+        let indices: Vec<String> = (1..=vertices).map(|i| i.to_string()).collect();
+        let big = format!("\u{feff}f {}\nv 0 0 0\n", indices.join(" "));
+        let e = faces_of(&big).unwrap_err();
+        assert!(
+            e.contains(&format!("x.obj:1: a face of {vertices} vertices")),
+            "{e}"
+        );
+        let e = faces_of("\u{feff}f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap_err();
+        assert!(
+            e.contains("x.obj:1: not a valid OBJ file: corner 1 of the face: vertex index 1 is beyond the 0 vertices (v) before this line"),
+            "{e}"
+        );
+    }
+
+    /// A byte-order mark past the file's start (two files joined) is refused on
+    /// its line, unless the line is a comment: read as a word it would hide the
+    /// line's statement.
+    #[test]
+    fn a_byte_order_mark_past_the_start_is_refused() {
+        for (obj, line) in [
+            ("v 0 0 0\n\u{feff}v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n", 2),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\n\u{feff}f 1 2 3\n", 4),
+            ("\u{feff}v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 \u{feff}\n", 4),
+        ] {
+            let e = faces_of(obj).unwrap_err();
+            assert!(
+                e.contains(&format!(
+                    "x.obj:{line}: a byte-order mark (U+FEFF) past the start of the file"
+                )),
+                "{obj:?}: {e}"
+            );
+        }
+        let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let commented = format!("# \u{feff}joined\n{obj}\u{feff}# end\n\u{feff}\n");
+        assert_eq!(faces_of(&commented), faces_of(obj));
+        assert!(faces_of(obj).is_ok());
+    }
+
+    /// A scene file that starts with a byte-order mark reads as the same file
+    /// without it (the TOML parser skips it; the line checks before it too), also
+    /// when its first line is a table; its mesh's OBJ file may have one too.
+    #[test]
+    fn a_scene_file_may_start_with_a_byte_order_mark() {
+        let text = scene("[[mesh]]\nobj = \"t.obj\"\nmaterial = \"m\"\n");
+        assert!(text.starts_with("[camera]"));
+        let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let plain = load(&text, &[("t.obj", tri)]).unwrap();
+        let marked = load(&format!("\u{feff}{text}"), &[("t.obj", tri)]);
+        assert_eq!(marked, Ok(plain.clone()));
+        let marked = load(
+            &format!("\u{feff}{text}"),
+            &[("t.obj", &format!("\u{feff}{tri}"))],
+        );
+        assert_eq!(marked, Ok(plain));
+        // The fixture: the mark and CRLF line ends in the scene file and its OBJ.
+        let d = file::load(&fixture("bom-crlf.toml")).unwrap();
+        let bytes = std::fs::read(fixture("bom-crlf.toml")).unwrap();
+        assert!(bytes.starts_with("\u{feff}#".as_bytes()) && bytes.ends_with(b"\r\n"));
+        let plain = String::from_utf8(bytes)
+            .unwrap()
+            .replace(['\u{feff}', '\r'], "");
+        let obj = std::fs::read_to_string(fixture("bom-crlf.obj")).unwrap();
+        let obj = obj.replace(['\u{feff}', '\r'], "");
+        let want = load(&plain, &[("bom-crlf.obj", &obj)]).unwrap();
+        assert_eq!(d, want);
+        assert_eq!(d.meshes[0].faces.len(), 4);
+    }
+
+    /// A face's texture coordinate and normal indices are checked as its vertex
+    /// indices are (tessera reads neither): one out of range, 0, or counting back
+    /// past the first is refused at the face's line, naming the index.
+    #[test]
+    fn texture_and_normal_indices_are_checked_like_vertex_indices() {
+        let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvn 0 0 1\n";
+        for (face, why) in [
+            (
+                "f 1/1 2/2 3/3",
+                "corner 3 of the face: texture coordinate index 3 is beyond the 2 texture coordinates (vt) before this line",
+            ),
+            (
+                "f 1//1 2//1 3//2",
+                "corner 3 of the face: normal index 2 is beyond the 1 normal (vn) before this line",
+            ),
+            (
+                "f 1/1/1 2/2/1 3/2/9",
+                "corner 3 of the face: normal index 9 is beyond the 1 normal (vn) before this line",
+            ),
+            (
+                "f 1 2 4",
+                "corner 3 of the face: vertex index 4 is beyond the 3 vertices (v) before this line",
+            ),
+            (
+                "f 1/0 2/1 3/1",
+                "corner 1 of the face: texture coordinate index 0: OBJ indices count from 1 (back from the last when negative)",
+            ),
+            (
+                "f 1//1 2//0 3//1",
+                "corner 2 of the face: normal index 0: OBJ indices count from 1 (back from the last when negative)",
+            ),
+            (
+                "f 0 2 3",
+                "corner 1 of the face: vertex index 0: OBJ indices count from 1 (back from the last when negative)",
+            ),
+            (
+                "f 1/-3 2/-1 3/-2",
+                "corner 1 of the face: texture coordinate index -3 counts back past the first of the 2 texture coordinates (vt) before this line",
+            ),
+            (
+                "f 1//-1 2//-2 3//-1",
+                "corner 2 of the face: normal index -2 counts back past the first of the 1 normal (vn) before this line",
+            ),
+            (
+                "f -1 -2 -4",
+                "corner 3 of the face: vertex index -4 counts back past the first of the 3 vertices (v) before this line",
+            ),
+            ("f 1 /1 3", "corner 2 of the face: no vertex index"),
+        ] {
+            let e = faces_of(&format!("{head}{face}\n")).unwrap_err();
+            let want = format!("/x.obj:7: not a valid OBJ file: {why}");
+            assert!(e.ends_with(&want), "{face}: {e:?} is not {want:?}");
+        }
+        // No texture coordinate or normal at all: an index to one is out of range.
+        let e = faces_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n").unwrap_err();
+        assert!(
+            e.contains("x.obj:4: not a valid OBJ file: corner 1 of the face: texture coordinate index 1 is beyond the 0 texture coordinates (vt) before this line"),
+            "{e}"
+        );
+        let e = faces_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\nvn 0 0 1\n").unwrap_err();
+        assert!(e.contains("x.obj:4: not a valid OBJ file: corner 1 of the face: normal index 1 is beyond the 0 normals (vn) before this line"), "{e}");
+        // Valid references, absolute and relative, in every form: the faces of
+        // the same file without them.
+        let plain =
+            faces_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n")
+                .unwrap();
+        let referenced = faces_of(&format!(
+            "{head}v 0 0 1\nvn 1 1 1\nf 1/1 2/2 3/1\nf 1//1 2//2 4//1\nf 1/1/2 3/2/1 4/-1/-2\nf -3/-2/-1 -2/-1/-1 -1/1/2\n"
+        ))
+        .unwrap();
+        assert_eq!(referenced, plain);
+        assert_eq!(plain.0.len(), 4);
     }
 }
