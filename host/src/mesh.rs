@@ -21,11 +21,12 @@ use tessera::error::List;
 /// texture coordinates, 3); the bound keeps a wrong path (a disk image) or a
 /// file naming one large OBJ many times from being read at length. With the
 /// faces bounded too ([`MAX_FACE_VERTICES`], [`MAX_OBJ_TRIANGLES`]) the
-/// command's peak memory reading a 16 MiB OBJ file is at most 79 MiB: 16 MiB
-/// of `vn 0 0 1` lines (1.86 million normals) peak at 80,764 KiB, of `vt 0 0`
-/// lines at 74,520 KiB, of `v` lines at 50,592 KiB, one face line of 8.4
-/// million vertices (refused) at 37,132 KiB (`/usr/bin/time -v tessera render
-/// SCENE --size 16x16`, release build, SCENE a `[[mesh]]` of such a file).
+/// command's peak memory reading a 16 MiB OBJ file is at most 69 MiB: the text
+/// is held once (tobj reads it in place), and 16 MiB of `v 0 0 0` lines (2.1
+/// million vertices) peak at 69,948 KiB, of `vn 0 0 1` lines (1.86 million
+/// normals) at 64,388 KiB, of `vt 0 0` lines at 58,228 KiB, one face line of
+/// 8.4 million vertices (refused) at 20,688 KiB (`/usr/bin/time -v tessera
+/// render SCENE --size 16x16`, release build, SCENE a `[[mesh]]` of such a file).
 pub const MAX_OBJ_BYTES: usize = 16 << 20;
 
 /// The `obj` of a mesh that is tessera's own teapot ([`crate::teapot`], at its
@@ -86,23 +87,11 @@ pub fn read(
     // A UTF-8 byte-order mark (Windows tools write one) is no part of the text:
     // read as a word it would hide the first line's statement.
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
-    // Lines (`l`) and points (`p`) are no faces, but tobj reads them as faces:
-    // blanked (their line breaks kept, so that line numbers stay right).
-    let text: String = text
-        .split_inclusive('\n')
-        .map(|line| {
-            let word = line.split_whitespace().next().unwrap_or("");
-            if word == "l" || word == "p" {
-                &line[line.trim_end_matches(['\n', '\r']).len()..]
-            } else {
-                line
-            }
-        })
-        .collect();
-    check_lines(&text).map_err(|(line, why)| format!("{shown}:{line}: {why}"))?;
+    check_lines(text).map_err(|(line, why)| format!("{shown}:{line}: {why}"))?;
     let mut reader = Consumed {
-        rest: text.as_bytes(),
+        text,
         at: 0,
+        line_start: true,
     };
     let options = tobj::LoadOptions {
         triangulate: true,
@@ -116,8 +105,11 @@ pub fn read(
         // The line being parsed when tobj stopped, the last one consumed. (Face
         // indices, which tobj checks only when an object ends, are checked line by
         // line before: see `check_lines`.)
-        let done = text[..reader.at].trim_end_matches(['\n', '\r']);
-        let line = done.matches('\n').count() + 1;
+        let mut done = &text.as_bytes()[..reader.at];
+        while let [rest @ .., b'\n' | b'\r'] = done {
+            done = rest;
+        }
+        let line = done.iter().filter(|&&b| b == b'\n').count() + 1;
         format!("{shown}:{line}: not a valid OBJ file: {e}")
     })?;
     let (mut faces, mut degenerate) = (Vec::new(), 0);
@@ -302,31 +294,53 @@ fn bad_corner(word: &str, defined: [i64; 3]) -> Result<(), String> {
     Ok(())
 }
 
-/// The OBJ text as tobj reads it, remembering how far it got.
+/// The OBJ text as tobj reads it, a line at a time, remembering how far it got.
+/// Lines (`l`) and points (`p`) are no faces, but tobj reads them as faces: it is
+/// given only their line breaks (so that line numbers stay right), without a
+/// copy of the text.
 struct Consumed<'t> {
-    rest: &'t [u8],
-    /// Bytes consumed so far.
+    text: &'t str,
+    /// Bytes consumed (or passed over) so far.
     at: usize,
+    /// `at` is at the start of a line.
+    line_start: bool,
 }
 
 impl Read for Consumed<'_> {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.rest.len().min(buf.len());
-        buf[..n].copy_from_slice(&self.rest[..n]);
+        let rest = self.fill_buf()?;
+        let n = rest.len().min(buf.len());
+        buf[..n].copy_from_slice(&rest[..n]);
         self.consume(n);
         Ok(n)
     }
 }
 
 impl BufRead for Consumed<'_> {
+    /// The rest of the current line, its line break included.
     fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
-        Ok(self.rest)
+        let line = |at: usize| {
+            let rest = self.text.as_bytes().get(at..).unwrap_or_default();
+            &rest[..rest
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(rest.len(), |i| i + 1)]
+        };
+        if self.line_start {
+            self.line_start = false;
+            // A whole line: UTF-8, as the text is.
+            let text = std::str::from_utf8(line(self.at)).unwrap_or_default();
+            let word = text.split_whitespace().next().unwrap_or_default();
+            if word == "l" || word == "p" {
+                self.at += text.trim_end_matches(['\n', '\r']).len();
+            }
+        }
+        Ok(line(self.at))
     }
 
     fn consume(&mut self, n: usize) {
-        let n = n.min(self.rest.len());
-        self.rest = &self.rest[n..];
-        self.at += n;
+        self.at = (self.at + n).min(self.text.len());
+        self.line_start = self.text.as_bytes()[..self.at].ends_with(b"\n");
     }
 }
 
@@ -565,6 +579,12 @@ mod tests {
         let d = load(&scene(mesh), &[("l.obj", obj)]).unwrap();
         assert_eq!(d.meshes[0].faces.len(), 1);
         assert_eq!(d.meshes[0].degenerate, 0);
+        // Line numbers count the lines and points passed over.
+        let e = faces_of("v 0 0 0\r\nl 1 1\r\n  p 1\r\nv 1 0 x\r\nf 1 1 1\r\n").unwrap_err();
+        assert!(
+            e.ends_with("x.obj:4: not a valid OBJ file: position parse error"),
+            "{e}"
+        );
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(
             dir.path().join("two.obj"),
