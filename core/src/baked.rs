@@ -488,6 +488,79 @@ mod tests {
         assert_eq!(camera.renderer().err(), Some(Error::NearNotBeforeFar));
     }
 
+    /// The baked table of the plane `try_new(point, normal)` with `change`
+    /// applied to its numbers.
+    fn tampered(
+        point: Vec3,
+        normal: Vec3,
+        change: impl Fn(&mut [f32; 3], &mut f32),
+    ) -> [Primitive<Plane>; 1] {
+        let (mut p, n, mut offset, tangents) = Plane::try_new(point, normal).unwrap().parts();
+        change(&mut p, &mut offset);
+        [Primitive {
+            geometry: Plane::baked(p, n, offset, tangents),
+            material: MaterialId(0),
+        }]
+    }
+
+    const BAD_PLANE: Option<Error> = Some(Error::BadBaked {
+        list: List::Planes,
+        index: 0,
+    });
+
+    /// A subnormal in a baked plane's point is refused as in a sphere's centre:
+    /// `Plane::try_new` reads it as zero, so the table is not what it makes.
+    #[test]
+    fn a_baked_plane_with_a_subnormal_point_is_refused() {
+        let s = sphere([0.0, 0.0, 0.0], 1.0, 0);
+        let ok = tampered(Vec3::new(0.0, -1.0, 0.0), Vec3::Y, |_, _| ());
+        assert!(scene(&MATERIALS, &s, &ok).view().is_ok());
+        for (axis, tiny) in [(0, 1e-42), (1, -1e-40), (2, 1.1e-38)] {
+            let p = tampered(Vec3::new(0.0, -1.0, 0.0), Vec3::Y, |p, _| p[axis] = tiny);
+            assert_eq!(
+                scene(&MATERIALS, &s, &p).view().err(),
+                BAD_PLANE,
+                "{axis} {tiny}"
+            );
+        }
+        let p = tampered(Vec3::ZERO, Vec3::Y, |p, _| p[1] = 1e-42);
+        assert_eq!(scene(&MATERIALS, &s, &p).view().err(), BAD_PLANE);
+    }
+
+    /// A baked plane's offset is what `Plane::try_new` computes: one through
+    /// `(1e6, 0, 0)` with the normal `y` has the offset 0, and 0.95 (within 8
+    /// ulps of `|point|`) is refused; so is an oblique plane's offset moved by
+    /// much less than that, and the untampered planes are taken.
+    #[test]
+    fn a_baked_plane_offset_not_the_constructors_is_refused() {
+        let s = sphere([0.0, 0.0, 0.0], 1.0, 0);
+        let far = Vec3::new(1e6, 0.0, 0.0);
+        assert!(
+            scene(&MATERIALS, &s, &tampered(far, Vec3::Y, |_, _| ()))
+                .view()
+                .is_ok()
+        );
+        for offset in [0.95, 1e-3, 1e-30, -1e-20] {
+            let p = tampered(far, Vec3::Y, |_, o| *o = offset);
+            assert_eq!(
+                scene(&MATERIALS, &s, &p).view().err(),
+                BAD_PLANE,
+                "{offset}"
+            );
+        }
+        let (point, normal) = (Vec3::new(1e6, 2e5, -3e5), Vec3::new(0.3, 0.9, -0.2));
+        let made = Plane::try_new(point, normal).unwrap().parts().2;
+        assert!(
+            scene(&MATERIALS, &s, &tampered(point, normal, |_, _| ()))
+                .view()
+                .is_ok()
+        );
+        for delta in [0.5, -0.5, 0.25] {
+            let p = tampered(point, normal, |_, o| *o = made + delta);
+            assert_eq!(scene(&MATERIALS, &s, &p).view().err(), BAD_PLANE, "{delta}");
+        }
+    }
+
     #[test]
     fn a_baked_material_is_the_one_its_builders_make() {
         let built = Material::matte(Color::WHITE)

@@ -603,21 +603,13 @@ fn reach_of(all: (Vec3, Vec3)) -> f32 {
     2.0 * m + (all.1 - all.0).max_element()
 }
 
-/// True when `inner` lies within `outer`.
-fn within(inner: (Vec3, Vec3), outer: (Vec3, Vec3)) -> bool {
-    outer.0.x <= inner.0.x
-        && outer.0.y <= inner.0.y
-        && outer.0.z <= inner.0.z
-        && inner.1.x <= outer.1.x
-        && inner.1.y <= outer.1.y
-        && inner.1.z <= outer.1.z
-}
-
 /// Checks baked `triangles` (each as its constructor makes it, its material one of
-/// `materials`) and their hierarchy: the reach of their bounds; every node within
-/// its parent (children after it), every leaf's triangles within it, leaves in
-/// depth-first order covering the order list once, which holds each triangle
-/// exactly once. Then every search through it finds what the flat list finds.
+/// `materials`) and their hierarchy: the reach of their bounds; each node's box
+/// the one the build makes, the union of its children's (children after it) or
+/// of its leaf's triangles' bounds (so within its parent, and holding its
+/// triangles); leaves in depth-first order covering the order list once, which
+/// holds each triangle exactly once. Then every search through it finds what
+/// the flat list finds.
 /// Memory: a stack of [`DEPTH`] and a bitmap of 128 bytes; time: one pass over the
 /// nodes, and one over the order per 1,024 triangles.
 pub(crate) fn check_faces(
@@ -676,7 +668,7 @@ pub(crate) fn check_faces(
     }
     // Depth first, first child first: the leaves' ranges follow each other.
     let root = bvh.nodes.first().ok_or(bad)?;
-    if !within(all, (root.min, root.max)) {
+    if all != (root.min, root.max) {
         return Err(bad);
     }
     let mut stack: Vec<(usize, usize), DEPTH> = Vec::new();
@@ -692,11 +684,13 @@ pub(crate) fn check_faces(
             if first <= i || depth + 1 >= DEPTH {
                 return Err(bad);
             }
+            let mut inner = EMPTY;
             for c in [first, first + 1] {
                 let child = bvh.nodes.get(c).ok_or(bad)?;
-                if !within((child.min, child.max), outer) {
-                    return Err(bad);
-                }
+                inner = union(inner, (child.min, child.max));
+            }
+            if inner != outer {
+                return Err(bad);
             }
             stack.push((first + 1, depth + 1)).map_err(|_| bad)?;
             stack.push((first, depth + 1)).map_err(|_| bad)?;
@@ -705,11 +699,12 @@ pub(crate) fn check_faces(
             if first != next {
                 return Err(bad);
             }
+            let mut inner = EMPTY;
             for &e in bvh.order.get(first..end).ok_or(bad)? {
-                let t = face(usize::from(e))?;
-                if !within(bounds(&t.geometry), outer) {
-                    return Err(bad);
-                }
+                inner = union(inner, bounds(&face(usize::from(e))?.geometry));
+            }
+            if inner != outer {
+                return Err(bad);
             }
             next = end;
         }
@@ -1271,6 +1266,19 @@ mod baked_tests {
         assert_eq!(check(&tris, &n, &order, bvh.reach()), bad);
         let mut n = nodes.clone();
         n[0].first = 0;
+        assert_eq!(check(&tris, &n, &order, bvh.reach()), bad);
+        // Every box grown alike (each child still within its parent, each
+        // triangle within its leaf), or one leaf's bound made subnormal: not
+        // the boxes the build makes.
+        let mut n = nodes.clone();
+        for node in &mut n {
+            node.min.x -= 1.0;
+        }
+        assert_eq!(check(&tris, &n, &order, bvh.reach()), bad);
+        let mut n = nodes.clone();
+        for node in n.iter_mut().filter(|node| node.min.x == 0.0) {
+            node.min.x = -1e-40;
+        }
         assert_eq!(check(&tris, &n, &order, bvh.reach()), bad);
         // The order.
         let mut o = order.clone();

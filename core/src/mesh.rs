@@ -166,8 +166,9 @@ impl<'a> Mesh<'a> {
 
     /// Checks the mesh for a scene of `materials` materials: its faces (each
     /// vertex index in range, each triangle as [`Triangle::try_new`] makes it), its
-    /// normals (none, or one unit vector per vertex, to 1e-3), its material and its
-    /// hierarchy (as for baked triangles).
+    /// normals (none, or one per vertex, each the `f32` rounding of a unit vector
+    /// with no subnormal component), its material and its hierarchy (as for baked
+    /// triangles).
     pub(crate) fn check(&self, materials: usize) -> Result<(), Error> {
         if self.faces.len() >= 1 << 16 {
             return Err(Error::BadMesh);
@@ -176,12 +177,10 @@ impl<'a> Mesh<'a> {
             if self.normals.len() != self.vertices.len() {
                 return Err(Error::BadMesh);
             }
+            // Each as the host makes it: a unit vector rounded once to `f32`,
+            // with no subnormal component (a scene's rule, `error::flush`).
             for &[x, y, z] in self.normals {
-                let n = Vec3::new(x, y, z);
-                let len2 = n.length_squared();
-                // A subnormal component would be read as zero by a scene's rule
-                // (`error::flush`): baked data holds none (the host flushes).
-                if !(len2 - 1.0).abs().le(&2e-3) || crate::error::flush3(n) != n {
+                if !crate::geometry::is_rounded_unit(Vec3::new(x, y, z)) {
                     return Err(Error::BadMesh);
                 }
             }
@@ -252,9 +251,11 @@ mod tests {
                 }
             }
         }
+        // Normalised in f64 and rounded once, as the host makes a mesh's normals.
         let n = v.iter().map(|p| {
-            let q = Vec3::new(p[0], p[1], p[2]).normalize_or(Vec3::Y);
-            [q.x, q.y, q.z]
+            let q = p.map(f64::from);
+            let len = crate::math::sqrt64(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+            q.map(|x| crate::error::flush((x / len) as f32))
         });
         let n = n.collect();
         (v, f, n)
@@ -497,6 +498,22 @@ mod tests {
                 bad
             );
         }
+        // A normal that is not the f32 rounding of a unit vector, however
+        // close: one ulp too long, or 1.0009 times a unit normal.
+        let mut m = n.clone();
+        m[2] = [0.0, 0.0, crate::math::next_up(1.0)];
+        m[3] = [0.0, 1.0, 0.0];
+        let once = [Mesh::new(&v, &f, &m[..], MaterialId(0), bvh)];
+        assert_eq!(s.view().with_meshes(&once).err(), bad);
+        m[2] = [0.0, 0.0, 1.0];
+        assert!(
+            s.view()
+                .with_meshes(&[Mesh::new(&v, &f, &m, MaterialId(0), bvh)])
+                .is_ok()
+        );
+        m[3] = n[3].map(|x| x * 1.0009);
+        let once = [Mesh::new(&v, &f, &m[..], MaterialId(0), bvh)];
+        assert_eq!(s.view().with_meshes(&once).err(), bad);
         // Meshes given twice.
         let once = [ok];
         let v1 = s.view().with_meshes(&once).unwrap();

@@ -1,9 +1,10 @@
 //! Infinite plane: a point and a normal.
 
-use super::wide::W3;
+use super::wide::{W3, gamma64};
 use super::{Candidate, Locate, Shape, Surface, tangent_basis};
-use crate::error::{Error, Field, position, unit};
+use crate::error::{Error, Field, flush, flush3, position, unit};
 use crate::math::gamma;
+use crate::math::{next_down, next_up};
 use crate::ray::Ray;
 use crate::vec::Vec3;
 
@@ -44,26 +45,26 @@ impl Plane {
     pub fn try_new(point: Vec3, normal: Vec3) -> Result<Self, Error> {
         // Checked (finite, not zero), normalised in `f64`: the plane is
         // `N . x = N . point` for the normal `N` as given, its offset summed
-        // almost exactly and divided by `|N|`; both numbers rounded once.
+        // almost exactly and divided by `|N|`; both numbers rounded once, and
+        // read by the rule for subnormal numbers as every number of a scene.
         unit(normal, Field::PlaneNormal)?;
-        let raw = W3::from(crate::error::flush3(normal));
+        let raw = W3::from(flush3(normal));
         let len = raw.length();
         let point = position(point, Field::PlanePoint)?;
-        let unit = raw.div(len).round();
+        let unit = flush3(raw.div(len).round());
         Ok(Self {
             point,
             normal: unit,
-            offset: (raw.dot_exact(W3::from(point)) / len) as f32,
+            offset: flush((raw.dot_exact(W3::from(point)) / len) as f32),
             tangents: tangent_basis(unit),
         })
     }
 
     /// A plane of baked data (`static` tables written by `tessera bake`): the
     /// numbers [`Plane::parts`] gives, not checked here, in a `const` context.
-    /// [`crate::BakedScene::view`] checks them before any render takes the plane:
-    /// the point and the normal as [`Plane::try_new`] does, the normal a unit
-    /// vector to a few ulps, the tangents those of the normal, and the offset the
-    /// plane's distance from the world's origin to a few ulps.
+    /// [`crate::BakedScene::view`] checks them before any render takes the plane,
+    /// against what [`Plane::try_new`] makes of some normal through the same
+    /// point (see `check_baked`).
     #[must_use]
     pub const fn baked(
         point: [f32; 3],
@@ -91,12 +92,20 @@ impl Plane {
         )
     }
 
-    /// Checks a plane made by [`Plane::baked`]: what [`Plane::try_new`] makes
-    /// of its point and normal, but for the offset and the normal's last
-    /// bits, which `try_new` computes from the normal as the user gave it: the
-    /// normal must be a unit vector to a few ulps, the tangents
-    /// [`tangent_basis`] of it, and the offset the plane's distance from the
-    /// world's origin, `normal . point` to a few ulps of `|point|`.
+    /// Checks a plane made by [`Plane::baked`] against what [`Plane::try_new`]
+    /// makes of its point and of a normal `N`. The table keeps the unit normal
+    /// `try_new` rounded, not `N`, and `try_new` computes the offset from `N`:
+    /// the offset cannot be computed again bit for bit, and the check is the
+    /// strictest that every plane `try_new` makes passes. The point must be
+    /// the one `try_new` keeps, bit for bit (a subnormal component is read as
+    /// zero there, so a table holding one is refused); the normal without a
+    /// subnormal component and the `f32` rounding of some unit vector `u`
+    /// ([`unit_cells`]); the tangents [`tangent_basis`] of it, bit for bit;
+    /// and the offset the `f32` rounding (subnormals read as zero) of
+    /// `u . point` for such a `u`: within the rounding of the normal's
+    /// components times the point's (`1e-32` for a plane through
+    /// `(1e6, 0, 0)` of normal `y`, whose offset must then be 0), not a
+    /// tolerance of `|point|`.
     ///
     /// `Ok(true)` when the plane holds together, `Ok(false)` when it is not
     /// what `try_new` makes of its numbers (the caller names the item).
@@ -104,16 +113,37 @@ impl Plane {
     /// # Errors
     /// `try_new`'s error for a point or a normal it refuses.
     pub(crate) fn check_baked(&self) -> Result<bool, Error> {
-        Self::try_new(self.point, self.normal)?;
-        let n = W3::from(self.normal);
-        let p = W3::from(self.point);
-        let scale = p.x.abs() + p.y.abs() + p.z.abs();
-        let slack = 8.0 * f64::from(f32::EPSILON) * (scale + f64::from(self.offset).abs());
-        // |n| = 1 to 4 ulps (try_new rounds each component once).
-        Ok((n.length() - 1.0).abs() <= 4.0 * f64::from(f32::EPSILON)
-            && self.tangents == tangent_basis(self.normal)
-            && self.offset.is_finite()
-            && (n.dot(p) - f64::from(self.offset)).abs() <= slack)
+        let made = Self::try_new(self.point, self.normal)?;
+        let n = self.normal;
+        Ok(same_bits(made.point, self.point)
+            && is_rounded_unit(n)
+            && same_bits(self.tangents.0, tangent_basis(n).0)
+            && same_bits(self.tangents.1, tangent_basis(n).1)
+            && self.offset_fits())
+    }
+
+    /// True when the offset is the `f32` rounding, flushed, of `u . point` for
+    /// a unit vector `u` that rounds to the normal ([`unit_cells`] bounds each
+    /// of its components), the `f64` sums' own roundings allowed for.
+    fn offset_fits(&self) -> bool {
+        if flush(self.offset).to_bits() != self.offset.to_bits() || !self.offset.is_finite() {
+            return false;
+        }
+        let Some(cells) = unit_cells(self.normal) else {
+            return false;
+        };
+        let (mut lo, mut hi, mut size) = (0.0f64, 0.0f64, 0.0f64);
+        for ((a, b), p) in cells.into_iter().zip(self.point.to_array()) {
+            let (a, b) = (a * f64::from(p), b * f64::from(p));
+            lo += a.min(b);
+            hi += a.max(b);
+            size += a.abs().max(b.abs());
+        }
+        // `try_new`'s offset carries a few roundings of `f64` (its length,
+        // division and compensated sum), these products and sums a few more.
+        let slack = gamma64(8) * size;
+        let (lo, hi) = (flush((lo - slack) as f32), flush((hi + slack) as f32));
+        lo <= self.offset && self.offset <= hi
     }
 
     /// A point of the plane.
@@ -183,6 +213,87 @@ impl Shape for Plane {
         let d = surface.point - self.point;
         [d.dot(t), d.dot(b)]
     }
+}
+
+/// True when `a` and `b` have the same bits.
+fn same_bits(a: Vec3, b: Vec3) -> bool {
+    a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)
+}
+
+/// The interval of the reals that round to `x` as [`Plane::try_new`] rounds a
+/// unit normal's component (to nearest, then subnormals read as zero): half an
+/// ulp each side (of each side's ulp, at a power of two), and for a zero the
+/// subnormal range of both signs.
+fn cell(x: f32) -> (f64, f64) {
+    if x == 0.0 {
+        let m = f64::from(f32::MIN_POSITIVE);
+        return (-m, m);
+    }
+    // The sum of two neighbouring `f32` is exact in `f64`, and so is its half.
+    let v = f64::from(x);
+    (
+        (v + f64::from(next_down(x))) / 2.0,
+        (v + f64::from(next_up(x))) / 2.0,
+    )
+}
+
+/// Bounds on the components of the unit vectors that round to `n` as
+/// [`Plane::try_new`] rounds a normal: each component within the reals that
+/// round to `n`'s ([`cell`]), narrowed to what the unit sphere leaves it given
+/// the others' cells (`u_i^2 = 1 - sum of the others' squares`), the few `f64`
+/// roundings of the normalisation and of these sums allowed for. `None` when
+/// no unit vector rounds to `n` (the box of the cells misses the sphere).
+fn unit_cells(n: Vec3) -> Option<[(f64, f64); 3]> {
+    let cells = n.to_array().map(cell);
+    // The least and the largest square of each component.
+    let near = cells.map(|(lo, hi)| {
+        let m = if lo > 0.0 {
+            lo
+        } else if hi < 0.0 {
+            -hi
+        } else {
+            0.0
+        };
+        m * m
+    });
+    let far = cells.map(|(lo, hi)| {
+        let m = lo.abs().max(hi.abs());
+        m * m
+    });
+    let slack = gamma64(8);
+    let (inner, outer) = ((1.0 - slack) * (1.0 - slack), (1.0 + slack) * (1.0 + slack));
+    if near.iter().sum::<f64>() > outer || far.iter().sum::<f64>() < inner {
+        return None;
+    }
+    let (all_near, all_far): (f64, f64) = (near.iter().sum(), far.iter().sum());
+    let mut out = cells;
+    for ((lo, hi), (near, far)) in out.iter_mut().zip(near.into_iter().zip(far)) {
+        // The magnitude the sphere leaves this component (the others at their
+        // largest, then at their least).
+        let least = crate::math::sqrt64((inner - (all_far - far)).max(0.0));
+        let most = crate::math::sqrt64((outer - (all_near - near)).max(0.0));
+        if *lo > 0.0 {
+            (*lo, *hi) = (lo.max(least), hi.min(most));
+        } else if *hi < 0.0 {
+            (*lo, *hi) = (lo.max(-most), hi.min(-least));
+        } else {
+            (*lo, *hi) = (lo.max(-most), hi.min(most));
+        }
+        if lo > hi {
+            return None;
+        }
+    }
+    Some(out)
+}
+
+/// True when `n` is the `f32` rounding of a unit vector, as [`Plane::try_new`]
+/// makes its normal (normalised in `f64`, each component rounded once,
+/// subnormals read as zero) and the host the vertex normals of a mesh: finite,
+/// no subnormal component, and some unit vector (to the few `f64` roundings of
+/// the normalisation) rounds to it ([`unit_cells`]). A vector one ulp too long
+/// or too short is refused.
+pub(crate) fn is_rounded_unit(n: Vec3) -> bool {
+    n.is_finite() && same_bits(flush3(n), n) && unit_cells(n).is_some()
 }
 
 #[cfg(test)]
@@ -267,6 +378,97 @@ mod tests {
         };
         let [u, v] = p.uv(&s, &Candidate::default());
         assert!(((u * u + v * v) - 25.0).abs() < 1e-4);
+    }
+
+    /// Every plane `try_new` makes passes the baked check, whatever its normal's
+    /// direction and length and however far its point: normals with components
+    /// of every scale (down to the edge of the subnormal range, where a unit
+    /// component rounds to zero), points up to `1e12` away.
+    #[test]
+    fn every_plane_try_new_makes_passes_the_baked_check() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        // A random f32 of binary exponent in [low, high] (normal numbers), or
+        // zero one time in eight.
+        let mut number = |low: u32, high: u32| {
+            let r = next();
+            let sign = u32::from(r & 1 == 1) << 31;
+            let mantissa = u32::try_from(r >> 8 & 0x7f_ffff).unwrap();
+            let exponent = low + u32::try_from((r >> 40) % u64::from(high - low + 1)).unwrap();
+            match (r >> 32) & 7 {
+                0 => 0.0,
+                _ => f32::from_bits(sign | exponent << 23 | mantissa),
+            }
+        };
+        let mut checked = 0;
+        for _ in 0..20_000 {
+            // Normals' components from 2^-126 to 2^20, points' from 2^-10 to 2^40.
+            let normal = Vec3::new(number(1, 147), number(1, 147), number(1, 147));
+            let point = Vec3::new(number(117, 167), number(117, 167), number(117, 167));
+            let Ok(p) = Plane::try_new(point, normal) else {
+                continue;
+            };
+            assert_eq!(p.check_baked(), Ok(true), "{point:?} {normal:?} {p:?}");
+            checked += 1;
+        }
+        assert!(checked > 15_000, "{checked}");
+    }
+
+    /// `try_new` keeps no subnormal number: a unit normal's component or an
+    /// offset that rounds to one is read as zero, as the scene's numbers are.
+    #[test]
+    fn try_new_makes_no_subnormal_number() {
+        let p = Plane::try_new(Vec3::ZERO, Vec3::new(1e-37, 10.0, 0.0)).unwrap();
+        assert_eq!(
+            p.normal().to_array().map(f32::to_bits),
+            [0, 1.0f32.to_bits(), 0]
+        );
+        let p = Plane::try_new(Vec3::new(1e-30, 0.0, 0.0), Vec3::new(1e-10, 1.0, 0.0)).unwrap();
+        assert_eq!(p.parts().2.to_bits(), 0);
+        assert_eq!(p.check_baked(), Ok(true));
+    }
+
+    /// The baked check refuses a normal that no unit vector rounds to (one ulp
+    /// too long or too short), a subnormal component, a tangent or an offset
+    /// not the ones `try_new` computes.
+    #[test]
+    fn the_baked_check_refuses_what_try_new_does_not_make() {
+        let ok = Plane::try_new(Vec3::new(0.0, -1.0, 0.0), Vec3::Y).unwrap();
+        let (point, normal, offset, tangents) = ok.parts();
+        assert_eq!(
+            Plane::baked(point, normal, offset, tangents).check_baked(),
+            Ok(true)
+        );
+        for n in [
+            [0.0, next_up(1.0), 0.0],
+            [0.0, next_down(1.0), 0.0],
+            [1e-40, 1.0, 0.0],
+            [0.0, 1.0, -1e-45],
+        ] {
+            let p = Plane::baked(point, n, offset, tangents);
+            assert_eq!(p.check_baked(), Ok(false), "{n:?}");
+        }
+        let mut t = tangents;
+        t[0][1] = 0.0;
+        assert_eq!(
+            Plane::baked(point, normal, offset, t).check_baked(),
+            Ok(false)
+        );
+        for o in [next_up(offset), next_down(offset), -1e-40, 0.0] {
+            let p = Plane::baked(point, normal, o, tangents);
+            assert_eq!(p.check_baked(), Ok(false), "{o}");
+        }
+        // An oblique normal, rounded: the offset of any normal that rounds to
+        // it passes, one far beyond does not.
+        let made = Plane::try_new(Vec3::new(3.0, 4.0, 5.0), Vec3::new(1.0, 2.0, 3.0)).unwrap();
+        let (point, normal, offset, tangents) = made.parts();
+        let p = Plane::baked(point, normal, offset + 1e-4, tangents);
+        assert_eq!(p.check_baked(), Ok(false));
     }
 
     #[test]
