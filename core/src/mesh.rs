@@ -36,6 +36,13 @@ pub struct Mesh<'a> {
     bvh: BakedBvh<'a>,
 }
 
+/// How far from 1 a vertex normal's squared length may be, in units of
+/// `f32::EPSILON`: what normalising in `f32` leaves (a squared length within 3
+/// ulps of 1, seen over random directions) with room, and far less than a
+/// normal that would shade visibly otherwise (1.0009 times a unit normal is
+/// 15,000 of them).
+pub const NORMAL_LENGTH_ULPS: u32 = 8;
+
 impl<'a> Mesh<'a> {
     /// A mesh of `faces` (three indices into `vertices` each), shaded smooth with
     /// `normals` (one per vertex) or flat (`normals` empty), of `material`, its
@@ -166,9 +173,9 @@ impl<'a> Mesh<'a> {
 
     /// Checks the mesh for a scene of `materials` materials: its faces (each
     /// vertex index in range, each triangle as [`Triangle::try_new`] makes it), its
-    /// normals (none, or one per vertex, each the `f32` rounding of a unit vector
-    /// with no subnormal component), its material and its hierarchy (as for baked
-    /// triangles).
+    /// normals (none, or one per vertex, each of unit length to
+    /// [`NORMAL_LENGTH_ULPS`] ulps with no subnormal component), its material and
+    /// its hierarchy (as for baked triangles).
     pub(crate) fn check(&self, materials: usize) -> Result<(), Error> {
         if self.faces.len() >= 1 << 16 {
             return Err(Error::BadMesh);
@@ -177,10 +184,14 @@ impl<'a> Mesh<'a> {
             if self.normals.len() != self.vertices.len() {
                 return Err(Error::BadMesh);
             }
-            // Each as the host makes it: a unit vector rounded once to `f32`,
-            // with no subnormal component (a scene's rule, `error::flush`).
+            // A unit vector as `f32` makes one (the host rounds once from f64, a
+            // firmware may normalise in f32: a few ulps), with no subnormal
+            // component (a scene's rule, `error::flush`).
+            let ulps = NORMAL_LENGTH_ULPS as f32 * f32::EPSILON;
             for &[x, y, z] in self.normals {
-                if !crate::geometry::is_rounded_unit(Vec3::new(x, y, z)) {
+                let n = Vec3::new(x, y, z);
+                let len2 = n.length_squared();
+                if !(len2 - 1.0).abs().le(&ulps) || crate::error::flush3(n) != n {
                     return Err(Error::BadMesh);
                 }
             }
@@ -251,11 +262,10 @@ mod tests {
                 }
             }
         }
-        // Normalised in f64 and rounded once, as the host makes a mesh's normals.
+        // Normalised in f32, as a firmware building a mesh in RAM would.
         let n = v.iter().map(|p| {
-            let q = p.map(f64::from);
-            let len = crate::math::sqrt64(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-            q.map(|x| crate::error::flush((x / len) as f32))
+            let q = Vec3::new(p[0], p[1], p[2]).normalize_or(Vec3::Y);
+            [q.x, q.y, q.z]
         });
         let n = n.collect();
         (v, f, n)
@@ -445,6 +455,31 @@ mod tests {
     /// Meshes that do not fit are refused: too many, a vertex index or a
     /// material out of range, normals not one per vertex or zero, a hierarchy of
     /// other faces.
+    /// What `NORMAL_LENGTH_ULPS` allows is what normalising in `f32` leaves:
+    /// directions over every octant and a wide range of lengths, normalised by
+    /// the core's `Vec3::normalize_or` (as a firmware building a mesh would),
+    /// keep their squared length (`f32` arithmetic, as the check does) within
+    /// the bound; the largest seen is printed.
+    #[test]
+    fn normals_normalised_in_f32_pass_the_length_rule() {
+        let mut state = 0x2545_f491_u32;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state as f32 / u32::MAX as f32 * 2.0 - 1.0
+        };
+        let mut worst = 0.0f32;
+        for i in 0..200_000 {
+            let scale = [1e-30, 1e-3, 1.0, 7.0, 1e5, 1e30][i % 6];
+            let p = Vec3::new(next(), next(), next()) * scale;
+            let Some(n) = p.try_normalize() else { continue };
+            worst = worst.max((n.length_squared() - 1.0).abs() / f32::EPSILON);
+        }
+        std::println!("largest |len^2 - 1|: {worst} ulps (bound {NORMAL_LENGTH_ULPS})");
+        assert!(worst <= NORMAL_LENGTH_ULPS as f32, "{worst}");
+    }
+
     #[test]
     fn defective_meshes_are_refused() {
         let (v, f, n) = uv_sphere(4, 6);
@@ -498,10 +533,10 @@ mod tests {
                 bad
             );
         }
-        // A normal that is not the f32 rounding of a unit vector, however
-        // close: one ulp too long, or 1.0009 times a unit normal.
+        // A normal further from unit length than f32 normalising leaves: 16
+        // ulps too long (squared), or 1.0009 times a unit normal.
         let mut m = n.clone();
-        m[2] = [0.0, 0.0, crate::math::next_up(1.0)];
+        m[2] = [0.0, 0.0, 1.0 + 8.0 * f32::EPSILON];
         m[3] = [0.0, 1.0, 0.0];
         let once = [Mesh::new(&v, &f, &m[..], MaterialId(0), bvh)];
         assert_eq!(s.view().with_meshes(&once).err(), bad);

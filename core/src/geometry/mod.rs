@@ -25,8 +25,6 @@ mod wide;
 pub use aabb::Aabb;
 pub(crate) use aabb::inverse as aabb_inverse;
 pub use plane::Plane;
-#[cfg(feature = "bvh")]
-pub(crate) use plane::is_rounded_unit;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
 
