@@ -3,9 +3,15 @@
 //! 1-pixel band around silhouettes.
 //!
 //! Silhouettes come from the reference's per-pixel signature (what each sample's ray
-//! tree hit, and which shadow rays were blocked): a pixel whose signature differs
-//! from one of its 8 neighbours lies on an edge (of an object, a reflection or a
-//! shadow), where a rounding difference may legitimately flip a whole sample.
+//! tree hit, down to a box's or a mesh's face and a checker's cell, and which
+//! shadow rays were blocked): a pixel whose signature differs from one of its 8
+//! neighbours lies on an edge (of an object, a reflection, a shadow, or where the
+//! shading jumps), where a rounding difference may legitimately flip a whole
+//! sample. The reference signs the ring of pixels just outside the frame too, so
+//! every pixel has its 8 neighbours and the rule is the same on every frame's
+//! shape: a pixel on the frame's border (every pixel of a 1x1 or a 64x1 frame)
+//! is in the band when an edge passes between it and the pixel beyond the
+//! border, as an inner pixel is.
 
 use crate::HostError;
 use image::{Rgb, RgbImage};
@@ -160,37 +166,34 @@ impl fmt::Display for Accuracy {
     }
 }
 
-/// Pixels on a silhouette: their signature differs from one of their 8 neighbours.
-#[must_use]
-pub fn silhouette_band(width: u32, height: u32, signature: &[u64]) -> Vec<bool> {
-    let (w, h) = (width as i64, height as i64);
-    let at = |x: i64, y: i64| signature.get((y * w + x) as usize).copied();
-    let mut band = vec![false; signature.len()];
-    for y in 0..h {
-        for x in 0..w {
-            let s = at(x, y);
-            let mut edge = false;
-            for (dx, dy) in [
-                (-1, -1),
-                (0, -1),
-                (1, -1),
-                (-1, 0),
-                (1, 0),
-                (-1, 1),
-                (0, 1),
-                (1, 1),
-            ] {
-                let (nx, ny) = (x + dx, y + dy);
-                if nx >= 0 && ny >= 0 && nx < w && ny < h && at(nx, ny) != s {
-                    edge = true;
-                }
-            }
-            if let Some(b) = band.get_mut((y * w + x) as usize) {
-                *b = edge;
-            }
+/// Pixels on a silhouette: their signature differs from one of their 8
+/// neighbours. `signature` holds the signatures of the `width x height` frame's
+/// pixels and of the ring of pixels just outside it, `(width + 2) x (height +
+/// 2)` row by row from pixel `(-1, -1)` (the reference's
+/// [`RefImage::signature`](crate::reference::RefImage::signature)), so every
+/// pixel of the frame has its 8 neighbours; the band is the frame's pixels only.
+/// A signature of another length is an error.
+pub fn silhouette_band(width: u32, height: u32, signature: &[u64]) -> Result<Vec<bool>, HostError> {
+    let want = crate::reference::framed_len(width, height);
+    if signature.len() != want {
+        return Err(HostError::Measure(format!(
+            "a {width}x{height} frame's silhouette band needs {want} signatures (the frame \
+             and the ring of pixels around it), got {}",
+            signature.len()
+        )));
+    }
+    let (w, h) = (width as usize, height as usize);
+    let stride = w + 2;
+    let mut band = Vec::with_capacity(w * h);
+    for y in 1..=h {
+        for x in 1..=w {
+            let s = signature[y * stride + x];
+            let edge = (y - 1..=y + 1)
+                .any(|ny| (x - 1..=x + 1).any(|nx| signature[ny * stride + nx] != s));
+            band.push(edge);
         }
     }
-    band
+    Ok(band)
 }
 
 /// Largest absolute channel difference of two pixels.
@@ -211,7 +214,7 @@ pub fn measure(
     signature: &[u64],
 ) -> Result<Accuracy, HostError> {
     let (w, h) = reference.dimensions();
-    let band = silhouette_band(w, h, signature);
+    let band = silhouette_band(w, h, signature)?;
     measure_with_band(
         core,
         core_non_finite,
@@ -346,11 +349,20 @@ fn mean_flip_in_bands(
 }
 
 /// A heat-map of the differences: black = equal, blue = 1 LSB, green = 2, yellow =
-/// 3 or 4, red = 5 or more; equal pixels in the silhouette band are dark grey.
-#[must_use]
-pub fn heatmap(core: &RgbImage, reference: &RgbImage, signature: &[u64]) -> RgbImage {
+/// 3 or 4, red = 5 or more; equal pixels in the silhouette band
+/// ([`silhouette_band`], an error for a signature of the wrong length) are dark
+/// grey.
+pub fn heatmap(
+    core: &RgbImage,
+    reference: &RgbImage,
+    signature: &[u64],
+) -> Result<RgbImage, HostError> {
     let (w, h) = core.dimensions();
-    heatmap_with_band(core, reference, &silhouette_band(w, h, signature))
+    Ok(heatmap_with_band(
+        core,
+        reference,
+        &silhouette_band(w, h, signature)?,
+    ))
 }
 
 /// [`heatmap`] with the silhouette band already made ([`silhouette_band`]).
@@ -380,11 +392,54 @@ pub fn heatmap_with_band(core: &RgbImage, reference: &RgbImage, band: &[bool]) -
 mod tests {
     use super::*;
 
+    /// A `width x height` frame's signatures with its ring, from a function of
+    /// the pixel (`-1` to `width`, `height`).
+    fn framed(width: u32, height: u32, f: impl Fn(i64, i64) -> u64) -> Vec<u64> {
+        let (w, h) = (i64::from(width), i64::from(height));
+        (-1..=h)
+            .flat_map(|y| (-1..=w).map(move |x| (x, y)))
+            .map(|(x, y)| f(x, y))
+            .collect()
+    }
+
     #[test]
     fn band_marks_both_sides_of_an_edge() {
-        // 4x1: signatures a a b b -> pixels 1 and 2 are on the edge.
-        let band = silhouette_band(4, 1, &[1, 1, 2, 2]);
+        // 4x1: signatures a a b b (and so the ring above and below) -> pixels 1
+        // and 2 are on the edge.
+        let sig = framed(4, 1, |x, _| if x < 2 { 1 } else { 2 });
+        let band = silhouette_band(4, 1, &sig).unwrap();
         assert_eq!(band, vec![false, true, true, false]);
+    }
+
+    /// Every pixel has its 8 neighbours, the ring's included: an edge between
+    /// the frame's border and the ring puts the border's pixels in the band on
+    /// every frame's shape; a uniform neighbourhood none.
+    #[test]
+    fn band_sees_the_ring_outside_the_frame() {
+        // One pixel, an edge through it (its left side and its right side differ).
+        let sig = framed(1, 1, |x, _| u64::from(x > 0));
+        assert_eq!(silhouette_band(1, 1, &sig).unwrap(), vec![true]);
+        assert_eq!(silhouette_band(1, 1, &[7; 9]).unwrap(), vec![false]);
+        // One row, a horizontal edge below it: every pixel.
+        let sig = framed(64, 1, |_, y| u64::from(y > 0));
+        assert_eq!(silhouette_band(64, 1, &sig).unwrap(), vec![true; 64]);
+        // A 5x4 frame whose right-hand ring column differs: the last column only.
+        let sig = framed(5, 4, |x, _| u64::from(x == 5));
+        let band = silhouette_band(5, 4, &sig).unwrap();
+        for (i, b) in band.iter().enumerate() {
+            assert_eq!(*b, i % 5 == 4, "pixel {i}");
+        }
+        // A diagonal neighbour counts: only the ring's corner below right differs.
+        let sig = framed(3, 2, |x, y| u64::from(x == 3 && y == 2));
+        let band = silhouette_band(3, 2, &sig).unwrap();
+        assert_eq!(band, vec![false, false, false, false, false, true]);
+        let e = silhouette_band(4, 1, &[1, 1, 2, 2])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("4x1") && e.contains("needs 18") && e.contains("got 4"),
+            "{e}"
+        );
     }
 
     /// An image of `w x h` with a gradient, a disc and noise (the noise from
@@ -441,7 +496,7 @@ mod tests {
         let mut b = a.clone();
         b.put_pixel(3, 3, Rgb([101, 100, 100]));
         b.put_pixel(4, 4, Rgb([100, 103, 100]));
-        let sig = vec![7u64; 100];
+        let sig = vec![7u64; 144];
         let acc = measure(&b, 0, &a, 0, &sig).unwrap();
         assert_eq!(acc.outside, [98, 1, 0, 1]);
         assert_eq!(acc.max_abs_diff, 3);

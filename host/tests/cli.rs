@@ -3,6 +3,7 @@
 //! existing output file untouched.
 
 mod bake;
+mod compare;
 mod inputs;
 
 use crate::common::{bin, scenes, scratch, temps, text};

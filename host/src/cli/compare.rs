@@ -44,7 +44,7 @@ pub fn run(args: &CompareArgs) -> Result<(), Error> {
     let mut reference = tessera_host::reference::render(&source.desc(), vp, &settings)
         .map_err(|e| source.error(e))?;
     let (w, h) = (u32::from(vp.width), u32::from(vp.height));
-    let band = compare::silhouette_band(w, h, &std::mem::take(&mut reference.signature));
+    let band = compare::silhouette_band(w, h, &std::mem::take(&mut reference.signature))?;
     let ref_img = reference.to_rgb8();
     let reference_non_finite = reference.non_finite();
     drop(reference);

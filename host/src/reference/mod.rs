@@ -11,9 +11,14 @@
 //! triangles are hit from both sides.
 //!
 //! Besides the colours, each pixel gets a [`RefImage::signature`]: a hash of what
-//! every ray of every sample hit (primitive kind and index, or nothing) and of every
-//! shadow ray's outcome. Neighbours with different signatures straddle a silhouette,
-//! a reflected or refracted silhouette, or a shadow edge.
+//! every ray of every sample hit (primitive kind and index, or nothing; the part
+//! of the primitive where its shading jumps at the parts' edges: a box's face, a
+//! flat or textured mesh's face; the checker cell) and of every shadow ray's
+//! outcome. Neighbours with different signatures straddle a silhouette, a
+//! reflected or refracted silhouette, a shadow edge or an edge where the shading
+//! jumps. So that every pixel of the frame has its 8 neighbours whatever the
+//! frame's shape (one pixel, one row), the pixels of the ring just outside the
+//! frame are signed too, by rays through them as through the frame's pixels.
 
 pub mod exact;
 pub mod geometry;
@@ -36,7 +41,10 @@ pub struct RefImage {
     pub height: u32,
     /// Linear RGB of each pixel (mean of its samples), row by row.
     pub pixels: Vec<[f64; 3]>,
-    /// Hash of the primitives and shadow outcomes met by each pixel's rays.
+    /// Hash of the primitives and shadow outcomes met by each pixel's rays, for
+    /// the frame and the ring of pixels just outside it: `(width + 2) x (height
+    /// + 2)` of them ([`framed_len`]), row by row from pixel `(-1, -1)`
+    /// ([`RefImage::signature_at`]).
     pub signature: Vec<u64>,
     /// How [`RefImage::to_rgb8`] makes the 8 bits (the settings').
     pub encoding: tessera::Encoding,
@@ -68,6 +76,19 @@ impl RefImage {
             let p = self.pixels[(y * self.width + x) as usize];
             image::Rgb([q(p[0]), q(p[1]), q(p[2])])
         })
+    }
+
+    /// The signature of pixel `(x, y)`, `-1` to `width` and `height` (the ring
+    /// outside the frame included); `None` beyond them.
+    #[must_use]
+    pub fn signature_at(&self, x: i64, y: i64) -> Option<u64> {
+        let (w, h) = (i64::from(self.width), i64::from(self.height));
+        if x < -1 || y < -1 || x > w || y > h {
+            return None;
+        }
+        self.signature
+            .get(((y + 1) * (w + 2) + x + 1) as usize)
+            .copied()
     }
 
     /// How many pixels have a NaN or infinite component.
@@ -214,26 +235,27 @@ pub fn render(
             threshold,
         ));
     }
+    // Every pixel of the frame and of the ring around it (signatures only).
     let mut pixels = Vec::with_capacity((width * height) as usize);
-    let mut signature = Vec::with_capacity(pixels.capacity());
-    for y in 0..height {
-        for x in 0..width {
-            let mut sig = Signature::default();
-            let color = if settings.sampler == tessera::Sampler::Prefiltered {
-                prefiltered(&tracer, &camera, (x, y), &mut sig)
-            } else {
-                mean(
-                    &tracer,
-                    &camera,
-                    settings.sampler,
-                    settings.seed,
-                    (x, y),
-                    &mut sig,
-                )
-            };
+    let mut signature = Vec::with_capacity(framed_len(width, height));
+    for (x, y) in framed(width, height) {
+        let mut sig = Signature::default();
+        let color = if settings.sampler == tessera::Sampler::Prefiltered {
+            prefiltered(&tracer, &camera, (x, y), &mut sig)
+        } else {
+            mean(
+                &tracer,
+                &camera,
+                settings.sampler,
+                settings.seed,
+                (x, y),
+                &mut sig,
+            )
+        };
+        if inside((width, height), (x, y)) {
             pixels.push(color.to_array());
-            signature.push(sig.0);
         }
+        signature.push(sig.0);
     }
     Ok(RefImage {
         width,
@@ -244,16 +266,36 @@ pub fn render(
     })
 }
 
+/// How many signatures a `width x height` frame has: its pixels' and those of
+/// the ring of pixels just outside it, `(width + 2) x (height + 2)`.
+#[must_use]
+pub fn framed_len(width: u32, height: u32) -> usize {
+    (width as usize + 2) * (height as usize + 2)
+}
+
+/// The pixels of a `width x height` frame and of the ring just outside it, row
+/// by row from `(-1, -1)` to `(width, height)`: the order of
+/// [`RefImage::signature`].
+fn framed(width: u32, height: u32) -> impl Iterator<Item = (i64, i64)> {
+    let (w, h) = (i64::from(width), i64::from(height));
+    (-1..=h).flat_map(move |y| (-1..=w).map(move |x| (x, y)))
+}
+
+/// Whether pixel `(x, y)` is in the `width x height` frame (not on its ring).
+fn inside((width, height): (u32, u32), (x, y): (i64, i64)) -> bool {
+    x >= 0 && y >= 0 && x < i64::from(width) && y < i64::from(height)
+}
+
 /// The colour of pixel `(x, y)`'s prefiltered centre ray in `f64` (its
 /// texture averaged over the footprint of the pixel's corner rays), its ray
 /// tree signed into `sig`.
 fn prefiltered(
     tracer: &Tracer<'_>,
     camera: &RefCamera,
-    (x, y): (u32, u32),
+    (x, y): (i64, i64),
     sig: &mut Signature,
 ) -> V3 {
-    let (px, py) = (f64::from(x), f64::from(y));
+    let (px, py) = (x as f64, y as f64);
     let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
         .map(|(dx, dy)| camera.ray(px + dx, py + dy).0);
     let (ray, t_far) = camera.ray(px + 0.5, py + 0.5);
@@ -261,23 +303,35 @@ fn prefiltered(
 }
 
 /// The mean colour of pixel `(x, y)`'s samples by `sampler` in `f64`, their
-/// ray trees signed into `sig`.
+/// ray trees signed into `sig`. A pixel of the ring outside the frame (a
+/// coordinate -1) takes the sampler's offsets of its coordinates modulo 2^32.
 fn mean(
     tracer: &Tracer<'_>,
     camera: &RefCamera,
     sampler: tessera::Sampler,
     seed: u32,
-    (x, y): (u32, u32),
+    (x, y): (i64, i64),
     sig: &mut Signature,
 ) -> V3 {
     let count = sampler.count();
     let mut sum = V3::ZERO;
     for i in 0..count {
-        let (dx, dy) = sampler.offset(x, y, i, seed);
-        let (ray, t_far) = camera.ray(f64::from(x) + f64::from(dx), f64::from(y) + f64::from(dy));
+        let (dx, dy) = sampler.offset(x as u32, y as u32, i, seed);
+        let (ray, t_far) = camera.ray(x as f64 + f64::from(dx), y as f64 + f64::from(dy));
         sum = sum + tracer.trace_camera(&ray, t_far, sig);
     }
     sum * (1.0 / f64::from(count))
+}
+
+/// What [`centre`] gives of a pixel.
+type Centre = (V3, Signature, u64, bool, [u8; 3]);
+
+/// The signature of pixel `(x, y)`'s prefiltered centre ray: what the adaptive
+/// and sparse samplers' pixels of the ring outside the frame are signed with.
+fn centre_signature(tracer: &Tracer<'_>, camera: &RefCamera, (x, y): (i64, i64)) -> u64 {
+    let mut sig = Signature::default();
+    prefiltered(tracer, camera, (x, y), &mut sig);
+    sig.0
 }
 
 /// A pixel's prefiltered centre ray in `f64`, as the adaptive and sparse
@@ -289,9 +343,9 @@ fn centre(
     camera: &RefCamera,
     (x, y): (u32, u32),
     encoding: tessera::Encoding,
-) -> (V3, Signature, u64, bool, [u8; 3]) {
+) -> Centre {
     let mut sig = Signature::default();
-    let color = prefiltered(tracer, camera, (x, y), &mut sig);
+    let color = prefiltered(tracer, camera, (x.into(), y.into()), &mut sig);
     let (ray, t_far) = camera.ray(f64::from(x) + 0.5, f64::from(y) + 0.5);
     let (probe, textured) = tracer.camera_probe(&ray, t_far);
     let bytes = color.to_array().map(|v| encode8(v, encoding));
@@ -303,7 +357,12 @@ fn centre(
 /// pixels of its two or four traced neighbours (in its row or column, or
 /// diagonally) when they met the same things and each 8-bit channel spans at
 /// most `threshold` over them, else (and when a neighbour lies beyond the
-/// frame) its own prefiltered centre ray.
+/// frame) its own prefiltered centre ray. The pixels of the ring outside the
+/// frame are signed by their own centre ray.
+///
+/// A row at a time: only the traced rows a row needs are kept (its own, or the
+/// one above and the one below it), so the image and its signatures are all it
+/// holds of the frame.
 fn sparse(
     tracer: &Tracer<'_>,
     camera: &RefCamera,
@@ -312,15 +371,34 @@ fn sparse(
     threshold: u8,
 ) -> RefImage {
     let e = settings.encoding;
-    let mut traced = std::collections::HashMap::new();
-    for y in (0..height).step_by(2) {
-        for x in (0..width).step_by(2) {
-            traced.insert((x, y), centre(tracer, camera, (x, y), e));
-        }
-    }
+    let (w, h) = (i64::from(width), i64::from(height));
+    let trace_row = |y: u32| -> Vec<Centre> {
+        (0..width)
+            .step_by(2)
+            .map(|x| centre(tracer, camera, (x, y), e))
+            .collect()
+    };
+    let ring = |x: i64, y: i64| centre_signature(tracer, camera, (x, y));
     let mut pixels = Vec::with_capacity((width * height) as usize);
-    let mut signature = Vec::with_capacity(pixels.capacity());
+    let mut signature = Vec::with_capacity(framed_len(width, height));
+    signature.extend((-1..=w).map(|x| ring(x, -1)));
+    // The traced rows kept: `(y, its centres at x = 0, 2, 4 ...)`.
+    let mut rows: Vec<(u32, Vec<Centre>)> = Vec::with_capacity(2);
     for y in 0..height {
+        rows.retain(|(r, _)| *r + 1 >= y);
+        for r in [y - y % 2, y + y % 2] {
+            if r < height && !rows.iter().any(|(q, _)| *q == r) {
+                rows.push((r, trace_row(r)));
+            }
+        }
+        let traced = |x: u32, y: u32| -> Option<&Centre> {
+            if !x.is_multiple_of(2) || !y.is_multiple_of(2) {
+                return None;
+            }
+            let (_, row) = rows.iter().find(|(r, _)| *r == y)?;
+            row.get((x / 2) as usize)
+        };
+        signature.push(ring(-1, i64::from(y)));
         for x in 0..width {
             let near: Vec<(u32, u32)> = match (x % 2, y % 2) {
                 (1, 0) => vec![(x - 1, y), (x + 1, y)],
@@ -333,7 +411,7 @@ fn sparse(
                 ],
                 _ => vec![],
             };
-            let near: Option<Vec<_>> = near.iter().map(|a| traced.get(a)).collect();
+            let near: Option<Vec<_>> = near.iter().map(|&(x, y)| traced(x, y)).collect();
             let blend = near.filter(|n| !n.is_empty()).and_then(|n| {
                 let first = n[0];
                 let agree = n.iter().all(|s| s.2 == first.2)
@@ -357,18 +435,21 @@ fn sparse(
                     (c, first.1)
                 })
             });
-            let (color, sig) = match (traced.get(&(x, y)), blend) {
+            let (color, sig) = match (traced(x, y), blend) {
                 (Some(t), _) => (t.0, t.1),
                 (None, Some(b)) => b,
                 (None, None) => {
                     let mut sig = Signature::default();
-                    (prefiltered(tracer, camera, (x, y), &mut sig), sig)
+                    let c = prefiltered(tracer, camera, (x.into(), y.into()), &mut sig);
+                    (c, sig)
                 }
             };
             pixels.push(color.to_array());
             signature.push(sig.0);
         }
+        signature.push(ring(w, i64::from(y)));
     }
+    signature.extend((-1..=w).map(|x| ring(x, h)));
     RefImage {
         width,
         height,
@@ -381,7 +462,8 @@ fn sparse(
 /// The adaptive sampler in `f64`: every pixel's prefiltered centre ray first,
 /// then, for each pixel whose centre differs from one of its four neighbours'
 /// (another camera-hit signature, or on untextured hits an 8-bit channel more
-/// than `threshold` apart), the `k x k` stratified samples instead.
+/// than `threshold` apart), the `k x k` stratified samples instead. The pixels
+/// of the ring outside the frame are signed by their own centre ray.
 fn adaptive(
     tracer: &Tracer<'_>,
     camera: &RefCamera,
@@ -402,33 +484,39 @@ fn adaptive(
     };
     let stratified = tessera::Sampler::Stratified(k);
     let mut pixels = Vec::with_capacity(centres.len());
-    let mut signature = Vec::with_capacity(centres.len());
-    for y in 0..height {
-        for x in 0..width {
-            let (xi, yi) = (i64::from(x), i64::from(y));
-            let (color, sig, probe, textured, bytes) =
-                centres[(yi * i64::from(width) + xi) as usize];
-            let refine = [(0, -1), (-1, 0), (1, 0), (0, 1)]
-                .into_iter()
-                .filter_map(|(dx, dy)| at(xi + dx, yi + dy))
-                .any(|n| {
-                    n.2 != probe
-                        || !textured
-                            && bytes
-                                .iter()
-                                .zip(&n.4)
-                                .any(|(a, b)| a.abs_diff(*b) > threshold)
-                });
-            if !refine {
-                pixels.push(color.to_array());
-                signature.push(sig.0);
-                continue;
-            }
-            let mut sig = Signature::default();
-            let color = mean(tracer, camera, stratified, settings.seed, (x, y), &mut sig);
+    let mut signature = Vec::with_capacity(framed_len(width, height));
+    for (xi, yi) in framed(width, height) {
+        let Some(&(color, sig, probe, textured, bytes)) = at(xi, yi) else {
+            signature.push(centre_signature(tracer, camera, (xi, yi)));
+            continue;
+        };
+        let refine = [(0, -1), (-1, 0), (1, 0), (0, 1)]
+            .into_iter()
+            .filter_map(|(dx, dy)| at(xi + dx, yi + dy))
+            .any(|n| {
+                n.2 != probe
+                    || !textured
+                        && bytes
+                            .iter()
+                            .zip(&n.4)
+                            .any(|(a, b)| a.abs_diff(*b) > threshold)
+            });
+        if !refine {
             pixels.push(color.to_array());
             signature.push(sig.0);
+            continue;
         }
+        let mut sig = Signature::default();
+        let color = mean(
+            tracer,
+            camera,
+            stratified,
+            settings.seed,
+            (xi, yi),
+            &mut sig,
+        );
+        pixels.push(color.to_array());
+        signature.push(sig.0);
     }
     RefImage {
         width,

@@ -161,9 +161,12 @@ pub struct Light {
     pub power: V3,
 }
 
-/// A primitive: shape, kind (0 sphere, 1 plane, 2 triangle, 3 box, 4 a mesh's
-/// face), index in its kind's list (a mesh's faces: the mesh's), material index,
-/// and a smooth mesh's vertex normals.
+/// The [`Object::kind`] of a mesh's face.
+pub const MESH_FACE: u64 = 4;
+
+/// A primitive: shape, kind (0 sphere, 1 plane, 2 triangle, 3 box,
+/// [`MESH_FACE`]), index in its kind's list (a mesh's faces: the mesh's, and
+/// the face's in the mesh), material index, and a smooth mesh's vertex normals.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Object {
     /// The shape.
@@ -172,6 +175,8 @@ pub struct Object {
     pub kind: u64,
     /// Index in the description's list of that kind.
     pub index: u64,
+    /// A mesh's face: its index in the mesh (0 for the other kinds).
+    pub face: u64,
     /// Index in [`RefScene::materials`].
     pub material: usize,
     /// A face of a smooth mesh: its vertices' unit normals.
@@ -296,6 +301,7 @@ impl RefScene {
                 shape,
                 kind,
                 index: index as u64,
+                face: 0,
                 material,
                 normals: None,
             });
@@ -333,13 +339,14 @@ impl RefScene {
                 item: format!("mesh {}", i + 1),
                 message: format!("unknown material {:?}", m.material),
             })?;
-            for f in &w.faces {
+            for (face, f) in w.faces.iter().enumerate() {
                 objects.push(Object {
                     shape: Shape::Triangle {
                         p: f.map(|k| v(w.positions[k])),
                     },
-                    kind: 4,
+                    kind: MESH_FACE,
                     index: i as u64,
+                    face: face as u64,
                     material,
                     normals: (!w.normals.is_empty()).then(|| f.map(|k| v(w.normals[k]))),
                 });

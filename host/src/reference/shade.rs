@@ -2,8 +2,9 @@
 //! light with shadow rays, then mirror and refracted rays (Snell, Schlick, total
 //! internal reflection), and the per-pixel signature of what the rays met.
 
+use super::geometry::Shape;
 use super::geometry::{Hit, Ray};
-use super::scene::{Mat, Object, RefScene};
+use super::scene::{Mat, Object, RefScene, Tex};
 use super::vec::V3;
 
 /// An FNV-1a hash of the identities met along a pixel's rays.
@@ -17,7 +18,7 @@ impl Default for Signature {
 }
 
 /// Signature tokens: the role of a ray, what it hit, a shadow ray's outcome, the
-/// checker cell it saw.
+/// checker cell it saw, the part of a primitive it hit ([`Tracer::part`]).
 const CAMERA: u64 = 1 << 62;
 const REFLECTED: u64 = 2 << 62;
 const REFRACTED: u64 = 3 << 62;
@@ -25,6 +26,7 @@ const MISS: u64 = u64::MAX;
 const HIT: u64 = 1 << 60;
 const SHADOW: u64 = 1 << 59;
 const TEXEL: u64 = 1 << 58;
+const PART: u64 = 1 << 57;
 
 impl Signature {
     /// Mixes one token in.
@@ -92,6 +94,7 @@ impl Tracer<'_> {
         let p = ray.at(hit.t);
         let normal = obj.shape.normal(p, &hit);
         let uv = obj.shape.uv(p, normal, &hit);
+        Self::part(obj, &hit, m, (ray.dir, uv), sig);
         let footprint = corners.and_then(|cs| {
             let (mut lo, mut hi) = (uv, uv);
             for c in cs {
@@ -122,6 +125,40 @@ impl Tracer<'_> {
             }
         }
         c
+    }
+
+    /// Signs which part of one primitive a ray hit where its shading jumps
+    /// across the parts' edges, so that those edges are in the silhouette band
+    /// as an edge between two primitives is: a box's face (its normal and uv
+    /// change at its edges); a mesh's face when the mesh is textured (its uv are
+    /// the face's barycentrics) or flat (its normal, turned to the ray as the
+    /// shading turns it, rounded to 2^-20 so that coplanar faces, whose normals
+    /// differ by rounding, sign alike); a sphere's half of `u` when it has
+    /// fringes (their phase jumps where `u` wraps from 1 to 0, and this also
+    /// bands the meridian `u = 0.5`, where nothing jumps). A smooth mesh's vertex
+    /// normals and a plane's or triangle's one surface change nothing abruptly
+    /// within the primitive (a checker's cells are signed by their parity).
+    fn part(obj: &Object, hit: &Hit, m: &Mat, (dir, uv): (V3, [f64; 2]), sig: &mut Signature) {
+        match obj.shape {
+            Shape::Box { .. } => sig.push(PART | hit.face as u64),
+            Shape::Sphere { .. } if matches!(m.texture, Tex::Fringes { .. }) => {
+                sig.push(PART | u64::from(uv[0] >= 0.5));
+            }
+            Shape::Triangle { p } if obj.kind == super::scene::MESH_FACE => {
+                if !matches!(m.texture, Tex::Solid(_)) {
+                    sig.push(PART | obj.face);
+                } else if obj.normals.is_none() {
+                    let g = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+                    let g = if g.dot(dir) > 0.0 { -g } else { g };
+                    sig.push(PART);
+                    for c in [g.x, g.y, g.z] {
+                        // +0.0 makes -0 sign as 0.
+                        sig.push(((c * 1_048_576.0).round() + 0.0).to_bits());
+                    }
+                }
+            }
+            _ => {}
+        }
     }
 
     /// Ambient plus direct light from every light not in shadow. `normal`: the

@@ -129,7 +129,7 @@ fn quantisation_and_non_finite() {
             [f64::NAN, 1.0 / 255.0, 0.499 / 255.0],
             [f64::INFINITY, 0.0, 0.0],
         ],
-        signature: vec![0; 3],
+        signature: vec![0; 15],
         encoding: tessera::Encoding::Linear,
     };
     let rgb = img.to_rgb8();
@@ -423,7 +423,7 @@ fn signatures_mark_silhouettes_and_shadows() {
                 }
                 (None, None) => 3,
             };
-            let sig = img.signature[(y * 64 + x) as usize];
+            let sig = img.signature_at(x.into(), y.into()).unwrap();
             assert_eq!(*classes.entry(class).or_insert(sig), sig, "class {class}");
         }
     }
@@ -432,4 +432,94 @@ fn signatures_mark_silhouettes_and_shadows() {
     sigs.dedup();
     assert_eq!(sigs.len(), classes.len());
     assert!(classes.len() >= 3, "{classes:?}");
+}
+
+/// Where one primitive's shading jumps, the signature changes as across two
+/// primitives: between a box's faces, between a flat mesh's faces that meet at
+/// an angle and between a textured mesh's faces (its uv are each face's
+/// barycentrics); not between a flat mesh's coplanar faces nor across a smooth
+/// mesh's edges, where the shading is continuous.
+#[test]
+fn signatures_change_where_a_primitives_shading_jumps() {
+    // The signatures of pixels (8, 3) and (8, 12), above and below the image's
+    // middle, where each scene puts an edge.
+    let scene = |setup: &dyn Fn(&mut SceneDesc)| {
+        let mut d = empty(camera([0.0, 0.0, 5.0], [0.0, 0.0, -1.0]));
+        d.materials.push(material("m", [0.8; 3]));
+        d.lights.push(LightDesc {
+            position: [0.0, 0.0, 10.0],
+            color: [1.0; 3],
+            intensity: 100.0,
+        });
+        setup(&mut d);
+        let img = render(&d, Viewport::new(16, 16), &RenderSettings::default()).unwrap();
+        let sig = |y: i64| img.signature_at(8, y).unwrap();
+        (sig(3), sig(12))
+    };
+    // A box seen from above its top (+y) and in front of its front (+z),
+    // looking at the edge between them.
+    let (upper, lower) = scene(&|d| {
+        d.camera.position = [0.0, 3.0, 5.0];
+        d.camera.forward = None;
+        d.camera.look_at = Some([0.0, 0.0, 1.0]);
+        // Lighting both faces.
+        d.lights[0].position = [0.0, 10.0, 10.0];
+        d.boxes.push(BoxDesc {
+            min: [-9.0, -9.0, -9.0],
+            max: [9.0, 0.0, 1.0],
+            material: "m".into(),
+        });
+    });
+    // Row 3 sees the top, row 12 the front: two faces, one box.
+    assert_ne!(upper, lower, "box faces");
+    // Looking down -z: two triangles of one mesh meeting at y = 0, at an angle
+    // (the lower one tilted towards the camera) or coplanar; flat, smooth or
+    // textured.
+    let fold = |lower_z: f64| -> Vec<[[f64; 3]; 3]> {
+        vec![
+            [[-9.0, 0.0, 0.0], [9.0, 0.0, 0.0], [0.0, 9.0, 0.0]],
+            [[9.0, 0.0, 0.0], [-9.0, 0.0, 0.0], [0.0, -9.0, lower_z]],
+        ]
+    };
+    let mesh = |faces: Vec<[[f64; 3]; 3]>, smooth: bool, textured: bool| {
+        move |d: &mut SceneDesc| {
+            if textured {
+                d.materials[0].texture = Some(TextureDesc::Fringes {
+                    color: [1.0; 3],
+                    spacing: 0.3,
+                });
+            }
+            d.meshes.push(crate::desc::MeshDesc {
+                obj: "fold.obj".into(),
+                material: "m".into(),
+                scale: 1.0,
+                translate: [0.0; 3],
+                smooth,
+                faces: faces.clone(),
+                degenerate: 0,
+            });
+        }
+    };
+    let differ = |faces: Vec<[[f64; 3]; 3]>, smooth: bool, textured: bool| {
+        let (upper, lower) = scene(&mesh(faces, smooth, textured));
+        upper != lower
+    };
+    assert!(differ(fold(3.0), false, false), "a flat mesh's fold");
+    assert!(
+        !differ(fold(0.0), false, false),
+        "a flat mesh's coplanar faces"
+    );
+    assert!(differ(fold(0.0), false, true), "a textured mesh's faces");
+    assert!(!differ(fold(3.0), true, false), "a smooth mesh's faces");
+    // The same scenes with the two faces as two triangles of the list: each
+    // its own primitive, always told apart.
+    let (upper, lower) = scene(&|d| {
+        for p in fold(0.0) {
+            d.triangles.push(TriangleDesc {
+                vertices: p,
+                material: "m".into(),
+            });
+        }
+    });
+    assert_ne!(upper, lower, "two triangles");
 }
