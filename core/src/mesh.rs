@@ -474,7 +474,7 @@ mod tests {
             let scale = [1e-30, 1e-3, 1.0, 7.0, 1e5, 1e30][i % 6];
             let p = Vec3::new(next(), next(), next()) * scale;
             let Some(n) = p.try_normalize() else { continue };
-            worst = worst.max((n.length_squared() - 1.0).abs() / f32::EPSILON);
+            worst = crate::math::max(worst, (n.length_squared() - 1.0).abs() / f32::EPSILON);
         }
         std::println!("largest |len^2 - 1|: {worst} ulps (bound {NORMAL_LENGTH_ULPS})");
         assert!(worst <= NORMAL_LENGTH_ULPS as f32, "{worst}");
