@@ -148,11 +148,9 @@ fn nearest_on_triangle(p: [f64; 3], f: &Face) -> [f64; 3] {
     at(vb * denom, vc * denom)
 }
 
-/// The warnings about triangles (list and mesh faces) and spheres larger than
-/// [`SIZE_RATIO`] times their distance from the camera.
-fn size_warnings(desc: &SceneDesc) -> Vec<String> {
-    let cam = desc.camera.position;
-    let mut named: Vec<(String, &str, f64, f64)> = Vec::new();
+/// Every triangle of the scene, the list's and the meshes' faces, with the name a
+/// warning gives it (`triangle 2`, `mesh 1 ("bunny.obj"), face 7`).
+fn named_faces(desc: &SceneDesc) -> impl Iterator<Item = (String, Face)> + '_ {
     let faces = desc
         .triangles
         .iter()
@@ -164,7 +162,15 @@ fn size_warnings(desc: &SceneDesc) -> Vec<String> {
             .enumerate()
             .map(move |(j, f)| (format!("mesh {} ({:?}), face {}", i + 1, m.obj, j + 1), *f))
     });
-    for (name, f) in faces.chain(mesh_faces) {
+    faces.chain(mesh_faces)
+}
+
+/// The warnings about triangles (list and mesh faces) and spheres larger than
+/// [`SIZE_RATIO`] times their distance from the camera.
+fn size_warnings(desc: &SceneDesc) -> Vec<String> {
+    let cam = desc.camera.position;
+    let mut named: Vec<(String, &str, f64, f64)> = Vec::new();
+    for (name, f) in named_faces(desc) {
         let size = (0..3)
             .map(|k| length(sub(f[(k + 1) % 3], f[k])))
             .fold(0.0, f64::max);
@@ -316,18 +322,7 @@ fn moves(desc: &SceneDesc, cam: [f64; 3]) -> Vec<Moved> {
             advice: MOVE_ORIGIN,
         });
     }
-    let faces = desc
-        .triangles
-        .iter()
-        .enumerate()
-        .map(|(i, t)| (format!("triangle {}", i + 1), t.vertices));
-    let mesh_faces = desc.meshes.iter().enumerate().flat_map(|(i, m)| {
-        m.faces
-            .iter()
-            .enumerate()
-            .map(move |(j, f)| (format!("mesh {} ({:?}), face {}", i + 1, m.obj, j + 1), *f))
-    });
-    for (name, f) in faces.chain(mesh_faces) {
+    for (name, f) in named_faces(desc) {
         let p = nearest_on_triangle(cam, &f);
         let by = if f.iter().all(|v| exact(v)) {
             0.0
