@@ -240,9 +240,12 @@ fn cell(x: f32) -> (f64, f64) {
 /// Bounds on the components of the unit vectors that round to `n` as
 /// [`Plane::try_new`] rounds a normal: each component within the reals that
 /// round to `n`'s ([`cell`]), narrowed to what the unit sphere leaves it given
-/// the others' cells (`u_i^2 = 1 - sum of the others' squares`), the few `f64`
-/// roundings of the normalisation and of these sums allowed for. `None` when
-/// no unit vector rounds to `n` (the box of the cells misses the sphere).
+/// the others' cells, the few `f64` roundings of the normalisation and of these
+/// sums allowed for. `None` when no unit vector rounds to `n` (the box of the
+/// cells misses the sphere). The narrowing bounds `|u_i| = sqrt(1 - x)` (`x`
+/// the others' squares) by `1 - x` below and `1 - x / 2` above, which hold on
+/// `[0, 1]`: no square root, a smaller check in a firmware's flash, and for an
+/// axis-aligned normal as tight as the root (its own component is 1 to `1e-15`).
 fn unit_cells(n: Vec3) -> Option<[(f64, f64); 3]> {
     let cells = n.to_array().map(cell);
     // The least and the largest square of each component.
@@ -260,18 +263,17 @@ fn unit_cells(n: Vec3) -> Option<[(f64, f64); 3]> {
         let m = lo.abs().max(hi.abs());
         m * m
     });
+    let (all_near, all_far): (f64, f64) = (near.iter().sum(), far.iter().sum());
     let slack = gamma64(8);
     let (inner, outer) = ((1.0 - slack) * (1.0 - slack), (1.0 + slack) * (1.0 + slack));
-    if near.iter().sum::<f64>() > outer || far.iter().sum::<f64>() < inner {
+    if all_near > outer || all_far < inner {
         return None;
     }
-    let (all_near, all_far): (f64, f64) = (near.iter().sum(), far.iter().sum());
     let mut out = cells;
     for ((lo, hi), (near, far)) in out.iter_mut().zip(near.into_iter().zip(far)) {
-        // The magnitude the sphere leaves this component (the others at their
-        // largest, then at their least).
-        let least = crate::math::sqrt64((inner - (all_far - far)).max(0.0));
-        let most = crate::math::sqrt64((outer - (all_near - near)).max(0.0));
+        // The least and the largest magnitude the sphere leaves this component.
+        let least = (1.0 - slack - (all_far - far)).max(0.0);
+        let most = 1.0 + slack - (all_near - near) / 2.0;
         if *lo > 0.0 {
             (*lo, *hi) = (lo.max(least), hi.min(most));
         } else if *hi < 0.0 {
