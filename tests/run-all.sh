@@ -15,7 +15,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-say() { printf '\n== %s\n' "$*"; }
+# Each step's heading says when it started (seconds since the script did).
+say() { printf '\n== %s (at %d s)\n' "$*" "$SECONDS"; }
 
 log=$(mktemp)
 failed=()
