@@ -113,25 +113,33 @@ impl Plane {
     /// # Errors
     /// `try_new`'s error for a point or a normal it refuses.
     pub(crate) fn check_baked(&self) -> Result<bool, Error> {
+        // `try_new` refuses a normal that is not finite or is zero.
         let made = Self::try_new(self.point, self.normal)?;
         let n = self.normal;
+        // The normal: no subnormal component, and some unit vector rounds to it.
+        let cells = if same_bits(flush3(n), n) {
+            unit_cells(n)
+        } else {
+            None
+        };
+        let Some(cells) = cells else {
+            return Ok(false);
+        };
+        let (t, b) = tangent_basis(n);
         Ok(same_bits(made.point, self.point)
-            && is_rounded_unit(n)
-            && same_bits(self.tangents.0, tangent_basis(n).0)
-            && same_bits(self.tangents.1, tangent_basis(n).1)
-            && self.offset_fits())
+            && same_bits(self.tangents.0, t)
+            && same_bits(self.tangents.1, b)
+            && self.offset_fits(cells))
     }
 
     /// True when the offset is the `f32` rounding, flushed, of `u . point` for
-    /// a unit vector `u` that rounds to the normal ([`unit_cells`] bounds each
-    /// of its components), the `f64` sums' own roundings allowed for.
-    fn offset_fits(&self) -> bool {
+    /// a unit vector `u` that rounds to the normal (`cells`, from
+    /// [`unit_cells`], bound each of its components), the `f64` sums' own
+    /// roundings allowed for.
+    fn offset_fits(&self, cells: [(f64, f64); 3]) -> bool {
         if flush(self.offset).to_bits() != self.offset.to_bits() || !self.offset.is_finite() {
             return false;
         }
-        let Some(cells) = unit_cells(self.normal) else {
-            return false;
-        };
         let (mut lo, mut hi, mut size) = (0.0f64, 0.0f64, 0.0f64);
         for ((a, b), p) in cells.into_iter().zip(self.point.to_array()) {
             let (a, b) = (a * f64::from(p), b * f64::from(p));
@@ -286,16 +294,6 @@ fn unit_cells(n: Vec3) -> Option<[(f64, f64); 3]> {
         }
     }
     Some(out)
-}
-
-/// True when `n` is the `f32` rounding of a unit vector, as [`Plane::try_new`]
-/// makes its normal (normalised in `f64`, each component rounded once,
-/// subnormals read as zero) and the host the vertex normals of a mesh: finite,
-/// no subnormal component, and some unit vector (to the few `f64` roundings of
-/// the normalisation) rounds to it ([`unit_cells`]). A vector one ulp too long
-/// or too short is refused.
-pub(crate) fn is_rounded_unit(n: Vec3) -> bool {
-    n.is_finite() && same_bits(flush3(n), n) && unit_cells(n).is_some()
 }
 
 #[cfg(test)]
