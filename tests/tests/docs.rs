@@ -1089,8 +1089,8 @@ fn a_wrong_figure_fails() {
         ),
         (
             "docs/firmware.md",
-            "393,068 bytes (383.9 KiB",
-            "393,068 bytes (50.2 KiB",
+            "395,844 bytes (386.6 KiB",
+            "395,844 bytes (50.2 KiB",
             "50.2",
         ),
         ("docs/firmware.md", "(1.54 to 1.90", "(1.75 to 1.90", "1.75"),
