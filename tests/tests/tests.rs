@@ -22,3 +22,4 @@ mod qemu_example;
 mod reference;
 mod sparse;
 mod tiles;
+mod workspace;
