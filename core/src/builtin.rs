@@ -185,16 +185,17 @@ impl Builtin {
 
     /// The text of the scene file the built-in scene is baked from
     /// (`scenes/<name>.toml` of the repository, which `tessera bake` turns into
-    /// the scene's `static` tables): not linked unless called.
+    /// the scene's `static` tables, this text among them): not linked unless
+    /// called.
     #[must_use]
     pub fn source(self) -> &'static str {
         match self {
-            Self::ChapterDirect => include_str!("../../scenes/chapter-direct.toml"),
-            Self::ChapterReflect => include_str!("../../scenes/chapter-reflect.toml"),
-            Self::Interference => include_str!("../../scenes/interference.toml"),
-            Self::Showcase => include_str!("../../scenes/showcase.toml"),
+            Self::ChapterDirect => baked::chapter_direct::SOURCE,
+            Self::ChapterReflect => baked::chapter_reflect::SOURCE,
+            Self::Interference => baked::interference::SOURCE,
+            Self::Showcase => baked::showcase::SOURCE,
             #[cfg(feature = "teapot")]
-            Self::Teapot => include_str!("../../scenes/teapot.toml"),
+            Self::Teapot => baked::teapot::SOURCE,
         }
     }
 

@@ -100,13 +100,6 @@ pub mod trace {
     pub use crate::shade::{RayCount, RayCounter, trace};
 }
 
-/// The Rust examples of the repository's README.md, compiled by `cargo test -p
-/// tessera --doc`: under `cfg(doctest)` only, so not part of the API (and
-/// README.md, outside this package, is read only by the doctests).
-#[cfg(doctest)]
-#[doc = include_str!("../../README.md")]
-pub struct ReadmeExamples;
-
 /// Internals that the test crates check on their own (the extremes battery, the
 /// benchmarks, the firmware test image's scaled scenes), with the feature `testing`
 /// only: not part of the API, and not kept stable. The hooks on scenes and views

@@ -796,14 +796,35 @@ pub fn scene_source(desc: &SceneDesc, name: &str, krate: &str) -> Result<String,
 }
 
 /// The source of a built-in scene baked for use inside the core
-/// (`core/src/builtin/baked/<name>.rs`): its scene file `scenes/<name>.toml` baked
-/// with the crate path `crate`.
-#[must_use]
-pub fn builtin_source(b: tessera::builtin::Builtin) -> String {
-    let desc = crate::file::builtin_desc(b);
+/// (`core/src/builtin/baked/<name>.rs`): `text`, its scene file
+/// `scenes/<name>.toml`, baked with the crate path `crate`, and the text itself
+/// as the constant `SOURCE` (what [`tessera::builtin::Builtin::source`] returns:
+/// the core carries its built-in scenes' files without reading a file outside
+/// its own folder).
+///
+/// # Errors
+/// The scene file's, as for rendering it (the message names the file).
+pub fn builtin_source(b: tessera::builtin::Builtin, text: &str) -> Result<String, String> {
     let name = format!("scenes/{}.toml", b.name());
-    scene_source(&desc, &name, "crate")
-        .unwrap_or_else(|e| panic!("the built-in scene {name} does not bake: {e}"))
+    let desc = crate::file::parse(text, &name).map_err(|e| e.to_string())?;
+    let mut out = scene_source(&desc, &name, "crate").map_err(|e| format!("{name}: {e}"))?;
+    let _ = write!(
+        out,
+        "\n/// The scene file this module is baked from, `{name}`.\n\
+         pub const SOURCE: &str = {};\n",
+        raw_string(text)
+    );
+    Ok(out)
+}
+
+/// `text` as a Rust raw string literal (`r#"..."#`), with as many `#` as it
+/// takes that no `"` followed by them occurs in `text`.
+fn raw_string(text: &str) -> String {
+    let mut hashes = String::from("#");
+    while text.contains(&format!("\"{hashes}")) {
+        hashes.push('#');
+    }
+    format!("r{hashes}\"{text}\"{hashes}")
 }
 
 #[cfg(test)]
@@ -820,7 +841,12 @@ mod tests {
                 "../core/src/builtin/baked/{}.rs",
                 b.name().replace('-', "_")
             ));
-            let want = builtin_source(b);
+            let text = std::fs::read_to_string(
+                std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join(format!("../scenes/{}.toml", b.name())),
+            )
+            .unwrap();
+            let want = builtin_source(b, &text).unwrap();
             if std::env::var_os("TESSERA_BLESS").is_some() {
                 std::fs::write(&path, &want).unwrap();
             }
@@ -1129,7 +1155,11 @@ mod tests {
             assert!(source.contains(&line), "{line} in\n{source}");
         }
         // A scene whose names all give their own constants lists none.
-        let teapot = builtin_source(tessera::builtin::Builtin::Teapot);
+        let teapot = builtin_source(
+            tessera::builtin::Builtin::Teapot,
+            tessera::builtin::Builtin::Teapot.source(),
+        )
+        .unwrap();
         assert!(!teapot.contains("Numbered"), "{teapot}");
     }
 

@@ -9,6 +9,13 @@
 //! without an FPU by routine ([`nofpu`]), the random scenes of the property
 //! tests ([`random_scene`]) and the dual-core firmware image ([`dualcore`]).
 
+/// The Rust examples of the repository's README.md, compiled and run by `cargo
+/// test -p tessera-tests --doc` (here, not in the core: the core's package reads
+/// no file outside its own folder).
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeExamples;
+
 pub mod firmware;
 
 pub mod dualcore;

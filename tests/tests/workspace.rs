@@ -38,3 +38,25 @@ fn report_programs_build_no_test_harness() {
     assert!(declared.len() >= 8, "the report programs: {declared:?}");
     assert!(wrong.is_empty(), "tests/Cargo.toml: {wrong:#?}");
 }
+
+/// The core's package builds from its own files: `cargo package -p tessera`
+/// copies the package's folder alone and builds it (its verification step), so
+/// a file read from outside `core/` (an `include_str!` of `../../scenes/..`)
+/// fails it. Offline: the workspace's build has fetched every dependency.
+#[test]
+fn the_core_packages_and_builds_from_its_own_files() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let target = root.join("target").join("package-check");
+    let out = tessera_tests::firmware::cargo()
+        .current_dir(&root)
+        .args(["package", "-p", "tessera", "--offline", "--allow-dirty"])
+        .arg("--target-dir")
+        .arg(&target)
+        .output()
+        .expect("cargo runs");
+    assert!(
+        out.status.success(),
+        "cargo package -p tessera failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

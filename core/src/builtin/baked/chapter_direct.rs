@@ -126,3 +126,95 @@ pub static SCENE: BakedScene<'static, 4, 1, 0, 0> = BakedScene::new(
     &TRIANGLES,
     &BOXES,
 );
+
+/// The scene file this module is baked from, `scenes/chapter-direct.toml`.
+pub const SOURCE: &str = r#"# chapter-direct: the chapter's first picture, direct illumination only.
+#
+# Four spheres on a grey floor under one white light above the blue sphere. No
+# mirror: `depth = 0` casts no secondary rays. The numbers are exactly those of the
+# built-in scene `chapter-direct` (core/src/builtin.rs); a test checks that this
+# file renders byte-identical to it.
+
+ambient = [0.12, 0.12, 0.12]
+background = [0.08, 0.09, 0.14]
+
+[render]
+width = 320
+height = 240
+sampler = "centre"
+depth = 0
+seed = 0
+tile = 16
+
+[camera]
+position = [0.0, 1.8, 7.0]
+look_at = [0.0, 0.9, 0.0]
+up = [0.0, 1.0, 0.0]
+fovy = 60.0
+near = 0.1
+far = 100.0
+
+# Materials, in the order the core adds them.
+[[material]]
+name = "floor"
+color = [0.75, 0.75, 0.75]
+
+[[material]]
+name = "blue"
+color = [0.1, 0.25, 0.95]
+specular = 0.4
+shininess = 48.0
+
+[[material]]
+name = "red"
+color = [0.9, 0.15, 0.1]
+specular = 0.4
+shininess = 48.0
+diffuse = 1.0
+reflectivity = 0.0
+
+[[material]]
+name = "green"
+color = [0.15, 0.8, 0.2]
+specular = 0.4
+shininess = 48.0
+diffuse = 1.0
+reflectivity = 0.0
+
+[[material]]
+name = "yellow"
+color = [0.95, 0.8, 0.1]
+specular = 0.4
+shininess = 48.0
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+material = "floor"
+
+[[sphere]]
+center = [0.0, 1.0, 0.0]
+radius = 1.0
+material = "blue"
+
+[[sphere]]
+center = [-2.3, 0.8, 0.4]
+radius = 0.8
+material = "red"
+
+[[sphere]]
+center = [2.2, 0.9, -0.3]
+radius = 0.9
+material = "green"
+
+[[sphere]]
+center = [0.9, 0.35, 1.9]
+radius = 0.35
+material = "yellow"
+
+# The white light above the blue sphere.
+[[light]]
+position = [0.0, 7.0, 1.0]
+color = [1.0, 1.0, 1.0]
+intensity = 40.0
+"#;

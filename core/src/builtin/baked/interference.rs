@@ -93,3 +93,44 @@ pub static SCENE: BakedScene<'static, 0, 1, 0, 0> = BakedScene::new(
     &TRIANGLES,
     &BOXES,
 );
+
+/// The scene file this module is baked from, `scenes/interference.toml`.
+pub const SOURCE: &str = r#"# interference: Young's interference fringes on a screen, seen head on.
+#
+# Slits 2 mm apart (d = 2e-3 m), light of 500 nm (wavelength = 500e-9 m), screen
+# 3 m away (distance = 3.0 m): bright fringes every 0.75 mm. The screen is the
+# plane z = 0; the camera, 0.1 m in front of it with a 4 degree opening angle,
+# sees 7 mm of it from top to bottom. The texture is shown as is (ambient light 1,
+# ambient weight 1, no diffuse, no light), so a pixel's value is the texture's.
+# The numbers are exactly those of the built-in scene `interference`
+# (core/src/builtin.rs); a test checks that this file renders byte-identical to it.
+
+ambient = [1.0, 1.0, 1.0]
+background = [0.0, 0.0, 0.0]
+
+[render]
+width = 320
+height = 240
+sampler = "centre"
+depth = 0
+seed = 0
+tile = 16
+
+[camera]
+position = [0.0, 0.0, 0.1]
+forward = [0.0, 0.0, -1.0]
+up = [0.0, 1.0, 0.0]
+fovy = 4.0
+near = 0.01
+far = 1.0
+
+[[material]]
+name = "screen"
+texture = { kind = "young", color = [0.0, 1.0, 0.6], d = 2e-3, wavelength = 500e-9, distance = 3.0 }
+diffuse = 0.0
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "screen"
+"#;

@@ -162,3 +162,150 @@ pub static SCENE: BakedScene<'static, 3, 2, 4, 2> = BakedScene::new(
     &TRIANGLES,
     &BOXES,
 );
+
+/// The scene file this module is baked from, `scenes/showcase.toml`.
+pub const SOURCE: &str = r#"# showcase: every geometry kind and every material kind in one scene.
+#
+# Geometry: two planes (a checkered floor and a back wall), three spheres, two
+# boxes and a pyramid of four triangles. Materials: matte, specular plastic, a
+# mirror, glass, a checker texture and a fringe texture. Two coloured lights.
+# `depth = 5` lets rays pass through the glass and bounce between mirrors.
+# The numbers are exactly those of the built-in scene `showcase`
+# (core/src/builtin.rs); a test checks that this file renders byte-identical to it.
+
+ambient = [0.1, 0.1, 0.1]
+background = [0.55, 0.7, 0.9]
+
+[render]
+width = 320
+height = 240
+sampler = "centre"
+depth = 5
+seed = 0
+tile = 16
+
+[camera]
+position = [0.5, 2.6, 7.5]
+look_at = [0.0, 0.8, 0.0]
+up = [0.0, 1.0, 0.0]
+fovy = 60.0
+near = 0.1
+far = 100.0
+
+# Materials, in the order the core adds them.
+
+# A slightly reflective checkerboard, one square per unit.
+[[material]]
+name = "floor"
+texture = { kind = "checker", a = [0.85, 0.85, 0.85], b = [0.15, 0.15, 0.15], scale = 1.0 }
+reflectivity = 0.1
+
+[[material]]
+name = "wall"
+color = [0.8, 0.75, 0.7]
+
+# Glass: no ambient or diffuse light, a sharp highlight, mostly transparent.
+[[material]]
+name = "glass"
+color = [1.0, 1.0, 1.0]
+diffuse = 0.0
+ambient = 0.0
+specular = 0.6
+shininess = 200.0
+transparency = 0.95
+ior = 1.5
+
+[[material]]
+name = "mirror"
+color = [0.9, 0.9, 0.9]
+diffuse = 0.05
+specular = 0.5
+shininess = 300.0
+reflectivity = 0.9
+
+[[material]]
+name = "plastic"
+color = [0.9, 0.35, 0.1]
+specular = 0.5
+shininess = 32.0
+
+[[material]]
+name = "fringed"
+texture = { kind = "fringes", color = [1.0, 0.3, 0.8], spacing = 0.125 }
+
+[[material]]
+name = "teal"
+color = [0.1, 0.6, 0.6]
+specular = 0.3
+shininess = 16.0
+
+[[material]]
+name = "boxes"
+color = [0.3, 0.3, 0.9]
+specular = 0.2
+shininess = 8.0
+reflectivity = 0.2
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+material = "floor"
+
+[[plane]]
+point = [0.0, 0.0, -4.0]
+normal = [0.0, 0.0, 1.0]
+material = "wall"
+
+[[sphere]]
+center = [0.8, 1.0, 0.9]
+radius = 1.0
+material = "glass"
+
+[[sphere]]
+center = [-2.6, 1.1, -1.0]
+radius = 1.1
+material = "mirror"
+
+[[sphere]]
+center = [2.3, 0.35, 2.1]
+radius = 0.35
+material = "teal"
+
+[[box]]
+min = [1.6, 0.0, -1.6]
+max = [2.8, 1.2, -0.4]
+material = "plastic"
+
+[[box]]
+min = [-1.1, 0.0, 1.6]
+max = [-0.5, 0.6, 2.2]
+material = "boxes"
+
+# A pyramid of four triangles: apex [-0.6, 1.9, -2.4] over a square base on the
+# floor; each triangle is (base corner i, base corner i + 1, apex).
+[[triangle]]
+vertices = [[-1.5, 0.0, -1.5], [0.3, 0.0, -1.5], [-0.6, 1.9, -2.4]]
+material = "fringed"
+
+[[triangle]]
+vertices = [[0.3, 0.0, -1.5], [0.3, 0.0, -3.3], [-0.6, 1.9, -2.4]]
+material = "fringed"
+
+[[triangle]]
+vertices = [[0.3, 0.0, -3.3], [-1.5, 0.0, -3.3], [-0.6, 1.9, -2.4]]
+material = "fringed"
+
+[[triangle]]
+vertices = [[-1.5, 0.0, -3.3], [-1.5, 0.0, -1.5], [-0.6, 1.9, -2.4]]
+material = "fringed"
+
+[[light]]
+position = [-3.0, 6.0, 4.0]
+color = [1.0, 0.95, 0.9]
+intensity = 30.0
+
+[[light]]
+position = [4.0, 4.0, 3.0]
+color = [0.5, 0.6, 0.8]
+intensity = 12.0
+"#;

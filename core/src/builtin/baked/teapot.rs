@@ -2278,3 +2278,67 @@ pub static SCENE: BakedScene<'static, 0, 1, 0, 0> = BakedScene::new(
     &BOXES,
 )
 .with_meshes(&MESHES);
+
+/// The scene file this module is baked from, `scenes/teapot.toml`.
+pub const SOURCE: &str = r#"# teapot: a teapot of about 1,000 triangles on a checkered floor, two lights.
+#
+# The teapot is tessera's own, made of bicubic Bezier patches (host/src/teapot.rs)
+# and tessellated when the scene is read: `obj = "builtin:teapot"` names that mesh
+# instead of an OBJ file. The numbers are exactly those of the built-in scene
+# `teapot` (core/src/builtin.rs, whose triangles and BVH are baked into
+# core/src/builtin/baked/teapot.rs by `tessera bake`); tests check that this file
+# renders byte-identical to it and that the baked data is what the host bakes.
+
+ambient = [0.1, 0.1, 0.1]
+background = [0.55, 0.7, 0.9]
+
+[render]
+width = 320
+height = 240
+sampler = "centre"
+depth = 0
+seed = 0
+tile = 16
+
+[camera]
+position = [2.0, 1.6, 3.0]
+look_at = [0.15, 0.45, 0.0]
+up = [0.0, 1.0, 0.0]
+fovy = 60.0
+near = 0.1
+far = 100.0
+
+# Materials, in the order the core adds them.
+
+[[material]]
+name = "floor"
+texture = { kind = "checker", a = [0.8, 0.8, 0.8], b = [0.25, 0.25, 0.25], scale = 0.5 }
+
+# A glazed red: a broad highlight.
+[[material]]
+name = "glaze"
+color = [0.8, 0.2, 0.12]
+specular = 0.5
+shininess = 40.0
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+material = "floor"
+
+[[mesh]]
+obj = "builtin:teapot"
+smooth = true
+material = "glaze"
+
+# A warm key light, up and to the left, and a cool fill light behind on the right.
+[[light]]
+position = [-2.0, 5.0, 3.0]
+color = [1.0, 0.95, 0.9]
+intensity = 30.0
+
+[[light]]
+position = [4.0, 3.0, -1.0]
+color = [0.5, 0.6, 0.8]
+intensity = 10.0
+"#;
