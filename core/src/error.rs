@@ -6,6 +6,7 @@ use core::fmt;
 /// Which number of the scene or settings an [`Error`] is about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[allow(missing_docs)] // each variant's doc is its Display text below
+#[non_exhaustive]
 pub enum Field {
     CameraPosition,
     CameraForward,
@@ -85,6 +86,7 @@ impl Field {
 /// A scene list, named in capacity errors.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[allow(missing_docs)]
+#[non_exhaustive]
 pub enum List {
     Spheres,
     Planes,
@@ -118,6 +120,7 @@ impl List {
 /// Everything that can go wrong when building a camera, a scene or a frame, or when
 /// rendering a tile. The `Display` text says what is wrong and which value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Error {
     /// A number is NaN or infinite.
     NotFinite(Field),

@@ -114,7 +114,7 @@ pub mod testing {
     #[cfg(feature = "visit-count")]
     pub use crate::bvh::visits;
     pub use crate::extreme::Extreme;
-    pub use crate::geometry::{Candidate, Shape, Surface};
+    pub use crate::geometry::shape::{Candidate, Shape, Surface};
     /// The square root of every per-pixel path (`math::sqrt`): the firmware test
     /// image checks on each core that it is correctly rounded.
     pub use crate::math::sqrt;

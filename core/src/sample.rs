@@ -54,6 +54,7 @@ impl SubPixel {
 
 /// How a pixel is sampled.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub enum Sampler {
     /// One ray through the top-left corner of the pixel (the chapter's `r0`).
     Corner,

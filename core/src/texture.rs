@@ -6,6 +6,7 @@ use crate::math;
 
 /// What colours a surface: one colour, or a procedural uv texture.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Texture {
     /// One colour everywhere; needs no uv (the shader never computes one).
     Solid(Color),

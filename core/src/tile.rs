@@ -79,6 +79,7 @@ impl RenderSettings {
 /// or the sparse sampler's loop (which encode each pixel themselves). A frame's tiles all take one
 /// ([`Renderer::tile_loop`]); a firmware links those it names ([`Loops`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum TileLoop {
     /// No ray bounces; pixels in this encoding.
     Direct(Encoding),

@@ -307,9 +307,18 @@ pub fn material_constants(names: &[String]) -> Vec<String> {
         .collect()
 }
 
-/// The `Texture` expression of `t`.
-fn texture(t: &tessera::texture::Texture) -> String {
-    match *t {
+/// What the baker cannot spell: a kind the core has and this baker does not
+/// know (the core's enums are non-exhaustive), named with the item it is in.
+fn unknown(item: &str, what: &str) -> DescError {
+    DescError {
+        item: item.into(),
+        message: format!("this baker cannot write the {what} as Rust: update tessera-host"),
+    }
+}
+
+/// The `Texture` expression of `t`, in `item`.
+fn texture(t: &tessera::texture::Texture, item: &str) -> Result<String, DescError> {
+    Ok(match *t {
         tessera::texture::Texture::Solid(c) => format!("Texture::Solid({})", color(c)),
         tessera::texture::Texture::Checker { a, b, scale } => format!(
             "Texture::Checker {{ a: {}, b: {}, scale: {} }}",
@@ -322,7 +331,8 @@ fn texture(t: &tessera::texture::Texture) -> String {
             color(c),
             lit(spacing)
         ),
-    }
+        _ => return Err(unknown(item, "texture")),
+    })
 }
 
 /// The name of `e`'s variant of `Encoding`.
@@ -334,9 +344,9 @@ fn variant(e: tessera::Encoding) -> &'static str {
 }
 
 /// The `Sampler` expression of `s`.
-fn sampler(s: tessera::Sampler) -> String {
+fn sampler(s: tessera::Sampler) -> Result<String, DescError> {
     use tessera::Sampler as S;
-    match s {
+    Ok(match s {
         S::Corner => "Sampler::Corner".into(),
         S::Centre => "Sampler::Centre".into(),
         S::Offset(p) => format!(
@@ -351,7 +361,8 @@ fn sampler(s: tessera::Sampler) -> String {
             format!("Sampler::Adaptive {{ k: {k}, threshold: {threshold} }}")
         }
         S::Sparse { threshold } => format!("Sampler::Sparse {{ threshold: {threshold} }}"),
-    }
+        _ => return Err(unknown("render", "sampler")),
+    })
 }
 
 /// A static table `name` of `items` (each a Rust expression), with `doc`.
@@ -381,8 +392,10 @@ fn table(s: &mut String, doc: &str, name: &str, ty: &str, items: &[String]) {
 /// `_NORMALS`, `_NODES`, `_ORDER` in `MESHES`; `WIDTH`, `HEIGHT` and `TILE`;
 /// `Loops`, the tile loops the scene needs; and `SCENE`, the
 /// [`tessera::BakedScene`] of them all.
-#[must_use]
-pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
+///
+/// # Errors
+/// A texture, sampler or tile loop of the core that this baker cannot write.
+pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> Result<String, DescError> {
     let view = b.scene.lists().view();
     let consts = material_constants(&b.names);
     let mat = |m: tessera::material::MaterialId| {
@@ -429,14 +442,18 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
         );
     }
     let _ = writeln!(body);
-    let materials: Vec<String> = view
+    let materials = view
         .materials()
         .iter()
         .zip(&consts)
-        .map(|(m, c)| {
-            format!(
+        .enumerate()
+        .map(|(i, (m, c))| {
+            Ok(format!(
                 "Material::baked( // {c}\n        {},\n        {}, {}, {}, {}, {}, {}, {},\n    )",
-                texture(m.texture()),
+                texture(
+                    m.texture(),
+                    &format!("material {} ({:?})", i + 1, b.names[i])
+                )?,
                 lit(m.ambient()),
                 lit(m.diffuse()),
                 lit(m.specular()),
@@ -444,9 +461,9 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
                 lit(m.reflectivity()),
                 lit(m.transparency()),
                 lit(m.ior())
-            )
+            ))
         })
-        .collect();
+        .collect::<Result<Vec<_>, DescError>>()?;
     table(
         &mut body,
         "The materials: texture, ambient, diffuse, specular, shininess, \
@@ -650,6 +667,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
         TileLoop::Bounces(e) => format!("TileLoop::Bounces(Encoding::{})", variant(e)),
         TileLoop::Adaptive { bounces } => format!("TileLoop::Adaptive {{ bounces: {bounces} }}"),
         TileLoop::Sparse { bounces } => format!("TileLoop::Sparse {{ bounces: {bounces} }}"),
+        _ => return Err(unknown("render", "tile loop")),
     };
     let _ = writeln!(
         body,
@@ -694,7 +712,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
         lit(c.fovy_degrees),
         lit(c.near),
         lit(c.far),
-        sampler(st.sampler),
+        sampler(st.sampler)?,
         st.max_depth,
         st.seed,
         color(view.ambient()),
@@ -769,7 +787,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> String {
                  BvhNode::new(min, max, first, count)\n}}\n"
         );
     }
-    s + body.trim_end() + "\n"
+    Ok(s + body.trim_end() + "\n")
 }
 
 /// The baked source of a scene description: the whole scene (see [`source`]),
@@ -792,7 +810,7 @@ pub fn scene_source(desc: &SceneDesc, name: &str, krate: &str) -> Result<String,
         "Baked by `tessera bake` from {}: generated, do not edit.",
         rust_string(name)
     )];
-    Ok(source(&baking, krate, &header))
+    source(&baking, krate, &header)
 }
 
 /// The source of a built-in scene baked for use inside the core
@@ -1179,7 +1197,7 @@ mod tests {
             tile: desc.render.tile,
             names: vec!["a\nb".into(), "c".into()],
         };
-        let text = source(&baking, "crate", &["one\npub static X: u8 = 0;".into()]);
+        let text = source(&baking, "crate", &["one\npub static X: u8 = 0;".into()]).unwrap();
         assert!(
             text.contains("/// The material \"a\\nb\".\n#[allow(dead_code)]\npub const MAT_A_B"),
             "{text}"
