@@ -17,7 +17,8 @@ fn module_of(rel: &Path) -> Option<String> {
 }
 
 /// `src` without its `#[cfg(test)]` modules (written last in each file, as
-/// everywhere in the core) and without comments.
+/// everywhere in the core, or in a file of their own: [`is_test_module`]) and
+/// without comments.
 fn code(src: &str) -> String {
     let body = match src.find("#[cfg(test)]\nmod ") {
         Some(i) => &src[..i],
@@ -50,6 +51,16 @@ fn uses(code: &str) -> BTreeSet<String> {
     out
 }
 
+/// True when the file at `path` is a test module of its own, declared
+/// `#[cfg(test)] mod <name>;` by the `mod.rs` of its folder.
+fn is_test_module(path: &Path) -> bool {
+    let (Some(dir), Some(stem)) = (path.parent(), path.file_stem().and_then(|s| s.to_str())) else {
+        return false;
+    };
+    fs::read_to_string(dir.join("mod.rs"))
+        .is_ok_and(|m| m.contains(&format!("#[cfg(test)]\nmod {stem};")))
+}
+
 fn graph() -> BTreeMap<String, BTreeSet<String>> {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
@@ -68,6 +79,9 @@ fn graph() -> BTreeMap<String, BTreeSet<String>> {
             let Some(module) = module_of(rel) else {
                 continue;
             };
+            if is_test_module(&path) {
+                continue;
+            }
             let text = fs::read_to_string(&path).expect("a readable source file");
             let deps = graph.entry(module.clone()).or_default();
             deps.extend(uses(&code(&text)).into_iter().filter(|d| *d != module));

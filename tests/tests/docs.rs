@@ -1004,19 +1004,19 @@ fn a_wrong_rustdoc_figure_fails() {
     assert_eq!(check_rustdoc(&files), Vec::<String>::new());
     for (file, right, wrong, figure) in [
         (
-            "core/src/tile.rs",
+            "core/src/tile/mod.rs",
             "needs 1,552 to",
             "needs 1,312 to",
             "1,312",
         ),
         (
-            "core/src/tile.rs",
+            "core/src/tile/mod.rs",
             "(1.5 to 2.5 KiB)",
             "(1.5 to 1.9 KiB)",
             "1.9",
         ),
         (
-            "core/src/tile.rs",
+            "core/src/tile/mod.rs",
             "| 16x16 | 776 bytes",
             "| 16x16 | 768 bytes",
             "768",

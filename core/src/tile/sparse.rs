@@ -1,9 +1,9 @@
 //! The sparse sampler's rule and memory ([`crate::Sampler::Sparse`]): which
 //! traced pixels a pixel is interpolated from, when they agree and their mean,
 //! and the two rows of traced pixels a tile keeps. Its pixel loop is
-//! `Pass::fill_sparse` in the parent module.
+//! `Pass::fill_sparse` (module `pass`).
 
-use super::CentrePixel;
+use super::adaptive::CentrePixel;
 use crate::color::Rgb8;
 
 /// Which traced pixels the sparse sampler may interpolate pixel `(x, y)` from.
