@@ -397,397 +397,520 @@ fn table(s: &mut String, doc: &str, name: &str, ty: &str, items: &[String]) {
 /// A texture, sampler or tile loop of the core that this baker cannot write.
 pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> Result<String, DescError> {
     let view = b.scene.lists().view();
-    let consts = material_constants(&b.names);
-    let mat = |m: tessera::material::MaterialId| {
-        consts
+    let mut w = Writer::new(b);
+    w.materials(&view)?;
+    w.lights(&view);
+    let lists = w.primitives(&view);
+    w.meshes();
+    w.frame(&view, &lists)?;
+    Ok(w.preamble(&view, krate, header) + w.body.trim_end() + "\n")
+}
+
+/// The names the tables of the scene's lists were written with, and their
+/// lengths: what `SCENE` is made of.
+struct Written {
+    spheres: usize,
+    planes: usize,
+    triangles: usize,
+    boxes: usize,
+    /// `.with_bvh(..)` when the triangles have a hierarchy, else empty.
+    with_bvh: String,
+}
+
+/// A baked source as it is written: its body (the tables, in order), what the
+/// header will say of it, and the core's names it uses.
+struct Writer<'a> {
+    b: &'a Baking<'a>,
+    /// Each material's constant (`MAT_FLOOR`), in the scene's order.
+    consts: Vec<String>,
+    body: String,
+    /// Bytes of flash of the tables written.
+    bytes: usize,
+    /// The summary's parts beyond the plain counts (triangles, each mesh).
+    parts: Vec<String>,
+    /// The core's names the source uses (its `use` line).
+    names: Vec<&'static str>,
+    /// Whether the source needs the core's feature `bvh`.
+    bvh_needed: bool,
+    /// `.with_meshes(&MESHES)` when there are meshes, else empty.
+    with_meshes: String,
+}
+
+impl<'a> Writer<'a> {
+    fn new(b: &'a Baking<'a>) -> Self {
+        Self {
+            b,
+            consts: material_constants(&b.names),
+            body: String::new(),
+            bytes: 0,
+            parts: Vec::new(),
+            names: vec![
+                "BakedCamera",
+                "BakedScene",
+                "Color",
+                "Encoding",
+                "Loops",
+                "TileLoop",
+                "Material",
+                "MaterialId",
+                "PointLight",
+                "Plane",
+                "Primitive",
+                "RenderSettings",
+                "Sampler",
+                "Sphere",
+                "Texture",
+                "Triangle",
+                "Aabb",
+                "Viewport",
+            ],
+            bvh_needed: false,
+            with_meshes: String::new(),
+        }
+    }
+
+    /// The constant a primitive's material is written with.
+    fn mat(&self, m: tessera::material::MaterialId) -> String {
+        self.consts
             .get(usize::from(m.0))
             .cloned()
             .unwrap_or_else(|| format!("MaterialId({})", m.0))
-    };
-    let mut body = String::new();
-    let mut bytes = 0;
-    let mut parts = Vec::new();
-    let mut names: Vec<&str> = vec![
-        "BakedCamera",
-        "BakedScene",
-        "Color",
-        "Encoding",
-        "Loops",
-        "TileLoop",
-        "Material",
-        "MaterialId",
-        "PointLight",
-        "Plane",
-        "Primitive",
-        "RenderSettings",
-        "Sampler",
-        "Sphere",
-        "Texture",
-        "Triangle",
-        "Aabb",
-        "Viewport",
-    ];
-    let mut bvh_needed = false;
-
-    // Materials, by name.
-    let _ = writeln!(
-        body,
-        "// The materials: each constant is a material's reference (its place in MATERIALS)."
-    );
-    for (i, (c, n)) in consts.iter().zip(&b.names).enumerate() {
-        let _ = writeln!(
-            body,
-            "/// The material {}.\n#[allow(dead_code)]\npub const {c}: MaterialId = MaterialId({i});",
-            rust_string(n)
-        );
     }
-    let _ = writeln!(body);
-    let materials = view
-        .materials()
-        .iter()
-        .zip(&consts)
-        .enumerate()
-        .map(|(i, (m, c))| {
-            Ok(format!(
-                "Material::baked( // {c}\n        {},\n        {}, {}, {}, {}, {}, {}, {},\n    )",
-                texture(
-                    m.texture(),
-                    &format!("material {} ({:?})", i + 1, b.names[i])
-                )?,
-                lit(m.ambient()),
-                lit(m.diffuse()),
-                lit(m.specular()),
-                lit(m.shininess()),
-                lit(m.reflectivity()),
-                lit(m.transparency()),
-                lit(m.ior())
-            ))
-        })
-        .collect::<Result<Vec<_>, DescError>>()?;
-    table(
-        &mut body,
-        "The materials: texture, ambient, diffuse, specular, shininess, \
-         reflectivity, transparency, index of refraction.",
-        "MATERIALS",
-        "Material",
-        &materials,
-    );
-    bytes += size_of_val(view.materials());
-    let lights: Vec<String> = view
-        .lights()
-        .iter()
-        .map(|l| {
-            format!(
-                "PointLight::baked({}, {}, {})",
-                v3(l.position()),
-                color(l.color()),
-                lit(l.intensity())
-            )
-        })
-        .collect();
-    table(
-        &mut body,
-        "The point lights: position, colour, intensity.",
-        "LIGHTS",
-        "PointLight",
-        &lights,
-    );
-    bytes += size_of_val(view.lights());
 
-    // Primitives.
-    let spheres: Vec<String> = view
-        .spheres()
-        .iter()
-        .map(|p| {
-            let g = &p.geometry;
-            format!(
-                "Primitive {{ geometry: Sphere::baked({}, {}), material: {} }}",
-                v3(g.center()),
-                lit(g.radius()),
-                mat(p.material)
-            )
-        })
-        .collect();
-    table(
-        &mut body,
-        "The spheres: centre, radius.",
-        "SPHERES",
-        "Primitive<Sphere>",
-        &spheres,
-    );
-    bytes += size_of_val(view.spheres());
-    let planes: Vec<String> = view
-        .planes()
-        .iter()
-        .map(|p| {
-            let (point, normal, offset, [t, u]) = p.geometry.parts();
-            format!(
-                "Primitive {{ geometry: Plane::baked({}, {}, {}, [{}, {}]), material: {} }}",
-                vec3(point),
-                vec3(normal),
-                lit(offset),
-                vec3(t),
-                vec3(u),
-                mat(p.material)
-            )
-        })
-        .collect();
-    table(
-        &mut body,
-        "The planes: a point, the unit normal, the offset from the origin along it, \
-         the tangents of the texture's uv.",
-        "PLANES",
-        "Primitive<Plane>",
-        &planes,
-    );
-    bytes += size_of_val(view.planes());
-    let triangles = view.triangles();
-    let tris: Vec<String> = triangles
-        .iter()
-        .map(|p| {
-            let [a, c, d] = p.geometry.vertices();
-            format!("t({}, {}, {}, {})", v3(a), v3(c), v3(d), mat(p.material))
-        })
-        .collect();
-    table(
-        &mut body,
-        "The triangles, in the scene's order.",
-        "TRIANGLES",
-        "Primitive<Triangle>",
-        &tris,
-    );
-    bytes += size_of_val(triangles);
-    let mut with_bvh = String::new();
-    if triangles.len() >= tessera::bvh::CROSSOVER {
-        let mut bvh = Box::new(HostBvh::new());
-        // The host scene's capacities: 2 T nodes always suffice.
-        if bvh.build(triangles).is_ok() {
-            bytes += hierarchy(&mut body, "", bvh.nodes(), bvh.order());
-            with_bvh = format!(
-                "\n.with_bvh(BakedBvh::new(&NODES, &ORDER, {}))",
-                lit(bvh.reach())
+    /// A table of `items` (see [`table`]) and its bytes of flash.
+    fn table(&mut self, doc: &str, name: &str, ty: &str, items: &[String], bytes: usize) {
+        table(&mut self.body, doc, name, ty, items);
+        self.bytes += bytes;
+    }
+
+    /// The material constants, by name, and `MATERIALS`.
+    fn materials(&mut self, view: &tessera::SceneView<'_>) -> Result<(), DescError> {
+        let _ = writeln!(
+            self.body,
+            "// The materials: each constant is a material's reference (its place in MATERIALS)."
+        );
+        for (i, (c, n)) in self.consts.iter().zip(&self.b.names).enumerate() {
+            let _ = writeln!(
+                self.body,
+                "/// The material {}.\n#[allow(dead_code)]\npub const {c}: MaterialId = MaterialId({i});",
+                rust_string(n)
             );
-            bvh_needed = true;
+        }
+        let _ = writeln!(self.body);
+        let materials = view
+            .materials()
+            .iter()
+            .zip(&self.consts)
+            .enumerate()
+            .map(|(i, (m, c))| {
+                Ok(format!(
+                    "Material::baked( // {c}\n        {},\n        {}, {}, {}, {}, {}, {}, {},\n    )",
+                    texture(
+                        m.texture(),
+                        &format!("material {} ({:?})", i + 1, self.b.names[i])
+                    )?,
+                    lit(m.ambient()),
+                    lit(m.diffuse()),
+                    lit(m.specular()),
+                    lit(m.shininess()),
+                    lit(m.reflectivity()),
+                    lit(m.transparency()),
+                    lit(m.ior())
+                ))
+            })
+            .collect::<Result<Vec<_>, DescError>>()?;
+        self.table(
+            "The materials: texture, ambient, diffuse, specular, shininess, \
+             reflectivity, transparency, index of refraction.",
+            "MATERIALS",
+            "Material",
+            &materials,
+            size_of_val(view.materials()),
+        );
+        Ok(())
+    }
+
+    /// `LIGHTS`.
+    fn lights(&mut self, view: &tessera::SceneView<'_>) {
+        let lights: Vec<String> = view
+            .lights()
+            .iter()
+            .map(|l| {
+                format!(
+                    "PointLight::baked({}, {}, {})",
+                    v3(l.position()),
+                    color(l.color()),
+                    lit(l.intensity())
+                )
+            })
+            .collect();
+        self.table(
+            "The point lights: position, colour, intensity.",
+            "LIGHTS",
+            "PointLight",
+            &lights,
+            size_of_val(view.lights()),
+        );
+    }
+
+    /// `SPHERES`, `PLANES`, `TRIANGLES` (and their hierarchy when it pays),
+    /// `BOXES`.
+    fn primitives(&mut self, view: &tessera::SceneView<'_>) -> Written {
+        let spheres: Vec<String> = view
+            .spheres()
+            .iter()
+            .map(|p| {
+                let g = &p.geometry;
+                format!(
+                    "Primitive {{ geometry: Sphere::baked({}, {}), material: {} }}",
+                    v3(g.center()),
+                    lit(g.radius()),
+                    self.mat(p.material)
+                )
+            })
+            .collect();
+        self.table(
+            "The spheres: centre, radius.",
+            "SPHERES",
+            "Primitive<Sphere>",
+            &spheres,
+            size_of_val(view.spheres()),
+        );
+        let planes: Vec<String> = view
+            .planes()
+            .iter()
+            .map(|p| {
+                let (point, normal, offset, [t, u]) = p.geometry.parts();
+                format!(
+                    "Primitive {{ geometry: Plane::baked({}, {}, {}, [{}, {}]), material: {} }}",
+                    vec3(point),
+                    vec3(normal),
+                    lit(offset),
+                    vec3(t),
+                    vec3(u),
+                    self.mat(p.material)
+                )
+            })
+            .collect();
+        self.table(
+            "The planes: a point, the unit normal, the offset from the origin along it, \
+             the tangents of the texture's uv.",
+            "PLANES",
+            "Primitive<Plane>",
+            &planes,
+            size_of_val(view.planes()),
+        );
+        let with_bvh = self.triangles(view.triangles());
+        let boxes: Vec<String> = view
+            .boxes()
+            .iter()
+            .map(|p| {
+                format!(
+                    "Primitive {{ geometry: Aabb::baked({}, {}), material: {} }}",
+                    v3(p.geometry.min()),
+                    v3(p.geometry.max()),
+                    self.mat(p.material)
+                )
+            })
+            .collect();
+        self.table(
+            "The axis-aligned boxes: min and max corners.",
+            "BOXES",
+            "Primitive<Aabb>",
+            &boxes,
+            size_of_val(view.boxes()),
+        );
+        Written {
+            spheres: spheres.len(),
+            planes: planes.len(),
+            triangles: view.triangles().len(),
+            boxes: boxes.len(),
+            with_bvh,
         }
     }
-    if !triangles.is_empty() {
-        parts.push(count(triangles.len(), "triangle", "triangles"));
-    }
-    let boxes: Vec<String> = view
-        .boxes()
-        .iter()
-        .map(|p| {
-            format!(
-                "Primitive {{ geometry: Aabb::baked({}, {}), material: {} }}",
-                v3(p.geometry.min()),
-                v3(p.geometry.max()),
-                mat(p.material)
-            )
-        })
-        .collect();
-    table(
-        &mut body,
-        "The axis-aligned boxes: min and max corners.",
-        "BOXES",
-        "Primitive<Aabb>",
-        &boxes,
-    );
-    bytes += size_of_val(view.boxes());
 
-    let mut meshes = Vec::new();
-    for (i, m) in b.scene.mesh_parts().enumerate() {
-        let (vertices, faces, normals, material, bvh) =
-            (m.vertices, m.faces, m.normals, m.material, m.bvh);
-        let name = format!("MESH{i}_");
-        bytes += points(
-            &mut body,
-            "The vertices.",
-            &format!("{name}VERTICES"),
-            vertices,
+    /// `TRIANGLES`, and their hierarchy `NODES`, `ORDER` when there are enough
+    /// of them for it to pay: returns the `.with_bvh(..)` that hands it to the
+    /// scene (empty without).
+    fn triangles(
+        &mut self,
+        triangles: &[tessera::Primitive<tessera::geometry::Triangle>],
+    ) -> String {
+        let tris: Vec<String> = triangles
+            .iter()
+            .map(|p| {
+                let [a, c, d] = p.geometry.vertices();
+                format!(
+                    "t({}, {}, {}, {})",
+                    v3(a),
+                    v3(c),
+                    v3(d),
+                    self.mat(p.material)
+                )
+            })
+            .collect();
+        self.table(
+            "The triangles, in the scene's order.",
+            "TRIANGLES",
+            "Primitive<Triangle>",
+            &tris,
+            size_of_val(triangles),
+        );
+        let mut with_bvh = String::new();
+        if triangles.len() >= tessera::bvh::CROSSOVER {
+            let mut bvh = Box::new(HostBvh::new());
+            // The host scene's capacities: 2 T nodes always suffice.
+            if bvh.build(triangles).is_ok() {
+                self.bytes += hierarchy(&mut self.body, "", bvh.nodes(), bvh.order());
+                with_bvh = format!(
+                    "\n.with_bvh(BakedBvh::new(&NODES, &ORDER, {}))",
+                    lit(bvh.reach())
+                );
+                self.bvh_needed = true;
+            }
+        }
+        if !triangles.is_empty() {
+            self.parts
+                .push(count(triangles.len(), "triangle", "triangles"));
+        }
+        with_bvh
+    }
+
+    /// Each mesh's `MESH{i}_VERTICES`, `_FACES`, `_NORMALS`, `_NODES`, `_ORDER`,
+    /// and `MESHES`.
+    fn meshes(&mut self) {
+        let mut meshes = Vec::new();
+        for (i, m) in self.b.scene.mesh_parts().enumerate() {
+            let (vertices, faces, normals, material, bvh) =
+                (m.vertices, m.faces, m.normals, m.material, m.bvh);
+            let name = format!("MESH{i}_");
+            self.bytes += points(
+                &mut self.body,
+                "The vertices.",
+                &format!("{name}VERTICES"),
+                vertices,
+            );
+            let _ = writeln!(
+                self.body,
+                "/// The faces.\n#[rustfmt::skip]\npub static {name}FACES: [[u16; 3]; {}] = [",
+                faces.len()
+            );
+            for chunk in faces.chunks(6) {
+                let row: Vec<String> = chunk
+                    .iter()
+                    .map(|[a, b, c]| format!("[{a}, {b}, {c}]"))
+                    .collect();
+                let _ = writeln!(self.body, "    {},", row.join(", "));
+            }
+            let _ = writeln!(self.body, "];\n");
+            self.bytes += size_of_val(faces);
+            self.bytes += points(
+                &mut self.body,
+                "The vertex normals (none: flat shading).",
+                &format!("{name}NORMALS"),
+                normals,
+            );
+            self.bytes += hierarchy(&mut self.body, &name, bvh.nodes(), bvh.order());
+            meshes.push(format!(
+                "    Mesh::new(\n        &{name}VERTICES,\n        &{name}FACES,\n        \
+                 &{name}NORMALS,\n        {},\n        \
+                 BakedBvh::new(&{name}NODES, &{name}ORDER, {}),\n    ),",
+                self.mat(material),
+                lit(bvh.reach())
+            ));
+            self.parts.push(format!(
+                "mesh {i}: {}, {}, {}",
+                count(vertices.len(), "vertex", "vertices"),
+                count(faces.len(), "face", "faces"),
+                count(bvh.nodes().len(), "BVH node", "BVH nodes")
+            ));
+        }
+        if !meshes.is_empty() {
+            self.names.push("Mesh");
+            self.bvh_needed = true;
+            let _ = writeln!(
+                self.body,
+                "/// The meshes.\npub static MESHES: [Mesh<'static>; {}] = [\n{}\n];\n",
+                meshes.len(),
+                meshes.join("\n")
+            );
+            self.with_meshes = "\n.with_meshes(&MESHES)".into();
+        }
+    }
+
+    /// `WIDTH`, `HEIGHT`, `TILE`, `SceneLoops` and `SCENE`.
+    fn frame(&mut self, view: &tessera::SceneView<'_>, lists: &Written) -> Result<(), DescError> {
+        let b = self.b;
+        if self.bvh_needed {
+            self.names.extend(["BakedBvh", "BvhNode"]);
+        }
+        if matches!(b.settings.sampler, tessera::Sampler::Offset(_)) {
+            self.names.push("SubPixel");
+        }
+        let st = &b.settings;
+        // The loop the core's renderer takes for these settings, spelt as code.
+        let tile_loop = match TileLoop::of(st, view) {
+            TileLoop::Direct(e) => format!("TileLoop::Direct(Encoding::{})", variant(e)),
+            TileLoop::Bounces(e) => format!("TileLoop::Bounces(Encoding::{})", variant(e)),
+            TileLoop::Adaptive { bounces } => {
+                format!("TileLoop::Adaptive {{ bounces: {bounces} }}")
+            }
+            TileLoop::Sparse { bounces } => format!("TileLoop::Sparse {{ bounces: {bounces} }}"),
+            _ => return Err(unknown("render", "tile loop")),
+        };
+        let _ = writeln!(
+            self.body,
+            "/// The width the scene is meant to be rendered at, in pixels.\n\
+             #[allow(dead_code)]\npub const WIDTH: u16 = {};\n\
+             /// Its height.\n#[allow(dead_code)]\npub const HEIGHT: u16 = {};\n\
+             /// Its tile size (the file's `tile`: a `Tile<TILE, _>` buffer).\n\
+             #[allow(dead_code)]\npub const TILE: usize = {};\n",
+            b.viewport.width, b.viewport.height, b.tile
         );
         let _ = writeln!(
-            body,
-            "/// The faces.\n#[rustfmt::skip]\npub static {name}FACES: [[u16; 3]; {}] = [",
-            faces.len()
+            self.body,
+            "/// The tile loops this scene needs at its settings, for\n\
+             /// `Renderer::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.\n\
+             #[allow(dead_code)]\npub enum SceneLoops {{}}\n\n\
+             impl Loops for SceneLoops {{\n    \
+                 fn links(tile_loop: TileLoop) -> bool {{\n        \
+                     tile_loop == {tile_loop}\n    \
+                 }}\n}}\n"
         );
-        for chunk in faces.chunks(6) {
-            let row: Vec<String> = chunk
+        let c = &b.camera;
+        let encoding = variant(st.encoding);
+        let _ = writeln!(
+            self.body,
+            "/// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it\n\
+             /// from where it lies.\n\
+             #[allow(dead_code)]\npub static SCENE: BakedScene<'static, {}, {}, {}, {}> = BakedScene::new(\n    \
+                 BakedCamera {{\n        position: {},\n        forward: {},\n        up: {},\n        \
+                 fovy_degrees: {},\n        near: {},\n        far: {},\n    }},\n    \
+                 Viewport::new(WIDTH, HEIGHT),\n    \
+                 RenderSettings {{\n        sampler: {},\n        max_depth: {},\n        seed: {},\n        \
+                 encoding: Encoding::{encoding},\n    }},\n    \
+                 {},\n    {},\n    &MATERIALS,\n    &LIGHTS,\n    &SPHERES,\n    &PLANES,\n    \
+                 &TRIANGLES,\n    &BOXES,\n){}{};",
+            lists.spheres,
+            lists.planes,
+            lists.triangles,
+            lists.boxes,
+            vec3(c.position),
+            vec3(c.forward),
+            vec3(c.up),
+            lit(c.fovy_degrees),
+            lit(c.near),
+            lit(c.far),
+            sampler(st.sampler)?,
+            st.max_depth,
+            st.seed,
+            color(view.ambient()),
+            color(view.background()),
+            lists.with_bvh,
+            self.with_meshes,
+        );
+        Ok(())
+    }
+
+    /// What comes before the tables: the header's lines, the summary (what the
+    /// scene holds and its bytes of flash), the numbered material constants, the
+    /// `use` line and the helpers the tables call.
+    fn preamble(
+        &mut self,
+        view: &tessera::SceneView<'_>,
+        krate: &str,
+        header: &[String],
+    ) -> String {
+        let mut s = String::new();
+        for line in header {
+            let _ = writeln!(s, "{}", format!("// {}", crate::escape(line)).trim_end());
+        }
+        let others = [
+            count(view.materials().len(), "material", "materials"),
+            count(view.lights().len(), "light", "lights"),
+            count(view.spheres().len(), "sphere", "spheres"),
+            count(view.planes().len(), "plane", "planes"),
+            count(view.boxes().len(), "box", "boxes"),
+        ];
+        let mut kinds: Vec<String> = others
+            .into_iter()
+            .filter(|p| !p.starts_with("0 "))
+            .collect();
+        kinds.extend(
+            self.parts
                 .iter()
-                .map(|[a, b, c]| format!("[{a}, {b}, {c}]"))
-                .collect();
-            let _ = writeln!(body, "    {},", row.join(", "));
-        }
-        let _ = writeln!(body, "];\n");
-        bytes += size_of_val(faces);
-        bytes += points(
-            &mut body,
-            "The vertex normals (none: flat shading).",
-            &format!("{name}NORMALS"),
-            normals,
+                .filter(|p| !p.starts_with("mesh "))
+                .cloned(),
         );
-        bytes += hierarchy(&mut body, &name, bvh.nodes(), bvh.order());
-        meshes.push(format!(
-            "    Mesh::new(\n        &{name}VERTICES,\n        &{name}FACES,\n        \
-             &{name}NORMALS,\n        {},\n        \
-             BakedBvh::new(&{name}NODES, &{name}ORDER, {}),\n    ),",
-            mat(material),
-            lit(bvh.reach())
-        ));
-        parts.push(format!(
-            "mesh {i}: {}, {}, {}",
-            count(vertices.len(), "vertex", "vertices"),
-            count(faces.len(), "face", "faces"),
-            count(bvh.nodes().len(), "BVH node", "BVH nodes")
-        ));
-    }
-    let mut with_meshes = String::new();
-    if !meshes.is_empty() {
-        names.push("Mesh");
-        bvh_needed = true;
+        let mut all = vec![kinds.join(", ")];
+        all.extend(
+            self.parts
+                .iter()
+                .filter(|p| p.starts_with("mesh "))
+                .cloned(),
+        );
         let _ = writeln!(
-            body,
-            "/// The meshes.\npub static MESHES: [Mesh<'static>; {}] = [\n{}\n];\n",
-            meshes.len(),
-            meshes.join("\n")
+            s,
+            "//\n// {}: {} bytes of flash.",
+            all.join("; "),
+            self.bytes
         );
-        with_meshes = "\n.with_meshes(&MESHES)".into();
-    }
-    if bvh_needed {
-        names.extend(["BakedBvh", "BvhNode"]);
-    }
-    if matches!(b.settings.sampler, tessera::Sampler::Offset(_)) {
-        names.push("SubPixel");
+        if self.bvh_needed {
+            let _ = writeln!(
+                s,
+                "// Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml)."
+            );
+        }
+        self.numbered(&mut s);
+        let _ = writeln!(s);
+        self.names.sort_unstable();
+        self.names.dedup();
+        let mut paths: Vec<String> = self.names.iter().map(|n| api_path(n)).collect();
+        paths.sort_unstable();
+        let _ = writeln!(s, "use {krate}::{{{}}};\n", paths.join(", "));
+        if !view.triangles().is_empty() {
+            let _ = writeln!(
+                s,
+                "/// A triangle of material `m`.\n\
+                 const fn t(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3], m: MaterialId) -> Primitive<Triangle> {{\n    \
+                     Primitive {{\n        geometry: Triangle::baked(p0, p1, p2),\n        \
+                     material: m,\n    }}\n}}\n"
+            );
+        }
+        if self.bvh_needed {
+            let _ = writeln!(
+                s,
+                "/// A node of a hierarchy.\n\
+                 const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16) -> BvhNode {{\n    \
+                     BvhNode::new(min, max, first, count)\n}}\n"
+            );
+        }
+        s
     }
 
-    // Size, settings, loops, the scene.
-    let st = &b.settings;
-    // The loop the core's renderer takes for these settings, spelt as code.
-    let tile_loop = match TileLoop::of(st, &view) {
-        TileLoop::Direct(e) => format!("TileLoop::Direct(Encoding::{})", variant(e)),
-        TileLoop::Bounces(e) => format!("TileLoop::Bounces(Encoding::{})", variant(e)),
-        TileLoop::Adaptive { bounces } => format!("TileLoop::Adaptive {{ bounces: {bounces} }}"),
-        TileLoop::Sparse { bounces } => format!("TileLoop::Sparse {{ bounces: {bounces} }}"),
-        _ => return Err(unknown("render", "tile loop")),
-    };
-    let _ = writeln!(
-        body,
-        "/// The width the scene is meant to be rendered at, in pixels.\n\
-         #[allow(dead_code)]\npub const WIDTH: u16 = {};\n\
-         /// Its height.\n#[allow(dead_code)]\npub const HEIGHT: u16 = {};\n\
-         /// Its tile size (the file's `tile`: a `Tile<TILE, _>` buffer).\n\
-         #[allow(dead_code)]\npub const TILE: usize = {};\n",
-        b.viewport.width, b.viewport.height, b.tile
-    );
-    let _ = writeln!(
-        body,
-        "/// The tile loops this scene needs at its settings, for\n\
-         /// `Renderer::render_tile_in::<SceneLoops, ..>`: a firmware links these alone.\n\
-         #[allow(dead_code)]\npub enum SceneLoops {{}}\n\n\
-         impl Loops for SceneLoops {{\n    \
-             fn links(tile_loop: TileLoop) -> bool {{\n        \
-                 tile_loop == {tile_loop}\n    \
-             }}\n}}\n"
-    );
-    let c = &b.camera;
-    let encoding = variant(st.encoding);
-    let _ = writeln!(
-        body,
-        "/// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it\n\
-         /// from where it lies.\n\
-         #[allow(dead_code)]\npub static SCENE: BakedScene<'static, {}, {}, {}, {}> = BakedScene::new(\n    \
-             BakedCamera {{\n        position: {},\n        forward: {},\n        up: {},\n        \
-             fovy_degrees: {},\n        near: {},\n        far: {},\n    }},\n    \
-             Viewport::new(WIDTH, HEIGHT),\n    \
-             RenderSettings {{\n        sampler: {},\n        max_depth: {},\n        seed: {},\n        \
-             encoding: Encoding::{encoding},\n    }},\n    \
-             {},\n    {},\n    &MATERIALS,\n    &LIGHTS,\n    &SPHERES,\n    &PLANES,\n    \
-             &TRIANGLES,\n    &BOXES,\n){with_bvh}{with_meshes};",
-        spheres.len(),
-        planes.len(),
-        tris.len(),
-        boxes.len(),
-        vec3(c.position),
-        vec3(c.forward),
-        vec3(c.up),
-        lit(c.fovy_degrees),
-        lit(c.near),
-        lit(c.far),
-        sampler(st.sampler)?,
-        st.max_depth,
-        st.seed,
-        color(view.ambient()),
-        color(view.background()),
-    );
-
-    let mut s = String::new();
-    for line in header {
-        let _ = writeln!(s, "{}", format!("// {}", crate::escape(line)).trim_end());
-    }
-    let others = [
-        count(view.materials().len(), "material", "materials"),
-        count(view.lights().len(), "light", "lights"),
-        count(view.spheres().len(), "sphere", "spheres"),
-        count(view.planes().len(), "plane", "planes"),
-        count(view.boxes().len(), "box", "boxes"),
-    ];
-    let mut kinds: Vec<String> = others
-        .into_iter()
-        .filter(|p| !p.starts_with("0 "))
-        .collect();
-    kinds.extend(parts.iter().filter(|p| !p.starts_with("mesh ")).cloned());
-    let mut all = vec![kinds.join(", ")];
-    all.extend(parts.into_iter().filter(|p| p.starts_with("mesh ")));
-    let _ = writeln!(s, "//\n// {}: {bytes} bytes of flash.", all.join("; "));
-    if bvh_needed {
-        let _ = writeln!(
-            s,
-            "// Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml)."
-        );
-    }
-    // The materials whose constant their name alone does not give (see
-    // `material_constants`): names alike but for case, punctuation or what
-    // follows the 32 characters a constant keeps, and names without a letter
-    // or digit.
-    let numbered: Vec<String> = b
-        .names
-        .iter()
-        .zip(&consts)
-        .filter(|&(n, c)| own_constant(n).as_ref() != Some(c))
-        .map(|(n, c)| format!("//   {c} is the material {}", rust_string(n)))
-        .collect();
-    if !numbered.is_empty() {
-        let _ = writeln!(
-            s,
-            "//\n// Numbered material constants (names that give the same constant, or none):"
-        );
-        for line in numbered {
-            let _ = writeln!(s, "{line}");
+    /// The header's list of the materials whose constant their name alone does
+    /// not give (see `material_constants`): names alike but for case,
+    /// punctuation or what follows the 32 characters a constant keeps, and names
+    /// without a letter or digit.
+    fn numbered(&self, s: &mut String) {
+        let numbered: Vec<String> = self
+            .b
+            .names
+            .iter()
+            .zip(&self.consts)
+            .filter(|&(n, c)| own_constant(n).as_ref() != Some(c))
+            .map(|(n, c)| format!("//   {c} is the material {}", rust_string(n)))
+            .collect();
+        if !numbered.is_empty() {
+            let _ = writeln!(
+                s,
+                "//\n// Numbered material constants (names that give the same constant, or none):"
+            );
+            for line in numbered {
+                let _ = writeln!(s, "{line}");
+            }
         }
     }
-    let _ = writeln!(s);
-    names.sort_unstable();
-    names.dedup();
-    let mut paths: Vec<String> = names.iter().map(|n| api_path(n)).collect();
-    paths.sort_unstable();
-    let _ = writeln!(s, "use {krate}::{{{}}};\n", paths.join(", "));
-    if !tris.is_empty() {
-        let _ = writeln!(
-            s,
-            "/// A triangle of material `m`.\n\
-             const fn t(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3], m: MaterialId) -> Primitive<Triangle> {{\n    \
-                 Primitive {{\n        geometry: Triangle::baked(p0, p1, p2),\n        \
-                 material: m,\n    }}\n}}\n"
-        );
-    }
-    if bvh_needed {
-        let _ = writeln!(
-            s,
-            "/// A node of a hierarchy.\n\
-             const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16) -> BvhNode {{\n    \
-                 BvhNode::new(min, max, first, count)\n}}\n"
-        );
-    }
-    Ok(s + body.trim_end() + "\n")
 }
 
 /// The baked source of a scene description: the whole scene (see [`source`]),
