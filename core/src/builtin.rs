@@ -4,16 +4,10 @@
 //! Each scene type has exactly the capacities it uses.
 
 use crate::camera::Camera;
-use crate::color::Color;
 use crate::error::Error;
-use crate::geometry::{Aabb, Plane, Sphere, Triangle};
-use crate::light::PointLight;
-use crate::material::Material;
 use crate::sample::Sampler;
 use crate::scene::Scene;
-use crate::texture::Texture;
 use crate::tile::RenderSettings;
-use crate::vec::Vec3;
 use crate::view::SceneView;
 
 /// The chapter's pictures: four spheres on a floor, one light.
@@ -298,7 +292,9 @@ fn scaled_teapot<const V: usize, R>(
     mesh: &crate::mesh::Mesh<'_>,
     f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
 ) -> Result<R, Error> {
+    use crate::geometry::Triangle;
     use crate::primitive::Primitive;
+    use crate::vec::Vec3;
     let scene = scene.scaled_pow2_hook(k)?;
     let s = libm::ldexpf(1.0, k.clamp(-200, 200));
     let moved = vertices.map(|[x, y, z]| [x * s, y * s, z * s]);
@@ -330,210 +326,67 @@ fn scaled_teapot<const V: usize, R>(
     Ok(f(&view, scene.camera()))
 }
 
-/// The teapot's scene without its mesh: a checkered floor, the teapot's glazed
-/// red, a warm key light and a cool fill light.
+/// The scene of `baked` in RAM ([`Scene::from_view`]): the built-in scenes are
+/// written once, as scene files, and baked; the scenes in RAM are copies of
+/// their tables.
+fn copied<
+    const S: usize,
+    const P: usize,
+    const T: usize,
+    const B: usize,
+    const BS: usize,
+    const BP: usize,
+    const BT: usize,
+    const BB: usize,
+    const M: usize,
+    const L: usize,
+>(
+    baked: &'static crate::BakedScene<'static, BS, BP, BT, BB>,
+) -> Result<Scene<S, P, T, B, M, L>, Error> {
+    Scene::from_view(baked.camera().camera()?, &baked.view()?)
+}
+
+/// The teapot's scene without its mesh (a copy of [`baked::teapot`]'s tables):
+/// a checkered floor, the teapot's glazed red, a warm key light and a cool fill
+/// light.
 #[cfg(feature = "teapot")]
 pub fn teapot() -> Result<TeapotScene, Error> {
-    let cam = Camera::look_at(
-        Vec3::new(2.0, 1.6, 3.0),
-        Vec3::new(0.15, 0.45, 0.0),
-        Vec3::Y,
-        0.1,
-        100.0,
-    )?;
-    let mut s = TeapotScene::new(cam);
-    s.set_ambient(Color::splat(0.1))?;
-    s.set_background(Color::new(0.55, 0.7, 0.9))?;
-    let checker = Texture::Checker {
-        a: Color::splat(0.8),
-        b: Color::splat(0.25),
-        scale: 0.5,
-    };
-    let floor = s.add_material(Material::matte(Color::WHITE).with_texture(checker)?)?;
-    s.add_material(Material::matte(Color::new(0.8, 0.2, 0.12)).with_specular(0.5, 40.0)?)?;
-    s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y)?, floor)?;
-    s.add_light(PointLight::try_new(
-        Vec3::new(-2.0, 5.0, 3.0),
-        Color::new(1.0, 0.95, 0.9),
-        30.0,
-    )?)?;
-    s.add_light(PointLight::try_new(
-        Vec3::new(4.0, 3.0, -1.0),
-        Color::new(0.5, 0.6, 0.8),
-        10.0,
-    )?)?;
-    Ok(s)
+    copied(&baked::teapot::SCENE)
 }
 
-/// The chapter's spheres; `mirror` gives the red sphere a slight and the green one a
-/// strong mirror reflectivity.
-fn chapter(mirror: bool) -> Result<ChapterScene, Error> {
-    let cam = Camera::look_at(
-        Vec3::new(0.0, 1.8, 7.0),
-        Vec3::new(0.0, 0.9, 0.0),
-        Vec3::Y,
-        0.1,
-        100.0,
-    )?;
-    let mut s = ChapterScene::new(cam);
-    s.set_ambient(Color::splat(0.12))?;
-    s.set_background(Color::new(0.08, 0.09, 0.14))?;
-    let shiny = |c: Color| Material::matte(c).with_specular(0.4, 48.0);
-    let floor = s.add_material(Material::matte(Color::splat(0.75)))?;
-    let blue = s.add_material(shiny(Color::new(0.1, 0.25, 0.95))?)?;
-    // (reflectivity, diffuse): what the mirror takes, the diffuse term gives back.
-    let ((red_kr, red_kd), (green_kr, green_kd)) = if mirror {
-        ((0.15, 0.85), (0.8, 0.2))
-    } else {
-        ((0.0, 1.0), (0.0, 1.0))
-    };
-    let red = s.add_material(
-        shiny(Color::new(0.9, 0.15, 0.1))?
-            .with_diffuse(red_kd)?
-            .with_reflectivity(red_kr)?,
-    )?;
-    let green = s.add_material(
-        shiny(Color::new(0.15, 0.8, 0.2))?
-            .with_diffuse(green_kd)?
-            .with_reflectivity(green_kr)?,
-    )?;
-    let yellow = s.add_material(shiny(Color::new(0.95, 0.8, 0.1))?)?;
-    s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y)?, floor)?;
-    s.add_sphere(Sphere::try_new(Vec3::new(0.0, 1.0, 0.0), 1.0)?, blue)?;
-    s.add_sphere(Sphere::try_new(Vec3::new(-2.3, 0.8, 0.4), 0.8)?, red)?;
-    s.add_sphere(Sphere::try_new(Vec3::new(2.2, 0.9, -0.3), 0.9)?, green)?;
-    s.add_sphere(Sphere::try_new(Vec3::new(0.9, 0.35, 1.9), 0.35)?, yellow)?;
-    // The white light above the blue sphere.
-    s.add_light(PointLight::try_new(
-        Vec3::new(0.0, 7.0, 1.0),
-        Color::WHITE,
-        40.0,
-    )?)?;
-    Ok(s)
-}
-
-/// The chapter's first picture: direct illumination only, a white light above the
-/// blue sphere.
+/// The chapter's first picture (a copy of [`baked::chapter_direct`]'s tables):
+/// direct illumination only, a white light above the blue sphere.
 pub fn chapter_direct() -> Result<ChapterScene, Error> {
-    chapter(false)
+    copied(&baked::chapter_direct::SCENE)
 }
 
-/// The chapter's second picture: direct and one level of indirect illumination, with
-/// a slightly (red) and a very (green) mirror-like sphere.
+/// The chapter's second picture (a copy of [`baked::chapter_reflect`]'s
+/// tables): direct and one level of indirect illumination, with a slightly
+/// (red) and a very (green) mirror-like sphere.
 pub fn chapter_reflect() -> Result<ChapterScene, Error> {
-    chapter(true)
+    copied(&baked::chapter_reflect::SCENE)
 }
 
-/// The chapter's interference example: Young's fringes (`d` = 2 mm,
-/// `lambda` = 500 nm, `L` = 3 m, spacing 0.75 mm) on a screen 7 mm high, seen head
-/// on. The texture is emitted as is (ambient light 1, no diffuse), so a pixel's value
-/// is the texture's, which makes the sampling error measurable.
+/// The chapter's interference example (a copy of [`baked::interference`]'s
+/// tables): Young's fringes (`d` = 2 mm, `lambda` = 500 nm, `L` = 3 m, spacing
+/// 0.75 mm) on a screen 7 mm high, seen head on. The texture is emitted as is
+/// (ambient light 1, no diffuse), so a pixel's value is the texture's, which
+/// makes the sampling error measurable.
 pub fn interference() -> Result<InterferenceScene, Error> {
-    let cam = Camera::try_new(Vec3::new(0.0, 0.0, 0.1), -Vec3::Z, Vec3::Y, 4.0, 0.01, 1.0)?;
-    let mut s = InterferenceScene::new(cam);
-    s.set_ambient(Color::WHITE)?;
-    let fringes = Texture::young(Color::new(0.0, 1.0, 0.6), 2e-3, 500e-9, 3.0)?;
-    let screen = s.add_material(
-        Material::matte(Color::WHITE)
-            .with_texture(fringes)?
-            .with_diffuse(0.0)?,
-    )?;
-    s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Z)?, screen)?;
-    Ok(s)
+    copied(&baked::interference::SCENE)
 }
 
 /// Every geometry kind (plane, sphere, triangle, box) and material kind (matte,
-/// specular, mirror, glass, checker and fringe textures) in one scene.
+/// specular, mirror, glass, checker and fringe textures) in one scene (a copy of
+/// [`baked::showcase`]'s tables).
 pub fn showcase() -> Result<ShowcaseScene, Error> {
-    let cam = Camera::look_at(
-        Vec3::new(0.5, 2.6, 7.5),
-        Vec3::new(0.0, 0.8, 0.0),
-        Vec3::Y,
-        0.1,
-        100.0,
-    )?;
-    let mut s = ShowcaseScene::new(cam);
-    s.set_ambient(Color::splat(0.1))?;
-    s.set_background(Color::new(0.55, 0.7, 0.9))?;
-    let checker = Texture::Checker {
-        a: Color::splat(0.85),
-        b: Color::splat(0.15),
-        scale: 1.0,
-    };
-    let floor = s.add_material(
-        Material::matte(Color::WHITE)
-            .with_texture(checker)?
-            .with_reflectivity(0.1)?,
-    )?;
-    let wall = s.add_material(Material::matte(Color::new(0.8, 0.75, 0.7)))?;
-    let glass = s.add_material(
-        Material::matte(Color::WHITE)
-            .with_diffuse(0.0)?
-            .with_ambient(0.0)?
-            .with_specular(0.6, 200.0)?
-            .with_transparency(0.95, 1.5)?,
-    )?;
-    let mirror = s.add_material(
-        Material::matte(Color::splat(0.9))
-            .with_diffuse(0.05)?
-            .with_specular(0.5, 300.0)?
-            .with_reflectivity(0.9)?,
-    )?;
-    let plastic =
-        s.add_material(Material::matte(Color::new(0.9, 0.35, 0.1)).with_specular(0.5, 32.0)?)?;
-    let fringes = Texture::Fringes {
-        color: Color::new(1.0, 0.3, 0.8),
-        spacing: 0.125,
-    };
-    let fringed = s.add_material(Material::matte(Color::WHITE).with_texture(fringes)?)?;
-    let teal =
-        s.add_material(Material::matte(Color::new(0.1, 0.6, 0.6)).with_specular(0.3, 16.0)?)?;
-    let boxes = s.add_material(
-        Material::matte(Color::new(0.3, 0.3, 0.9))
-            .with_specular(0.2, 8.0)?
-            .with_reflectivity(0.2)?,
-    )?;
-    s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y)?, floor)?;
-    s.add_plane(Plane::try_new(Vec3::new(0.0, 0.0, -4.0), Vec3::Z)?, wall)?;
-    s.add_sphere(Sphere::try_new(Vec3::new(0.8, 1.0, 0.9), 1.0)?, glass)?;
-    s.add_sphere(Sphere::try_new(Vec3::new(-2.6, 1.1, -1.0), 1.1)?, mirror)?;
-    s.add_sphere(Sphere::try_new(Vec3::new(2.3, 0.35, 2.1), 0.35)?, teal)?;
-    s.add_box(
-        Aabb::try_new(Vec3::new(1.6, 0.0, -1.6), Vec3::new(2.8, 1.2, -0.4))?,
-        plastic,
-    )?;
-    s.add_box(
-        Aabb::try_new(Vec3::new(-1.1, 0.0, 1.6), Vec3::new(-0.5, 0.6, 2.2))?,
-        boxes,
-    )?;
-    // A pyramid of four triangles (the base stands on the floor).
-    let apex = Vec3::new(-0.6, 1.9, -2.4);
-    let base = [
-        Vec3::new(-1.5, 0.0, -1.5),
-        Vec3::new(0.3, 0.0, -1.5),
-        Vec3::new(0.3, 0.0, -3.3),
-        Vec3::new(-1.5, 0.0, -3.3),
-    ];
-    for (i, &a) in base.iter().enumerate() {
-        let b = base.get((i + 1) % 4).copied().unwrap_or(a);
-        s.add_triangle(Triangle::try_new(a, b, apex)?, fringed)?;
-    }
-    s.add_light(PointLight::try_new(
-        Vec3::new(-3.0, 6.0, 4.0),
-        Color::new(1.0, 0.95, 0.9),
-        30.0,
-    )?)?;
-    s.add_light(PointLight::try_new(
-        Vec3::new(4.0, 4.0, 3.0),
-        Color::new(0.5, 0.6, 0.8),
-        12.0,
-    )?)?;
-    Ok(s)
+    copied(&baked::showcase::SCENE)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::texture::Texture;
 
     #[test]
     fn every_builtin_builds_and_is_named() {

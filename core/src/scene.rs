@@ -175,6 +175,41 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
         push(&mut self.lights, light, List::Lights)
     }
 
+    /// A scene in RAM holding a copy of `view`'s lists (materials, lights,
+    /// primitives; its ambient light and background), seen by `camera`: a baked
+    /// scene copied to be changed, for instance. A view's meshes and hierarchies
+    /// are not lists of the scene and are not copied (give them to the copy's
+    /// view again). Each item is added as [`Scene::add_material`] and the other
+    /// `add_` methods add it, checked.
+    ///
+    /// # Errors
+    /// [`Error::CapacityExceeded`] naming the first list longer than its
+    /// capacity here.
+    pub fn from_view(camera: Camera, view: &SceneView<'_>) -> Result<Self, Error> {
+        let mut s = Self::new(camera);
+        s.set_ambient(view.ambient())?;
+        s.set_background(view.background())?;
+        for &m in view.materials() {
+            s.add_material(m)?;
+        }
+        for &l in view.lights() {
+            s.add_light(l)?;
+        }
+        for p in view.spheres() {
+            s.add_sphere(p.geometry, p.material)?;
+        }
+        for p in view.planes() {
+            s.add_plane(p.geometry, p.material)?;
+        }
+        for p in view.triangles() {
+            s.add_triangle(p.geometry, p.material)?;
+        }
+        for p in view.boxes() {
+            s.add_box(p.geometry, p.material)?;
+        }
+        Ok(s)
+    }
+
     /// The camera.
     #[must_use]
     pub fn camera(&self) -> &Camera {
@@ -340,6 +375,70 @@ mod tests {
             only.add_plane(pl, m),
             Err(Error::CapacityExceeded {
                 list: List::Planes,
+                capacity: 0
+            })
+        );
+    }
+
+    /// A copy of a view holds the same lists, bit for bit, and its own view
+    /// renders the same bytes; a capacity too small is named.
+    #[test]
+    fn from_view_copies_every_list_and_names_one_too_small() {
+        let mut s: Scene<1, 1, 1, 1, 2, 1> = Scene::new(cam());
+        s.set_ambient(Color::splat(0.2)).unwrap();
+        s.set_background(Color::new(0.1, 0.2, 0.3)).unwrap();
+        s.add_material(Material::matte(Color::WHITE)).unwrap();
+        let m = s
+            .add_material(
+                Material::matte(Color::new(0.9, 0.2, 0.1))
+                    .with_reflectivity(0.5)
+                    .unwrap(),
+            )
+            .unwrap();
+        s.add_sphere(Sphere::try_new(Vec3::ZERO, 1.0).unwrap(), m)
+            .unwrap();
+        s.add_plane(
+            Plane::try_new(Vec3::new(0.0, -1.0, 0.0), Vec3::Y).unwrap(),
+            MaterialId(0),
+        )
+        .unwrap();
+        s.add_triangle(
+            Triangle::try_new(Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::Y).unwrap(),
+            m,
+        )
+        .unwrap();
+        s.add_box(
+            Aabb::try_new(Vec3::splat(-2.0), Vec3::splat(-1.5)).unwrap(),
+            m,
+        )
+        .unwrap();
+        s.add_light(PointLight::try_new(Vec3::new(0.0, 4.0, 2.0), Color::WHITE, 20.0).unwrap())
+            .unwrap();
+        let copy: Scene<2, 1, 1, 1, 2, 1> = Scene::from_view(*s.camera(), &s.view()).unwrap();
+        let (a, b) = (s.view(), copy.view());
+        assert_eq!(a.spheres(), b.spheres());
+        assert_eq!(a.planes(), b.planes());
+        assert_eq!(a.triangles(), b.triangles());
+        assert_eq!(a.boxes(), b.boxes());
+        assert_eq!(a.materials(), b.materials());
+        assert_eq!(a.lights(), b.lights());
+        assert_eq!((a.ambient(), a.background()), (b.ambient(), b.background()));
+        let settings = RenderSettings {
+            max_depth: 2,
+            ..RenderSettings::default()
+        };
+        let renderer = s.renderer(Viewport::new(16, 16), settings).unwrap();
+        let (mut ta, mut tb) = (crate::Tile::<16>::new(), crate::Tile::<16>::new());
+        let origin = crate::TileCoord::new(0, 0);
+        renderer.render_tile(&a, origin, &mut ta, &mut ()).unwrap();
+        renderer.render_tile(&b, origin, &mut tb, &mut ()).unwrap();
+        assert!(ta.rows().eq(tb.rows()));
+        assert!(ta.rows().flatten().any(|p| p.r > 0));
+        let small: Result<Scene<1, 1, 0, 1, 2, 1>, Error> = Scene::from_view(*s.camera(), &a);
+        assert_eq!(
+            small.err(),
+            Some(Error::CapacityExceeded {
+                list: List::Triangles,
                 capacity: 0
             })
         );
