@@ -13,13 +13,14 @@
 use crate::camera::{Camera, Viewport};
 use crate::color::Color;
 use crate::error::{Error, List};
-use crate::geometry::{Aabb, Plane, Sphere, Triangle};
+use crate::geometry::{Aabb, Sphere, Triangle};
+use crate::kind::{Capacities, LISTS, Primitives};
 use crate::light::PointLight;
 use crate::material::Material;
-use crate::primitive::Primitive;
 use crate::tile::{RenderSettings, Renderer};
 use crate::vec::Vec3;
 use crate::view::{Lists, SceneView, check_material};
+use core::marker::PhantomData;
 
 /// A camera as a scene file gives it, before [`Camera::try_new`] checks and
 /// normalises it: a baked scene keeps these numbers and makes its camera when
@@ -58,8 +59,10 @@ impl BakedCamera {
 }
 
 /// A whole scene in `static` tables, with the settings and the size it is
-/// meant to be rendered at: `S` spheres, `P` planes, `T` triangles and `B`
-/// boxes (the lengths of its arrays), and any number of materials and lights.
+/// meant to be rendered at: at most as many primitives of each kind as its
+/// capacities `C` ([`capacities!`](crate::capacities); the tables' lengths,
+/// which size a tile's candidate lists), and any number of materials and
+/// lights.
 ///
 /// Made in a `const` context (a `static` in flash) with [`BakedScene::new`],
 /// its triangles' hierarchy and its meshes added with
@@ -72,8 +75,8 @@ impl BakedCamera {
 /// use tessera::light::PointLight;
 /// use tessera::material::{Material, MaterialId};
 /// use tessera::{
-///     BakedCamera, BakedScene, Color, Encoding, Primitive, RenderSettings, Sampler, Tile,
-///     TileCoord, Viewport,
+///     capacities, BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives,
+///     RenderSettings, Sampler, Tile, TileCoord, Viewport,
 /// };
 ///
 /// const RED: MaterialId = MaterialId(0);
@@ -81,7 +84,7 @@ impl BakedCamera {
 /// static LIGHTS: [PointLight; 1] = [PointLight::baked([2.0, 4.0, 3.0], Color::WHITE, 1.0)];
 /// static SPHERES: [Primitive<Sphere>; 1] =
 ///     [Primitive { geometry: Sphere::baked([0.0, 0.0, 0.0], 1.0), material: RED }];
-/// static SCENE: BakedScene<'static, 1, 0, 0, 0> = BakedScene::new(
+/// static SCENE: BakedScene<'static, capacities!(spheres: 1)> = BakedScene::new(
 ///     BakedCamera {
 ///         position: [0.0, 0.0, 5.0],
 ///         forward: [0.0, 0.0, -1.0],
@@ -96,10 +99,7 @@ impl BakedCamera {
 ///     Color::BLACK,
 ///     &MATERIALS,
 ///     &LIGHTS,
-///     &SPHERES,
-///     &[],
-///     &[],
-///     &[],
+///     Primitives { spheres: &SPHERES, ..Primitives::NONE },
 /// );
 ///
 /// let view = SCENE.view()?;
@@ -108,8 +108,7 @@ impl BakedCamera {
 /// renderer.render_tile(&view, TileCoord::new(0, 0), &mut tile, &mut ())?;
 /// # Ok::<(), tessera::Error>(())
 /// ```
-#[derive(Clone, Copy, Debug)]
-pub struct BakedScene<'a, const S: usize, const P: usize, const T: usize, const B: usize> {
+pub struct BakedScene<'a, C: Capacities> {
     camera: BakedCamera,
     viewport: Viewport,
     settings: RenderSettings,
@@ -117,22 +116,43 @@ pub struct BakedScene<'a, const S: usize, const P: usize, const T: usize, const 
     background: Color,
     materials: &'a [Material],
     lights: &'a [PointLight],
-    spheres: &'a [Primitive<Sphere>; S],
-    planes: &'a [Primitive<Plane>; P],
-    triangles: &'a [Primitive<Triangle>; T],
-    boxes: &'a [Primitive<Aabb>; B],
+    primitives: Primitives<'a>,
     #[cfg(feature = "bvh")]
     bvh: Option<crate::bvh::BakedBvh<'a>>,
     #[cfg(feature = "bvh")]
     meshes: &'a [crate::mesh::Mesh<'a>],
+    capacities: PhantomData<fn() -> C>,
 }
 
-impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
-    BakedScene<'a, S, P, T, B>
-{
+impl<C: Capacities> Clone for BakedScene<'_, C> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<C: Capacities> Copy for BakedScene<'_, C> {}
+
+impl<C: Capacities> core::fmt::Debug for BakedScene<'_, C> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("BakedScene")
+            .field("capacities", &C::COUNTS)
+            .field("camera", &self.camera)
+            .field("viewport", &self.viewport)
+            .field("settings", &self.settings)
+            .field("ambient", &self.ambient)
+            .field("background", &self.background)
+            .field("materials", &self.materials)
+            .field("lights", &self.lights)
+            .field("primitives", &self.primitives)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'a, C: Capacities> BakedScene<'a, C> {
     /// A baked scene of these tables, not checked here ([`BakedScene::view`]
-    /// and [`BakedScene::renderer`] check it). Primitives refer to materials by
-    /// their index in `materials`.
+    /// and [`BakedScene::renderer`] check it, a table longer than its capacity
+    /// among the rest). Primitives refer to materials by their index in
+    /// `materials`.
     #[must_use]
     #[allow(clippy::too_many_arguments)]
     pub const fn new(
@@ -143,10 +163,7 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
         background: Color,
         materials: &'a [Material],
         lights: &'a [PointLight],
-        spheres: &'a [Primitive<Sphere>; S],
-        planes: &'a [Primitive<Plane>; P],
-        triangles: &'a [Primitive<Triangle>; T],
-        boxes: &'a [Primitive<Aabb>; B],
+        primitives: Primitives<'a>,
     ) -> Self {
         Self {
             camera,
@@ -156,14 +173,12 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
             background,
             materials,
             lights,
-            spheres,
-            planes,
-            triangles,
-            boxes,
+            primitives,
             #[cfg(feature = "bvh")]
             bvh: None,
             #[cfg(feature = "bvh")]
             meshes: &[],
+            capacities: PhantomData,
         }
     }
 
@@ -242,6 +257,12 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
         // Read by the rule for subnormal numbers, as a scene's setters do.
         let ambient = crate::error::color(self.ambient, crate::error::Field::AmbientLight)?;
         let background = crate::error::color(self.background, crate::error::Field::Background)?;
+        let caps = C::COUNTS.kinds();
+        for ((&held, capacity), list) in self.primitives.lens().iter().zip(caps).zip(LISTS) {
+            if held > capacity {
+                return Err(Error::CapacityExceeded { list, capacity });
+            }
+        }
         let count = self.materials.len();
         if count > usize::from(u16::MAX) {
             return Err(Error::CapacityExceeded {
@@ -263,7 +284,8 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
                 i,
             )?;
         }
-        for (i, p) in self.spheres.iter().enumerate() {
+        let prims = &self.primitives;
+        for (i, p) in prims.spheres.iter().enumerate() {
             check_material(p.material, count)?;
             let g = &p.geometry;
             same(
@@ -273,29 +295,29 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
                 i,
             )?;
         }
-        for (i, p) in self.planes.iter().enumerate() {
+        for (i, p) in prims.planes.iter().enumerate() {
             check_material(p.material, count)?;
             if !p.geometry.check_baked()? {
                 return Err(bad(List::Planes, i));
             }
         }
-        for (i, p) in self.boxes.iter().enumerate() {
+        for (i, p) in prims.boxes.iter().enumerate() {
             check_material(p.material, count)?;
             let g = &p.geometry;
             same(Aabb::try_new(g.min(), g.max())?, *g, List::Boxes, i)?;
         }
         let view = Lists {
-            spheres: self.spheres,
-            planes: self.planes,
+            spheres: prims.spheres,
+            planes: prims.planes,
             triangles: &[],
-            boxes: self.boxes,
+            boxes: prims.boxes,
             materials: self.materials,
             lights: self.lights,
         }
-        .view::<S, P, T, B>(ambient, background, None);
+        .view::<C>(ambient, background, None);
         #[cfg(feature = "bvh")]
         let view = match &self.bvh {
-            Some(bvh) => view.with_baked(self.triangles, bvh)?,
+            Some(bvh) => view.with_baked(self.primitives.triangles, bvh)?,
             None => self.flat_triangles(view)?,
         };
         #[cfg(not(feature = "bvh"))]
@@ -313,7 +335,7 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
     fn flat_triangles(&self, view: SceneView<'a>) -> Result<SceneView<'a>, Error> {
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for (i, p) in self.triangles.iter().enumerate() {
+        for (i, p) in self.primitives.triangles.iter().enumerate() {
             check_material(p.material, self.materials.len())?;
             let [a, b, c] = p.geometry.vertices();
             same(Triangle::try_new(a, b, c)?, p.geometry, List::Triangles, i)?;
@@ -323,7 +345,7 @@ impl<'a, const S: usize, const P: usize, const T: usize, const B: usize>
             }
         }
         Ok(SceneView {
-            triangles: self.triangles,
+            triangles: self.primitives.triangles,
             triangle_hull: crate::cull::Hull::new(lo, hi),
             ..view
         })
@@ -350,7 +372,9 @@ fn same<X: PartialEq>(made: X, baked: X, list: List, i: usize) -> Result<(), Err
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Plane;
     use crate::material::MaterialId;
+    use crate::primitive::Primitive;
     use crate::sample::Sampler;
     use crate::texture::Texture;
 
@@ -384,7 +408,7 @@ mod tests {
         materials: &'a [Material],
         spheres: &'a [Primitive<Sphere>; 1],
         planes: &'a [Primitive<Plane>; 1],
-    ) -> BakedScene<'a, 1, 1, 0, 0> {
+    ) -> BakedScene<'a, crate::capacities!(spheres: 1, planes: 1)> {
         BakedScene::new(
             CAM,
             Viewport::new(8, 8),
@@ -393,10 +417,11 @@ mod tests {
             Color::BLACK,
             materials,
             &LIGHTS,
-            spheres,
-            planes,
-            &[],
-            &[],
+            Primitives {
+                spheres,
+                planes,
+                ..Primitives::NONE
+            },
         )
     }
 

@@ -5,21 +5,24 @@
 
 use crate::camera::Camera;
 use crate::error::Error;
+use crate::kind::Capacities;
 use crate::sample::Sampler;
 use crate::scene::Scene;
 use crate::tile::RenderSettings;
 use crate::view::SceneView;
 
 /// The chapter's pictures: four spheres on a floor, one light.
-pub type ChapterScene = Scene<4, 1, 0, 0, 5, 1>;
+pub type ChapterScene = Scene<crate::capacities!(spheres: 4, planes: 1, materials: 5, lights: 1)>;
 /// The interference screen: one plane, one material, no light.
-pub type InterferenceScene = Scene<0, 1, 0, 0, 1, 0>;
+pub type InterferenceScene = Scene<crate::capacities!(planes: 1, materials: 1)>;
 /// The showcase: every geometry and material kind.
-pub type ShowcaseScene = Scene<3, 2, 4, 2, 8, 2>;
+pub type ShowcaseScene = Scene<
+    crate::capacities!(spheres: 3, planes: 2, triangles: 4, boxes: 2, materials: 8, lights: 2),
+>;
 /// The teapot's scene in RAM: the floor, two materials and two lights; its mesh
 /// and the mesh's BVH are baked data in flash ([`teapot`]).
 #[cfg(feature = "teapot")]
-pub type TeapotScene = Scene<0, 1, 0, 0, 2, 2>;
+pub type TeapotScene = Scene<crate::capacities!(planes: 1, materials: 2, lights: 2)>;
 
 /// The built-in scenes as `static` data (flash on a chip), baked by the host
 /// from their scene files (`scenes/<name>.toml`; a test of the host checks
@@ -161,8 +164,8 @@ impl Builtin {
         self,
         f: impl FnOnce(&SceneView<'static>, &Camera) -> R,
     ) -> Result<R, Error> {
-        fn hand<const S: usize, const P: usize, const T: usize, const B: usize, R>(
-            s: &'static crate::BakedScene<'static, S, P, T, B>,
+        fn hand<C: Capacities, R>(
+            s: &'static crate::BakedScene<'static, C>,
             f: impl FnOnce(&SceneView<'static>, &Camera) -> R,
         ) -> Result<R, Error> {
             Ok(f(&s.view()?, &s.camera().camera()?))
@@ -236,16 +239,8 @@ fn baked_viewport(b: Builtin) -> crate::Viewport {
 
 /// `f` of the scene's view and camera, the scene scaled by `2^k` first unless `k`
 /// is 0 (scaling is a test hook: without the feature `testing`, `k` is always 0).
-fn hand<
-    const S: usize,
-    const P: usize,
-    const T: usize,
-    const B: usize,
-    const M: usize,
-    const L: usize,
-    R,
->(
-    scene: Scene<S, P, T, B, M, L>,
+fn hand<C: Capacities, R>(
+    scene: Scene<C>,
     k: i32,
     f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
 ) -> Result<R, Error> {
@@ -329,20 +324,9 @@ fn scaled_teapot<const V: usize, R>(
 /// The scene of `baked` in RAM ([`Scene::from_view`]): the built-in scenes are
 /// written once, as scene files, and baked; the scenes in RAM are copies of
 /// their tables.
-fn copied<
-    const S: usize,
-    const P: usize,
-    const T: usize,
-    const B: usize,
-    const BS: usize,
-    const BP: usize,
-    const BT: usize,
-    const BB: usize,
-    const M: usize,
-    const L: usize,
->(
-    baked: &'static crate::BakedScene<'static, BS, BP, BT, BB>,
-) -> Result<Scene<S, P, T, B, M, L>, Error> {
+fn copied<C: Capacities, B: Capacities>(
+    baked: &'static crate::BakedScene<'static, B>,
+) -> Result<Scene<C>, Error> {
     Scene::from_view(baked.camera().camera()?, &baked.view()?)
 }
 

@@ -133,7 +133,7 @@ pub struct BvhNode {
 /// use tessera::{bvh::Bvh, Camera, Color, Error, material::Material, Scene, geometry::Triangle, Vec3};
 ///
 /// let cam = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0)?;
-/// let mut scene: Scene<0, 0, 100, 0, 1, 0> = Scene::new(cam);
+/// let mut scene: Scene<tessera::capacities!(triangles: 100, materials: 1)> = Scene::new(cam);
 /// let red = scene.add_material(Material::matte(Color::new(0.9, 0.1, 0.1)))?;
 /// for i in 0..100 {
 ///     let x = i as f32 * 0.1;
@@ -1029,7 +1029,7 @@ mod tests {
         use crate::{Camera, Color, Scene, material::Material};
         let cam =
             Camera::look_at(Vec3::new(0.0, 0.0, 50.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0).unwrap();
-        let mut s: std::boxed::Box<Scene<0, 0, 400, 0, 1, 0>> =
+        let mut s: std::boxed::Box<Scene<crate::capacities!(triangles: 400, materials: 1)>> =
             std::boxed::Box::new(Scene::new(cam));
         let m = s.add_material(Material::matte(Color::WHITE)).unwrap();
         for t in grid(10) {
@@ -1050,7 +1050,7 @@ mod tests {
         other.build(&t).unwrap();
         assert_eq!(s.view().with_bvh(&other).err(), Some(Error::BvhMismatch));
         // Below the crossover the flat lists are kept.
-        let mut small: std::boxed::Box<Scene<0, 0, 400, 0, 1, 0>> =
+        let mut small: std::boxed::Box<Scene<crate::capacities!(triangles: 400, materials: 1)>> =
             std::boxed::Box::new(Scene::new(cam));
         let m = small.add_material(Material::matte(Color::WHITE)).unwrap();
         for t in &grid(9)[..CROSSOVER - 20] {
@@ -1132,7 +1132,7 @@ mod baked_tests {
         out
     }
 
-    fn scene() -> Scene<0, 0, 0, 0, 2, 1> {
+    fn scene() -> Scene<crate::capacities!(materials: 2, lights: 1)> {
         let cam = Camera::look_at(
             Vec3::new(4.0, 5.0, 12.0),
             Vec3::new(4.0, 4.0, 0.0),
@@ -1173,8 +1173,9 @@ mod baked_tests {
         let s = scene();
         let view = s.view().with_baked(&tris, &baked).unwrap();
         assert!(view.uses_bvh());
-        let mut flat: std::boxed::Box<Scene<0, 0, 128, 0, 2, 1>> =
-            std::boxed::Box::new(Scene::new(*s.camera()));
+        let mut flat: std::boxed::Box<
+            Scene<crate::capacities!(triangles: 128, materials: 2, lights: 1)>,
+        > = std::boxed::Box::new(Scene::new(*s.camera()));
         for m in s.view().materials() {
             flat.add_material(*m).unwrap();
         }
@@ -1220,7 +1221,8 @@ mod baked_tests {
         assert_eq!(check(&tris, &nodes, &order, bvh.reach()), None);
         let bad = Some(Error::BvhMismatch);
         // A scene with triangles of its own.
-        let mut own: Scene<0, 0, 1, 0, 2, 1> = Scene::new(*s.camera());
+        let mut own: Scene<crate::capacities!(triangles: 1, materials: 2, lights: 1)> =
+            Scene::new(*s.camera());
         own.add_material(Material::matte(Color::WHITE)).unwrap();
         own.add_triangle(tris[0].geometry, MaterialId(0)).unwrap();
         let b = BakedBvh::new(&nodes, &order, bvh.reach());

@@ -57,19 +57,20 @@
 //! ## Memory
 //!
 //! The lists live on the stack of [`crate::Renderer::render_tile`], in fixed-capacity
-//! storage sized by the scene's capacities (`Scene<S, P, T, B, ..>` lends them, see
+//! storage sized by the scene's capacities (`Scene<C>` lends them, see
 //! [`lend`]): per kind a `u16` index list (camera) and a `u32` list (shadow: index
-//! and a 16-bit mask of the lights it may block), `6 (S + P + T + B)` bytes plus
+//! and a 16-bit mask of the lights it may block), 6 bytes for each primitive of
+//! capacity, plus
 //! eight lengths and the eight views [`TileLists`] holds (96 bytes on the
 //! Cortex-M4F); the chapter's scenes need 128 bytes with alignment.
 
 use crate::camera::CameraBasis;
 use crate::geometry::Triangle;
 use crate::geometry::{Aabb, Plane, Sphere};
+use crate::kind::{Capacities, KINDS, PerKind, Uniform};
 use crate::light::PointLight;
 use crate::primitive::Primitive;
 use crate::vec::Vec3;
-use heapless::Vec;
 use heapless::vec::VecView;
 
 /// The candidates of one camera ray's tree: its own nearest-hit search (a tile's
@@ -163,36 +164,37 @@ impl Hull {
 /// The largest list a `u16` index covers.
 const INDEXABLE: usize = 1 << 16;
 
-/// A tile's candidate lists, per kind (spheres, planes, triangles, boxes).
+/// A tile's candidate lists, per kind (in search order).
 pub(crate) struct TileLists<'s> {
-    camera: [&'s mut VecView<u16>; 4],
-    shadow: [&'s mut VecView<u32>; 4],
+    camera: [&'s mut VecView<u16>; KINDS],
+    shadow: [&'s mut VecView<u32>; KINDS],
 }
 
 /// What renders a tile with the lists it is lent (`None`: no culling).
 pub(crate) type WithLists<'f> = dyn FnMut(Option<&mut TileLists<'_>>) + 'f;
 
 /// How a scene lends a tile the storage of its lists: [`TileStorage::lend`] for
-/// the scene's capacities, given the lengths of its four lists (`None` when its
+/// the scene's capacities, given the lengths of its lists (`None` when its
 /// tiles build no lists: rays searched through a hierarchy, or culling off).
-pub(crate) type Lender = fn(Option<[usize; 4]>, &mut WithLists<'_>);
+pub(crate) type Lender = fn(Option<[usize; KINDS]>, &mut WithLists<'_>);
 
-/// The storage of a tile's lists for at most `S`, `P`, `T`, `B` primitives of each
-/// kind: per kind a `u16` index list (camera rays) and a `u32` entry list (shadow
-/// rays), `6 (S + P + T + B)` bytes on the stack of the tile loop.
-pub(crate) struct TileStorage<const S: usize, const P: usize, const T: usize, const B: usize> {
-    camera: (Vec<u16, S>, Vec<u16, P>, Vec<u16, T>, Vec<u16, B>),
-    shadow: (Vec<u32, S>, Vec<u32, P>, Vec<u32, T>, Vec<u32, B>),
+/// The storage of a tile's lists for at most as many primitives of each kind as
+/// the capacities `C`: per kind a `u16` index list (camera rays) and a `u32`
+/// entry list (shadow rays), 6 bytes a primitive of capacity on the stack of the
+/// tile loop.
+pub(crate) struct TileStorage<C: Capacities> {
+    camera: PerKind<C, u16>,
+    shadow: PerKind<C, u32>,
 }
 
 /// The entries per list of the storage lent to a scene whose capacities exceed
 /// it but whose lists hold no more (see [`TileStorage::lend`]).
 const FEW: usize = 64;
 
-impl<const S: usize, const P: usize, const T: usize, const B: usize> TileStorage<S, P, T, B> {
+impl<C: Capacities> TileStorage<C> {
     /// Lends `f` a tile's candidate lists on the stack, for a scene of capacities
-    /// `S`, `P`, `T`, `B` whose lists hold `held` primitives (`None`: lends none,
-    /// and so does a capacity beyond a `u16` index).
+    /// `C` whose lists hold `held` primitives (`None`: lends none, and so does a
+    /// capacity beyond a `u16` index).
     ///
     /// Sized by what the scene holds, not by its capacity, where the two differ
     /// widely: a scene file read into the host's capacities (thousands of
@@ -202,15 +204,16 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize> TileStorage
     /// for [`FEW`] of each kind. A firmware's scene, whose capacities are what it
     /// holds, is lent exactly its capacities (the branch is decided at compile
     /// time).
-    pub(crate) fn lend(held: Option<[usize; 4]>, f: &mut WithLists<'_>) {
+    pub(crate) fn lend(held: Option<[usize; KINDS]>, f: &mut WithLists<'_>) {
         let Some(held) = held else {
             return f(None);
         };
-        if S > INDEXABLE || P > INDEXABLE || T > INDEXABLE || B > INDEXABLE {
+        let caps = C::COUNTS.kinds();
+        if caps.iter().any(|&c| c > INDEXABLE) {
             return f(None);
         }
-        if S.max(P).max(T).max(B) > FEW && held.iter().all(|&n| n <= FEW) {
-            return TileStorage::<FEW, FEW, FEW, FEW>::lend_all(f);
+        if caps.iter().any(|&c| c > FEW) && held.iter().all(|&n| n <= FEW) {
+            return TileStorage::<Uniform<FEW>>::lend_all(f);
         }
         Self::lend_all(f);
     }
@@ -218,24 +221,12 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize> TileStorage
     /// Lends `f` lists of every capacity.
     fn lend_all(f: &mut WithLists<'_>) {
         let mut st = Self {
-            camera: (Vec::new(), Vec::new(), Vec::new(), Vec::new()),
-            shadow: (Vec::new(), Vec::new(), Vec::new(), Vec::new()),
+            camera: PerKind::EMPTY,
+            shadow: PerKind::EMPTY,
         };
-        let (cs, cp, ct, cb) = &mut st.camera;
-        let (ss, sp, stt, sb) = &mut st.shadow;
         f(Some(&mut TileLists {
-            camera: [
-                cs.as_mut_view(),
-                cp.as_mut_view(),
-                ct.as_mut_view(),
-                cb.as_mut_view(),
-            ],
-            shadow: [
-                ss.as_mut_view(),
-                sp.as_mut_view(),
-                stt.as_mut_view(),
-                sb.as_mut_view(),
-            ],
+            camera: st.camera.views(),
+            shadow: st.shadow.views(),
         }));
     }
 }
@@ -768,23 +759,26 @@ mod tests {
         for ty in 0..4u8 {
             for tx in 0..4u8 {
                 let (x0, y0) = (f32::from(tx) * 16.0, f32::from(ty) * 16.0);
-                TileStorage::<4, 1, 0, 0>::lend(Some([4, 1, 0, 0]), &mut |lists| {
-                    let picks = lists.unwrap().build(
-                        renderer.basis(),
-                        &view,
-                        (x0, y0, x0 + 16.0, y0 + 16.0),
-                    );
-                    let camera = picks.camera.unwrap()[0].to_vec();
-                    let floor_bit = 1 << PLANE_RECEIVERS;
-                    let shadow = picks.shadow.map_or_else(StdVec::new, |s| {
-                        s.lists[0]
-                            .iter()
-                            .filter(|&&e| e & floor_bit != 0)
-                            .map(|&e| (e & 0xffff) as u16)
-                            .collect()
-                    });
-                    out.push((camera, shadow));
-                });
+                TileStorage::<crate::capacities!(spheres: 4, planes: 1)>::lend(
+                    Some([4, 1, 0, 0]),
+                    &mut |lists| {
+                        let picks = lists.unwrap().build(
+                            renderer.basis(),
+                            &view,
+                            (x0, y0, x0 + 16.0, y0 + 16.0),
+                        );
+                        let camera = picks.camera.unwrap()[0].to_vec();
+                        let floor_bit = 1 << PLANE_RECEIVERS;
+                        let shadow = picks.shadow.map_or_else(StdVec::new, |s| {
+                            s.lists[0]
+                                .iter()
+                                .filter(|&&e| e & floor_bit != 0)
+                                .map(|&e| (e & 0xffff) as u16)
+                                .collect()
+                        });
+                        out.push((camera, shadow));
+                    },
+                );
             }
         }
         out
@@ -822,11 +816,9 @@ mod tests {
     /// primitives, none when no lists are built.
     #[test]
     fn list_storage_is_lent_by_what_the_scene_holds() {
-        fn lent<const S: usize, const P: usize, const T: usize, const B: usize>(
-            held: Option<[usize; 4]>,
-        ) -> Option<[usize; 4]> {
+        fn lent<C: Capacities>(held: Option<[usize; 4]>) -> Option<[usize; 4]> {
             let mut caps = None;
-            TileStorage::<S, P, T, B>::lend(held, &mut |lists| {
+            TileStorage::<C>::lend(held, &mut |lists| {
                 caps = lists
                     .as_ref()
                     .map(|l| core::array::from_fn(|k| l.camera[k].capacity()));
@@ -838,28 +830,59 @@ mod tests {
             caps
         }
         // Small capacities: exactly them, whatever they hold.
-        assert_eq!(lent::<4, 1, 0, 0>(Some([4, 1, 0, 0])), Some([4, 1, 0, 0]));
-        assert_eq!(lent::<4, 1, 0, 0>(Some([0, 0, 0, 0])), Some([4, 1, 0, 0]));
+        assert_eq!(
+            lent::<crate::capacities!(spheres: 4, planes: 1)>(Some([4, 1, 0, 0])),
+            Some([4, 1, 0, 0])
+        );
+        assert_eq!(
+            lent::<crate::capacities!(spheres: 4, planes: 1)>(Some([0, 0, 0, 0])),
+            Some([4, 1, 0, 0])
+        );
         // A scene file's large capacities holding a few primitives: FEW each.
         let few = Some([FEW; 4]);
-        assert_eq!(lent::<512, 16, 8192, 256>(Some([3, 1, 12, 0])), few);
-        assert_eq!(lent::<512, 16, 8192, 256>(Some([FEW, FEW, FEW, FEW])), few);
+        assert_eq!(
+            lent::<crate::capacities!(spheres: 512, planes: 16, triangles: 8192, boxes: 256)>(
+                Some([3, 1, 12, 0])
+            ),
+            few
+        );
+        assert_eq!(
+            lent::<crate::capacities!(spheres: 512, planes: 16, triangles: 8192, boxes: 256)>(
+                Some([FEW, FEW, FEW, FEW])
+            ),
+            few
+        );
         // One list beyond FEW: the capacities.
         let all = Some([512, 16, 8192, 256]);
-        assert_eq!(lent::<512, 16, 8192, 256>(Some([3, 1, FEW + 1, 0])), all);
+        assert_eq!(
+            lent::<crate::capacities!(spheres: 512, planes: 16, triangles: 8192, boxes: 256)>(
+                Some([3, 1, FEW + 1, 0])
+            ),
+            all
+        );
         // No lists (a hierarchy, or culling off), and capacities beyond a u16 index.
-        assert_eq!(lent::<4, 1, 0, 0>(None), None);
-        assert_eq!(lent::<4, 1, { INDEXABLE + 1 }, 0>(Some([4, 1, 0, 0])), None);
+        assert_eq!(
+            lent::<crate::capacities!(spheres: 4, planes: 1)>(None),
+            None
+        );
+        assert_eq!(
+            lent::<crate::capacities!(spheres: 4, planes: 1, triangles: { INDEXABLE + 1 })>(Some(
+                [4, 1, 0, 0]
+            )),
+            None
+        );
     }
 
-    /// The RAM of a tile's lists, as the docs state it: `6 (S + P + T + B)` bytes
+    /// The RAM of a tile's lists, as the docs state it: 6 bytes a primitive of capacity
     /// plus eight lengths (and alignment), plus the eight views `TileLists` holds.
     #[test]
     fn list_storage_is_sized_by_the_capacities() {
         let lengths = size_of::<[usize; 8]>();
         // The chapter's scenes (4 spheres, 1 plane) and the showcase (3, 2, 4, 2).
-        let chapter = size_of::<TileStorage<4, 1, 0, 0>>();
-        let showcase = size_of::<TileStorage<3, 2, 4, 2>>();
+        let chapter = size_of::<TileStorage<crate::capacities!(spheres: 4, planes: 1)>>();
+        let showcase = size_of::<
+            TileStorage<crate::capacities!(spheres: 3, planes: 2, triangles: 4, boxes: 2)>,
+        >();
         assert!(
             chapter >= lengths + 6 * 5 && chapter <= lengths + 6 * 5 + 16,
             "{chapter}"

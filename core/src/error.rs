@@ -492,7 +492,7 @@ mod tests {
                 Material::matte(c(a)).with_texture(checker)
             };
             let add = |m: Material| {
-                let mut scene = Scene::<0, 0, 0, 0, 1, 0>::new(cam(0.0).unwrap());
+                let mut scene = Scene::<crate::capacities!(materials: 1)>::new(cam(0.0).unwrap());
                 scene
                     .add_material(m)
                     .map(|_| *scene.view().materials.first().unwrap())
@@ -500,7 +500,7 @@ mod tests {
             assert_eq!(add(material(s).unwrap()), add(material(z).unwrap()));
             let reflective = |a: f32| Material::matte(Color::WHITE).with_reflectivity(a.abs());
             assert_eq!(add(reflective(s).unwrap()), add(reflective(0.0).unwrap()));
-            let mut scene = Scene::<0, 0, 0, 0, 0, 0>::new(cam(0.0).unwrap());
+            let mut scene = Scene::<crate::capacities!()>::new(cam(0.0).unwrap());
             scene.set_ambient(c(s)).unwrap();
             scene.set_background(c(s)).unwrap();
             let view = scene.view();

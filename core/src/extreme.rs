@@ -89,7 +89,9 @@ impl Extreme {
 }
 
 /// One scene type for all (each type of scene is code of its own in a firmware).
-type ExtremeScene = Scene<2, 1, 2, 1, 3, 2>;
+type ExtremeScene = Scene<
+    crate::capacities!(spheres: 2, planes: 1, triangles: 2, boxes: 1, materials: 3, lights: 2),
+>;
 
 /// The smallest subnormal `f32`.
 const TINY: f32 = 1e-45;
@@ -211,16 +213,7 @@ mod tests {
     use std::vec::Vec as StdVec;
 
     /// A 24x18 render of a scene.
-    fn render<
-        const S: usize,
-        const P: usize,
-        const T: usize,
-        const B: usize,
-        const M: usize,
-        const L: usize,
-    >(
-        s: &Scene<S, P, T, B, M, L>,
-    ) -> StdVec<[u8; 3]> {
+    fn render<C: crate::Capacities>(s: &Scene<C>) -> StdVec<[u8; 3]> {
         let view = s.view();
         let renderer =
             Renderer::try_new(s.camera(), Viewport::new(24, 18), RenderSettings::default())

@@ -64,6 +64,7 @@ pub mod error;
 mod extreme;
 pub mod geometry;
 mod hit;
+pub mod kind;
 pub mod light;
 pub mod material;
 mod math;
@@ -85,6 +86,7 @@ pub use baked::{BakedCamera, BakedScene};
 pub use camera::{Camera, Viewport};
 pub use color::{Color, Encoding};
 pub use error::Error;
+pub use kind::{Capacities, Primitives};
 pub use primitive::Primitive;
 pub use sample::Sampler;
 pub use scene::Scene;
@@ -131,15 +133,7 @@ pub mod testing {
         fn scaled_pow2(&self, k: i32) -> Result<Self, Error>;
     }
 
-    impl<
-        const S: usize,
-        const P: usize,
-        const T: usize,
-        const B: usize,
-        const M: usize,
-        const L: usize,
-    > SceneHooks for Scene<S, P, T, B, M, L>
-    {
+    impl<C: crate::Capacities> SceneHooks for Scene<C> {
         fn scaled_pow2(&self, k: i32) -> Result<Self, Error> {
             self.scaled_pow2_hook(k)
         }

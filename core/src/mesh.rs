@@ -277,7 +277,7 @@ mod tests {
 
     /// A scene of one red material (shiny) and one light; `sphere`: with the
     /// analytic unit sphere.
-    fn scene(sphere: bool) -> Scene<1, 0, 0, 0, 1, 1> {
+    fn scene(sphere: bool) -> Scene<crate::capacities!(spheres: 1, materials: 1, lights: 1)> {
         let mut s = Scene::new(camera());
         s.set_ambient(Color::splat(0.05)).unwrap();
         let m = s
@@ -355,8 +355,9 @@ mod tests {
         let flat_px = render(&s.view().with_meshes(&flat).unwrap());
         let smooth_px = render(&s.view().with_meshes(&smooth).unwrap());
         // The same faces as triangles of the list.
-        let mut list: std::boxed::Box<Scene<0, 0, 600, 0, 1, 1>> =
-            std::boxed::Box::new(Scene::new(camera()));
+        let mut list: std::boxed::Box<
+            Scene<crate::capacities!(triangles: 600, materials: 1, lights: 1)>,
+        > = std::boxed::Box::new(Scene::new(camera()));
         list.set_ambient(Color::splat(0.05)).unwrap();
         list.add_material(s.view().materials()[0]).unwrap();
         list.add_light(s.view().lights()[0]).unwrap();
@@ -378,18 +379,7 @@ mod tests {
     }
 
     /// Every face of `(v, f)` as a triangle of `list`'s triangle list, material 0.
-    fn add_faces<
-        const S: usize,
-        const P: usize,
-        const T: usize,
-        const B: usize,
-        const M: usize,
-        const L: usize,
-    >(
-        list: &mut Scene<S, P, T, B, M, L>,
-        v: &[[f32; 3]],
-        f: &[[u16; 3]],
-    ) {
+    fn add_faces<C: crate::Capacities>(list: &mut Scene<C>, v: &[[f32; 3]], f: &[[u16; 3]]) {
         let p = |i: u16| {
             let q = v[usize::from(i)];
             Vec3::new(q[0], q[1], q[2])
@@ -422,10 +412,12 @@ mod tests {
         )
         .unwrap();
         let ball = Sphere::try_new(Vec3::new(1.1, 0.9, 0.3), 0.4).unwrap();
-        let mut with: std::boxed::Box<Scene<1, 0, 600, 0, 1, 1>> =
-            std::boxed::Box::new(Scene::new(cam));
-        let mut list: std::boxed::Box<Scene<1, 0, 600, 0, 1, 1>> =
-            std::boxed::Box::new(Scene::new(cam));
+        let mut with: std::boxed::Box<
+            Scene<crate::capacities!(spheres: 1, triangles: 600, materials: 1, lights: 1)>,
+        > = std::boxed::Box::new(Scene::new(cam));
+        let mut list: std::boxed::Box<
+            Scene<crate::capacities!(spheres: 1, triangles: 600, materials: 1, lights: 1)>,
+        > = std::boxed::Box::new(Scene::new(cam));
         for s in [&mut with, &mut list] {
             s.set_ambient(Color::splat(0.05)).unwrap();
             s.add_material(Material::matte(Color::new(0.9, 0.3, 0.2)))

@@ -12,49 +12,63 @@ use crate::camera::Viewport;
 use crate::color::Color;
 use crate::error::{Error, List};
 use crate::geometry::{Aabb, Plane, Sphere, Triangle};
+use crate::kind::{Capacities, Capacity, ListStore, Store, empty};
 use crate::light::PointLight;
 use crate::material::{Material, MaterialId};
 use crate::primitive::Primitive;
 use crate::tile::{RenderSettings, Renderer};
 use crate::vec::Vec3;
 use crate::view::{Lists, SceneView, check_material};
-use heapless::Vec;
+use heapless::vec::VecView;
 
-/// A scene with capacities `S` spheres, `P` planes, `T` triangles, `B` boxes, `M`
-/// materials and `L` lights.
+/// A scene with capacities `C`, by name ([`capacities!`](crate::capacities)):
+/// `Scene<capacities!(spheres: 4, planes: 1, materials: 5, lights: 1)>`.
 ///
 /// ```
-/// use tessera::{Camera, Color, Error, material::Material, Scene, geometry::Sphere, Vec3};
+/// use tessera::{capacities, Camera, Color, Error, material::Material, Scene, geometry::Sphere, Vec3};
 /// use tessera::error::List;
 ///
 /// let cam = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0)?;
-/// let mut scene: Scene<1, 0, 0, 0, 1, 0> = Scene::new(cam);
+/// let mut scene: Scene<capacities!(spheres: 1, materials: 1)> = Scene::new(cam);
 /// let blue = scene.add_material(Material::matte(Color::new(0.1, 0.2, 0.9)))?;
 /// scene.add_sphere(Sphere::try_new(Vec3::ZERO, 1.0)?, blue)?;
 /// let full = scene.add_sphere(Sphere::try_new(Vec3::ZERO, 2.0)?, blue);
 /// assert_eq!(full, Err(Error::CapacityExceeded { list: List::Spheres, capacity: 1 }));
 /// # Ok::<(), Error>(())
 /// ```
-#[derive(Clone, Debug)]
-pub struct Scene<
-    const S: usize,
-    const P: usize,
-    const T: usize,
-    const B: usize,
-    const M: usize,
-    const L: usize,
-> {
+pub struct Scene<C: Capacities> {
     camera: Camera,
     ambient: Color,
     background: Color,
-    spheres: Vec<Primitive<Sphere>, S>,
-    planes: Vec<Primitive<Plane>, P>,
-    triangles: Vec<Primitive<Triangle>, T>,
-    boxes: Vec<Primitive<Aabb>, B>,
-    materials: Vec<Material, M>,
-    lights: Vec<PointLight, L>,
+    primitives: Store<C>,
+    materials: <C::Materials as Capacity>::List<Material>,
+    lights: <C::Lights as Capacity>::List<PointLight>,
     /// The bounds of the triangles, kept as they are added.
     triangle_bounds: (Vec3, Vec3),
+}
+
+impl<C: Capacities> Clone for Scene<C> {
+    fn clone(&self) -> Self {
+        Self {
+            primitives: self.primitives.clone(),
+            materials: self.materials.clone_list(),
+            lights: self.lights.clone_list(),
+            ..*self
+        }
+    }
+}
+
+impl<C: Capacities> core::fmt::Debug for Scene<C> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Scene")
+            .field("camera", &self.camera)
+            .field("ambient", &self.ambient)
+            .field("background", &self.background)
+            .field("primitives", &self.primitives.primitives())
+            .field("materials", &&**self.materials.view())
+            .field("lights", &&**self.lights.view())
+            .finish()
+    }
 }
 
 /// Empty bounds: any point widens them.
@@ -65,16 +79,15 @@ fn widen(b: &mut (Vec3, Vec3), min: Vec3, max: Vec3) {
     *b = (b.0.min(min), b.1.max(max));
 }
 
-fn push<X, const N: usize>(list: &mut Vec<X, N>, x: X, which: List) -> Result<(), Error> {
+fn push<X>(list: &mut VecView<X>, x: X, which: List) -> Result<(), Error> {
+    let capacity = list.capacity();
     list.push(x).map_err(|_| Error::CapacityExceeded {
         list: which,
-        capacity: N,
+        capacity,
     })
 }
 
-impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: usize, const L: usize>
-    Scene<S, P, T, B, M, L>
-{
+impl<C: Capacities> Scene<C> {
     /// An empty scene seen by `camera`, with no ambient light and a black background.
     #[must_use]
     pub const fn new(camera: Camera) -> Self {
@@ -82,12 +95,9 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             camera,
             ambient: Color::BLACK,
             background: Color::BLACK,
-            spheres: Vec::new(),
-            planes: Vec::new(),
-            triangles: Vec::new(),
-            boxes: Vec::new(),
-            materials: Vec::new(),
-            lights: Vec::new(),
+            primitives: Store::EMPTY,
+            materials: empty::<C::Materials, Material>(),
+            lights: empty::<C::Lights, PointLight>(),
             triangle_bounds: NO_BOUNDS,
         }
     }
@@ -114,23 +124,24 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
     pub fn add_material(&mut self, material: Material) -> Result<MaterialId, Error> {
         let material = material.flushed();
         material.validate()?;
-        let id = u16::try_from(self.materials.len()).map_err(|_| Error::CapacityExceeded {
-            list: List::Materials,
-            capacity: M,
-        })?;
-        push(&mut self.materials, material, List::Materials)?;
+        let id =
+            u16::try_from(self.materials.view().len()).map_err(|_| Error::CapacityExceeded {
+                list: List::Materials,
+                capacity: C::COUNTS.materials,
+            })?;
+        push(self.materials.view_mut(), material, List::Materials)?;
         Ok(MaterialId(id))
     }
 
     fn check_material(&self, id: MaterialId) -> Result<(), Error> {
-        check_material(id, self.materials.len())
+        check_material(id, self.materials.view().len())
     }
 
     /// Adds a sphere made of `material`.
     pub fn add_sphere(&mut self, geometry: Sphere, material: MaterialId) -> Result<(), Error> {
         self.check_material(material)?;
         push(
-            &mut self.spheres,
+            self.primitives.spheres.view_mut(),
             Primitive { geometry, material },
             List::Spheres,
         )
@@ -140,7 +151,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
     pub fn add_plane(&mut self, geometry: Plane, material: MaterialId) -> Result<(), Error> {
         self.check_material(material)?;
         push(
-            &mut self.planes,
+            self.primitives.planes.view_mut(),
             Primitive { geometry, material },
             List::Planes,
         )
@@ -150,7 +161,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
     pub fn add_triangle(&mut self, geometry: Triangle, material: MaterialId) -> Result<(), Error> {
         self.check_material(material)?;
         push(
-            &mut self.triangles,
+            self.primitives.triangles.view_mut(),
             Primitive { geometry, material },
             List::Triangles,
         )?;
@@ -164,7 +175,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
     pub fn add_box(&mut self, geometry: Aabb, material: MaterialId) -> Result<(), Error> {
         self.check_material(material)?;
         push(
-            &mut self.boxes,
+            self.primitives.boxes.view_mut(),
             Primitive { geometry, material },
             List::Boxes,
         )
@@ -172,7 +183,7 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
 
     /// Adds a point light.
     pub fn add_light(&mut self, light: PointLight) -> Result<(), Error> {
-        push(&mut self.lights, light, List::Lights)
+        push(self.lights.view_mut(), light, List::Lights)
     }
 
     /// A scene in RAM holding a copy of `view`'s lists (materials, lights,
@@ -243,16 +254,17 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
         )?);
         out.set_ambient(self.ambient)?;
         out.set_background(self.background)?;
-        let on_planes = |i: usize| self.planes.iter().any(|p| usize::from(p.material.0) == i);
+        let lists = self.primitives.primitives();
+        let on_planes = |i: usize| lists.planes.iter().any(|p| usize::from(p.material.0) == i);
         let elsewhere = |i: usize| {
-            self.spheres.iter().any(|p| usize::from(p.material.0) == i)
-                || self
+            lists.spheres.iter().any(|p| usize::from(p.material.0) == i)
+                || lists
                     .triangles
                     .iter()
                     .any(|p| usize::from(p.material.0) == i)
-                || self.boxes.iter().any(|p| usize::from(p.material.0) == i)
+                || lists.boxes.iter().any(|p| usize::from(p.material.0) == i)
         };
-        for (i, m) in self.materials.iter().enumerate() {
+        for (i, m) in self.materials.view().iter().enumerate() {
             let t = *m.texture();
             let mut m = *m;
             if t.needs_uv() && on_planes(i) {
@@ -277,26 +289,26 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
             }
             out.add_material(m)?;
         }
-        for l in &self.lights {
+        for l in self.lights.view().iter() {
             out.add_light(PointLight::try_new(
                 l.position() * f,
                 l.color(),
                 l.intensity() * f * f,
             )?)?;
         }
-        for p in &self.spheres {
+        for p in lists.spheres {
             let g = Sphere::try_new(p.geometry.center() * f, p.geometry.radius() * f)?;
             out.add_sphere(g, p.material)?;
         }
-        for p in &self.planes {
+        for p in lists.planes {
             let g = Plane::try_new(p.geometry.point() * f, p.geometry.normal())?;
             out.add_plane(g, p.material)?;
         }
-        for p in &self.triangles {
+        for p in lists.triangles {
             let [a, b, c] = p.geometry.vertices();
             out.add_triangle(Triangle::try_new(a * f, b * f, c * f)?, p.material)?;
         }
-        for p in &self.boxes {
+        for p in lists.boxes {
             let g = Aabb::try_new(p.geometry.min() * f, p.geometry.max() * f)?;
             out.add_box(g, p.material)?;
         }
@@ -316,15 +328,16 @@ impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: us
     /// A borrowed, capacity-free view of the scene: what the renderer reads.
     #[must_use]
     pub fn view(&self) -> SceneView<'_> {
+        let lists = self.primitives.primitives();
         Lists {
-            spheres: &self.spheres,
-            planes: &self.planes,
-            triangles: &self.triangles,
-            boxes: &self.boxes,
-            materials: &self.materials,
-            lights: &self.lights,
+            spheres: lists.spheres,
+            planes: lists.planes,
+            triangles: lists.triangles,
+            boxes: lists.boxes,
+            materials: self.materials.view(),
+            lights: self.lights.view(),
         }
-        .view::<S, P, T, B>(
+        .view::<C>(
             self.ambient,
             self.background,
             crate::cull::Hull::new(self.triangle_bounds.0, self.triangle_bounds.1),
@@ -343,7 +356,9 @@ mod tests {
 
     #[test]
     fn capacities_are_enforced_per_list() {
-        let mut s: Scene<1, 1, 1, 1, 1, 1> = Scene::new(cam());
+        let mut s: Scene<
+            crate::capacities!(spheres: 1, planes: 1, triangles: 1, boxes: 1, materials: 1, lights: 1),
+        > = Scene::new(cam());
         let m = s.add_material(Material::matte(Color::WHITE)).unwrap();
         assert_eq!(
             s.add_material(Material::matte(Color::WHITE)),
@@ -369,7 +384,7 @@ mod tests {
         assert_eq!(s.add_box(bx, m), full(List::Boxes));
         assert_eq!(s.add_light(li), full(List::Lights));
         // Zero capacity: a spheres-only scene refuses other kinds.
-        let mut only: Scene<2, 0, 0, 0, 1, 0> = Scene::new(cam());
+        let mut only: Scene<crate::capacities!(spheres: 2, materials: 1)> = Scene::new(cam());
         let m = only.add_material(Material::matte(Color::WHITE)).unwrap();
         assert_eq!(
             only.add_plane(pl, m),
@@ -384,7 +399,9 @@ mod tests {
     /// renders the same bytes; a capacity too small is named.
     #[test]
     fn from_view_copies_every_list_and_names_one_too_small() {
-        let mut s: Scene<1, 1, 1, 1, 2, 1> = Scene::new(cam());
+        let mut s: Scene<
+            crate::capacities!(spheres: 1, planes: 1, triangles: 1, boxes: 1, materials: 2, lights: 1),
+        > = Scene::new(cam());
         s.set_ambient(Color::splat(0.2)).unwrap();
         s.set_background(Color::new(0.1, 0.2, 0.3)).unwrap();
         s.add_material(Material::matte(Color::WHITE)).unwrap();
@@ -414,7 +431,9 @@ mod tests {
         .unwrap();
         s.add_light(PointLight::try_new(Vec3::new(0.0, 4.0, 2.0), Color::WHITE, 20.0).unwrap())
             .unwrap();
-        let copy: Scene<2, 1, 1, 1, 2, 1> = Scene::from_view(*s.camera(), &s.view()).unwrap();
+        let copy: Scene<
+            crate::capacities!(spheres: 2, planes: 1, triangles: 1, boxes: 1, materials: 2, lights: 1),
+        > = Scene::from_view(*s.camera(), &s.view()).unwrap();
         let (a, b) = (s.view(), copy.view());
         assert_eq!(a.spheres(), b.spheres());
         assert_eq!(a.planes(), b.planes());
@@ -434,7 +453,10 @@ mod tests {
         renderer.render_tile(&b, origin, &mut tb, &mut ()).unwrap();
         assert!(ta.rows().eq(tb.rows()));
         assert!(ta.rows().flatten().any(|p| p.r > 0));
-        let small: Result<Scene<1, 1, 0, 1, 2, 1>, Error> = Scene::from_view(*s.camera(), &a);
+        let small: Result<
+            Scene<crate::capacities!(spheres: 1, planes: 1, boxes: 1, materials: 2, lights: 1)>,
+            Error,
+        > = Scene::from_view(*s.camera(), &a);
         assert_eq!(
             small.err(),
             Some(Error::CapacityExceeded {
@@ -446,7 +468,7 @@ mod tests {
 
     #[test]
     fn material_references_are_checked() {
-        let mut s: Scene<2, 0, 0, 0, 2, 0> = Scene::new(cam());
+        let mut s: Scene<crate::capacities!(spheres: 2, materials: 2)> = Scene::new(cam());
         let sph = Sphere::try_new(Vec3::ZERO, 1.0).unwrap();
         assert_eq!(
             s.add_sphere(sph, MaterialId(0)),
@@ -464,7 +486,7 @@ mod tests {
 
     #[test]
     fn ambient_and_background_are_checked() {
-        let mut s: Scene<0, 0, 0, 0, 0, 0> = Scene::new(cam());
+        let mut s: Scene<crate::capacities!()> = Scene::new(cam());
         assert!(s.set_ambient(Color::new(0.0, f32::NAN, 0.0)).is_err());
         assert!(s.set_background(Color::new(-1.0, 0.0, 0.0)).is_err());
         assert!(s.set_ambient(Color::splat(0.1)).is_ok());
@@ -473,8 +495,11 @@ mod tests {
     #[test]
     fn unused_kinds_cost_no_memory() {
         use core::mem::size_of;
-        let spheres_only = size_of::<Scene<4, 0, 0, 0, 2, 1>>();
-        let with_triangles = size_of::<Scene<4, 0, 16, 0, 2, 1>>();
+        let spheres_only =
+            size_of::<Scene<crate::capacities!(spheres: 4, materials: 2, lights: 1)>>();
+        let with_triangles = size_of::<
+            Scene<crate::capacities!(spheres: 4, triangles: 16, materials: 2, lights: 1)>,
+        >();
         assert!(with_triangles >= spheres_only + 16 * size_of::<Primitive<Triangle>>());
     }
 }

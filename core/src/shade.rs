@@ -655,7 +655,7 @@ mod tests {
         for (grey, expect_black) in [(0.0f32, true), (1.0, false)] {
             let cam =
                 Camera::look_at(Vec3::new(0.0, 1.0, 0.0), Vec3::ZERO, Vec3::Z, 0.1, 10.0).unwrap();
-            let mut s = Scene::<0, 1, 0, 0, 1, 1>::new(cam);
+            let mut s = Scene::<crate::capacities!(planes: 1, materials: 1, lights: 1)>::new(cam);
             let m = s
                 .add_material(crate::material::Material::matte(Color::splat(grey)))
                 .unwrap();

@@ -28,9 +28,9 @@ pub(crate) struct Lists<'a> {
 
 impl<'a> Lists<'a> {
     /// The view of these lists searched flat (no hierarchy, no meshes), each
-    /// tile's culling lists sized by the capacities `S`, `P`, `T`, `B`, the
-    /// triangles within `triangle_hull`.
-    pub(crate) fn view<const S: usize, const P: usize, const T: usize, const B: usize>(
+    /// tile's culling lists sized by the capacities `C`, the triangles within
+    /// `triangle_hull`.
+    pub(crate) fn view<C: crate::kind::Capacities>(
         self,
         ambient: Color,
         background: Color,
@@ -48,7 +48,7 @@ impl<'a> Lists<'a> {
             // Model only what the scene requires: without a mirror or a transparent
             // material no secondary ray can exist, so the tracer skips that work.
             secondary: self.materials.iter().any(Material::sends_rays),
-            tile_storage: crate::cull::TileStorage::<S, P, T, B>::lend,
+            tile_storage: crate::cull::TileStorage::<C>::lend,
             culling: true,
             triangle_hull,
             #[cfg(feature = "bvh")]
@@ -76,9 +76,9 @@ pub(crate) fn check_material(id: MaterialId, count: usize) -> Result<(), Error> 
 /// A scene as the renderer sees it: slices, no capacities, so the renderer is
 /// compiled once whatever the scene's capacities. The one thing that depends on the
 /// capacities is the room for a tile's culling lists (the primitives that may reach
-/// the tile, listed before its pixels: `6 (S + P + T + B)` bytes and their lengths
-/// on the stack of [`Renderer::render_tile`](crate::Renderer::render_tile), for `S`
-/// spheres, `P` planes, `T` triangles and `B` boxes); [`crate::Scene::view`] gives the
+/// the tile, listed before its pixels: 6 bytes for each primitive of capacity, and
+/// their lengths, on the stack of
+/// [`Renderer::render_tile`](crate::Renderer::render_tile)); [`crate::Scene::view`] gives the
 /// view a small function of the scene's type that lends that room, so the
 /// capacities never reach the renderer's code.
 #[derive(Clone, Copy)]

@@ -406,8 +406,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> Result<String, 
     Ok(w.preamble(&view, krate, header) + w.body.trim_end() + "\n")
 }
 
-/// The names the tables of the scene's lists were written with, and their
-/// lengths: what `SCENE` is made of.
+/// The lengths of the tables of the scene's lists: what `SCENE` is made of.
 struct Written {
     spheres: usize,
     planes: usize,
@@ -415,6 +414,24 @@ struct Written {
     boxes: usize,
     /// `.with_bvh(..)` when the triangles have a hierarchy, else empty.
     with_bvh: String,
+}
+
+impl Written {
+    /// The arguments of `capacities!` for the tables: each list that holds
+    /// something, by name.
+    fn capacities(&self) -> String {
+        [
+            ("spheres", self.spheres),
+            ("planes", self.planes),
+            ("triangles", self.triangles),
+            ("boxes", self.boxes),
+        ]
+        .iter()
+        .filter(|&&(_, n)| n > 0)
+        .map(|(name, n)| format!("{name}: {n}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+    }
 }
 
 /// A baked source as it is written: its body (the tables, in order), what the
@@ -447,6 +464,8 @@ impl<'a> Writer<'a> {
             names: vec![
                 "BakedCamera",
                 "BakedScene",
+                "capacities",
+                "Primitives",
                 "Color",
                 "Encoding",
                 "Loops",
@@ -783,18 +802,16 @@ impl<'a> Writer<'a> {
             self.body,
             "/// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it\n\
              /// from where it lies.\n\
-             #[allow(dead_code)]\npub static SCENE: BakedScene<'static, {}, {}, {}, {}> = BakedScene::new(\n    \
+             #[allow(dead_code)]\npub static SCENE: BakedScene<'static, capacities!({})> = BakedScene::new(\n    \
                  BakedCamera {{\n        position: {},\n        forward: {},\n        up: {},\n        \
                  fovy_degrees: {},\n        near: {},\n        far: {},\n    }},\n    \
                  Viewport::new(WIDTH, HEIGHT),\n    \
                  RenderSettings {{\n        sampler: {},\n        max_depth: {},\n        seed: {},\n        \
                  encoding: Encoding::{encoding},\n    }},\n    \
-                 {},\n    {},\n    &MATERIALS,\n    &LIGHTS,\n    &SPHERES,\n    &PLANES,\n    \
-                 &TRIANGLES,\n    &BOXES,\n){}{};",
-            lists.spheres,
-            lists.planes,
-            lists.triangles,
-            lists.boxes,
+                 {},\n    {},\n    &MATERIALS,\n    &LIGHTS,\n    \
+                 Primitives {{\n        spheres: &SPHERES,\n        planes: &PLANES,\n        \
+                 triangles: &TRIANGLES,\n        boxes: &BOXES,\n    }},\n){}{};",
+            lists.capacities(),
             vec3(c.position),
             vec3(c.forward),
             vec3(c.up),

@@ -27,8 +27,9 @@ pub const MAX_MATERIALS: usize = 256;
 pub const MAX_LIGHTS: usize = 64;
 
 /// The host's scene capacities: spheres, planes, triangles, boxes, materials, lights.
-pub type CoreScene =
-    Scene<MAX_SPHERES, MAX_PLANES, MAX_TRIANGLES, MAX_BOXES, MAX_MATERIALS, MAX_LIGHTS>;
+pub type CoreScene = Scene<
+    tessera::capacities!(spheres: MAX_SPHERES, planes: MAX_PLANES, triangles: MAX_TRIANGLES, boxes: MAX_BOXES, materials: MAX_MATERIALS, lights: MAX_LIGHTS),
+>;
 
 /// A BVH for the host scene's triangles (`2 T` nodes: always enough).
 pub type HostBvh = tessera::bvh::Bvh<{ 2 * MAX_TRIANGLES }, MAX_TRIANGLES>;

@@ -56,7 +56,7 @@ pub fn inside_sphere(
     intensity: f32,
     diffuse: f32,
     color: Color,
-) -> Result<Scene<1, 0, 0, 0, 1, 1>, tessera::Error> {
+) -> Result<Scene<tessera::capacities!(spheres: 1, materials: 1, lights: 1)>, tessera::Error> {
     inside_sphere_at(
         Vec3::new(0.25, -0.5, 0.75) * r,
         r,
@@ -73,7 +73,7 @@ pub fn inside_sphere_at(
     intensity: f32,
     diffuse: f32,
     color: Color,
-) -> Result<Scene<1, 0, 0, 0, 1, 1>, tessera::Error> {
+) -> Result<Scene<tessera::capacities!(spheres: 1, materials: 1, lights: 1)>, tessera::Error> {
     let cam = Camera::try_new(
         center,
         Vec3::new(0.3, -0.2, -1.0),

@@ -8,6 +8,7 @@
 
 use proptest::prelude::*;
 use std::marker::PhantomData;
+use tessera::Capacities;
 use tessera::{
     Camera, Color, Encoding, RenderSettings, Sampler, Scene, Vec3, error::MAX_COLOR,
     error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb, geometry::Plane, geometry::Sphere,
@@ -36,19 +37,12 @@ pub enum Values {
     Tame,
 }
 
-/// A random scene's ingredients, in plain numbers, for a
-/// `Scene<S, P, T, B, M, L>`: fewer spheres than `S`, planes than `P`, triangles
-/// than `T`, boxes than `B`, 1 to `M - 1` materials and fewer lights than `L`.
+/// A random scene's ingredients, in plain numbers, for a `Scene<C>`: fewer
+/// primitives of each kind than `C`'s capacity of that kind, 1 to fewer
+/// materials than its capacity and fewer lights than its capacity.
 /// Each item names its material by an index (modulo the materials accepted).
 #[derive(Clone, Debug)]
-pub struct Recipe<
-    const S: usize,
-    const P: usize,
-    const T: usize,
-    const B: usize,
-    const M: usize,
-    const L: usize,
-> {
+pub struct Recipe<C: Capacities> {
     /// The camera.
     pub camera: CameraRecipe,
     /// The scene's ambient light.
@@ -71,7 +65,7 @@ pub struct Recipe<
     pub sampler: Sampler,
     /// The largest number of bounces.
     pub depth: u8,
-    scene: PhantomData<fn() -> Scene<S, P, T, B, M, L>>,
+    scene: PhantomData<fn() -> Scene<C>>,
 }
 
 /// The camera of a [`Recipe`]: position, forward direction, vertical field of
@@ -330,18 +324,18 @@ impl Values {
     }
 }
 
-/// Random recipes of `values` for a `Scene<S, P, T, B, M, L>` (see [`Recipe`]).
-pub fn recipe<
-    const S: usize,
-    const P: usize,
-    const T: usize,
-    const B: usize,
-    const M: usize,
-    const L: usize,
->(
-    values: Values,
-) -> impl Strategy<Value = Recipe<S, P, T, B, M, L>> {
-    let index = 0..M;
+/// Random recipes of `values` for a `Scene<C>` (see [`Recipe`]).
+pub fn recipe<C: Capacities>(values: Values) -> impl Strategy<Value = Recipe<C>> {
+    let tessera::kind::Counts {
+        spheres: s,
+        planes: p,
+        triangles: t,
+        boxes: b,
+        materials: m,
+        lights: l,
+        ..
+    } = C::COUNTS;
+    let index = 0..m;
     let size = match values {
         Values::Wild => three(wild()).boxed(),
         Values::Tame => three(0.05f32..2.0).boxed(),
@@ -350,13 +344,13 @@ pub fn recipe<
         (values.camera(), values.lighting()),
         prop::collection::vec(
             (values.point(4.0), values.length(0.05, 2.0), index.clone()),
-            0..S,
+            0..s,
         ),
-        prop::collection::vec((values.point(3.0), values.point(1.0), index.clone()), 0..P),
-        prop::collection::vec((three(values.point(3.0)), index.clone()), 0..T),
-        prop::collection::vec((values.point(3.0), size, index), 0..B),
-        prop::collection::vec(values.material(), 1..M),
-        prop::collection::vec(values.light(), 0..L),
+        prop::collection::vec((values.point(3.0), values.point(1.0), index.clone()), 0..p),
+        prop::collection::vec((three(values.point(3.0)), index.clone()), 0..t),
+        prop::collection::vec((values.point(3.0), size, index), 0..b),
+        prop::collection::vec(values.material(), 1..m),
+        prop::collection::vec(values.light(), 0..l),
         values.settings(),
     )
         .prop_map(
@@ -431,14 +425,12 @@ impl MaterialRecipe {
     }
 }
 
-impl<const S: usize, const P: usize, const T: usize, const B: usize, const M: usize, const L: usize>
-    Recipe<S, P, T, B, M, L>
-{
+impl<C: Capacities> Recipe<C> {
     /// The scene of the recipe: each item (material, shape, light, the ambient
     /// light, the background) that its constructor refuses is left out; `None`
     /// when the camera or every material is refused.
     #[must_use]
-    pub fn build(&self) -> Option<Scene<S, P, T, B, M, L>> {
+    pub fn build(&self) -> Option<Scene<C>> {
         let (pos, fwd, fovy, near, far) = self.camera;
         let cam = Camera::try_new(v(pos), v(fwd), Vec3::Y, fovy, near, far).ok()?;
         let mut s = Scene::new(cam);

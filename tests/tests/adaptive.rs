@@ -24,7 +24,8 @@ pub(crate) const H: u16 = 34;
 /// horizon: every lit floor pixel is several steps above the shadow's level);
 /// one light. No texture: the adaptive sampler's centre ray (prefiltered) is
 /// the centre sampler's. (The sparse sampler's tests use it too.)
-pub(crate) fn scene() -> Scene<1, 1, 0, 0, 2, 1> {
+pub(crate) fn scene() -> Scene<tessera::capacities!(spheres: 1, planes: 1, materials: 2, lights: 1)>
+{
     let cam = Camera::try_new(
         Vec3::new(0.0, 5.0, 4.0),
         Vec3::new(0.0, -5.0, -4.5),

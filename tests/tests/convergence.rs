@@ -29,7 +29,7 @@ fn world(px: f64, py: f64) -> Vec3 {
     )
 }
 
-fn scene() -> Scene<0, 0, 1, 0, 1, 0> {
+fn scene() -> Scene<tessera::capacities!(triangles: 1, materials: 1)> {
     let cam = Camera::try_new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, 1.0, 100.0).unwrap();
     let mut s = Scene::new(cam);
     s.set_ambient(Color::WHITE).unwrap();

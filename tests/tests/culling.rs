@@ -170,7 +170,7 @@ proptest! {
 
     #[test]
     fn random_scenes_render_the_same_culled_or_not(
-        r in recipe::<6, 3, 8, 4, 4, 4>(Values::Tame)
+        r in recipe::<tessera::capacities!(spheres: 6, planes: 3, triangles: 8, boxes: 4, materials: 4, lights: 4)>(Values::Tame)
     ) {
         let Some(scene) = r.build() else {
             return Ok(());
@@ -215,7 +215,9 @@ enum Copies {
 /// one shape lie far apart in the list. Rendered culled or not, with and without
 /// BVHs ([`same_culled_or_not`]): the same bytes.
 fn coincident(copies: Copies, plane_point: Vec3, normal: Vec3) {
-    type TieScene = Scene<300, 1, 300, 0, 8, 1>;
+    type TieScene = Scene<
+        tessera::capacities!(spheres: 300, planes: 1, triangles: 300, materials: 8, lights: 1),
+    >;
     let cam = Camera::look_at(Vec3::new(0.0, 0.0, 12.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0).unwrap();
     let mut s = Box::new(TieScene::new(cam));
     let colours: Vec<_> = (0..7)

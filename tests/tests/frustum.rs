@@ -14,7 +14,7 @@ const BG: Color = Color::new(0.0, 0.0, 1.0);
 /// 1 and far 10; returns the centre pixel.
 fn centre_pixel_with_sphere_at(d: f32) -> tessera::color::Rgb8 {
     let cam = Camera::try_new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, 1.0, 10.0).unwrap();
-    let mut s: Scene<1, 0, 0, 0, 1, 0> = Scene::new(cam);
+    let mut s: Scene<tessera::capacities!(spheres: 1, materials: 1)> = Scene::new(cam);
     s.set_ambient(Color::WHITE).unwrap();
     s.set_background(BG).unwrap();
     let red = s

@@ -242,7 +242,7 @@ fn an_empty_view_counts_the_rays_it_does_not_trace() {
         100.0,
     )
     .unwrap();
-    let mut s: Scene<1, 0, 0, 0, 1, 0> = Scene::new(cam);
+    let mut s: Scene<tessera::capacities!(spheres: 1, materials: 1)> = Scene::new(cam);
     let bg = Color::new(0.0, 0.0, 0.7);
     s.set_background(bg).unwrap();
     let m = s.add_material(Material::matte(Color::WHITE)).unwrap();

@@ -55,17 +55,7 @@ use crate::ray::Ray;
 use crate::vec::Vec3;
 use crate::view::SceneView;
 
-/// The geometry kinds, in the order the searches visit their lists (the meshes,
-/// feature `bvh`, last).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Kind {
-    Sphere = 0,
-    Plane = 1,
-    Triangle = 2,
-    Box = 3,
-    #[cfg(feature = "bvh")]
-    Mesh = 4,
-}
+pub(crate) use crate::kind::Kind;
 
 /// A primitive a ray must not test: the one it leaves (see the module doc). One
 /// word (the kind in the top three bits, the index below), so that a pending ray

@@ -247,7 +247,7 @@ fn every_scene_file_baked_renders_like_tessera_render() {
             );
         }
         calls += &format!(
-            "    render::<{{ s{i}::TILE }}, s{i}::SceneLoops, _, _, _, _>(&s{i}::SCENE, \"s{i}\");\n"
+            "    render::<{{ s{i}::TILE }}, s{i}::SceneLoops, _>(&s{i}::SCENE, \"s{i}\");\n"
         );
     }
     let out_dir = dir.join("pixels");
@@ -256,8 +256,8 @@ fn every_scene_file_baked_renders_like_tessera_render() {
         "{mods}\n\
          use tessera::{{BakedScene, Tile, TileCoord, tile::Loops}};\n\n\
          /// The scene at its own size, settings and tile size, as RGB bytes in a file.\n\
-         fn render<const N: usize, L: Loops, const S: usize, const P: usize, const T: usize, const B: usize>(\n    \
-             scene: &BakedScene<'static, S, P, T, B>,\n    name: &str,\n) {{\n    \
+         fn render<const N: usize, L: Loops, C: tessera::Capacities>(\n    \
+             scene: &BakedScene<'static, C>,\n    name: &str,\n) {{\n    \
              let view = scene.view().expect(\"a valid scene\");\n    \
              let renderer = scene.renderer().expect(\"a valid frame\");\n    \
              let vp = scene.viewport();\n    \

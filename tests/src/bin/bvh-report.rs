@@ -46,7 +46,7 @@ const SIZES: [(u32, usize); 10] = [
 /// Renders per setting and mode.
 const RUNS: usize = 7;
 
-type MeshScene = Scene<0, 1, 8192, 0, 2, 1>;
+type MeshScene = Scene<tessera::capacities!(planes: 1, triangles: 8192, materials: 2, lights: 1)>;
 type MeshBvh = Bvh<16384, 8192>;
 
 /// The first `faces` faces of the icosphere subdivided `level` times, centred at
@@ -205,7 +205,7 @@ fn main() -> Result<(), String> {
     teapot()
 }
 
-type BallScene = Scene<1024, 1, 0, 0, 2, 1>;
+type BallScene = Scene<tessera::capacities!(spheres: 1024, planes: 1, materials: 2, lights: 1)>;
 type BallBvh = Bvh<2048, 1024>;
 
 /// `n` small spheres on a square grid on a floor, one light.
@@ -278,7 +278,7 @@ fn spheres() -> Result<(), String> {
     Ok(())
 }
 
-type TeapotList = Scene<0, 1, 2048, 0, 2, 2>;
+type TeapotList = Scene<tessera::capacities!(planes: 1, triangles: 2048, materials: 2, lights: 2)>;
 
 /// The built-in teapot's scene with its faces as a triangle list (`faces`), or
 /// without them.

@@ -8,14 +8,17 @@ use tessera::{Color, RenderSettings, Vec3, Viewport};
 pub fn lit_sphere_at(
     center: Vec3,
     r: f32,
-) -> Result<tessera::Scene<1, 0, 0, 0, 1, 1>, tessera::Error> {
+) -> Result<tessera::Scene<tessera::capacities!(spheres: 1, materials: 1, lights: 1)>, tessera::Error>
+{
     crate::inside_sphere_at(center, r, 0.9 * r * r, 0.8, Color::new(0.9, 0.6, 0.3))
 }
 
 /// Largest difference (LSB) of a [`lit_sphere_at`] render (32x24, pixel centres)
 /// from the analytic value, and the count of non-finite pixels.
 #[must_use]
-pub fn lit_sphere_error(scene: &tessera::Scene<1, 0, 0, 0, 1, 1>) -> (i32, usize) {
+pub fn lit_sphere_error(
+    scene: &tessera::Scene<tessera::capacities!(spheres: 1, materials: 1, lights: 1)>,
+) -> (i32, usize) {
     let want = [0.9f64, 0.6, 0.3].map(|c| (c * 0.72 * 255.0).round() as i32);
     let renderer = scene
         .renderer(Viewport::new(32, 24), RenderSettings::default())

@@ -24,7 +24,7 @@ pub struct Watertight {
 }
 
 /// The scene a mesh is put in to be searched through a BVH.
-type MeshScene = Scene<0, 0, 2048, 0, 1, 0>;
+type MeshScene = Scene<tessera::capacities!(triangles: 2048, materials: 1)>;
 /// Its BVH.
 type MeshBvh = Bvh<4096, 2048>;
 

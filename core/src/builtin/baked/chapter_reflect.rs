@@ -2,7 +2,7 @@
 //
 // 5 materials, 1 light, 4 spheres, 1 plane: 484 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, RenderSettings, Sampler, Viewport, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 // The materials: each constant is a material's reference (its place in MATERIALS).
 /// The material "floor".
@@ -101,7 +101,7 @@ impl Loops for SceneLoops {
 /// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it
 /// from where it lies.
 #[allow(dead_code)]
-pub static SCENE: BakedScene<'static, 4, 1, 0, 0> = BakedScene::new(
+pub static SCENE: BakedScene<'static, capacities!(spheres: 4, planes: 1)> = BakedScene::new(
     BakedCamera {
         position: [0.0, 1.8, 7.0],
         forward: [0.0, -0.9, -7.0],
@@ -121,10 +121,12 @@ pub static SCENE: BakedScene<'static, 4, 1, 0, 0> = BakedScene::new(
     Color::new(0.08, 0.09, 0.14),
     &MATERIALS,
     &LIGHTS,
-    &SPHERES,
-    &PLANES,
-    &TRIANGLES,
-    &BOXES,
+    Primitives {
+        spheres: &SPHERES,
+        planes: &PLANES,
+        triangles: &TRIANGLES,
+        boxes: &BOXES,
+    },
 );
 
 /// The scene file this module is baked from, `scenes/chapter-reflect.toml`.

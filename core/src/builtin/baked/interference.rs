@@ -2,7 +2,7 @@
 //
 // 1 material, 1 plane: 120 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, RenderSettings, Sampler, Viewport, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 // The materials: each constant is a material's reference (its place in MATERIALS).
 /// The material "screen".
@@ -68,7 +68,7 @@ impl Loops for SceneLoops {
 /// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it
 /// from where it lies.
 #[allow(dead_code)]
-pub static SCENE: BakedScene<'static, 0, 1, 0, 0> = BakedScene::new(
+pub static SCENE: BakedScene<'static, capacities!(planes: 1)> = BakedScene::new(
     BakedCamera {
         position: [0.0, 0.0, 0.1],
         forward: [0.0, 0.0, -1.0],
@@ -88,10 +88,12 @@ pub static SCENE: BakedScene<'static, 0, 1, 0, 0> = BakedScene::new(
     Color::new(0.0, 0.0, 0.0),
     &MATERIALS,
     &LIGHTS,
-    &SPHERES,
-    &PLANES,
-    &TRIANGLES,
-    &BOXES,
+    Primitives {
+        spheres: &SPHERES,
+        planes: &PLANES,
+        triangles: &TRIANGLES,
+        boxes: &BOXES,
+    },
 );
 
 /// The scene file this module is baked from, `scenes/interference.toml`.

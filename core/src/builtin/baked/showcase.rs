@@ -2,7 +2,7 @@
 //
 // 8 materials, 2 lights, 3 spheres, 2 planes, 2 boxes, 4 triangles: 956 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, RenderSettings, Sampler, Viewport, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A triangle of material `m`.
 const fn t(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3], m: MaterialId) -> Primitive<Triangle> {
@@ -137,7 +137,7 @@ impl Loops for SceneLoops {
 /// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it
 /// from where it lies.
 #[allow(dead_code)]
-pub static SCENE: BakedScene<'static, 3, 2, 4, 2> = BakedScene::new(
+pub static SCENE: BakedScene<'static, capacities!(spheres: 3, planes: 2, triangles: 4, boxes: 2)> = BakedScene::new(
     BakedCamera {
         position: [0.5, 2.6, 7.5],
         forward: [-0.5, -1.8, -7.5],
@@ -157,10 +157,12 @@ pub static SCENE: BakedScene<'static, 3, 2, 4, 2> = BakedScene::new(
     Color::new(0.55, 0.7, 0.9),
     &MATERIALS,
     &LIGHTS,
-    &SPHERES,
-    &PLANES,
-    &TRIANGLES,
-    &BOXES,
+    Primitives {
+        spheres: &SPHERES,
+        planes: &PLANES,
+        triangles: &TRIANGLES,
+        boxes: &BOXES,
+    },
 );
 
 /// The scene file this module is baked from, `scenes/showcase.toml`.

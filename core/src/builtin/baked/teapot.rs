@@ -3,7 +3,7 @@
 // 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 723 BVH nodes: 46000 bytes of flash.
 // Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml).
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, capacities, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A node of a hierarchy.
 const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16) -> BvhNode {
@@ -2252,7 +2252,7 @@ impl Loops for SceneLoops {
 /// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it
 /// from where it lies.
 #[allow(dead_code)]
-pub static SCENE: BakedScene<'static, 0, 1, 0, 0> = BakedScene::new(
+pub static SCENE: BakedScene<'static, capacities!(planes: 1)> = BakedScene::new(
     BakedCamera {
         position: [2.0, 1.6, 3.0],
         forward: [-1.85, -1.1500001, -3.0],
@@ -2272,10 +2272,12 @@ pub static SCENE: BakedScene<'static, 0, 1, 0, 0> = BakedScene::new(
     Color::new(0.55, 0.7, 0.9),
     &MATERIALS,
     &LIGHTS,
-    &SPHERES,
-    &PLANES,
-    &TRIANGLES,
-    &BOXES,
+    Primitives {
+        spheres: &SPHERES,
+        planes: &PLANES,
+        triangles: &TRIANGLES,
+        boxes: &BOXES,
+    },
 )
 .with_meshes(&MESHES);
 
