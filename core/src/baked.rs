@@ -443,6 +443,46 @@ mod tests {
         assert!(scene(&MATERIALS, &s, &p).renderer().is_ok());
     }
 
+    /// A table longer than its capacity is refused, naming its list: the
+    /// capacities size a tile's candidate lists, which must hold every item.
+    #[test]
+    fn a_table_longer_than_its_capacity_is_refused() {
+        let two = [
+            sphere([0.0, 0.0, 0.0], 1.0, 0)[0],
+            sphere([2.0, 0.0, 0.0], 1.0, 0)[0],
+        ];
+        let p = floor([0.0, 1.0, 0.0], 0.0);
+        let primitives = Primitives {
+            spheres: &two,
+            planes: &p,
+            ..Primitives::NONE
+        };
+        let baked = |p| -> BakedScene<'_, crate::capacities!(spheres: 1, planes: 1)> {
+            BakedScene::new(
+                CAM,
+                Viewport::new(8, 8),
+                SETTINGS,
+                Color::BLACK,
+                Color::BLACK,
+                &MATERIALS,
+                &LIGHTS,
+                p,
+            )
+        };
+        assert_eq!(
+            baked(primitives).view().err(),
+            Some(Error::CapacityExceeded {
+                list: List::Spheres,
+                capacity: 1
+            })
+        );
+        let one = Primitives {
+            spheres: &two[..1],
+            ..primitives
+        };
+        assert_eq!(baked(one).view().map(|v| v.spheres().len()), Ok(1));
+    }
+
     #[test]
     fn every_altered_item_is_refused() {
         let ok_s = sphere([0.0, 0.0, 0.0], 1.0, 0);
