@@ -307,10 +307,10 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
             same(Aabb::try_new(g.min(), g.max())?, *g, List::Boxes, i)?;
         }
         let view = Lists {
-            spheres: prims.spheres,
-            planes: prims.planes,
-            triangles: &[],
-            boxes: prims.boxes,
+            primitives: Primitives {
+                triangles: &[],
+                ..*prims
+            },
             materials: self.materials,
             lights: self.lights,
         }
@@ -345,7 +345,10 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
             }
         }
         Ok(SceneView {
-            triangles: self.primitives.triangles,
+            primitives: Primitives {
+                triangles: self.primitives.triangles,
+                ..view.primitives
+            },
             triangle_hull: crate::cull::Hull::new(lo, hi),
             ..view
         })

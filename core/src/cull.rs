@@ -65,9 +65,8 @@
 //! Cortex-M4F); the chapter's scenes need 128 bytes with alignment.
 
 use crate::camera::CameraBasis;
-use crate::geometry::Triangle;
 use crate::geometry::{Aabb, Plane, Sphere};
-use crate::kind::{Capacities, KINDS, PerKind, Uniform};
+use crate::kind::{Capacities, KINDS, PerKind, Primitives, Uniform};
 use crate::light::PointLight;
 use crate::primitive::Primitive;
 use crate::vec::Vec3;
@@ -79,7 +78,7 @@ use heapless::vec::VecView;
 /// refracted rays, which may go anywhere, always search every primitive.
 #[derive(Clone, Copy, Default)]
 pub(crate) struct Picks<'l> {
-    pub(crate) camera: Option<[&'l [u16]; 4]>,
+    pub(crate) camera: Option<[&'l [u16]; KINDS]>,
     pub(crate) shadow: Option<ShadowLists<'l>>,
 }
 
@@ -88,7 +87,7 @@ pub(crate) struct Picks<'l> {
 /// union of their masks.
 #[derive(Clone, Copy)]
 pub(crate) struct ShadowLists<'l> {
-    pub(crate) lists: [&'l [u32]; 4],
+    pub(crate) lists: [&'l [u32]; KINDS],
     pub(crate) lights: u32,
 }
 
@@ -100,10 +99,7 @@ pub(crate) const MASKED_LIGHTS: usize = 8;
 /// What a tile's lists are built from: a scene's primitives and lights (the scene
 /// view, module `view`, implements it).
 pub(crate) trait Source {
-    fn spheres(&self) -> &[Primitive<Sphere>];
-    fn planes(&self) -> &[Primitive<Plane>];
-    fn triangles(&self) -> &[Primitive<Triangle>];
-    fn boxes(&self) -> &[Primitive<Aabb>];
+    fn primitives(&self) -> Primitives<'_>;
     fn lights(&self) -> &[PointLight];
 }
 
@@ -251,10 +247,12 @@ impl TileLists<'_> {
             return Picks::default();
         };
         let [cs, cp, ct, cb] = &mut self.camera;
-        fill(cs, view.spheres(), |s| !f.misses_sphere(s));
-        fill(cp, view.planes(), |p| !f.misses_plane(p));
-        fill(ct, view.triangles(), |t| !f.misses_points(&t.vertices()));
-        fill(cb, view.boxes(), |b| !f.misses_box(b));
+        fill(cs, view.primitives().spheres, |s| !f.misses_sphere(s));
+        fill(cp, view.primitives().planes, |p| !f.misses_plane(p));
+        fill(ct, view.primitives().triangles, |t| {
+            !f.misses_points(&t.vertices())
+        });
+        fill(cb, view.primitives().boxes, |b| !f.misses_box(b));
 
         let shadow = if view.lights().is_empty() {
             None
@@ -282,15 +280,15 @@ impl TileLists<'_> {
         // The visible points of everything but the planes, and of each plane.
         let mut solids = Bounds::EMPTY;
         for &i in cs.iter() {
-            let s = &view.spheres().get(usize::from(i))?.geometry;
+            let s = &view.primitives().spheres.get(usize::from(i))?.geometry;
             solids = solids.union(f.clip(Bounds::sphere(s)));
         }
         for &i in ct.iter() {
-            let t = &view.triangles().get(usize::from(i))?.geometry;
+            let t = &view.primitives().triangles.get(usize::from(i))?.geometry;
             solids = solids.union(f.clip(Bounds::points(&t.vertices())));
         }
         for &i in cb.iter() {
-            let b = &view.boxes().get(usize::from(i))?.geometry;
+            let b = &view.primitives().boxes.get(usize::from(i))?.geometry;
             solids = solids.union(f.clip(Bounds::new(b.min(), b.max())));
         }
         // The visible parts of the first few visible planes, each on its own: a
@@ -302,7 +300,7 @@ impl TileLists<'_> {
         let separate = cp.len() <= FLOORS;
         if separate {
             for (slot, &i) in floors.iter_mut().zip(cp.iter()) {
-                let p = &view.planes().get(usize::from(i))?.geometry;
+                let p = &view.primitives().planes.get(usize::from(i))?.geometry;
                 *slot = Some((usize::from(i), p, f.on_plane(p)));
             }
         }
@@ -319,7 +317,7 @@ impl TileLists<'_> {
                 cp.iter()
                     .map(|&i| usize::from(i))
                     .filter(|&j| other(j))
-                    .filter_map(|j| view.planes().get(j))
+                    .filter_map(|j| view.primitives().planes.get(j))
                     .fold(Bounds::EMPTY, |v, p| v.union(f.on_plane(&p.geometry)))
             }
         };
@@ -355,18 +353,18 @@ impl TileLists<'_> {
             mask
         };
         let [ss, sp, st, sb] = &mut self.shadow;
-        fill_masked(ss, view.spheres(), |s| {
+        fill_masked(ss, view.primitives().spheres, |s| {
             blocks(s.center(), s.radius(), Bounds::sphere(s))
         });
-        fill_masked(st, view.triangles(), |t| {
+        fill_masked(st, view.primitives().triangles, |t| {
             let (c, r) = ball(&t.vertices());
             blocks(c, r, Bounds::points(&t.vertices()))
         });
-        fill_masked(sb, view.boxes(), |b| {
+        fill_masked(sb, view.primitives().boxes, |b| {
             let (c, h) = ((b.min() + b.max()) * 0.5, (b.max() - b.min()) * 0.5);
             blocks(c, h.length(), Bounds::new(b.min(), b.max()))
         });
-        for (j, p) in view.planes().iter().enumerate() {
+        for (j, p) in view.primitives().planes.iter().enumerate() {
             // A plane blocks a shadow ray only from a point on its far side from the
             // light; its own points cannot be shadowed by it (shadow rays skip the
             // primitive they leave), so only the other planes' points count.

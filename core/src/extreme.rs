@@ -231,7 +231,10 @@ mod tests {
     fn every_scene_builds_and_subnormals_render_as_zeros() {
         for e in Extreme::ALL {
             assert_eq!(Extreme::from_name(e.name()), Some(e));
-            assert!(e.with_scene(|v, _| v.spheres.len()).is_ok(), "{e:?}");
+            assert!(
+                e.with_scene(|v, _| v.primitives.spheres.len()).is_ok(),
+                "{e:?}"
+            );
         }
         for t in [TINY, -TINY, 1e-40, 1.1e-38] {
             let z = 0f32.copysign(t);

@@ -3,9 +3,11 @@
 //! test again.
 
 use crate::color::Color;
+use crate::geometry::Kinded;
 #[cfg(feature = "bvh")]
 use crate::geometry::Shape;
-use crate::geometry::{Aabb, Candidate, Locate, Plane, Sphere, Surface, Triangle};
+use crate::geometry::{Candidate, Locate, Surface};
+use crate::kind::{Slot, match_kind};
 use crate::material::Material;
 use crate::prefilter::{Footprint, uv_box};
 use crate::primitive::Primitive;
@@ -16,43 +18,69 @@ use crate::search::{Kind, Nearest, Skip};
 use crate::vec::Vec3;
 use crate::view::SceneView;
 
-/// A primitive of any kind, by reference.
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Geom<'a> {
-    Sphere(&'a Sphere),
-    Plane(&'a Plane),
-    Triangle(&'a Triangle),
-    Box(&'a Aabb),
-    /// A face of a mesh (feature `bvh`); which face, the hit's index says
-    /// ([`MeshFace`]), so that a `Geom` stays a tag and a pointer.
-    #[cfg(feature = "bvh")]
-    Mesh(&'a crate::mesh::Mesh<'a>),
+macro_rules! geom {
+    ([] $( ($K:ident, $f:ident, $L:ident, $T:ty, $name:literal) ),* $(,)?) => {
+        /// A primitive of any kind, by reference.
+        #[derive(Clone, Copy, Debug)]
+        pub(crate) enum Geom<'a> {
+            $($K(&'a $T),)*
+            /// A face of a mesh (feature `bvh`); which face, the hit's index says
+            /// ([`MeshFace`]), so that a `Geom` stays a tag and a pointer.
+            #[cfg(feature = "bvh")]
+            Mesh(&'a crate::mesh::Mesh<'a>),
+        }
+
+        impl Geom<'_> {
+            /// Its kind, and whether it is flat ([`Kinded::FLAT`]; a mesh's face
+            /// is).
+            #[inline(always)]
+            pub(crate) fn kind(self) -> (Kind, bool) {
+                match self {
+                    $(Self::$K(_) => (Kind::$K, <$T as Kinded>::FLAT),)*
+                    #[cfg(feature = "bvh")]
+                    Self::Mesh(..) => (Kind::Mesh, true),
+                }
+            }
+
+            /// [`Locate::error`] of whichever kind it is; `index` is the hit's (a
+            /// mesh's face is the triangle its [`MeshFace`] names).
+            #[inline(always)]
+            pub(crate) fn error(
+                self,
+                #[cfg_attr(not(feature = "bvh"), allow(unused_variables))] index: usize,
+                ray: &Ray,
+                hit: &Candidate,
+                point: Vec3,
+                aux: Vec3,
+            ) -> Vec3 {
+                match self {
+                    $(Self::$K(g) => g.error(ray, hit, point, aux),)*
+                    #[cfg(feature = "bvh")]
+                    Self::Mesh(m) => m
+                        .triangle(MeshFace::of(index).face)
+                        .map_or(Vec3::ZERO, |t| t.error(ray, hit, point, aux)),
+                }
+            }
+        }
+
+        /// A primitive of a kind as a [`Geom`].
+        pub(crate) trait AsGeom {
+            /// `self` as a [`Geom`].
+            fn geom(&self) -> Geom<'_>;
+        }
+
+        $(
+            impl AsGeom for $T {
+                #[inline(always)]
+                fn geom(&self) -> Geom<'_> {
+                    Geom::$K(self)
+                }
+            }
+        )*
+    };
 }
 
-impl Geom<'_> {
-    /// [`Locate::error`] of whichever kind it is; `index` is the hit's (a mesh's
-    /// face is the triangle its [`MeshFace`] names).
-    #[inline(always)]
-    pub(crate) fn error(
-        self,
-        #[cfg_attr(not(feature = "bvh"), allow(unused_variables))] index: usize,
-        ray: &Ray,
-        hit: &Candidate,
-        point: Vec3,
-        aux: Vec3,
-    ) -> Vec3 {
-        match self {
-            Self::Sphere(g) => g.error(ray, hit, point, aux),
-            Self::Plane(g) => g.error(ray, hit, point, aux),
-            Self::Triangle(g) => g.error(ray, hit, point, aux),
-            Self::Box(g) => g.error(ray, hit, point, aux),
-            #[cfg(feature = "bvh")]
-            Self::Mesh(m) => m
-                .triangle(MeshFace::of(index).face)
-                .map_or(Vec3::ZERO, |t| t.error(ray, hit, point, aux)),
-        }
-    }
-}
+crate::__kinds!({ geom });
 
 /// The chapter's hit, resolved from the nearest [`Candidate`] (time `hit.t`): the
 /// point and its normal, its material, the colour of the texture there (its uv
@@ -104,14 +132,7 @@ impl Hit<'_> {
     /// (plane, triangle), for a closed convex one when `w . n > 0` with the outward
     /// normal `n`, which is also the side `offset_origin` moves the origin to.
     pub(crate) fn skip_for(&self, w: Vec3) -> Skip {
-        let (kind, flat) = match self.geom {
-            Geom::Sphere(_) => (Kind::Sphere, false),
-            Geom::Plane(_) => (Kind::Plane, true),
-            Geom::Triangle(_) => (Kind::Triangle, true),
-            Geom::Box(_) => (Kind::Box, false),
-            #[cfg(feature = "bvh")]
-            Geom::Mesh(..) => (Kind::Mesh, true),
-        };
+        let (kind, flat) = self.geom.kind();
         if flat || w.dot(self.normal) > 0.0 {
             Skip::new(kind, self.index)
         } else {
@@ -121,13 +142,12 @@ impl Hit<'_> {
 }
 
 #[inline(always)]
-fn resolve_in<'a, G: Locate>(
+fn resolve_in<'a, G: Locate + AsGeom>(
     view: &SceneView<'a>,
     list: &'a [Primitive<G>],
     n: &Nearest,
     ray: &Ray,
     footprint: Option<&Footprint<'_>>,
-    geom: fn(&'a G) -> Geom<'a>,
 ) -> Option<Hit<'a>> {
     let prim = list.get(n.index)?;
     let material = view.materials.get(usize::from(prim.material.0))?;
@@ -153,7 +173,7 @@ fn resolve_in<'a, G: Locate>(
         normal,
         aux,
         hit: n.hit,
-        geom: geom(&prim.geometry),
+        geom: prim.geometry.geom(),
         index: n.index,
         material,
         base,
@@ -216,12 +236,9 @@ pub(crate) fn resolve<'a>(
     ray: &Ray,
     footprint: Option<&Footprint<'_>>,
 ) -> Option<Hit<'a>> {
-    match n.kind {
-        Kind::Sphere => resolve_in(view, view.spheres, n, ray, footprint, Geom::Sphere),
-        Kind::Plane => resolve_in(view, view.planes, n, ray, footprint, Geom::Plane),
-        Kind::Triangle => resolve_in(view, view.triangles, n, ray, footprint, Geom::Triangle),
-        Kind::Box => resolve_in(view, view.boxes, n, ray, footprint, Geom::Box),
-        #[cfg(feature = "bvh")]
-        Kind::Mesh => resolve_mesh(view, n, ray, footprint),
-    }
+    match_kind!(
+        n.kind,
+        |G| resolve_in(view, G::of(&view.primitives), n, ray, footprint),
+        Mesh => resolve_mesh(view, n, ray, footprint)
+    )
 }

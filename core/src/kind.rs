@@ -23,14 +23,15 @@
 use crate::primitive::Primitive;
 use heapless::vec::VecView;
 
-/// The list of the geometry kinds: calls `$m! { [args] rows }` with one row per
-/// kind, `(Kind variant, list name, List variant, type, name in a scene file)`,
-/// in search order. Every per-kind item of the core is generated from it.
+/// The list of the geometry kinds: `__kinds!({m} args)` calls `m! { [args]
+/// rows }` with one row per kind, `(Kind variant, list name, List variant,
+/// type, name in a scene file)`, in search order. Every per-kind item of the
+/// core is generated from it.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __kinds {
-    ($m:path; $($args:tt)*) => {
-        $m! { [$($args)*]
+    ({$($m:tt)*} $($args:tt)*) => {
+        $($m)*! { [$($args)*]
             (Sphere,   spheres,   Spheres,   $crate::geometry::Sphere,   "sphere"),
             (Plane,    planes,    Planes,    $crate::geometry::Plane,    "plane"),
             (Triangle, triangles, Triangles, $crate::geometry::Triangle, "triangle"),
@@ -88,6 +89,13 @@ impl<T, const N: usize> ListStore<T> for heapless::Vec<T, N> {
     {
         self.clone()
     }
+}
+
+/// A geometry kind's place in the list of kinds (implemented for each kind's
+/// type from the list).
+pub(crate) trait Slot: Copy + 'static {
+    /// Its list among `primitives`.
+    fn of<'a>(primitives: &Primitives<'a>) -> &'a [Primitive<Self>];
 }
 
 /// The empty list of capacity `C`.
@@ -223,6 +231,15 @@ macro_rules! define {
             }
         }
 
+        $(
+            impl Slot for $T {
+                #[inline(always)]
+                fn of<'a>(primitives: &Primitives<'a>) -> &'a [Primitive<Self>] {
+                    primitives.$f
+                }
+            }
+        )*
+
         /// A scene's own lists of primitives, of its capacities `C`.
         pub(crate) struct Store<C: Capacities> {
             $(pub(crate) $f: <C::$L as Capacity>::List<Primitive<$T>>,)*
@@ -264,7 +281,34 @@ macro_rules! define {
     };
 }
 
-__kinds!(define;);
+__kinds!({ define });
+
+/// `$body` with `$G` the type of the kind `$kind` (a [`Kind`] other than the
+/// meshes'; `$mesh` for those): one `match` arm per kind of the list.
+macro_rules! match_kind {
+    ($kind:expr, |$G:ident| $body:expr, Mesh => $mesh:expr) => {
+        $crate::__kinds!({$crate::__match_kind_arms} $kind, $G, $body, $mesh)
+    };
+}
+pub(crate) use match_kind;
+
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __match_kind_arms {
+    ([$kind:expr, $G:ident, $body:expr, $mesh:expr]
+        $( ($K:ident, $f:ident, $L:ident, $T:ty, $name:literal) ),* $(,)?) => {
+        match $kind {
+            $(
+                $crate::kind::Kind::$K => {
+                    type $G = $T;
+                    $body
+                }
+            )*
+            #[cfg(feature = "bvh")]
+            $crate::kind::Kind::Mesh => $mesh,
+        }
+    };
+}
 
 mod sealed {
     /// Only the core's capacity types are [`super::Capacities`].
@@ -303,11 +347,11 @@ macro_rules! __counts {
 #[macro_export]
 macro_rules! capacities {
     ($($name:ident : $value:expr,)* .. $rest:expr) => {
-        $crate::__kinds!($crate::__capacities_type;
+        $crate::__kinds!({$crate::__capacities_type}
             { $($name: $value,)* ..$crate::kind::Counts::splat($rest) })
     };
     ($($name:ident : $value:expr),* $(,)?) => {
-        $crate::__kinds!($crate::__capacities_type;
+        $crate::__kinds!({$crate::__capacities_type}
             { $($name: $value,)* ..$crate::kind::Counts::ZERO })
     };
 }

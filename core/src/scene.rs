@@ -328,12 +328,8 @@ impl<C: Capacities> Scene<C> {
     /// A borrowed, capacity-free view of the scene: what the renderer reads.
     #[must_use]
     pub fn view(&self) -> SceneView<'_> {
-        let lists = self.primitives.primitives();
         Lists {
-            spheres: lists.spheres,
-            planes: lists.planes,
-            triangles: lists.triangles,
-            boxes: lists.boxes,
+            primitives: self.primitives.primitives(),
             materials: self.materials.view(),
             lights: self.lights.view(),
         }

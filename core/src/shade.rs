@@ -193,16 +193,16 @@ fn sign_hit<C: Observer>(count: &mut C, hit: Option<&Hit<'_>>) {
         return;
     };
     let (kind, index) = match hit.geom {
-        Geom::Sphere(_) => (0, hit.index),
-        Geom::Plane(_) => (1, hit.index),
-        Geom::Triangle(_) => (2, hit.index),
-        Geom::Box(_) => (3, hit.index),
         // A mesh is one object: its faces share a token (a smooth mesh has no
         // edge between faces; a flat one's show as colour steps).
         #[cfg(feature = "bvh")]
-        Geom::Mesh(..) => (4, crate::search::MeshFace::of(hit.index).mesh),
+        Geom::Mesh(..) => (
+            crate::kind::Kind::Mesh,
+            crate::search::MeshFace::of(hit.index).mesh,
+        ),
+        g => (g.kind().0, hit.index),
     };
-    count.token(HIT | kind << 24 | (index as u32 & 0x00ff_ffff));
+    count.token(HIT | (kind as u32) << 24 | (index as u32 & 0x00ff_ffff));
 }
 
 impl RayCounter for RayCount {

@@ -9,6 +9,7 @@ use crate::error::Error;
 #[cfg(feature = "bvh")]
 use crate::error::List;
 use crate::geometry::{Aabb, Plane, Sphere, Triangle};
+use crate::kind::{KINDS, Primitives};
 use crate::light::PointLight;
 use crate::material::{Material, MaterialId};
 #[cfg(feature = "bvh")]
@@ -18,10 +19,7 @@ use crate::primitive::Primitive;
 /// A scene's lists, which a view borrows ([`Scene::view`], and a baked scene's
 /// `view`).
 pub(crate) struct Lists<'a> {
-    pub(crate) spheres: &'a [Primitive<Sphere>],
-    pub(crate) planes: &'a [Primitive<Plane>],
-    pub(crate) triangles: &'a [Primitive<Triangle>],
-    pub(crate) boxes: &'a [Primitive<Aabb>],
+    pub(crate) primitives: Primitives<'a>,
     pub(crate) materials: &'a [Material],
     pub(crate) lights: &'a [PointLight],
 }
@@ -37,10 +35,7 @@ impl<'a> Lists<'a> {
         triangle_hull: Option<crate::cull::Hull>,
     ) -> SceneView<'a> {
         SceneView {
-            spheres: self.spheres,
-            planes: self.planes,
-            triangles: self.triangles,
-            boxes: self.boxes,
+            primitives: self.primitives,
             materials: self.materials,
             lights: self.lights,
             ambient,
@@ -83,10 +78,7 @@ pub(crate) fn check_material(id: MaterialId, count: usize) -> Result<(), Error> 
 /// capacities never reach the renderer's code.
 #[derive(Clone, Copy)]
 pub struct SceneView<'a> {
-    pub(crate) spheres: &'a [Primitive<Sphere>],
-    pub(crate) planes: &'a [Primitive<Plane>],
-    pub(crate) triangles: &'a [Primitive<Triangle>],
-    pub(crate) boxes: &'a [Primitive<Aabb>],
+    pub(crate) primitives: Primitives<'a>,
     pub(crate) materials: &'a [Material],
     pub(crate) lights: &'a [PointLight],
     pub(crate) ambient: Color,
@@ -114,10 +106,7 @@ pub struct SceneView<'a> {
 impl core::fmt::Debug for SceneView<'_> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("SceneView")
-            .field("spheres", &self.spheres)
-            .field("planes", &self.planes)
-            .field("triangles", &self.triangles)
-            .field("boxes", &self.boxes)
+            .field("primitives", &self.primitives)
             .field("materials", &self.materials)
             .field("lights", &self.lights)
             .field("ambient", &self.ambient)
@@ -158,12 +147,12 @@ impl<'a> SceneView<'a> {
         &self,
         bvh: &'a crate::bvh::Bvh<N, T>,
     ) -> Result<Self, Error> {
-        if bvh.triangle_count() != self.triangles.len()
-            || bvh.key() != crate::bvh::key(self.triangles)
+        if bvh.triangle_count() != self.primitives.triangles.len()
+            || bvh.key() != crate::bvh::key(self.primitives.triangles)
         {
             return Err(Error::BvhMismatch);
         }
-        let pays = self.triangles.len() >= crate::bvh::CROSSOVER;
+        let pays = self.primitives.triangles.len() >= crate::bvh::CROSSOVER;
         Ok(Self {
             bvh: pays.then(|| bvh.view()),
             ..*self
@@ -227,11 +216,12 @@ impl<'a> SceneView<'a> {
         &self,
         bvh: &'a crate::bvh::Bvh<N, T>,
     ) -> Result<Self, Error> {
-        if bvh.triangle_count() != self.spheres.len() || bvh.key() != crate::bvh::key(self.spheres)
+        if bvh.triangle_count() != self.primitives.spheres.len()
+            || bvh.key() != crate::bvh::key(self.primitives.spheres)
         {
             return Err(Error::BvhMismatch);
         }
-        let pays = self.spheres.len() >= crate::bvh::SPHERE_CROSSOVER;
+        let pays = self.primitives.spheres.len() >= crate::bvh::SPHERE_CROSSOVER;
         Ok(Self {
             sphere_bvh: pays.then(|| bvh.view()),
             ..*self
@@ -271,13 +261,8 @@ impl<'a> SceneView<'a> {
     /// or `None` when its tiles build no lists: everything is searched through a
     /// hierarchy, or culling is off.
     #[inline(always)]
-    pub(crate) fn culled_lists(&self) -> Option<[usize; 4]> {
-        (self.culling && !self.through()).then_some([
-            self.spheres.len(),
-            self.planes.len(),
-            self.triangles.len(),
-            self.boxes.len(),
-        ])
+    pub(crate) fn culled_lists(&self) -> Option<[usize; KINDS]> {
+        (self.culling && !self.through()).then_some(self.primitives.lens())
     }
 
     /// The depth that rays reach in this scene when `max_depth` is asked for: at
@@ -293,22 +278,22 @@ impl<'a> SceneView<'a> {
     /// The spheres.
     #[must_use]
     pub fn spheres(&self) -> &'a [Primitive<Sphere>] {
-        self.spheres
+        self.primitives.spheres
     }
     /// The planes.
     #[must_use]
     pub fn planes(&self) -> &'a [Primitive<Plane>] {
-        self.planes
+        self.primitives.planes
     }
     /// The triangles.
     #[must_use]
     pub fn triangles(&self) -> &'a [Primitive<Triangle>] {
-        self.triangles
+        self.primitives.triangles
     }
     /// The boxes.
     #[must_use]
     pub fn boxes(&self) -> &'a [Primitive<Aabb>] {
-        self.boxes
+        self.primitives.boxes
     }
     /// The indexed meshes ([`SceneView::with_meshes`]).
     #[cfg(feature = "bvh")]
@@ -360,14 +345,17 @@ impl<'a> SceneView<'a> {
         triangles: &'a [Primitive<Triangle>],
         bvh: &BakedBvh<'a>,
     ) -> Result<Self, Error> {
-        if !self.triangles.is_empty() {
+        if !self.primitives.triangles.is_empty() {
             return Err(Error::BvhMismatch);
         }
         let face = |i: usize| triangles.get(i).copied().ok_or(Error::BvhMismatch);
         check_faces(triangles.len(), face, self.materials.len(), bvh)?;
         let all = list_bounds(triangles);
         Ok(Self {
-            triangles,
+            primitives: Primitives {
+                triangles,
+                ..self.primitives
+            },
             triangle_hull: crate::cull::Hull::new(all.0, all.1),
             bvh: (!triangles.is_empty()).then_some(bvh.view()),
             ..*self
@@ -404,20 +392,8 @@ impl<'a> SceneView<'a> {
 
 impl crate::cull::Source for SceneView<'_> {
     #[inline(always)]
-    fn spheres(&self) -> &[Primitive<Sphere>] {
-        self.spheres
-    }
-    #[inline(always)]
-    fn planes(&self) -> &[Primitive<Plane>] {
-        self.planes
-    }
-    #[inline(always)]
-    fn triangles(&self) -> &[Primitive<Triangle>] {
-        self.triangles
-    }
-    #[inline(always)]
-    fn boxes(&self) -> &[Primitive<Aabb>] {
-        self.boxes
+    fn primitives(&self) -> Primitives<'_> {
+        self.primitives
     }
     #[inline(always)]
     fn lights(&self) -> &[PointLight] {

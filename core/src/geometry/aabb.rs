@@ -235,6 +235,11 @@ fn face_axis(face: u8) -> (usize, bool) {
     (usize::from(face / 2).min(2), face % 2 == 1)
 }
 
+/// A box is closed and convex.
+impl super::Kinded for Aabb {
+    const FLAT: bool = false;
+}
+
 impl Locate for Aabb {
     #[inline(always)]
     fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3) {

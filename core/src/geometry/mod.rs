@@ -34,6 +34,15 @@ pub(crate) use shape::{Candidate, Shape, Surface};
 use crate::ray::Ray;
 use crate::vec::Vec3;
 
+/// What a geometry kind is, beyond its intersection tests: implemented by each
+/// kind's type in its own module.
+pub(crate) trait Kinded: Locate {
+    /// Flat (a plane, a triangle): a ray that leaves it never meets it again.
+    /// Otherwise closed and convex: a ray that leaves it outwards never meets
+    /// it again (see `hit::Hit::skip_for`).
+    const FLAT: bool;
+}
+
 /// A hit's point and normal first, its error bound only when a ray leaves it (a
 /// shadow, reflected or refracted ray): [`Shape::surface`] in two steps, with the
 /// same arithmetic, so that hits that spawn nothing skip the bound.

@@ -177,6 +177,11 @@ impl Plane {
     }
 }
 
+/// A plane is flat.
+impl super::Kinded for Plane {
+    const FLAT: bool = true;
+}
+
 impl Locate for Plane {
     #[inline(always)]
     fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3) {

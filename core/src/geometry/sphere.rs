@@ -285,6 +285,11 @@ fn split(a: f32) -> (f32, f32) {
     (hi, a - hi)
 }
 
+/// A sphere is closed and convex.
+impl super::Kinded for Sphere {
+    const FLAT: bool = false;
+}
+
 impl Locate for Sphere {
     #[inline(always)]
     fn locate(&self, ray: &Ray, hit: &Candidate) -> (Vec3, Vec3, Vec3) {

@@ -443,6 +443,11 @@ impl Triangle {
     }
 }
 
+/// A triangle is flat.
+impl super::Kinded for Triangle {
+    const FLAT: bool = true;
+}
+
 impl Locate for Triangle {
     /// `aux.x` is `b0`, the weight of `p0`; `aux.z` is 1 when the point is the
     /// ray's rather than the barycentric one.

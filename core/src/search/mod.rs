@@ -55,6 +55,7 @@ use crate::ray::Ray;
 use crate::vec::Vec3;
 use crate::view::SceneView;
 
+use crate::kind::KINDS;
 pub(crate) use crate::kind::Kind;
 
 /// A primitive a ray must not test: the one it leaves (see the module doc). One
@@ -179,16 +180,16 @@ pub(crate) struct Every;
 
 /// A tile's camera lists: per kind, the indices its culling kept.
 #[derive(Clone, Copy)]
-pub(crate) struct Listed<'l>(pub(crate) &'l [&'l [u16]; 4]);
+pub(crate) struct Listed<'l>(pub(crate) &'l [&'l [u16]; KINDS]);
 
 /// A tile's shadow lists for one light: per kind, entries `index | mask << 16`,
 /// of which those with the light's bit.
 #[derive(Clone, Copy)]
-pub(crate) struct Masked<'l>(pub(crate) &'l [&'l [u32]; 4], pub(crate) u32);
+pub(crate) struct Masked<'l>(pub(crate) &'l [&'l [u32]; KINDS], pub(crate) u32);
 
-/// The list of kind `kind` among a tile's four.
+/// The list of kind `kind` among a tile's.
 #[inline(always)]
-fn of<'l, T>(lists: &[&'l [T]; 4], kind: Kind) -> &'l [T] {
+fn of<'l, T>(lists: &[&'l [T]; KINDS], kind: Kind) -> &'l [T] {
     lists.get(kind as usize).copied().unwrap_or(&[])
 }
 
@@ -485,12 +486,17 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
     let mut reach = Reach::new(ray);
     // `none` first, though the loop of an empty list does nothing: the camera
     // rays of a tile without spheres then skip the sphere loop's set-up.
-    if !src.none(view.spheres, Kind::Sphere) {
+    if !src.none(view.primitives.spheres, Kind::Sphere) {
         let sk = skip.index(Kind::Sphere);
-        let found =
-            visit::<S, _, FIRST>(src, view.spheres, Kind::Sphere, ray, sk, &mut t, |s, t| {
-                s.hit(ray, t).map(Candidate::at)
-            });
+        let found = visit::<S, _, FIRST>(
+            src,
+            view.primitives.spheres,
+            Kind::Sphere,
+            ray,
+            sk,
+            &mut t,
+            |s, t| s.hit(ray, t).map(Candidate::at),
+        );
         if let Some((index, hit)) = found {
             best = Some(Nearest {
                 kind: Kind::Sphere,
@@ -503,9 +509,15 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
         }
     }
     let sk = skip.index(Kind::Plane);
-    let found = visit::<S, _, FIRST>(src, view.planes, Kind::Plane, ray, sk, &mut t, |p, t| {
-        p.hit(ray, t).map(Candidate::at)
-    });
+    let found = visit::<S, _, FIRST>(
+        src,
+        view.primitives.planes,
+        Kind::Plane,
+        ray,
+        sk,
+        &mut t,
+        |p, t| p.hit(ray, t).map(Candidate::at),
+    );
     if let Some((index, hit)) = found {
         best = Some(Nearest {
             kind: Kind::Plane,
@@ -516,10 +528,12 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
             return best;
         }
     }
-    if !src.none(view.triangles, Kind::Triangle) && reach.may_hit(triangle_bound(view, src), t) {
+    if !src.none(view.primitives.triangles, Kind::Triangle)
+        && reach.may_hit(triangle_bound(view, src), t)
+    {
         let shear = Shear::new(ray);
         let sk = skip.index(Kind::Triangle);
-        let list = view.triangles;
+        let list = view.primitives.triangles;
         let found = with_axes!(shear.axes, A => visit::<S, _, FIRST>(src, list, Kind::Triangle, ray, sk, &mut t, |g, t| g.hit_with::<A>(&shear, t)), None);
         if let Some((index, hit)) = found {
             best = Some(Nearest {
@@ -532,15 +546,21 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
             }
         }
     }
-    if !src.none(view.boxes, Kind::Box) {
+    if !src.none(view.primitives.boxes, Kind::Box) {
         let inv = reach.inv();
         let sk = skip.index(Kind::Box);
-        let found = visit::<S, _, FIRST>(src, view.boxes, Kind::Box, ray, sk, &mut t, |b, t| {
-            b.time_inv(ray.origin, inv, t).map(Candidate::at)
-        });
+        let found = visit::<S, _, FIRST>(
+            src,
+            view.primitives.boxes,
+            Kind::Box,
+            ray,
+            sk,
+            &mut t,
+            |b, t| b.time_inv(ray.origin, inv, t).map(Candidate::at),
+        );
         if let Some((index, mut hit)) = found {
             // The face, for the nearest hit only.
-            if !FIRST && let Some(b) = view.boxes.get(index) {
+            if !FIRST && let Some(b) = view.primitives.boxes.get(index) {
                 hit.face = b.geometry.face_inv(ray.origin, inv);
             }
             best = Some(Nearest {
