@@ -33,19 +33,58 @@ fn code(src: &str) -> String {
         .join("\n")
 }
 
-/// The modules `code` names as `crate::<module>`.
+/// The module named first in a path (`vec` of `vec::Vec3`), if it starts
+/// with one: a lower-case segment followed by `::`, `;`, `,`, `}` or the end
+/// (`Name` alone is a re-export of the root, `name!` a macro of the root).
+fn first_module(path: &str) -> Option<String> {
+    let path = path.trim_start();
+    let name: String = path
+        .chars()
+        .take_while(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == '_')
+        .collect();
+    let after = path[name.len()..].trim_start();
+    let ends = after.is_empty() || after.starts_with([':', ';', ',', '}']);
+    (!name.is_empty() && ends).then_some(name)
+}
+
+/// The items of a brace group `{a, b::{c, d}, E}` that starts `text`, split at
+/// its top-level commas (`None` when the group is not closed).
+fn group_items(text: &str) -> Option<Vec<&str>> {
+    let mut depth = 0;
+    let mut start = 1;
+    let mut items = Vec::new();
+    for (i, c) in text.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => {
+                depth -= 1;
+                if depth == 0 {
+                    items.push(&text[start..i]);
+                    return Some(items);
+                }
+            }
+            ',' if depth == 1 => {
+                items.push(&text[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// The modules `code` names as `crate::<module>`, also inside a group
+/// (`crate::{vec::Vec3, error::{Error, List}}`).
 fn uses(code: &str) -> BTreeSet<String> {
     let mut out = BTreeSet::new();
     for (i, _) in code.match_indices("crate::") {
         let rest = &code[i + "crate::".len()..];
-        let name: String = rest
-            .chars()
-            .take_while(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == '_')
-            .collect();
-        // `crate::Name` (a re-export of the root) or `crate::{...}`: the root.
-        let after = &rest[name.len()..];
-        if !name.is_empty() && (after.starts_with("::") || after.starts_with(';')) {
-            out.insert(name);
+        if rest.starts_with('{') {
+            for item in group_items(rest).unwrap_or_default() {
+                out.extend(first_module(item));
+            }
+        } else {
+            out.extend(first_module(rest));
         }
     }
     out
@@ -149,6 +188,78 @@ fn the_core_modules_use_only_modules_below_them() {
     }
 }
 
+/// The rows of ARCHITECTURE.md's table of the core's layers, from the bottom
+/// up: the modules each names in its second column (`` `name` `` or
+/// `` **`name`** ``; a file of a module's folder, `` `search/bvh` ``, is not a
+/// module). `None` outside the repository (a packaged crate has no
+/// ARCHITECTURE.md).
+fn architecture_rows() -> Option<Vec<Vec<String>>> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../ARCHITECTURE.md");
+    let text = fs::read_to_string(path).ok()?;
+    let table = text.split("| layer | modules | what they hold |").nth(1)?;
+    let rows = table
+        .lines()
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .map(|l| {
+            let modules = l.split('|').nth(2).unwrap_or("");
+            modules
+                .split('`')
+                .skip(1)
+                .step_by(2)
+                .filter(|m| !m.contains('/'))
+                .map(String::from)
+                .collect()
+        })
+        .collect();
+    Some(rows)
+}
+
+/// ARCHITECTURE.md's claim, checked: its table names every module of the core
+/// once, and a module uses only modules of its own row or of the rows before
+/// it (with no cycle, which the test above checks).
+#[test]
+fn the_architecture_table_holds_every_module_and_its_uses() {
+    let graph = graph();
+    let Some(rows) = architecture_rows() else {
+        println!("no ARCHITECTURE.md beside the crate: the table is not checked");
+        return;
+    };
+    let mut row_of = BTreeMap::new();
+    let mut wrong = Vec::new();
+    for (r, row) in rows.iter().enumerate() {
+        for m in row {
+            if row_of.insert(m.clone(), r).is_some() {
+                wrong.push(format!("{m} is in two rows"));
+            }
+        }
+    }
+    for (m, deps) in &graph {
+        let Some(&r) = row_of.get(m) else {
+            wrong.push(format!("{m} is in no row"));
+            continue;
+        };
+        for d in deps {
+            if row_of.get(d).is_some_and(|&dr| dr > r) {
+                wrong.push(format!(
+                    "{m} (row {r}) uses {d}, of a row above it ({})",
+                    row_of[d]
+                ));
+            }
+        }
+    }
+    for m in row_of.keys() {
+        if !graph.contains_key(m) {
+            wrong.push(format!("{m} is in the table but not a module of core/src"));
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "ARCHITECTURE.md's table of layers:\n{}",
+        wrong.join("\n")
+    );
+}
+
 #[test]
 fn the_graph_reader_sees_a_cycle() {
     // The check itself: two modules that use each other are refused, a chain is not.
@@ -161,7 +272,12 @@ fn the_graph_reader_sees_a_cycle() {
     assert!(layers(&g).is_err());
     // What counts as a use: code, not comments or tests.
     let text = "use crate::vec::Vec3;\n// crate::shade::x\nfn f() { crate::math::sqrt(1.0); }\n\
+                use crate::{color::Color, error::{Error, List}, Scene};\n\
+                crate::capacities!(spheres: 1);\n\
                 #[cfg(test)]\nmod tests { use crate::tile::Tile; }\n";
     let found = uses(&code(text));
-    assert_eq!(found, ["math", "vec"].map(String::from).into());
+    assert_eq!(
+        found,
+        ["color", "error", "math", "vec"].map(String::from).into()
+    );
 }
