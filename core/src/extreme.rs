@@ -125,7 +125,7 @@ fn ground(s: f32, sphere: bool) -> Result<ExtremeScene, Error> {
     Ok(scene)
 }
 
-/// The camera: straight above its target but for `t` in z, over a
+/// Case 14's camera: straight above its target but for `t` in z, over a
 /// checkered floor with a ball.
 fn subnormal_camera(t: f32) -> Result<ExtremeScene, Error> {
     let cam = Camera::look_at(Vec3::new(0.0, 2.0, t), Vec3::ZERO, Vec3::Y, 0.1, 100.0)?;

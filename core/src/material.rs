@@ -270,9 +270,9 @@ impl Material {
 mod tests {
     use super::*;
 
-    /// Reflectivity 1 with transparency 1 returned more light than it received
-    /// (issue 10): refused, in either order and in `validate`; a sum of exactly 1
-    /// written in decimal is accepted.
+    /// Reflectivity 1 with transparency 1 would return more light than the surface
+    /// receives: refused, in either order and in `validate`; a sum of exactly 1 written
+    /// in decimal is accepted.
     #[test]
     fn reflectivity_plus_transparency_above_one_is_refused() {
         let m = Material::matte(Color::WHITE);

@@ -28,15 +28,15 @@
 //!
 //! `fast-math` is the three together (fewer cycles on the chip than the exact
 //! build, for no visible error: docs/trade.md).
-//! Measured and dropped (docs/math-report.md, the issue-12 note): one Newton step
-//! for `rsqrt` (fewer cycles than exact, but a clearly larger image error on the
-//! default scene); `rsqrt` for every normalisation (ray directions and normals: the
-//! intersections' analytic tests fail); a reciprocal by Newton steps (more cycles
-//! than `vdiv.f32`); Schlick's rational highlight (another lobe, a larger image
-//! error); micromath's `powf`, `atan2` and `acos` (hardly fewer instructions on
-//! the chip: no built-in scene calls them per pixel; its `powf` far less accurate
-//! than [`pow_unit`] on the highlights, its `acos` NaN for tiny negative
-//! arguments).
+//! Approximations not offered (measured in docs/math-report.md, its `(dropped)`
+//! rows): one Newton step for `rsqrt` (fewer cycles than exact, but a clearly larger
+//! image error on the default scene); `rsqrt` for every normalisation (ray
+//! directions and normals: the intersections' analytic tests fail); a reciprocal by
+//! Newton steps (more cycles than `vdiv.f32`); Schlick's rational highlight (another
+//! lobe, a larger image error); micromath's `powf`, `atan2` and `acos` (hardly fewer
+//! instructions on the chip: no built-in scene calls them per pixel; its `powf` far
+//! less accurate than [`pow_unit`] on the highlights, its `acos` NaN for tiny
+//! negative arguments).
 //!
 //! `tan`, `atan2` and `acos` stay exact in every build: `tan` runs once a frame,
 //! `atan2` and `acos` only for textured spheres (none of the built-in scenes has one).

@@ -392,7 +392,7 @@ mod tests {
 
     /// A mesh among other primitives: the triangle list (without a BVH of its
     /// own), a sphere, found as when the mesh's faces are triangles of the list
-    /// (a mesh once hid the list's triangles from every search).
+    /// (a mesh must not hide the list's triangles from any search).
     #[test]
     fn a_mesh_keeps_the_other_primitives() {
         let (v, f, _) = uv_sphere(8, 12);

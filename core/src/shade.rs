@@ -646,8 +646,8 @@ mod tests {
     use crate::light::PointLight;
     use crate::scene::Scene;
 
-    /// A light almost on a black floor (issue 10): `intensity / r^2` overflowed to
-    /// infinity, and infinity times the black material's zero gave a NaN pixel.
+    /// A light almost on a black floor: `intensity / r^2` overflows to infinity,
+    /// and infinity times the black material's zero would give a NaN pixel.
     /// Capped at `MAX_IRRADIANCE`, the colour is finite (and black); on a white
     /// floor it is finite and saturates.
     #[test]

@@ -344,7 +344,7 @@ mod tests {
         assert_eq!(bad.validate(), Err(Error::NotPositive(Field::TextureScale)));
     }
 
-    /// The scene files that rendered NaN pixels (issue 10): colours beyond
+    /// Values whose shading would overflow into NaN pixels: colours beyond
     /// `MAX_COLOR`, a fringe spacing below `MIN_LENGTH` (1e-39, and the smallest
     /// normal f32), a Young's slit distance beyond `MAX_EXTENT`.
     #[test]
@@ -398,7 +398,7 @@ mod tests {
     }
 
     /// A checker at a scale where both cell indices saturate (`scale` 1e20 and
-    /// 3.4e38, issue 10): the parity is computed without an integer sum, so a debug
+    /// 3.4e38): the parity is computed without an integer sum, so a debug
     /// build does not panic with "attempt to add with overflow".
     #[test]
     fn checker_parity_at_saturating_scales_does_not_overflow() {

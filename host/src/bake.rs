@@ -1123,9 +1123,10 @@ mod tests {
         names.iter().map(|s| s.to_string()).collect()
     }
 
-    /// Issue 37: `floor_2` keeps `MAT_FLOOR_2` whatever the order, and `floor`
-    /// and `Floor` (one stem) are numbered in their order, neither taking
-    /// `MAT_FLOOR` nor `MAT_FLOOR_2`.
+    /// A shared stem (`floor`, `Floor`) beside a name that ends in a digit:
+    /// `floor_2` keeps `MAT_FLOOR_2` whatever the order, and `floor` and `Floor`
+    /// (one stem) are numbered in their order, neither taking `MAT_FLOOR` nor
+    /// `MAT_FLOOR_2`.
     #[test]
     fn floor_and_floor_2_keep_apart_in_every_order() {
         let orders = [

@@ -1456,9 +1456,9 @@ mod tests {
         .unwrap()
     }
 
-    /// A list beyond its capacity is refused before any item is converted: the
-    /// first sphere's bad radius is not what is reported (it was, after converting
-    /// the 1024 before the one too many).
+    /// A list beyond its capacity is refused before any item is converted: what is
+    /// reported is the list's length, not the first sphere's bad radius (which
+    /// converting first would report, after converting 1024 items for nothing).
     #[test]
     fn lists_beyond_capacity_are_refused_before_conversion() {
         let mut d = small_scene();

@@ -14,9 +14,9 @@
 //!   the adaptive sampler the reference keeps 48 bytes a pixel more:
 //!   2,234,768 KiB (`--sampler adaptive:2`). `trade` holds about as much at
 //!   most, 35 bytes a pixel (a reference render, its 8-bit image and the
-//!   converged one; counted, not measured at that size: its converged
-//!   references alone would take hours). `trade` runs at most [`MAX_RUNS`]
-//!   timed runs.
+//!   converged one; counted, not measured: at that size its converged
+//!   references alone are far too much work to run). `trade` runs at most
+//!   [`MAX_RUNS`] timed runs.
 //! - Work: before rendering, each command bounds the work from above ([`Work`]),
 //!   and where the bound is above [`WARN_SECONDS`] on this machine, measures the
 //!   rays a camera ray takes on a trial of a few pixels; it warns (it does not
@@ -186,31 +186,30 @@ pub fn runs(n: usize) -> Result<usize, HostError> {
 pub const WARN_SECONDS: f64 = 60.0;
 
 /// Nanoseconds a ray of the core takes on one thread, before testing
-/// primitives: the default scene (chapter-reflect, 4 primitives) renders 32.75
-/// million rays a second on one thread (30.5 ns; `tessera render chapter-reflect
-/// --size 1280x960 --threads 1`, release build, on the 2-core machine of the
-/// measurements).
+/// primitives: measured on the default scene (chapter-reflect, 4 primitives)
+/// with `tessera render chapter-reflect --size 1280x960 --threads 1`, release
+/// build, on the 2-core machine of the measurements.
 pub const CORE_NS_PER_RAY: f64 = 30.0;
 /// Nanoseconds more a ray of the core takes for each primitive of a flat list
-/// (tested one by one): 1,024 boxes take 958 ns a ray, 199 spheres 257 ns (scenes
-/// of random boxes and spheres at depth 2, one thread).
+/// (tested one by one): measured on scenes of 1,024 random boxes and of 199
+/// random spheres at depth 2, one thread.
 pub const CORE_NS_PER_TEST: f64 = 1.2;
 /// Nanoseconds more a ray of the core takes for each level of a bounding volume
-/// hierarchy (`log2(n + 1)` for `n` primitives): a soup of 8,192 random triangles
-/// takes 318 ns a ray, 1,024 spheres 194 ns, the teapot (1,088 faces) 85 ns.
+/// hierarchy (`log2(n + 1)` for `n` primitives): measured on a soup of 8,192
+/// random triangles, on 1,024 spheres and on the teapot (1,088 faces).
 pub const CORE_NS_PER_LEVEL: f64 = 24.0;
 /// Nanoseconds a ray of the f64 reference takes (one thread), before testing
-/// primitives: 287 ns for chapter-reflect, 262 ns for the showcase (`tessera
-/// trade --reference --size 64x48`: the reference's ns a pixel over the core's
-/// rays a pixel).
+/// primitives: measured on chapter-reflect and the showcase (`tessera trade
+/// --reference --size 64x48`: the reference's ns a pixel over the core's rays a
+/// pixel).
 pub const REFERENCE_NS_PER_RAY: f64 = 300.0;
 /// Nanoseconds more a ray of the reference takes per primitive (it tests every
-/// one): the teapot's 1,089 primitives take 8,786 ns a ray.
+/// one): measured on the teapot's 1,089 primitives.
 pub const REFERENCE_NS_PER_TEST: f64 = 8.0;
 
 /// Seconds `tessera trade` takes at its defaults (every built-in scene at 128x96,
-/// 5 runs, the converged references rendered): 61.7 s (`/usr/bin/time -v tessera
-/// trade`, release build, on the 2-core machine of the measurements).
+/// 5 runs, the converged references rendered): measured with `/usr/bin/time -v
+/// tessera trade`, release build, on the 2-core machine of the measurements.
 pub const TRADE_DEFAULT_SECONDS: f64 = 62.0;
 
 /// An upper bound of the rays a render traces and of what each costs, from what
@@ -309,9 +308,9 @@ impl Work {
     /// through each of up to [`TRIAL`] pixels spread evenly over the frame of
     /// `camera`, with this work's depth, its rays counted and timed (each pixel
     /// on its own: no tile lists, every primitive a candidate, so a ray costs
-    /// rather more than in a render). At most 1,200 trees of rays: a few
-    /// milliseconds for most scenes; the bound of the costliest (depth 8, glass,
-    /// 64 lights) is 4e7 rays.
+    /// rather more than in a render). At most 1,200 trees of rays: little beside
+    /// the render it estimates for most scenes; the bound of the costliest (depth
+    /// 8, glass, 64 lights) is 4e7 rays.
     ///
     /// # Errors
     ///
@@ -385,7 +384,7 @@ impl Work {
     }
 
     /// Nanoseconds a ray of the core takes on one thread: as measured on the
-    /// trial, else from the rates measured on this machine ([`CORE_NS_PER_RAY`],
+    /// trial, else from the measured rates ([`CORE_NS_PER_RAY`],
     /// [`CORE_NS_PER_TEST`], [`CORE_NS_PER_LEVEL`]).
     #[must_use]
     pub fn core_ns_per_ray(&self) -> f64 {

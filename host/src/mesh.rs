@@ -164,8 +164,8 @@ pub const MAX_FACE_VERTICES: usize = MAX_TRIANGLES + 2;
 /// The most triangles the faces of an OBJ file may make (polygons counted as
 /// fans), degenerate faces (left out) included: twice what the scene holds.
 /// Bounding them before tobj reads the file bounds tobj's lists, which grow
-/// with the faces (a file of 2 million faces took 275 MB, one face line of 2.8
-/// million vertices 340 MB).
+/// with the faces (a file of 2 million faces takes 275 MB there, one face line of
+/// 2.8 million vertices 340 MB).
 pub const MAX_OBJ_TRIANGLES: usize = 2 * MAX_TRIANGLES;
 
 /// Checks the lines of OBJ `text` as tobj will read them, before it does

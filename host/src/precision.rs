@@ -586,7 +586,7 @@ mod tests {
         format!("[[triangle]]\nvertices = {v:?}\nmaterial = \"{material}\"\n")
     }
 
-    /// The ground: two triangles 2e7 wide meeting under the camera.
+    /// A huge ground: two triangles 2e7 wide meeting under the camera.
     fn ground(second: &str) -> String {
         let s = 1e7;
         triangle([[-s, 0.0, -s], [s, 0.0, -s], [s, 0.0, s]], "a")

@@ -494,8 +494,8 @@ mod tests {
     use super::*;
 
     /// The cache name of a converged reference changes with the scene and the
-    /// size, and names the encoding (a linear reference cached by an older build
-    /// is not read as an sRGB one: that made every FLIP of the report 0.6).
+    /// size, and names the encoding, so that a linear reference in the cache is
+    /// never read as an sRGB one (which would make every FLIP of the report 0.6).
     #[test]
     fn a_cached_truth_is_named_by_everything_it_depends_on() {
         let vp = Viewport::new(128, 96);

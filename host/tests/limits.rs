@@ -142,12 +142,12 @@ fn peak_of(args: &[&str]) -> (u64, std::process::ExitStatus) {
     }
 }
 
-/// `compare` keeps the reference's f64 colours (24 bytes a pixel) and
-/// signature (8) only while it makes its 8-bit image and silhouette band, and
-/// measures FLIP a band of rows at a time: about 33 bytes a pixel at its peak,
-/// where it took about 103 (its images, their copies for FLIP, FLIP's 60 bytes a
-/// pixel of workspace): 2.93 GB at its largest size, 28.5 million pixels. The
-/// sparse sampler's reference too: it keeps the two traced rows a row needs,
+/// `compare` keeps the reference's f64 colours (24 bytes a pixel) and signature (8)
+/// only while it makes its 8-bit image and silhouette band, and measures FLIP a
+/// band of rows at a time: about 33 bytes a pixel at its peak, where keeping every
+/// image whole would take about 103 (its images, their copies for FLIP, FLIP's 60
+/// bytes a pixel of workspace): 2.93 GB at its largest size, 28.5 million pixels.
+/// The sparse sampler's reference too: it keeps the two traced rows a row needs,
 /// not the traced quarter of the frame.
 #[test]
 fn compare_peaks_at_about_33_bytes_a_pixel() {

@@ -1,7 +1,6 @@
-//! What the `tessera` command says, and with what exit status (issue 23, item 6):
-//! a bad command-line value is a usage error (status 2, clap's message naming
-//! the range); errors name the scene, the item and the value at fault; the
-//! summary lines say what was done.
+//! What the `tessera` command says, and with what exit status: a bad command-line
+//! value is a usage error (status 2, clap's message naming the range); errors name
+//! the scene, the item and the value at fault; the summary lines say what was done.
 
 use crate::common::{self, bin, scratch, text};
 use std::path::Path;
@@ -308,9 +307,10 @@ fn first_warning(dir: &Path, args: &[&str]) -> String {
     line.unwrap_or_else(|_| panic!("{args:?}: nothing on stderr within 60 s"))
 }
 
-/// A 5 KB scene that asks for hours of work (16 glass spheres, 64 lights, depth
-/// 8, random:4096 at 320x240) is warned about before the work starts, with the
-/// estimate, what drives it and how to make it cheaper; nothing said so.
+/// A 5 KB scene that asks for far more work than the warning's threshold (16 glass
+/// spheres, 64 lights, depth 8, random:4096 at 320x240) is warned about before the
+/// work starts, with the estimate, what drives it and how to make it cheaper;
+/// nothing said so.
 #[test]
 fn a_costly_scene_is_warned_about_before_the_work_starts() {
     let dir = scratch("costly");

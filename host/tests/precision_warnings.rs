@@ -1,10 +1,11 @@
-//! The loader's warnings about numbers that `f32` does not hold finely enough
-//! (issue 37): a surface moved by the rounding of its numbers by more than
-//! half a pixel at its distance from the camera, a camera whose coordinates `f32`
-//! spaces more than a quarter of a pixel apart at the nearest surface. The cases
-//! of the issue warn, with the figure; the repository's scenes and a ground 1.1e12
-//! wide of vertices exact in `f32` (what docs/limits.md promises) do not; and
-//! `tessera compare` shows a warned scene missing the accuracy bar where its
+//! The loader's warnings about numbers that `f32` does not hold finely enough: a
+//! surface moved by the rounding of its numbers by more than half a pixel at its
+//! distance from the camera, a camera whose coordinates `f32` spaces more than a
+//! quarter of a pixel apart at the nearest surface. An off-centre slope of
+//! half-size 1e10, a ground sphere whose centre is not exact in `f32` and a camera
+//! far from the origin warn, with the figure; the repository's scenes and a ground
+//! 1.1e12 wide of vertices exact in `f32` (what docs/limits.md promises) do not;
+//! and `tessera compare` shows a warned scene missing the accuracy bar where its
 //! exact twin meets it.
 
 use crate::common::{bin, scenes, scratch, text};

@@ -29,8 +29,8 @@ pub const END: &str = "tessera_profile_end";
 /// the second read): SysTick - plugin lies between about -20 and +60 a tile.
 pub const TOLERANCE_PER_TILE: u64 = 80;
 
-/// Compiles the plugin into `target/profiler/insn_profile.so` (every time: it
-/// takes a fraction of a second) with `gcc -shared -fPIC -O2 -Wall -Wextra
+/// Compiles the plugin into `target/profiler/insn_profile.so` (every time: it is
+/// one small C file) with `gcc -shared -fPIC -O2 -Wall -Wextra
 /// -Werror` (or `$CC` when set) and returns the library's path.
 pub fn build_plugin() -> Result<PathBuf, String> {
     build_plugin_from(PLUGIN_SOURCE)

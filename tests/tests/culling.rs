@@ -165,7 +165,7 @@ fn scaled_scenes_render_the_same_culled_or_not() {
 }
 
 proptest! {
-    // A few seconds: 96 random scenes, each rendered four times at 40x30.
+    // 96 random scenes, each rendered four times at 40x30.
     #![proptest_config(ProptestConfig { cases: 96, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]

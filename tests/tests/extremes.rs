@@ -116,7 +116,7 @@ fn case06_up_nearly_parallel_to_forward_gives_an_orthonormal_basis() {
 }
 
 /// Up 1e-7 to 1e-3 rad from forward sets the roll to within 0.01 pixel of the
-/// `f64` basis of the same inputs (a plain `f32` cross product was 3.9 pixels off at
+/// `f64` basis of the same inputs (a plain `f32` cross product is 3.9 pixels off at
 /// 4e-6 rad, 640x480).
 #[test]
 fn case06_up_nearly_parallel_to_forward_sets_the_roll_exactly() {

@@ -17,7 +17,7 @@ static RENDERED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize
 static GENERATED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 
 proptest! {
-    // A few seconds: 160 random scenes at 20x14, every pixel's colour checked,
+    // 160 random scenes at 20x14, every pixel's colour checked,
     // rendered with three tile sizes.
     #![proptest_config(ProptestConfig { cases: 160, failure_persistence: None, ..ProptestConfig::default() })]
 

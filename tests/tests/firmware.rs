@@ -273,9 +273,9 @@ fn instruction_counts_stay_within_the_baseline() {
     );
 }
 
-/// Extreme scales on the chip (issue 6, case 12): every built-in scene scaled by
-/// 2^k at the ends of the supported range gives, on the Cortex-M4F, the same bits as
-/// the host build and as the unscaled scene.
+/// Extreme scales on the chip (case 12 of docs/extremes.md): every built-in scene
+/// scaled by 2^k at the ends of the supported range gives, on the Cortex-M4F, the
+/// same bits as the host build and as the unscaled scene.
 #[test]
 fn extreme_scales_render_the_same_bits_on_the_chip() {
     let mut runs = Vec::new();

@@ -50,7 +50,7 @@ fn walk<const ANY: bool>(
     // reached, the arm only keeps the walk total). Not zeroed: a `Vec`.
     let mut stack: Vec<(u16, f32), DEPTH> = Vec::new();
     // A node is visited at most once: a bounded loop (which also lets the compiler
-    // see that the search returns, and so treat its callers as before).
+    // see that the search returns, which the optimisation of its callers uses).
     for _ in 0..nodes.len() {
         if n.count == 0 {
             let first = usize::from(n.first);

@@ -1165,7 +1165,7 @@ color = [0.9, 0.1, 0.1]
         // An unclosed string ends at its line, as for the parser.
         let t = format!("a = \"x\nb = {many}\n");
         assert_eq!(line_col(&t, prescan(&t).unwrap_err().byte), (2, 21));
-        // Whole files parse as before.
+        // In comments, such text is no error: whole files parse.
         let text = format!("# [[sphere]] [[[[ {many}\n{HEAD}");
         assert!(parse(&text, "t.toml").is_ok());
         let text = format!(

@@ -388,9 +388,9 @@ impl RefScene {
 mod tests {
     use super::*;
 
-    /// The checker's cell parity where the cell indices saturate (issue 10: the
-    /// core's `i64` sum overflowed): the reference and the core pick the same
-    /// colour, computed the same way (an exclusive or of the two parities).
+    /// The checker's cell parity where the cell indices saturate (their sum would
+    /// overflow an `i64`): the reference and the core pick the same colour, computed
+    /// the same way (an exclusive or of the two parities).
     #[test]
     fn checker_parity_agrees_with_the_core_where_indices_saturate() {
         let (a, b) = (V3::new(1.0, 1.0, 1.0), V3::ZERO);

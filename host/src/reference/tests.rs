@@ -354,9 +354,7 @@ fn approximated_scene() -> SceneDesc {
 /// 2x2), bound 0.999. fast-math: measured 0.9995 and 0.9988, bound 0.997: the
 /// highlights are within 1.6 LSB (the core's `math::powf`'s bound up to shininess
 /// 100.5), the rest is the checker's edges on the red sphere, moved by micromath's
-/// `atan2` and `acos` (up to 9.2e-3 of the texture in `v`). Before the fast-math
-/// `powf` took an exact reciprocal: 0.933 (centre), the highlights up to 60 LSB off
-/// (micromath's `ln` doubled the logarithm below 1).
+/// `atan2` and `acos` (up to 9.2e-3 of the texture in `v`).
 #[test]
 fn agrees_with_the_core_where_fast_math_approximates() {
     let bound = if cfg!(feature = "fast-math") {

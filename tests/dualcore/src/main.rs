@@ -427,8 +427,8 @@ fn copy_into_frame(tile: &Tile<N>) {
 /// fixed after 7.2 by splitting the budget: "accel/tcg/tcg-accel-ops-rr: ensure
 /// fairness with icount", Jamie Iles, April 2023). Without a timer of the guest's
 /// the next deadline is the round-robin kick, 100 ms (100 million instructions)
-/// away: CPU 0 rendered every tile of each frame before CPU 1 ran (measured: CPU 1
-/// rendered no tile). With this timer, measured on qemu 7.2: a vCPU that waits in a
+/// away: CPU 0 renders every tile of each frame before CPU 1 runs (measured: CPU 1
+/// renders no tile). With this timer, measured on qemu 7.2: a vCPU that waits in a
 /// YIELD loop gets no turn while the other runs to deadlines, but two vCPUs that
 /// both render alternate exactly 10,000 instructions each (the plugin's `shared`
 /// counts check it in the test). So CPU 0 also yields once after posting a frame

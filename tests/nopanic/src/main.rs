@@ -19,7 +19,7 @@
 //! path for any settings, not only for the ones in the table. The pixels go to
 //! [`SINK`] by volatile stores, so no render is optimised away.
 //!
-//! Checked that the proof can fail (issue 10): with the line
+//! The proof can fail: with the line
 //! `lit |= [false, true, false][usize::from(tile.width())];` (an index the
 //! compiler cannot bound) added after `render_tile` in [`render`], the release
 //! build stops at the link with the undefined symbol above, for both backends; so
@@ -98,8 +98,8 @@ const fn baked(scene: u8, sampler: u8, count: u16, depth: u8, tile: u8) -> Job {
 }
 
 /// The renders: every built-in scene at its own settings, and every sampler, tile
-/// size, encoding, a scaled scene and a baked scene somewhere (small frames: a run
-/// under qemu takes a second).
+/// size, encoding, a scaled scene and a baked scene somewhere (small frames, so that
+/// the run under qemu stays short).
 static JOBS: [Job; 11] = [
     job(0, 1, 1, 0, 16, 0), // chapter-direct, centre
     job(1, 1, 1, 1, 16, 0), // chapter-reflect, centre

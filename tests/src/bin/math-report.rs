@@ -1,7 +1,7 @@
 //! `math-report`: the worst error of each approximation of the core's math
 //! (`core/src/math.rs`, the cargo features `fast-rsqrt`, `fast-recip` and
-//! `fast-pow`, and the variants that were measured and dropped) over its input
-//! range, against `f64`; prints a markdown table.
+//! `fast-pow`, and the variants the core does not offer, `(dropped)`) over its
+//! input range, against `f64`; prints a markdown table.
 //!
 //! Exhaustive over the f32s of the range where that is feasible, on a sample
 //! elsewhere (the table says which): the reciprocal square root and the
@@ -368,10 +368,10 @@ fn power_rows(rows: &mut Vec<Row>) {
     ));
 }
 
-/// micromath's `atan2` and `acos` (the old `fast-math`'s sphere texture
-/// coordinates, dropped) against `f64`, as absolute errors in radians (the texture
-/// coordinate is the angle over `2 pi` or `pi`; `atan2`'s modulo `2 pi`, the
-/// texture's period).
+/// micromath's `atan2` and `acos` (candidates for the sphere texture coordinates,
+/// not offered: `(dropped)`) against `f64`, as absolute errors in radians (the
+/// texture coordinate is the angle over `2 pi` or `pi`; `atan2`'s modulo `2 pi`,
+/// the texture's period).
 fn trig_rows(rows: &mut Vec<Row>) {
     use micromath::F32Ext;
     let acos = over_bits(0, 0x3f80_0001, 1, |x, w| {

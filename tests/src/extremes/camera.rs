@@ -202,8 +202,8 @@ pub struct UpRoll {
 /// Case 6, roll: `up` at each of [`ROLL_ANGLES`] from forward (several forwards and
 /// directions of the tilt, 640x480 and 64x48 viewports, 60 and 100 degrees), the
 /// primary rays' directions against an `f64` basis built from the same `f32`
-/// inputs. The example: forward (0.3, 0.4, 0.5), up (0.300002, 0.4,
-/// 0.4999988), 640x480, was rolled by 3.9 pixels at the corners.
+/// inputs. For example forward (0.3, 0.4, 0.5), up (0.300002, 0.4, 0.4999988),
+/// 640x480: a plain `f32` cross product rolls it by 3.9 pixels at the corners.
 #[must_use]
 pub fn up_roll() -> UpRoll {
     let mut out = UpRoll::default();

@@ -404,8 +404,9 @@ fn approximation(p: &mut String, entries: &[Entry], backend: &str) -> Result<(),
 }
 
 /// Adaptive 4x4 against stratified 4x4, scene by scene: mean FLIP, and the share
-/// of the chip's estimated cycles and of the host time; then the target
-/// (FLIP within 10% at no more than 35% of the cost, on both), where it holds.
+/// of the chip's estimated cycles and of the host time; then adaptive sampling's
+/// target (FLIP within 10% at no more than 35% of the cost, on both), where it
+/// holds.
 fn adaptive(p: &mut String, entries: &[Entry]) -> Result<(), String> {
     let _ = write!(
         p,
