@@ -94,6 +94,8 @@ impl<T, const N: usize> ListStore<T> for heapless::Vec<T, N> {
 /// A geometry kind's place in the list of kinds (implemented for each kind's
 /// type from the list).
 pub(crate) trait Slot: Copy + 'static {
+    /// Its kind.
+    const KIND: Kind;
     /// Its list among `primitives`.
     fn of<'a>(primitives: &Primitives<'a>) -> &'a [Primitive<Self>];
 }
@@ -233,6 +235,7 @@ macro_rules! define {
 
         $(
             impl Slot for $T {
+                const KIND: Kind = Kind::$K;
                 #[inline(always)]
                 fn of<'a>(primitives: &Primitives<'a>) -> &'a [Primitive<Self>] {
                     primitives.$f
@@ -282,6 +285,29 @@ macro_rules! define {
 }
 
 __kinds!({ define });
+
+/// `$body` once per kind of the list, in search order, with `$G` the kind's
+/// type (a block each: `return` and `?` work as in the caller).
+macro_rules! each_kind {
+    (|$G:ident| $body:block) => {
+        $crate::__kinds!({$crate::__each_kind_blocks} $G, $body)
+    };
+}
+pub(crate) use each_kind;
+
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __each_kind_blocks {
+    ([$G:ident, $body:block]
+        $( ($K:ident, $f:ident, $L:ident, $T:ty, $name:literal) ),* $(,)?) => {
+        $(
+            {
+                type $G = $T;
+                $body
+            }
+        )*
+    };
+}
 
 /// `$body` with `$G` the type of the kind `$kind` (a [`Kind`] other than the
 /// meshes'; `$mesh` for those): one `match` arm per kind of the list.

@@ -257,6 +257,16 @@ impl<'a> SceneView<'a> {
         through
     }
 
+    /// The hull the view keeps of list `kind`'s primitives (the triangles'
+    /// only), if any.
+    #[inline(always)]
+    pub(crate) fn hull(&self, kind: crate::kind::Kind) -> Option<crate::cull::Hull> {
+        match kind {
+            crate::kind::Kind::Triangle => self.triangle_hull,
+            _ => None,
+        }
+    }
+
     /// The lengths of the lists a tile culls (spheres, planes, triangles, boxes),
     /// or `None` when its tiles build no lists: everything is searched through a
     /// hierarchy, or culling is off.

@@ -238,6 +238,24 @@ fn face_axis(face: u8) -> (usize, bool) {
 /// A box is closed and convex.
 impl super::Kinded for Aabb {
     const FLAT: bool = false;
+
+    #[inline(always)]
+    fn search<'r, V: super::Visit<'r, Self>>(v: &mut V) -> Option<(usize, super::Candidate)> {
+        if v.none() {
+            return None;
+        }
+        let inv = v.inv();
+        let origin = v.ray().origin;
+        let (index, mut hit) =
+            v.each(|b, t| b.time_inv(origin, inv, t).map(super::Candidate::at))?;
+        // The face, for the nearest hit only.
+        if !V::FIRST
+            && let Some(b) = v.get(index)
+        {
+            hit.face = b.face_inv(origin, inv);
+        }
+        Some((index, hit))
+    }
 }
 
 impl Locate for Aabb {

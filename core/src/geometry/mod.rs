@@ -36,11 +36,53 @@ use crate::vec::Vec3;
 
 /// What a geometry kind is, beyond its intersection tests: implemented by each
 /// kind's type in its own module.
-pub(crate) trait Kinded: Locate {
+pub(crate) trait Kinded: Locate + Sized {
     /// Flat (a plane, a triangle): a ray that leaves it never meets it again.
     /// Otherwise closed and convex: a ray that leaves it outwards never meets
     /// it again (see `hit::Hit::skip_for`).
     const FLAT: bool;
+
+    /// The kind's part of a ray's search (module `search` hands it its
+    /// candidates, `v`): the nearest hit among them (with [`Visit::FIRST`], the
+    /// first), its index and candidate. The kind decides what is worth doing
+    /// before its loop (whether to look at an empty list first, a hull, a
+    /// per-ray set-up) and what its loop tests.
+    fn search<'r, V: Visit<'r, Self>>(v: &mut V) -> Option<(usize, Candidate)>;
+}
+
+/// A kind's candidates for one ray, as the search hands them to
+/// [`Kinded::search`].
+pub(crate) trait Visit<'r, G> {
+    /// Whether the search wants the first hit found (an any-hit test) rather
+    /// than the nearest.
+    const FIRST: bool;
+
+    /// The ray.
+    fn ray(&self) -> &'r Ray;
+
+    /// True when no candidate of the kind is to be tested.
+    fn none(&self) -> bool;
+
+    /// The ray's reciprocal direction (computed once a ray, shared by the
+    /// kinds).
+    fn inv(&mut self) -> Vec3;
+
+    /// False only when the kind's hull (where the view keeps one for it and
+    /// the source tests hulls) proves that the ray misses every candidate
+    /// before the nearest time found so far.
+    fn may_hit_hull(&mut self) -> bool;
+
+    /// The candidate at `index` of the kind's list.
+    fn get(&self, index: usize) -> Option<&G>;
+
+    /// The candidate that `test(geometry, t_max)` finds nearest (with `FIRST`,
+    /// the first found), in list order or through the list's hierarchy, the
+    /// primitive the ray leaves skipped; keeps the nearest time for the kinds
+    /// after.
+    fn each(
+        &mut self,
+        test: impl FnMut(&G, f32) -> Option<Candidate>,
+    ) -> Option<(usize, Candidate)>;
 }
 
 /// A hit's point and normal first, its error bound only when a ray leaves it (a

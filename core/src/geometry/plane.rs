@@ -22,8 +22,9 @@ pub struct Plane {
     /// itself. A hit's time
     /// `(offset - n.o) / n.d` then involves the ray's origin and the plane's
     /// distance from the world's origin, never the point the user happened to
-    /// give: `(point - o).n` loses ulps of `point`, and a plane through a point
-    /// `10^7` away put the hits of a camera near the origin units off the plane.
+    /// give: `(point - o).n` loses ulps of `point`, which for a plane through a
+    /// point `10^7` away would put the hits of a camera near the origin units off
+    /// the plane.
     offset: f32,
     /// The tangents of [`tangent_basis`]`(normal)`, the axes of the plane's uv,
     /// computed once here rather than at every textured hit.
@@ -180,6 +181,12 @@ impl Plane {
 /// A plane is flat.
 impl super::Kinded for Plane {
     const FLAT: bool = true;
+
+    #[inline(always)]
+    fn search<'r, V: super::Visit<'r, Self>>(v: &mut V) -> Option<(usize, super::Candidate)> {
+        let ray = v.ray();
+        v.each(|p, t| p.hit(ray, t).map(super::Candidate::at))
+    }
 }
 
 impl Locate for Plane {

@@ -288,6 +288,17 @@ fn split(a: f32) -> (f32, f32) {
 /// A sphere is closed and convex.
 impl super::Kinded for Sphere {
     const FLAT: bool = false;
+
+    #[inline(always)]
+    fn search<'r, V: super::Visit<'r, Self>>(v: &mut V) -> Option<(usize, super::Candidate)> {
+        // `none` first, though the loop of an empty list does nothing: the
+        // camera rays of a tile without spheres then skip the loop's set-up.
+        if v.none() {
+            return None;
+        }
+        let ray = v.ray();
+        v.each(|s, t| s.hit(ray, t).map(super::Candidate::at))
+    }
 }
 
 impl Locate for Sphere {
@@ -372,8 +383,8 @@ mod tests {
 
     #[test]
     fn a_ray_built_with_a_long_direction_hits_like_every_other_kind() {
-        // The issue-10 trap: a direction of length 2 made the sphere report a miss
-        // while the plane returned the parametric t. `Ray::new` normalises it.
+        // A direction of length 2 would make the sphere's half-`b` quadratic report
+        // a miss while the plane returns the parametric t. `Ray::new` normalises it.
         let r = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -2.0)).unwrap();
         let s = Sphere::try_new(Vec3::new(0.0, 0.0, -5.0), 1.0).unwrap();
         let p = crate::geometry::Plane::try_new(Vec3::new(0.0, 0.0, -4.0), Vec3::Z).unwrap();

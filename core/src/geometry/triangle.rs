@@ -81,6 +81,7 @@ macro_rules! with_axes {
         }
     }};
 }
+#[cfg_attr(not(feature = "bvh"), allow(unused_imports))]
 pub(crate) use with_axes;
 
 /// The world axes `(kx, ky)` of the ray frame whose z is the world axis `kz`:
@@ -446,6 +447,15 @@ impl Triangle {
 /// A triangle is flat.
 impl super::Kinded for Triangle {
     const FLAT: bool = true;
+
+    #[inline(always)]
+    fn search<'r, V: super::Visit<'r, Self>>(v: &mut V) -> Option<(usize, super::Candidate)> {
+        if v.none() || !v.may_hit_hull() {
+            return None;
+        }
+        let shear = Shear::new(v.ray());
+        with_axes!(shear.axes, A => v.each(|g, t| g.hit_with::<A>(&shear, t)), None)
+    }
 }
 
 impl Locate for Triangle {

@@ -48,8 +48,8 @@ mod bvh;
 #[cfg(feature = "bvh")]
 use crate::bvh::BvhView;
 use crate::cull::Hull;
-use crate::geometry::triangle::{Shear, with_axes};
-use crate::geometry::{Candidate, aabb_inverse};
+use crate::geometry::{Candidate, Kinded, Visit, aabb_inverse};
+use crate::kind::{Slot, each_kind};
 use crate::primitive::Primitive;
 use crate::ray::Ray;
 use crate::vec::Vec3;
@@ -333,18 +333,79 @@ impl<'r> Reach<'r> {
     }
 }
 
-/// The triangles' hull, where the source tests hulls ([`Source::HULLS`]) and
-/// searches the triangles as a list. A hull for the triangles only: the miss tests
-/// of spheres, planes and boxes cost about what the hull's slab test does.
+/// The hull of list `G` of `view`, where the source tests hulls
+/// ([`Source::HULLS`]) and searches that list as a list (the view keeps a hull
+/// for the triangles only: the miss tests of the other kinds cost about what a
+/// hull's slab test does).
 #[inline(always)]
-fn triangle_bound<'v, S: Source<'v>>(view: &SceneView<'_>, src: S) -> Option<Hull> {
+fn hull_of<'v, S: Source<'v>, G: Slot>(view: &SceneView<'_>, src: S) -> Option<Hull> {
     #[cfg(feature = "bvh")]
-    if src.hierarchy(Kind::Triangle).is_some() {
+    if src.hierarchy(G::KIND).is_some() {
         return None;
     }
     #[cfg(not(feature = "bvh"))]
     let _ = src;
-    if S::HULLS { view.triangle_hull } else { None }
+    if S::HULLS { view.hull(G::KIND) } else { None }
+}
+
+/// A kind's candidates for one ray ([`Visit`]): the search's state lent to
+/// [`Kinded::search`].
+struct Visitor<'a, 'b, 'v, S, G, const FIRST: bool> {
+    view: &'b SceneView<'v>,
+    src: S,
+    list: &'v [Primitive<G>],
+    ray: &'a Ray,
+    skip: usize,
+    t: &'b mut f32,
+    reach: &'b mut Reach<'a>,
+}
+
+impl<'a, 'v, S: Source<'v>, G: Slot, const FIRST: bool> Visit<'a, G>
+    for Visitor<'a, '_, 'v, S, G, FIRST>
+{
+    const FIRST: bool = FIRST;
+
+    #[inline(always)]
+    fn ray(&self) -> &'a Ray {
+        self.ray
+    }
+
+    #[inline(always)]
+    fn none(&self) -> bool {
+        self.src.none(self.list, G::KIND)
+    }
+
+    #[inline(always)]
+    fn inv(&mut self) -> Vec3 {
+        self.reach.inv()
+    }
+
+    #[inline(always)]
+    fn may_hit_hull(&mut self) -> bool {
+        self.reach
+            .may_hit(hull_of::<S, G>(self.view, self.src), *self.t)
+    }
+
+    #[inline(always)]
+    fn get(&self, index: usize) -> Option<&G> {
+        self.list.get(index).map(|p| &p.geometry)
+    }
+
+    #[inline(always)]
+    fn each(
+        &mut self,
+        test: impl FnMut(&G, f32) -> Option<Candidate>,
+    ) -> Option<(usize, Candidate)> {
+        visit::<S, G, FIRST>(
+            self.src,
+            self.list,
+            G::KIND,
+            self.ray,
+            self.skip,
+            self.t,
+            test,
+        )
+    }
 }
 
 /// The candidate of list `kind` but `skip` that `test` finds nearest before `*t`
@@ -484,22 +545,19 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
     let mut t = t_max;
     let mut best = None;
     let mut reach = Reach::new(ray);
-    // `none` first, though the loop of an empty list does nothing: the camera
-    // rays of a tile without spheres then skip the sphere loop's set-up.
-    if !src.none(view.primitives.spheres, Kind::Sphere) {
-        let sk = skip.index(Kind::Sphere);
-        let found = visit::<S, _, FIRST>(
+    each_kind!(|G| {
+        let mut v = Visitor::<S, G, FIRST> {
+            view,
             src,
-            view.primitives.spheres,
-            Kind::Sphere,
+            list: G::of(&view.primitives),
             ray,
-            sk,
-            &mut t,
-            |s, t| s.hit(ray, t).map(Candidate::at),
-        );
-        if let Some((index, hit)) = found {
+            skip: skip.index(G::KIND),
+            t: &mut t,
+            reach: &mut reach,
+        };
+        if let Some((index, hit)) = G::search(&mut v) {
             best = Some(Nearest {
-                kind: Kind::Sphere,
+                kind: G::KIND,
                 index,
                 hit,
             });
@@ -507,72 +565,7 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
                 return best;
             }
         }
-    }
-    let sk = skip.index(Kind::Plane);
-    let found = visit::<S, _, FIRST>(
-        src,
-        view.primitives.planes,
-        Kind::Plane,
-        ray,
-        sk,
-        &mut t,
-        |p, t| p.hit(ray, t).map(Candidate::at),
-    );
-    if let Some((index, hit)) = found {
-        best = Some(Nearest {
-            kind: Kind::Plane,
-            index,
-            hit,
-        });
-        if FIRST {
-            return best;
-        }
-    }
-    if !src.none(view.primitives.triangles, Kind::Triangle)
-        && reach.may_hit(triangle_bound(view, src), t)
-    {
-        let shear = Shear::new(ray);
-        let sk = skip.index(Kind::Triangle);
-        let list = view.primitives.triangles;
-        let found = with_axes!(shear.axes, A => visit::<S, _, FIRST>(src, list, Kind::Triangle, ray, sk, &mut t, |g, t| g.hit_with::<A>(&shear, t)), None);
-        if let Some((index, hit)) = found {
-            best = Some(Nearest {
-                kind: Kind::Triangle,
-                index,
-                hit,
-            });
-            if FIRST {
-                return best;
-            }
-        }
-    }
-    if !src.none(view.primitives.boxes, Kind::Box) {
-        let inv = reach.inv();
-        let sk = skip.index(Kind::Box);
-        let found = visit::<S, _, FIRST>(
-            src,
-            view.primitives.boxes,
-            Kind::Box,
-            ray,
-            sk,
-            &mut t,
-            |b, t| b.time_inv(ray.origin, inv, t).map(Candidate::at),
-        );
-        if let Some((index, mut hit)) = found {
-            // The face, for the nearest hit only.
-            if !FIRST && let Some(b) = view.primitives.boxes.get(index) {
-                hit.face = b.geometry.face_inv(ray.origin, inv);
-            }
-            best = Some(Nearest {
-                kind: Kind::Box,
-                index,
-                hit,
-            });
-            if FIRST {
-                return best;
-            }
-        }
-    }
+    });
     #[cfg(feature = "bvh")]
     if S::MESHES
         && let Some(m) = bvh::meshes::<FIRST>(view.meshes, ray, skip, &mut t)
