@@ -65,8 +65,8 @@
 //! Cortex-M4F); the chapter's scenes need 128 bytes with alignment.
 
 use crate::camera::CameraBasis;
-use crate::geometry::{Aabb, Plane, Sphere};
-use crate::kind::{Capacities, KINDS, PerKind, Primitives, Uniform};
+use crate::geometry::{Extent, Kinded, Plane};
+use crate::kind::{Capacities, KINDS, Kind, PerKind, Primitives, Slot, Uniform, each_kind};
 use crate::light::PointLight;
 use crate::primitive::Primitive;
 use crate::vec::Vec3;
@@ -246,24 +246,21 @@ impl TileLists<'_> {
         let Some(f) = Frustum::new(basis, x0, y0, x1, y1) else {
             return Picks::default();
         };
-        let [cs, cp, ct, cb] = &mut self.camera;
-        fill(cs, view.primitives().spheres, |s| !f.misses_sphere(s));
-        fill(cp, view.primitives().planes, |p| !f.misses_plane(p));
-        fill(ct, view.primitives().triangles, |t| {
-            !f.misses_points(&t.vertices())
+        let primitives = view.primitives();
+        each_kind!(|G| {
+            if let Some(list) = self.camera.get_mut(G::KIND as usize) {
+                fill(list, G::of(&primitives), |g| !f.misses(g.extent()));
+            }
         });
-        fill(cb, view.primitives().boxes, |b| !f.misses_box(b));
 
         let shadow = if view.lights().is_empty() {
             None
         } else {
             self.build_shadow(&f, view)
         };
-        let [cs, cp, ct, cb] = &self.camera;
-        let camera = Some([&**cs, &**cp, &**ct, &**cb].map(|l| &l[..]));
+        let camera = Some(self.camera.each_ref().map(|l| &l[..]));
         let shadow = shadow.map(|()| {
-            let [ss, sp, st, sb] = &self.shadow;
-            let lists = [&**ss, &**sp, &**st, &**sb].map(|l| &l[..]);
+            let lists = self.shadow.each_ref().map(|l| &l[..]);
             let lights = lists.iter().flat_map(|l| l.iter()).fold(0, |m, e| m | e);
             ShadowLists {
                 lists,
@@ -276,21 +273,25 @@ impl TileLists<'_> {
     /// The shadow lists, from the camera lists; `None` when the visible points have
     /// no finite bound.
     fn build_shadow(&mut self, f: &Frustum, view: &impl Source) -> Option<()> {
-        let [cs, cp, ct, cb] = &self.camera;
+        let primitives = view.primitives();
         // The visible points of everything but the planes, and of each plane.
         let mut solids = Bounds::EMPTY;
-        for &i in cs.iter() {
-            let s = &view.primitives().spheres.get(usize::from(i))?.geometry;
-            solids = solids.union(f.clip(Bounds::sphere(s)));
-        }
-        for &i in ct.iter() {
-            let t = &view.primitives().triangles.get(usize::from(i))?.geometry;
-            solids = solids.union(f.clip(Bounds::points(&t.vertices())));
-        }
-        for &i in cb.iter() {
-            let b = &view.primitives().boxes.get(usize::from(i))?.geometry;
-            solids = solids.union(f.clip(Bounds::new(b.min(), b.max())));
-        }
+        each_kind!(|G| {
+            let listed = self
+                .camera
+                .get(G::KIND as usize)
+                .map_or(&[][..], |l| &l[..]);
+            for &i in listed {
+                let g = &G::of(&primitives).get(usize::from(i))?.geometry;
+                if let Some(b) = Bounds::of(g.extent()) {
+                    solids = solids.union(f.clip(b));
+                }
+            }
+        });
+        let cp = self
+            .camera
+            .get(Kind::Plane as usize)
+            .map_or(&[][..], |l| &l[..]);
         // The visible parts of the first few visible planes, each on its own: a
         // blocker's shadow on a plane is bounded much more tightly (its projection
         // from the light) than by a capsule around a tile's whole floor. Beyond
@@ -352,18 +353,21 @@ impl TileLists<'_> {
             }
             mask
         };
-        let [ss, sp, st, sb] = &mut self.shadow;
-        fill_masked(ss, view.primitives().spheres, |s| {
-            blocks(s.center(), s.radius(), Bounds::sphere(s))
+        each_kind!(|G| {
+            if let Some(list) = self.shadow.get_mut(G::KIND as usize) {
+                fill_masked(list, G::of(&primitives), |g| {
+                    let e = g.extent();
+                    match (ball_of(e), Bounds::of(e)) {
+                        (Some((c, r)), Some(b)) => blocks(c, r, b),
+                        // A plane: its own rule, below.
+                        _ => 0,
+                    }
+                });
+            }
         });
-        fill_masked(st, view.primitives().triangles, |t| {
-            let (c, r) = ball(&t.vertices());
-            blocks(c, r, Bounds::points(&t.vertices()))
-        });
-        fill_masked(sb, view.primitives().boxes, |b| {
-            let (c, h) = ((b.min() + b.max()) * 0.5, (b.max() - b.min()) * 0.5);
-            blocks(c, h.length(), Bounds::new(b.min(), b.max()))
-        });
+        let Some(sp) = self.shadow.get_mut(Kind::Plane as usize) else {
+            return Some(());
+        };
         for (j, p) in view.primitives().planes.iter().enumerate() {
             // A plane blocks a shadow ray only from a point on its far side from the
             // light; its own points cannot be shadowed by it (shadow rays skip the
@@ -411,6 +415,19 @@ fn fill_masked<G>(out: &mut VecView<u32>, list: &[Primitive<G>], mask: impl Fn(&
             // Cannot fail: the list's capacity is the scene's.
             let _ = out.push(index(i) | m);
         }
+    }
+}
+
+/// A ball around a bounded extent, for the shadow lists' capsule tests (`None`
+/// for a plane): a sphere's own, the triangle's of [`ball`], a box's centre and
+/// half-diagonal.
+#[inline(always)]
+fn ball_of(e: Extent) -> Option<(Vec3, f32)> {
+    match e {
+        Extent::Ball { center, radius } => Some((center, radius)),
+        Extent::Points(p) => Some(ball(&p)),
+        Extent::Box { min, max } => Some(((min + max) * 0.5, ((max - min) * 0.5).length())),
+        Extent::Plane { .. } => None,
     }
 }
 
@@ -500,9 +517,18 @@ impl Bounds {
         Self { min, max }
     }
 
-    fn sphere(s: &Sphere) -> Self {
-        let r = Vec3::splat(s.radius());
-        Self::new(s.center() - r, s.center() + r)
+    /// The box of a bounded extent (`None` for a plane).
+    #[inline(always)]
+    fn of(e: Extent) -> Option<Self> {
+        match e {
+            Extent::Ball { center, radius } => {
+                let r = Vec3::splat(radius);
+                Some(Self::new(center - r, center + r))
+            }
+            Extent::Points(p) => Some(Self::points(&p)),
+            Extent::Box { min, max } => Some(Self::new(min, max)),
+            Extent::Plane { .. } => None,
+        }
     }
 
     fn points(points: &[Vec3]) -> Self {
@@ -638,8 +664,15 @@ impl Frustum {
         self.sides.iter().any(|n| n.dot(v) - r > m) || self.forward.dot(v) + r < self.near - m
     }
 
-    fn misses_sphere(&self, s: &Sphere) -> bool {
-        self.misses_ball(s.center(), s.radius())
+    /// True when no ray of the tile can reach anything inside `e`.
+    #[inline(always)]
+    fn misses(&self, e: Extent) -> bool {
+        match e {
+            Extent::Ball { center, radius } => self.misses_ball(center, radius),
+            Extent::Points(p) => self.misses_points(&p),
+            Extent::Box { min, max } => self.misses_box(min, max),
+            Extent::Plane { point, normal } => self.misses_plane(point, normal),
+        }
     }
 
     /// True when all `points` lie beyond one side plane, or all before the near
@@ -658,9 +691,9 @@ impl Frustum {
                 .all(|p| self.forward.dot(*p - self.apex) < self.near - m)
     }
 
-    fn misses_box(&self, b: &Aabb) -> bool {
-        let c = (b.min() + b.max()) * 0.5;
-        let h = (b.max() - b.min()) * 0.5;
+    fn misses_box(&self, min: Vec3, max: Vec3) -> bool {
+        let c = (min + max) * 0.5;
+        let h = (max - min) * 0.5;
         let m = self.clearance(c, mag(h));
         let v = c - self.apex;
         // The box's least signed distance to a plane of unit normal n: n.v - |n|.h.
@@ -670,8 +703,7 @@ impl Frustum {
 
     /// True when the camera lies strictly off `plane` and every corner direction
     /// points away from it: no ray of the tile can reach it.
-    fn misses_plane(&self, p: &Plane) -> bool {
-        let (p0, n) = (p.point(), p.normal());
+    fn misses_plane(&self, p0: Vec3, n: Vec3) -> bool {
         let side = n.dot(self.apex - p0);
         let m = MARGIN * (self.scale + mag(p0));
         crate::math::abs(side) > m

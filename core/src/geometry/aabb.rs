@@ -240,6 +240,14 @@ impl super::Kinded for Aabb {
     const FLAT: bool = false;
 
     #[inline(always)]
+    fn extent(&self) -> super::Extent {
+        super::Extent::Box {
+            min: self.min(),
+            max: self.max(),
+        }
+    }
+
+    #[inline(always)]
     fn search<'r, V: super::Visit<'r, Self>>(v: &mut V) -> Option<(usize, super::Candidate)> {
         if v.none() {
             return None;

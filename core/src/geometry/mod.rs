@@ -42,12 +42,44 @@ pub(crate) trait Kinded: Locate + Sized {
     /// it again (see `hit::Hit::skip_for`).
     const FLAT: bool;
 
+    /// What holds it, for the culling of a tile's lists ([`Extent`]).
+    fn extent(&self) -> Extent;
+
     /// The kind's part of a ray's search (module `search` hands it its
     /// candidates, `v`): the nearest hit among them (with [`Visit::FIRST`], the
     /// first), its index and candidate. The kind decides what is worth doing
     /// before its loop (whether to look at an empty list first, a hull, a
     /// per-ray set-up) and what its loop tests.
     fn search<'r, V: Visit<'r, Self>>(v: &mut V) -> Option<(usize, Candidate)>;
+}
+
+/// A region that holds a primitive: what a tile's culling knows of it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Extent {
+    /// A ball.
+    Ball {
+        /// Its centre.
+        center: Vec3,
+        /// Its radius.
+        radius: f32,
+    },
+    /// The convex hull of three points.
+    Points([Vec3; 3]),
+    /// An axis-aligned box.
+    Box {
+        /// Its least corner.
+        min: Vec3,
+        /// Its greatest corner.
+        max: Vec3,
+    },
+    /// A whole plane, unbounded (culled by rules of its own: a tile sees it or
+    /// not, and its points receive shadows).
+    Plane {
+        /// A point of it.
+        point: Vec3,
+        /// Its unit normal.
+        normal: Vec3,
+    },
 }
 
 /// A kind's candidates for one ray, as the search hands them to

@@ -183,6 +183,14 @@ impl super::Kinded for Plane {
     const FLAT: bool = true;
 
     #[inline(always)]
+    fn extent(&self) -> super::Extent {
+        super::Extent::Plane {
+            point: self.point(),
+            normal: self.normal(),
+        }
+    }
+
+    #[inline(always)]
     fn search<'r, V: super::Visit<'r, Self>>(v: &mut V) -> Option<(usize, super::Candidate)> {
         let ray = v.ray();
         v.each(|p, t| p.hit(ray, t).map(super::Candidate::at))

@@ -290,6 +290,14 @@ impl super::Kinded for Sphere {
     const FLAT: bool = false;
 
     #[inline(always)]
+    fn extent(&self) -> super::Extent {
+        super::Extent::Ball {
+            center: self.center(),
+            radius: self.radius(),
+        }
+    }
+
+    #[inline(always)]
     fn search<'r, V: super::Visit<'r, Self>>(v: &mut V) -> Option<(usize, super::Candidate)> {
         // `none` first, though the loop of an empty list does nothing: the
         // camera rays of a tile without spheres then skip the loop's set-up.

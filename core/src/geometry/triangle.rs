@@ -449,6 +449,11 @@ impl super::Kinded for Triangle {
     const FLAT: bool = true;
 
     #[inline(always)]
+    fn extent(&self) -> super::Extent {
+        super::Extent::Points(self.vertices())
+    }
+
+    #[inline(always)]
     fn search<'r, V: super::Visit<'r, Self>>(v: &mut V) -> Option<(usize, super::Candidate)> {
         if v.none() || !v.may_hit_hull() {
             return None;
