@@ -13,8 +13,8 @@
 use crate::camera::{Camera, Viewport};
 use crate::color::Color;
 use crate::error::{Error, List};
-use crate::geometry::{Aabb, Sphere, Triangle};
-use crate::kind::{Capacities, LISTS, Primitives};
+use crate::geometry::Kinded;
+use crate::kind::{Capacities, Kind, LISTS, Primitives, Slot, each_kind};
 use crate::light::PointLight;
 use crate::material::Material;
 use crate::tile::{RenderSettings, Renderer};
@@ -285,27 +285,18 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
             )?;
         }
         let prims = &self.primitives;
-        for (i, p) in prims.spheres.iter().enumerate() {
-            check_material(p.material, count)?;
-            let g = &p.geometry;
-            same(
-                Sphere::try_new(g.center(), g.radius())?,
-                *g,
-                List::Spheres,
-                i,
-            )?;
-        }
-        for (i, p) in prims.planes.iter().enumerate() {
-            check_material(p.material, count)?;
-            if !p.geometry.check_baked()? {
-                return Err(bad(List::Planes, i));
+        each_kind!(|G| {
+            // The triangles are checked with their hierarchy or their hull
+            // (`flat_triangles`).
+            if G::KIND != Kind::Triangle {
+                for (i, p) in G::of(prims).iter().enumerate() {
+                    check_material(p.material, count)?;
+                    if !p.geometry.check_baked()? {
+                        return Err(bad(G::KIND.list(), i));
+                    }
+                }
             }
-        }
-        for (i, p) in prims.boxes.iter().enumerate() {
-            check_material(p.material, count)?;
-            let g = &p.geometry;
-            same(Aabb::try_new(g.min(), g.max())?, *g, List::Boxes, i)?;
-        }
+        });
         let view = Lists {
             primitives: Primitives {
                 triangles: &[],
@@ -337,9 +328,10 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
         for (i, p) in self.primitives.triangles.iter().enumerate() {
             check_material(p.material, self.materials.len())?;
-            let [a, b, c] = p.geometry.vertices();
-            same(Triangle::try_new(a, b, c)?, p.geometry, List::Triangles, i)?;
-            for v in [a, b, c] {
+            if !Kinded::check_baked(&p.geometry)? {
+                return Err(bad(List::Triangles, i));
+            }
+            for v in p.geometry.vertices() {
                 lo = lo.min(v);
                 hi = hi.max(v);
             }
@@ -375,7 +367,7 @@ fn same<X: PartialEq>(made: X, baked: X, list: List, i: usize) -> Result<(), Err
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Plane;
+    use crate::geometry::{Plane, Sphere};
     use crate::material::MaterialId;
     use crate::primitive::Primitive;
     use crate::sample::Sampler;

@@ -122,6 +122,17 @@ macro_rules! define {
         /// Each kind's list, as errors name it, in search order.
         pub(crate) const LISTS: [crate::error::List; KINDS] = [$(crate::error::List::$L),*];
 
+        impl Kind {
+            /// The kind's list, as errors name it.
+            pub(crate) const fn list(self) -> crate::error::List {
+                match self {
+                    $(Kind::$K => crate::error::List::$L,)*
+                    #[cfg(feature = "bvh")]
+                    Kind::Mesh => crate::error::List::Meshes,
+                }
+            }
+        }
+
         /// A scene's capacities as numbers, by name: what a [`Capacities`] type
         /// holds ([`Capacities::COUNTS`]), and what
         /// [`capacities!`](crate::capacities) is written with.

@@ -239,6 +239,10 @@ fn face_axis(face: u8) -> (usize, bool) {
 impl super::Kinded for Aabb {
     const FLAT: bool = false;
 
+    fn check_baked(&self) -> Result<bool, crate::error::Error> {
+        Ok(Self::try_new(self.min(), self.max())? == *self)
+    }
+
     #[inline(always)]
     fn extent(&self) -> super::Extent {
         super::Extent::Box {

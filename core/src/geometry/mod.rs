@@ -45,6 +45,13 @@ pub(crate) trait Kinded: Locate + Sized {
     /// What holds it, for the culling of a tile's lists ([`Extent`]).
     fn extent(&self) -> Extent;
 
+    /// Whether a value read from baked tables is what the checked constructor
+    /// makes of its own numbers (`false`: not a value the constructor makes).
+    ///
+    /// # Errors
+    /// The constructor's own, for numbers it refuses.
+    fn check_baked(&self) -> Result<bool, crate::error::Error>;
+
     /// The kind's part of a ray's search (module `search` hands it its
     /// candidates, `v`): the nearest hit among them (with [`Visit::FIRST`], the
     /// first), its index and candidate. The kind decides what is worth doing

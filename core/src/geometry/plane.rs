@@ -182,6 +182,10 @@ impl Plane {
 impl super::Kinded for Plane {
     const FLAT: bool = true;
 
+    fn check_baked(&self) -> Result<bool, crate::error::Error> {
+        Plane::check_baked(self)
+    }
+
     #[inline(always)]
     fn extent(&self) -> super::Extent {
         super::Extent::Plane {

@@ -289,6 +289,10 @@ fn split(a: f32) -> (f32, f32) {
 impl super::Kinded for Sphere {
     const FLAT: bool = false;
 
+    fn check_baked(&self) -> Result<bool, crate::error::Error> {
+        Ok(Self::try_new(self.center(), self.radius())? == *self)
+    }
+
     #[inline(always)]
     fn extent(&self) -> super::Extent {
         super::Extent::Ball {

@@ -448,6 +448,11 @@ impl Triangle {
 impl super::Kinded for Triangle {
     const FLAT: bool = true;
 
+    fn check_baked(&self) -> Result<bool, crate::error::Error> {
+        let [a, b, c] = self.vertices();
+        Ok(Self::try_new(a, b, c)? == *self)
+    }
+
     #[inline(always)]
     fn extent(&self) -> super::Extent {
         super::Extent::Points(self.vertices())
