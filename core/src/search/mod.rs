@@ -355,7 +355,7 @@ struct Visitor<'a, 'b, 'v, S, G, const FIRST: bool> {
     src: S,
     list: &'v [Primitive<G>],
     ray: &'a Ray,
-    skip: usize,
+    skip: Skip,
     t: &'b mut f32,
     reach: &'b mut Reach<'a>,
 }
@@ -401,7 +401,7 @@ impl<'a, 'v, S: Source<'v>, G: Slot, const FIRST: bool> Visit<'a, G>
             self.list,
             G::KIND,
             self.ray,
-            self.skip,
+            self.skip.index(G::KIND),
             self.t,
             test,
         )
@@ -551,7 +551,7 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
             src,
             list: G::of(&view.primitives),
             ray,
-            skip: skip.index(G::KIND),
+            skip,
             t: &mut t,
             reach: &mut reach,
         };
