@@ -108,12 +108,27 @@ pub(crate) const fn empty<C: Capacity, T>() -> C::List<T> {
 macro_rules! define {
     ([] $( ($K:ident, $f:ident, $L:ident, $T:ty, $name:literal) ),* $(,)?) => {
         /// The geometry kinds, in the order the searches visit their lists (the
-        /// meshes, feature `bvh`, last).
+        /// meshes, feature `bvh`, last): the order of ties between equally near
+        /// hits, and the numbering of the adaptive sampler's hit signatures
+        /// ([`Kind::index`]), which the host's reference follows.
         #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-        pub(crate) enum Kind {
-            $($K,)*
+        #[non_exhaustive]
+        pub enum Kind {
+            $(
+                #[doc = concat!("The ", stringify!($f), ".")]
+                $K,
+            )*
+            /// The faces of the meshes (feature `bvh`).
             #[cfg(feature = "bvh")]
             Mesh,
+        }
+
+        impl Kind {
+            /// The kind's number: its place in the search order.
+            #[must_use]
+            pub const fn index(self) -> usize {
+                self as usize
+            }
         }
 
         /// How many geometry kinds a scene has lists of.

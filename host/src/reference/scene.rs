@@ -6,6 +6,7 @@ use super::geometry::{Hit, Ray, Shape};
 use super::vec::V3;
 use crate::desc::{DescError, SceneDesc, TextureDesc};
 use std::f64::consts::PI;
+use tessera::kind::Kind;
 
 /// A texture in `f64`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -162,10 +163,10 @@ pub struct Light {
 }
 
 /// The [`Object::kind`] of a mesh's face.
-pub const MESH_FACE: u64 = 4;
+pub const MESH_FACE: u64 = Kind::Mesh.index() as u64;
 
-/// A primitive: shape, kind (0 sphere, 1 plane, 2 triangle, 3 box,
-/// [`MESH_FACE`]), index in its kind's list (a mesh's faces: the mesh's, and
+/// A primitive: shape, kind (the core's numbering, [`Kind::index`]: a
+/// sphere's, a plane's, a triangle's, a box's, [`MESH_FACE`]), index in its kind's list (a mesh's faces: the mesh's, and
 /// the face's in the mesh), material index, and a smooth mesh's vertex normals.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Object {
@@ -312,24 +313,24 @@ impl RefScene {
                 center: v(s.center),
                 radius: s.radius,
             };
-            add(0, i, shape, &s.material)?;
+            add(Kind::Sphere.index() as u64, i, shape, &s.material)?;
         }
         for (i, p) in desc.planes.iter().enumerate() {
             let shape = Shape::plane(v(p.point), v(p.normal));
-            add(1, i, shape, &p.material)?;
+            add(Kind::Plane.index() as u64, i, shape, &p.material)?;
         }
         for (i, t) in desc.triangles.iter().enumerate() {
             let shape = Shape::Triangle {
                 p: t.vertices.map(v),
             };
-            add(2, i, shape, &t.material)?;
+            add(Kind::Triangle.index() as u64, i, shape, &t.material)?;
         }
         for (i, b) in desc.boxes.iter().enumerate() {
             let shape = Shape::Box {
                 min: v(b.min),
                 max: v(b.max),
             };
-            add(3, i, shape, &b.material)?;
+            add(Kind::Box.index() as u64, i, shape, &b.material)?;
         }
         // The meshes, after every list (as the core searches them), a face at a
         // time; a smooth one's normals welded as the host welds them.
