@@ -162,10 +162,12 @@ run cargo test-all
 
 # The same tests with the approximations: the core's own (math: each
 # approximation's error bound) with each alone and all together (fast-math), and
-# the host's (the f64 reference against the core) with fast-math. Not
-# tessera-tests, which holds the long runs (qemu, golden images: exact images).
-say "tests with the approximations (core: each alone and fast-math; host: fast-math)"
+# the host library's (the f64 reference against the core) with fast-math. Not the
+# command's integration tests (messages, outputs, files: nothing an approximation
+# changes), nor tessera-tests, which holds the long runs (qemu, golden images:
+# exact images).
+say "tests with the approximations (core: each alone and fast-math; host library: fast-math)"
 for feature in fast-rsqrt fast-recip fast-pow fast-math; do
   run cargo test -p tessera --features "$feature"
 done
-run cargo test -p tessera-host --features fast-math
+run cargo test -p tessera-host --features fast-math --lib
