@@ -201,6 +201,17 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
         Self { meshes, ..self }
     }
 
+    /// The same scene without its meshes: its lists alone, for a copy of them
+    /// ([`crate::Scene::from_view`]) that does not check meshes it leaves out.
+    #[must_use]
+    pub(crate) const fn lists_only(self) -> Self {
+        Self {
+            #[cfg(feature = "bvh")]
+            meshes: &[],
+            ..self
+        }
+    }
+
     /// The camera as baked.
     #[must_use]
     pub const fn camera(&self) -> &BakedCamera {

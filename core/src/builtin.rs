@@ -323,11 +323,11 @@ fn scaled_teapot<const V: usize, R>(
 
 /// The scene of `baked` in RAM ([`Scene::from_view`]): the built-in scenes are
 /// written once, as scene files, and baked; the scenes in RAM are copies of
-/// their tables.
+/// their lists (a mesh stays in flash and is checked where a view is given it).
 fn copied<C: Capacities, B: Capacities>(
     baked: &'static crate::BakedScene<'static, B>,
 ) -> Result<Scene<C>, Error> {
-    Scene::from_view(baked.camera().camera()?, &baked.view()?)
+    Scene::from_view(baked.camera().camera()?, &baked.lists_only().view()?)
 }
 
 /// The teapot's scene without its mesh (a copy of [`baked::teapot`]'s tables):
