@@ -14,7 +14,7 @@ use crate::camera::{Camera, Viewport};
 use crate::color::Color;
 use crate::error::{Error, List};
 use crate::geometry::Kinded;
-use crate::kind::{Capacities, Kind, LISTS, Primitives, Slot, each_kind};
+use crate::kind::{Capacities, Geometry, Kind, LISTS, Primitives, each_kind};
 use crate::light::PointLight;
 use crate::material::Material;
 use crate::tile::{RenderSettings, Renderer};

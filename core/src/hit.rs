@@ -7,7 +7,7 @@ use crate::geometry::Kinded;
 #[cfg(feature = "bvh")]
 use crate::geometry::Shape;
 use crate::geometry::{Candidate, Locate, Surface};
-use crate::kind::{Slot, match_kind};
+use crate::kind::{Geometry, match_kind};
 use crate::material::Material;
 use crate::prefilter::{Footprint, uv_box};
 use crate::primitive::Primitive;

@@ -36,6 +36,7 @@ macro_rules! __kinds {
             (Plane,    planes,    Planes,    $crate::geometry::Plane,    "plane"),
             (Triangle, triangles, Triangles, $crate::geometry::Triangle, "triangle"),
             (Box,      boxes,     Boxes,     $crate::geometry::Aabb,     "box"),
+            (Cylinder, cylinders, Cylinders, $crate::geometry::Cylinder, "cylinder"),
         }
     };
 }
@@ -91,13 +92,24 @@ impl<T, const N: usize> ListStore<T> for heapless::Vec<T, N> {
     }
 }
 
-/// A geometry kind's place in the list of kinds (implemented for each kind's
-/// type from the list).
-pub(crate) trait Slot: Copy + 'static {
+/// A geometry kind's type (one of the list's, sealed): what
+/// [`Scene::add`](crate::Scene::add) adds and
+/// [`SceneView::list`](crate::SceneView::list) reads.
+pub trait Geometry: sealed::Sealed + Copy + core::fmt::Debug + PartialEq + 'static {
     /// Its kind.
     const KIND: Kind;
     /// Its list among `primitives`.
     fn of<'a>(primitives: &Primitives<'a>) -> &'a [Primitive<Self>];
+    /// Its list in a scene's own lists.
+    #[doc(hidden)]
+    fn list_mut<C: Capacities>(store: &mut Store<C>) -> &mut VecView<Primitive<Self>>;
+    /// The points whose box holds it when it is flat and bounded by them (a
+    /// triangle's vertices: the scene keeps their box as the list's hull).
+    #[doc(hidden)]
+    fn hull_points(&self) -> Option<[crate::Vec3; 3]>;
+    /// The same geometry with every length multiplied by `f` (checked again).
+    #[doc(hidden)]
+    fn scaled(&self, f: f32) -> Result<Self, crate::Error>;
 }
 
 /// The empty list of capacity `C`.
@@ -124,6 +136,20 @@ macro_rules! define {
         }
 
         impl Kind {
+            /// The kinds of the lists, in search order (the meshes' faces not
+            /// among them).
+            pub const ALL: [Kind; KINDS] = [$(Kind::$K),*];
+
+            /// The kind's name in a scene file (`"sphere"`, `"box"`).
+            #[must_use]
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $(Kind::$K => $name,)*
+                    #[cfg(feature = "bvh")]
+                    Kind::Mesh => "mesh",
+                }
+            }
+
             /// The kind's number: its place in the search order.
             #[must_use]
             pub const fn index(self) -> usize {
@@ -139,7 +165,8 @@ macro_rules! define {
 
         impl Kind {
             /// The kind's list, as errors name it.
-            pub(crate) const fn list(self) -> crate::error::List {
+            #[must_use]
+            pub const fn list(self) -> crate::error::List {
                 match self {
                     $(Kind::$K => crate::error::List::$L,)*
                     #[cfg(feature = "bvh")]
@@ -260,17 +287,34 @@ macro_rules! define {
         }
 
         $(
-            impl Slot for $T {
+            impl sealed::Sealed for $T {}
+
+            impl Geometry for $T {
                 const KIND: Kind = Kind::$K;
                 #[inline(always)]
                 fn of<'a>(primitives: &Primitives<'a>) -> &'a [Primitive<Self>] {
                     primitives.$f
                 }
+                #[inline(always)]
+                fn list_mut<C: Capacities>(store: &mut Store<C>) -> &mut VecView<Primitive<Self>> {
+                    store.$f.view_mut()
+                }
+                #[inline]
+                fn hull_points(&self) -> Option<[crate::Vec3; 3]> {
+                    match crate::geometry::Kinded::extent(self) {
+                        crate::geometry::Extent::Points(p) => Some(p),
+                        _ => None,
+                    }
+                }
+                fn scaled(&self, f: f32) -> Result<Self, crate::Error> {
+                    crate::geometry::Kinded::scaled(self, f)
+                }
             }
         )*
 
         /// A scene's own lists of primitives, of its capacities `C`.
-        pub(crate) struct Store<C: Capacities> {
+        #[doc(hidden)]
+        pub struct Store<C: Capacities> {
             $(pub(crate) $f: <C::$L as Capacity>::List<Primitive<$T>>,)*
         }
 
@@ -419,26 +463,29 @@ mod tests {
             C::COUNTS,
             Counts {
                 spheres: 4,
-                planes: 0,
-                triangles: 0,
                 boxes: 1,
-                materials: 0,
-                lights: 3
+                lights: 3,
+                ..Counts::ZERO
             }
         );
         type H = crate::capacities!(planes: 64, triangles: 8192, ..1024);
-        assert_eq!(H::COUNTS.kinds(), [1024, 64, 8192, 1024]);
+        assert_eq!(H::COUNTS.kinds()[..4], [1024, 64, 8192, 1024]);
+        assert!(H::COUNTS.kinds()[4..].iter().all(|&n| n == 1024));
         assert_eq!((H::COUNTS.materials, H::COUNTS.lights), (1024, 1024));
         assert_eq!(<crate::capacities!() as Capacities>::COUNTS, Counts::ZERO);
     }
 
     #[test]
     fn the_kinds_are_numbered_in_search_order() {
-        assert_eq!(KINDS, 4);
+        // The first four keep their numbers as kinds are added after them.
+        const { assert!(KINDS >= 4) };
         assert_eq!(
             [Kind::Sphere, Kind::Plane, Kind::Triangle, Kind::Box].map(|k| k as usize),
             [0, 1, 2, 3]
         );
+        for (i, k) in Kind::ALL.into_iter().enumerate() {
+            assert_eq!(k.index(), i);
+        }
         #[cfg(feature = "bvh")]
         assert_eq!(Kind::Mesh as usize, KINDS);
     }

@@ -86,7 +86,7 @@ pub use baked::{BakedCamera, BakedScene};
 pub use camera::{Camera, Viewport};
 pub use color::{Color, Encoding};
 pub use error::Error;
-pub use kind::{Capacities, Primitives};
+pub use kind::{Capacities, Geometry, Primitives};
 pub use primitive::Primitive;
 pub use sample::Sampler;
 pub use scene::Scene;

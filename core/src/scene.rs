@@ -12,7 +12,7 @@ use crate::camera::Viewport;
 use crate::color::Color;
 use crate::error::{Error, List};
 use crate::geometry::{Aabb, Plane, Sphere, Triangle};
-use crate::kind::{Capacities, Capacity, ListStore, Store, empty};
+use crate::kind::{Capacities, Capacity, Geometry, ListStore, Store, each_kind, empty};
 use crate::light::PointLight;
 use crate::material::{Material, MaterialId};
 use crate::primitive::Primitive;
@@ -137,48 +137,45 @@ impl<C: Capacities> Scene<C> {
         check_material(id, self.materials.view().len())
     }
 
-    /// Adds a sphere made of `material`.
-    pub fn add_sphere(&mut self, geometry: Sphere, material: MaterialId) -> Result<(), Error> {
+    /// Adds a primitive of any kind (a [`Sphere`], a [`Plane`], ...) made of
+    /// `material`.
+    ///
+    /// # Errors
+    /// [`Error::BadMaterial`] for a material the scene does not hold,
+    /// [`Error::CapacityExceeded`] when the kind's list is full.
+    pub fn add<G: Geometry>(&mut self, geometry: G, material: MaterialId) -> Result<(), Error> {
         self.check_material(material)?;
         push(
-            self.primitives.spheres.view_mut(),
+            G::list_mut(&mut self.primitives),
             Primitive { geometry, material },
-            List::Spheres,
-        )
-    }
-
-    /// Adds a plane made of `material`.
-    pub fn add_plane(&mut self, geometry: Plane, material: MaterialId) -> Result<(), Error> {
-        self.check_material(material)?;
-        push(
-            self.primitives.planes.view_mut(),
-            Primitive { geometry, material },
-            List::Planes,
-        )
-    }
-
-    /// Adds a triangle made of `material`.
-    pub fn add_triangle(&mut self, geometry: Triangle, material: MaterialId) -> Result<(), Error> {
-        self.check_material(material)?;
-        push(
-            self.primitives.triangles.view_mut(),
-            Primitive { geometry, material },
-            List::Triangles,
+            G::KIND.list(),
         )?;
-        for v in geometry.vertices() {
-            widen(&mut self.triangle_bounds, v, v);
+        if let Some(points) = geometry.hull_points() {
+            for v in points {
+                widen(&mut self.triangle_bounds, v, v);
+            }
         }
         Ok(())
     }
 
-    /// Adds an axis-aligned box made of `material`.
+    /// Adds a sphere made of `material` ([`Scene::add`]).
+    pub fn add_sphere(&mut self, geometry: Sphere, material: MaterialId) -> Result<(), Error> {
+        self.add(geometry, material)
+    }
+
+    /// Adds a plane made of `material` ([`Scene::add`]).
+    pub fn add_plane(&mut self, geometry: Plane, material: MaterialId) -> Result<(), Error> {
+        self.add(geometry, material)
+    }
+
+    /// Adds a triangle made of `material` ([`Scene::add`]).
+    pub fn add_triangle(&mut self, geometry: Triangle, material: MaterialId) -> Result<(), Error> {
+        self.add(geometry, material)
+    }
+
+    /// Adds an axis-aligned box made of `material` ([`Scene::add`]).
     pub fn add_box(&mut self, geometry: Aabb, material: MaterialId) -> Result<(), Error> {
-        self.check_material(material)?;
-        push(
-            self.primitives.boxes.view_mut(),
-            Primitive { geometry, material },
-            List::Boxes,
-        )
+        self.add(geometry, material)
     }
 
     /// Adds a point light.
@@ -206,18 +203,11 @@ impl<C: Capacities> Scene<C> {
         for &l in view.lights() {
             s.add_light(l)?;
         }
-        for p in view.spheres() {
-            s.add_sphere(p.geometry, p.material)?;
-        }
-        for p in view.planes() {
-            s.add_plane(p.geometry, p.material)?;
-        }
-        for p in view.triangles() {
-            s.add_triangle(p.geometry, p.material)?;
-        }
-        for p in view.boxes() {
-            s.add_box(p.geometry, p.material)?;
-        }
+        each_kind!(|G| {
+            for p in view.list::<G>() {
+                s.add(p.geometry, p.material)?;
+            }
+        });
         Ok(s)
     }
 
@@ -257,12 +247,13 @@ impl<C: Capacities> Scene<C> {
         let lists = self.primitives.primitives();
         let on_planes = |i: usize| lists.planes.iter().any(|p| usize::from(p.material.0) == i);
         let elsewhere = |i: usize| {
-            lists.spheres.iter().any(|p| usize::from(p.material.0) == i)
-                || lists
-                    .triangles
-                    .iter()
-                    .any(|p| usize::from(p.material.0) == i)
-                || lists.boxes.iter().any(|p| usize::from(p.material.0) == i)
+            let mut used = false;
+            each_kind!(|G| {
+                if G::KIND != crate::kind::Kind::Plane {
+                    used |= G::of(&lists).iter().any(|p| usize::from(p.material.0) == i);
+                }
+            });
+            used
         };
         for (i, m) in self.materials.view().iter().enumerate() {
             let t = *m.texture();
@@ -296,22 +287,11 @@ impl<C: Capacities> Scene<C> {
                 l.intensity() * f * f,
             )?)?;
         }
-        for p in lists.spheres {
-            let g = Sphere::try_new(p.geometry.center() * f, p.geometry.radius() * f)?;
-            out.add_sphere(g, p.material)?;
-        }
-        for p in lists.planes {
-            let g = Plane::try_new(p.geometry.point() * f, p.geometry.normal())?;
-            out.add_plane(g, p.material)?;
-        }
-        for p in lists.triangles {
-            let [a, b, c] = p.geometry.vertices();
-            out.add_triangle(Triangle::try_new(a * f, b * f, c * f)?, p.material)?;
-        }
-        for p in lists.boxes {
-            let g = Aabb::try_new(p.geometry.min() * f, p.geometry.max() * f)?;
-            out.add_box(g, p.material)?;
-        }
+        each_kind!(|G| {
+            for p in G::of(&lists) {
+                out.add(p.geometry.scaled(f)?, p.material)?;
+            }
+        });
         Ok(out)
     }
 

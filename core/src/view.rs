@@ -285,6 +285,12 @@ impl<'a> SceneView<'a> {
         }
     }
 
+    /// The primitives of one kind: `view.list::<Sphere>()`.
+    #[must_use]
+    pub fn list<G: crate::kind::Geometry>(&self) -> &'a [Primitive<G>] {
+        G::of(&self.primitives)
+    }
+
     /// The spheres.
     #[must_use]
     pub fn spheres(&self) -> &'a [Primitive<Sphere>] {

@@ -14,7 +14,9 @@
 //! file both ways).
 
 use crate::desc::{DescError, HostBvh, HostScene, SceneDesc};
+use crate::kinds::{HostKind, each_kind, type_name, type_names};
 use std::fmt::Write as _;
+use tessera::Geometry;
 use tessera::bvh::BvhNode;
 use tessera::tile::TileLoop;
 
@@ -138,7 +140,7 @@ fn count(n: usize, one: &str, many: &str) -> String {
 }
 
 /// `x` as a Rust `f32` literal that reads back to the same value.
-fn lit(x: f32) -> String {
+pub(crate) fn lit(x: f32) -> String {
     let s = format!("{x:?}");
     if s.contains(['.', 'e', 'i', 'N']) {
         s
@@ -147,7 +149,7 @@ fn lit(x: f32) -> String {
     }
 }
 
-fn vec3(v: [f32; 3]) -> String {
+pub(crate) fn vec3(v: [f32; 3]) -> String {
     format!("[{}, {}, {}]", lit(v[0]), lit(v[1]), lit(v[2]))
 }
 
@@ -213,7 +215,7 @@ fn color(c: tessera::Color) -> String {
     format!("Color::new({}, {}, {})", lit(c.r), lit(c.g), lit(c.b))
 }
 
-fn v3(p: tessera::Vec3) -> String {
+pub(crate) fn v3(p: tessera::Vec3) -> String {
     vec3(p.to_array())
 }
 
@@ -222,7 +224,7 @@ fn v3(p: tessera::Vec3) -> String {
 /// concept's module.
 fn api_path(name: &str) -> String {
     let module = match name {
-        "Aabb" | "Plane" | "Sphere" | "Triangle" => "geometry::",
+        _ if type_names().contains(&name) => "geometry::",
         "Material" | "MaterialId" => "material::",
         "Texture" => "texture::",
         "PointLight" => "light::",
@@ -408,10 +410,8 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> Result<String, 
 
 /// The lengths of the tables of the scene's lists: what `SCENE` is made of.
 struct Written {
-    spheres: usize,
-    planes: usize,
-    triangles: usize,
-    boxes: usize,
+    /// Each kind's table's length, in the core's order.
+    lens: [usize; tessera::kind::KINDS],
     /// `.with_bvh(..)` when the triangles have a hierarchy, else empty.
     with_bvh: String,
 }
@@ -420,17 +420,13 @@ impl Written {
     /// The arguments of `capacities!` for the tables: each list that holds
     /// something, by name.
     fn capacities(&self) -> String {
-        [
-            ("spheres", self.spheres),
-            ("planes", self.planes),
-            ("triangles", self.triangles),
-            ("boxes", self.boxes),
-        ]
-        .iter()
-        .filter(|&&(_, n)| n > 0)
-        .map(|(name, n)| format!("{name}: {n}"))
-        .collect::<Vec<_>>()
-        .join(", ")
+        tessera::kind::Kind::ALL
+            .iter()
+            .zip(self.lens)
+            .filter(|&(_, n)| n > 0)
+            .map(|(kind, n)| format!("{}: {n}", kind.list().name()))
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -473,16 +469,15 @@ impl<'a> Writer<'a> {
                 "Material",
                 "MaterialId",
                 "PointLight",
-                "Plane",
                 "Primitive",
                 "RenderSettings",
                 "Sampler",
-                "Sphere",
                 "Texture",
-                "Triangle",
-                "Aabb",
                 "Viewport",
-            ],
+            ]
+            .into_iter()
+            .chain(type_names())
+            .collect(),
             bvh_needed: false,
             with_meshes: String::new(),
         }
@@ -572,80 +567,37 @@ impl<'a> Writer<'a> {
         );
     }
 
-    /// `SPHERES`, `PLANES`, `TRIANGLES` (and their hierarchy when it pays),
-    /// `BOXES`.
+    /// Each kind's table, in the core's order (`SPHERES`, `PLANES`, ...), and
+    /// the triangles' hierarchy when it pays.
     fn primitives(&mut self, view: &tessera::SceneView<'_>) -> Written {
-        let spheres: Vec<String> = view
-            .spheres()
-            .iter()
-            .map(|p| {
-                let g = &p.geometry;
-                format!(
-                    "Primitive {{ geometry: Sphere::baked({}, {}), material: {} }}",
-                    v3(g.center()),
-                    lit(g.radius()),
-                    self.mat(p.material)
-                )
-            })
-            .collect();
-        self.table(
-            "The spheres: centre, radius.",
-            "SPHERES",
-            "Primitive<Sphere>",
-            &spheres,
-            size_of_val(view.spheres()),
-        );
-        let planes: Vec<String> = view
-            .planes()
-            .iter()
-            .map(|p| {
-                let (point, normal, offset, [t, u]) = p.geometry.parts();
-                format!(
-                    "Primitive {{ geometry: Plane::baked({}, {}, {}, [{}, {}]), material: {} }}",
-                    vec3(point),
-                    vec3(normal),
-                    lit(offset),
-                    vec3(t),
-                    vec3(u),
-                    self.mat(p.material)
-                )
-            })
-            .collect();
-        self.table(
-            "The planes: a point, the unit normal, the offset from the origin along it, \
-             the tangents of the texture's uv.",
-            "PLANES",
-            "Primitive<Plane>",
-            &planes,
-            size_of_val(view.planes()),
-        );
-        let with_bvh = self.triangles(view.triangles());
-        let boxes: Vec<String> = view
-            .boxes()
-            .iter()
-            .map(|p| {
-                format!(
-                    "Primitive {{ geometry: Aabb::baked({}, {}), material: {} }}",
-                    v3(p.geometry.min()),
-                    v3(p.geometry.max()),
-                    self.mat(p.material)
-                )
-            })
-            .collect();
-        self.table(
-            "The axis-aligned boxes: min and max corners.",
-            "BOXES",
-            "Primitive<Aabb>",
-            &boxes,
-            size_of_val(view.boxes()),
-        );
-        Written {
-            spheres: spheres.len(),
-            planes: planes.len(),
-            triangles: view.triangles().len(),
-            boxes: boxes.len(),
-            with_bvh,
-        }
+        let mut lens = [0; tessera::kind::KINDS];
+        let mut with_bvh = String::new();
+        each_kind!(|G| {
+            let list = view.list::<G>();
+            lens[G::KIND.index()] = list.len();
+            if G::KIND == tessera::kind::Kind::Triangle {
+                with_bvh = self.triangles(view.triangles());
+            } else {
+                let items: Vec<String> = list
+                    .iter()
+                    .map(|p| {
+                        format!(
+                            "Primitive {{ geometry: {}, material: {} }}",
+                            p.geometry.baked(),
+                            self.mat(p.material)
+                        )
+                    })
+                    .collect();
+                self.table(
+                    G::TABLE,
+                    &G::KIND.list().name().to_uppercase(),
+                    &format!("Primitive<{}>", type_name::<G>()),
+                    &items,
+                    size_of_val(list),
+                );
+            }
+        });
+        Written { lens, with_bvh }
     }
 
     /// `TRIANGLES`, and their hierarchy `NODES`, `ORDER` when there are enough
@@ -809,8 +761,7 @@ impl<'a> Writer<'a> {
                  RenderSettings {{\n        sampler: {},\n        max_depth: {},\n        seed: {},\n        \
                  encoding: Encoding::{encoding},\n    }},\n    \
                  {},\n    {},\n    &MATERIALS,\n    &LIGHTS,\n    \
-                 Primitives {{\n        spheres: &SPHERES,\n        planes: &PLANES,\n        \
-                 triangles: &TRIANGLES,\n        boxes: &BOXES,\n    }},\n){}{};",
+                 Primitives {{\n{}    }},\n){}{};",
             lists.capacities(),
             vec3(c.position),
             vec3(c.forward),
@@ -823,6 +774,13 @@ impl<'a> Writer<'a> {
             st.seed,
             color(view.ambient()),
             color(view.background()),
+            tessera::kind::Kind::ALL
+                .iter()
+                .map(|k| {
+                    let list = k.list().name();
+                    format!("        {list}: &{},\n", list.to_uppercase())
+                })
+                .collect::<String>(),
             lists.with_bvh,
             self.with_meshes,
         );
@@ -842,13 +800,17 @@ impl<'a> Writer<'a> {
         for line in header {
             let _ = writeln!(s, "{}", format!("// {}", crate::escape(line)).trim_end());
         }
-        let others = [
+        let mut others = vec![
             count(view.materials().len(), "material", "materials"),
             count(view.lights().len(), "light", "lights"),
-            count(view.spheres().len(), "sphere", "spheres"),
-            count(view.planes().len(), "plane", "planes"),
-            count(view.boxes().len(), "box", "boxes"),
         ];
+        each_kind!(|G| {
+            if G::KIND != tessera::kind::Kind::Triangle {
+                let kind = G::KIND;
+                let n = view.list::<G>().len();
+                others.push(count(n, kind.name(), kind.list().name()));
+            }
+        });
         let mut kinds: Vec<String> = others
             .into_iter()
             .filter(|p| !p.starts_with("0 "))

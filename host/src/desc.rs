@@ -4,12 +4,15 @@
 //! Both renderers are built from this one description, so a comparison measures
 //! what `f32`, the math backend and the core's shortcuts cost, nothing else.
 
+pub use crate::kinds::{BoxDesc, PlaneDesc, SphereDesc, TriangleDesc};
+use crate::kinds::{HostKind, Listed, each_kind};
 use serde::Deserialize;
 use std::fmt;
+use tessera::Geometry;
+use tessera::kind::{KINDS, Kind};
 use tessera::{
-    Camera, Color, Sampler, Scene, Vec3, geometry::Aabb, geometry::Plane, geometry::Sphere,
-    geometry::Triangle, light::PointLight, material::Material, material::MaterialId,
-    texture::Texture,
+    Camera, Color, Sampler, Scene, Vec3, geometry::Triangle, light::PointLight, material::Material,
+    material::MaterialId, texture::Texture,
 };
 use tessera::{error::Field, error::List};
 
@@ -19,17 +22,28 @@ pub const MAX_SPHERES: usize = 1024;
 pub const MAX_PLANES: usize = 64;
 /// How many triangles the host scene holds.
 pub const MAX_TRIANGLES: usize = 8192;
-/// How many boxes the host scene holds.
+/// How many boxes the host scene holds (as every geometry kind not named in
+/// [`HostCaps`]).
 pub const MAX_BOXES: usize = 1024;
 /// How many materials the host scene holds.
 pub const MAX_MATERIALS: usize = 256;
 /// How many lights the host scene holds.
 pub const MAX_LIGHTS: usize = 64;
 
-/// The host's scene capacities: spheres, planes, triangles, boxes, materials, lights.
-pub type CoreScene = Scene<
-    tessera::capacities!(spheres: MAX_SPHERES, planes: MAX_PLANES, triangles: MAX_TRIANGLES, boxes: MAX_BOXES, materials: MAX_MATERIALS, lights: MAX_LIGHTS),
->;
+/// The host's scene capacities: 1,024 of each geometry kind but the planes and
+/// the triangles.
+pub type HostCaps = tessera::capacities!(
+    planes: MAX_PLANES,
+    triangles: MAX_TRIANGLES,
+    materials: MAX_MATERIALS,
+    lights: MAX_LIGHTS,
+    ..MAX_SPHERES
+);
+
+/// The host's core scene, of capacities [`HostCaps`].
+pub type CoreScene = Scene<HostCaps>;
+
+const _: () = assert!(MAX_BOXES == MAX_SPHERES);
 
 /// A BVH for the host scene's triangles (`2 T` nodes: always enough).
 pub type HostBvh = tessera::bvh::Bvh<{ 2 * MAX_TRIANGLES }, MAX_TRIANGLES>;
@@ -242,15 +256,20 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// The lists of a scene file, by the name of their `[[...]]` sections, with their
-/// capacity and the core's name for them.
-pub const LISTS: [(&str, usize, List); 6] = [
-    ("material", MAX_MATERIALS, List::Materials),
-    ("light", MAX_LIGHTS, List::Lights),
-    ("sphere", MAX_SPHERES, List::Spheres),
-    ("plane", MAX_PLANES, List::Planes),
-    ("triangle", MAX_TRIANGLES, List::Triangles),
-    ("box", MAX_BOXES, List::Boxes),
-];
+/// capacity and the core's name for them: the materials, the lights, then each
+/// geometry kind's, in the core's order.
+pub const LISTS: [(&str, usize, List); 2 + KINDS] = {
+    let mut out = [("material", MAX_MATERIALS, List::Materials); 2 + KINDS];
+    out[1] = ("light", MAX_LIGHTS, List::Lights);
+    let capacities = <HostCaps as tessera::Capacities>::COUNTS.kinds();
+    let mut i = 0;
+    while i < KINDS {
+        let kind = Kind::ALL[i];
+        out[2 + i] = (kind.name(), capacities[i], kind.list());
+        i += 1;
+    }
+    out
+};
 
 /// The message for item number `count + 1` of a list that holds `capacity`:
 /// `too many spheres: the scene holds at most 1024` (the core's words).
@@ -258,51 +277,82 @@ pub fn too_many(list: List, capacity: usize) -> String {
     tessera::Error::CapacityExceeded { list, capacity }.to_string()
 }
 
-/// A whole scene file.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct SceneDesc {
-    /// Ambient light (linear RGB, `>= 0`).
-    #[serde(default)]
-    pub ambient: [f64; 3],
-    /// Colour of rays that hit nothing.
-    #[serde(default)]
-    pub background: [f64; 3],
-    /// The camera.
-    pub camera: CameraDesc,
-    /// Render settings (all optional).
-    #[serde(default)]
-    pub render: RenderDesc,
-    /// Materials, referred to by name.
-    #[serde(default, rename = "material")]
-    pub materials: Vec<MaterialDesc>,
-    /// Point lights.
-    #[serde(default, rename = "light")]
-    pub lights: Vec<LightDesc>,
-    /// Spheres.
-    #[serde(default, rename = "sphere")]
-    pub spheres: Vec<SphereDesc>,
-    /// Planes.
-    #[serde(default, rename = "plane")]
-    pub planes: Vec<PlaneDesc>,
-    /// Triangles.
-    #[serde(default, rename = "triangle")]
-    pub triangles: Vec<TriangleDesc>,
-    /// Axis-aligned boxes.
-    #[serde(default, rename = "box")]
-    pub boxes: Vec<BoxDesc>,
-    /// Triangle meshes read from OBJ files: their faces are triangles of the scene,
-    /// after the file's own `[[triangle]]`s.
-    #[serde(default, rename = "mesh")]
-    pub meshes: Vec<MeshDesc>,
-    /// The numbers [`SceneDesc::flush_subnormals`] read as zero, the first
-    /// [`FLUSHED_KEPT`] of them: never written in a file.
-    #[serde(skip)]
-    pub flushed: Vec<Flushed>,
-    /// How many numbers [`SceneDesc::flush_subnormals`] read as zero in all.
-    #[serde(skip)]
-    pub flushed_count: usize,
+/// `SceneDesc`, with one list per geometry kind of the core's list.
+macro_rules! scene_desc {
+    ([] $( ($K:ident, $f:ident, $L:ident, $T:ty, $name:literal) ),* $(,)?) => {
+        /// A whole scene file.
+        #[derive(Clone, Debug, Deserialize, PartialEq)]
+        #[serde(deny_unknown_fields)]
+        pub struct SceneDesc {
+            /// Ambient light (linear RGB, `>= 0`).
+            #[serde(default)]
+            pub ambient: [f64; 3],
+            /// Colour of rays that hit nothing.
+            #[serde(default)]
+            pub background: [f64; 3],
+            /// The camera.
+            pub camera: CameraDesc,
+            /// Render settings (all optional).
+            #[serde(default)]
+            pub render: RenderDesc,
+            /// Materials, referred to by name.
+            #[serde(default, rename = "material")]
+            pub materials: Vec<MaterialDesc>,
+            /// Point lights.
+            #[serde(default, rename = "light")]
+            pub lights: Vec<LightDesc>,
+            $(
+                #[doc = concat!("The ", stringify!($f), " (`[[", $name, "]]`).")]
+                #[serde(default, rename = $name)]
+                pub $f: Vec<<$T as HostKind>::Desc>,
+            )*
+            /// Triangle meshes read from OBJ files: their faces are triangles of the scene,
+            /// after the file's own `[[triangle]]`s.
+            #[serde(default, rename = "mesh")]
+            pub meshes: Vec<MeshDesc>,
+            /// The numbers [`SceneDesc::flush_subnormals`] read as zero, the first
+            /// [`FLUSHED_KEPT`] of them: never written in a file.
+            #[serde(skip)]
+            pub flushed: Vec<Flushed>,
+            /// How many numbers [`SceneDesc::flush_subnormals`] read as zero in all.
+            #[serde(skip)]
+            pub flushed_count: usize,
+        }
+
+        impl SceneDesc {
+            /// A scene seen by `camera` with nothing in it (no ambient light, a
+            /// black background, the default render settings).
+            #[must_use]
+            pub fn new(camera: CameraDesc) -> Self {
+                Self {
+                    ambient: [0.0; 3],
+                    background: [0.0; 3],
+                    camera,
+                    render: RenderDesc::default(),
+                    materials: Vec::new(),
+                    lights: Vec::new(),
+                    $($f: Vec::new(),)*
+                    meshes: Vec::new(),
+                    flushed: Vec::new(),
+                    flushed_count: 0,
+                }
+            }
+        }
+
+        $(
+            impl Listed for $T {
+                fn descs(s: &SceneDesc) -> &[Self::Desc] {
+                    &s.$f
+                }
+                fn descs_mut(s: &mut SceneDesc) -> &mut Vec<Self::Desc> {
+                    &mut s.$f
+                }
+            }
+        )*
+    };
 }
+
+tessera::__kinds!({ scene_desc });
 
 /// How many of the numbers read as zero a description remembers by name (an OBJ
 /// file may hold millions; the loader shows a few and counts the rest).
@@ -497,40 +547,6 @@ pub struct LightDesc {
     pub intensity: f64,
 }
 
-/// A sphere.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct SphereDesc {
-    /// Centre.
-    pub center: [f64; 3],
-    /// Radius.
-    pub radius: f64,
-    /// Material name.
-    pub material: String,
-}
-
-/// A plane.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct PlaneDesc {
-    /// A point of the plane.
-    pub point: [f64; 3],
-    /// Normal (any non-zero length).
-    pub normal: [f64; 3],
-    /// Material name.
-    pub material: String,
-}
-
-/// A triangle.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct TriangleDesc {
-    /// Its three vertices.
-    pub vertices: [[f64; 3]; 3],
-    /// Material name.
-    pub material: String,
-}
-
 /// A triangle's three vertices.
 pub type Face = [[f64; 3]; 3];
 
@@ -564,18 +580,6 @@ pub struct MeshDesc {
     /// `f32` (zero area: no ray can hit them).
     #[serde(skip)]
     pub degenerate: usize,
-}
-
-/// An axis-aligned box.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct BoxDesc {
-    /// Min corner.
-    pub min: [f64; 3],
-    /// Max corner.
-    pub max: [f64; 3],
-    /// Material name.
-    pub material: String,
 }
 
 /// What is wrong with a description: the item (`sphere 3`, `camera`, `render`) and
@@ -614,7 +618,7 @@ pub fn num(x: f64) -> String {
 }
 
 /// Formats a value for a message: numbers as [`num`], vectors as `[x, y, z]`.
-fn show(a: &[f64]) -> String {
+pub(crate) fn show(a: &[f64]) -> String {
     if let [x] = a {
         return num(*x);
     }
@@ -783,27 +787,12 @@ impl SceneDesc {
             at(&item, "color", &mut l.color);
             at(&item, "intensity", std::slice::from_mut(&mut l.intensity));
         }
-        for (i, d) in self.spheres.iter_mut().enumerate() {
-            let item = format!("sphere {}", i + 1);
-            at(&item, "center", &mut d.center);
-            at(&item, "radius", std::slice::from_mut(&mut d.radius));
-        }
-        for (i, d) in self.planes.iter_mut().enumerate() {
-            let item = format!("plane {}", i + 1);
-            at(&item, "point", &mut d.point);
-            at(&item, "normal", &mut d.normal);
-        }
-        for (i, d) in self.triangles.iter_mut().enumerate() {
-            let item = format!("triangle {}", i + 1);
-            for v in &mut d.vertices {
-                at(&item, "vertices", v);
+        each_kind!(|G| {
+            for (i, d) in G::descs_mut(self).iter_mut().enumerate() {
+                let item = format!("{} {}", G::KIND.name(), i + 1);
+                G::numbers(d, &mut |key, _, xs| at(&item, key, xs));
             }
-        }
-        for (i, d) in self.boxes.iter_mut().enumerate() {
-            let item = format!("box {}", i + 1);
-            at(&item, "min", &mut d.min);
-            at(&item, "max", &mut d.max);
-        }
+        });
         for (i, m) in self.meshes.iter_mut().enumerate() {
             let item = format!("mesh {}", i + 1);
             at(&item, "scale", std::slice::from_mut(&mut m.scale));
@@ -912,14 +901,14 @@ impl SceneDesc {
     /// Refuses a list longer than the host scene holds, before any item is
     /// converted; the item named is the first one too many (`sphere 1025`).
     fn check_counts(&self) -> Result<(), DescError> {
-        let lens = [
-            self.materials.len(),
-            self.lights.len(),
-            self.spheres.len(),
-            self.planes.len(),
-            self.triangles.len() + self.meshes.iter().map(|m| m.faces.len()).sum::<usize>(),
-            self.boxes.len(),
-        ];
+        let mut lens = vec![self.materials.len(), self.lights.len()];
+        each_kind!(|G| {
+            let mut len = G::descs(self).len();
+            if G::KIND == Kind::Triangle {
+                len += self.meshes.iter().map(|m| m.faces.len()).sum::<usize>();
+            }
+            lens.push(len);
+        });
         for ((kind, capacity, list), len) in LISTS.into_iter().zip(lens) {
             if len > capacity {
                 let mut item = format!("{kind} {}", capacity + 1);
@@ -984,32 +973,14 @@ impl SceneDesc {
             s.add_light(core_light(&item, l)?)
                 .map_err(|e| item.refused(e))?;
         }
-        for (i, d) in self.spheres.iter().enumerate() {
-            let item = Item(format!("sphere {}", i + 1));
-            s.add_sphere(
-                core_sphere(&item, d)?,
-                self.material_id(&item, &d.material)?,
-            )
-            .map_err(|e| item.refused(e))?;
-        }
-        for (i, d) in self.planes.iter().enumerate() {
-            let item = Item(format!("plane {}", i + 1));
-            s.add_plane(core_plane(&item, d)?, self.material_id(&item, &d.material)?)
-                .map_err(|e| item.refused(e))?;
-        }
-        for (i, d) in self.triangles.iter().enumerate() {
-            let item = Item(format!("triangle {}", i + 1));
-            s.add_triangle(
-                core_triangle(&item, &d.vertices)?,
-                self.material_id(&item, &d.material)?,
-            )
-            .map_err(|e| item.refused(e))?;
-        }
-        for (i, d) in self.boxes.iter().enumerate() {
-            let item = Item(format!("box {}", i + 1));
-            s.add_box(core_box(&item, d)?, self.material_id(&item, &d.material)?)
-                .map_err(|e| item.refused(e))?;
-        }
+        each_kind!(|G| {
+            for (i, d) in G::descs(self).iter().enumerate() {
+                let item = Item(format!("{} {}", G::KIND.name(), i + 1));
+                let geometry = G::core(&item, d)?;
+                s.add(geometry, self.material_id(&item, G::material(d))?)
+                    .map_err(|e| item.refused(e))?;
+            }
+        });
         if self.meshes.len() > tessera::mesh::MAX_MESHES {
             let item = Item(format!("mesh {}", tessera::mesh::MAX_MESHES + 1));
             return Err(item.fail(too_many(List::Meshes, tessera::mesh::MAX_MESHES)));
@@ -1078,15 +1049,15 @@ impl SceneDesc {
 }
 
 /// An item of the file (`sphere 3`, `camera`), named in every message about it.
-struct Item(String);
+pub struct Item(String);
 
 impl Item {
-    fn new(name: &str) -> Self {
+    pub(crate) fn new(name: &str) -> Self {
         Self(name.to_string())
     }
 
     /// `message` about this item.
-    fn fail(&self, message: String) -> DescError {
+    pub(crate) fn fail(&self, message: String) -> DescError {
         DescError {
             item: self.0.clone(),
             message,
@@ -1094,34 +1065,34 @@ impl Item {
     }
 
     /// The core refused this item; the offending value is `value`.
-    fn core(&self, e: tessera::Error, value: String) -> DescError {
+    pub(crate) fn core(&self, e: tessera::Error, value: String) -> DescError {
         err(self.0.clone(), e, Some(value))
     }
 
     /// The core refused this item, with no value to show (a full list, ...).
-    fn refused(&self, e: tessera::Error) -> DescError {
+    pub(crate) fn refused(&self, e: tessera::Error) -> DescError {
         err(self.0.clone(), e, None)
     }
 
     /// The number `x` of `field` in `f32` (see [`f1`]).
-    fn f1(&self, x: f64, field: Field) -> Result<f32, DescError> {
+    pub(crate) fn f1(&self, x: f64, field: Field) -> Result<f32, DescError> {
         f1(x, field.name()).map_err(|m| self.fail(m))
     }
 
     /// The vector `a` of `field` in `f32` (see [`v3`]).
-    fn v3(&self, a: [f64; 3], field: Field) -> Result<Vec3, DescError> {
+    pub(crate) fn v3(&self, a: [f64; 3], field: Field) -> Result<Vec3, DescError> {
         v3(a, field.name()).map_err(|m| self.fail(m))
     }
 
     /// The colour `a` of `field` in `f32` (see [`c3`]).
-    fn c3(&self, a: [f64; 3], field: Field) -> Result<Color, DescError> {
+    pub(crate) fn c3(&self, a: [f64; 3], field: Field) -> Result<Color, DescError> {
         c3(a, field.name()).map_err(|m| self.fail(m))
     }
 }
 
 /// The value of the field a core error `e` names among `fields`, or `other` (the
 /// value shown with the message).
-fn value_for(e: tessera::Error, fields: &[(Field, &[f64])], other: &[f64]) -> String {
+pub(crate) fn value_for(e: tessera::Error, fields: &[(Field, &[f64])], other: &[f64]) -> String {
     let f = field_of(e);
     let v = fields
         .iter()
@@ -1143,24 +1114,6 @@ fn core_light(item: &Item, l: &LightDesc) -> Result<PointLight, DescError> {
     })
 }
 
-fn core_sphere(item: &Item, d: &SphereDesc) -> Result<Sphere, DescError> {
-    let center = item.v3(d.center, Field::SphereCenter)?;
-    let radius = item.f1(d.radius, Field::SphereRadius)?;
-    Sphere::try_new(center, radius).map_err(|e| {
-        let fields = [(Field::SphereCenter, &d.center[..])];
-        item.core(e, value_for(e, &fields, &[d.radius]))
-    })
-}
-
-fn core_plane(item: &Item, d: &PlaneDesc) -> Result<Plane, DescError> {
-    let point = item.v3(d.point, Field::PlanePoint)?;
-    let normal = item.v3(d.normal, Field::PlaneNormal)?;
-    Plane::try_new(point, normal).map_err(|e| {
-        let fields = [(Field::PlanePoint, &d.point[..])];
-        item.core(e, value_for(e, &fields, &d.normal))
-    })
-}
-
 /// The core's triangle of `vertices`; refused as the core refuses it.
 pub fn core_triangle_of(vertices: &[[f64; 3]; 3]) -> Result<Triangle, tessera::Error> {
     match vertices.map(|p| f3(p, "")) {
@@ -1172,7 +1125,7 @@ pub fn core_triangle_of(vertices: &[[f64; 3]; 3]) -> Result<Triangle, tessera::E
     }
 }
 
-fn core_triangle(item: &Item, vertices: &[[f64; 3]; 3]) -> Result<Triangle, DescError> {
+pub(crate) fn core_triangle(item: &Item, vertices: &[[f64; 3]; 3]) -> Result<Triangle, DescError> {
     let [a, b, c] = *vertices;
     let shown = || format!("{}, {}, {}", show(&a), show(&b), show(&c));
     match vertices.map(|p| f3(p, "")) {
@@ -1182,13 +1135,6 @@ fn core_triangle(item: &Item, vertices: &[[f64; 3]; 3]) -> Result<Triangle, Desc
         }
         _ => Err(item.fail(too_large(Field::TriangleVertex.name(), &shown()))),
     }
-}
-
-fn core_box(item: &Item, d: &BoxDesc) -> Result<Aabb, DescError> {
-    let min = item.v3(d.min, Field::BoxMin)?;
-    let max = item.v3(d.max, Field::BoxMax)?;
-    Aabb::try_new(min, max)
-        .map_err(|e| item.core(e, format!("min {} max {}", show(&d.min), show(&d.max))))
 }
 
 fn tessera_tile_ok(n: usize) -> bool {

@@ -47,6 +47,7 @@ mod error;
 pub mod file;
 #[cfg(feature = "cli")]
 mod images;
+pub mod kinds;
 pub mod limits;
 pub mod mesh;
 #[cfg(feature = "cli")]

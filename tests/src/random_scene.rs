@@ -11,9 +11,9 @@ use std::marker::PhantomData;
 use tessera::Capacities;
 use tessera::{
     Camera, Color, Encoding, RenderSettings, Sampler, Scene, Vec3, error::MAX_COLOR,
-    error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb, geometry::Plane, geometry::Sphere,
-    geometry::Triangle, light::PointLight, material::Material, material::MaterialId,
-    texture::Texture,
+    error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb, geometry::Cylinder, geometry::Plane,
+    geometry::Sphere, geometry::Triangle, light::PointLight, material::Material,
+    material::MaterialId, texture::Texture,
 };
 
 /// The numbers a recipe is drawn from.
@@ -57,6 +57,8 @@ pub struct Recipe<C: Capacities> {
     pub triangles: Vec<([[f32; 3]; 3], usize)>,
     /// The minimum corner, the size (its absolute value is taken), material.
     pub boxes: Vec<([f32; 3], [f32; 3], usize)>,
+    /// The base and top centres, the radius, whether capped, material.
+    pub cylinders: Vec<([f32; 3], [f32; 3], f32, bool, usize)>,
     /// The materials.
     pub materials: Vec<MaterialRecipe>,
     /// The lights.
@@ -331,6 +333,7 @@ pub fn recipe<C: Capacities>(values: Values) -> impl Strategy<Value = Recipe<C>>
         planes: p,
         triangles: t,
         boxes: b,
+        cylinders: cy,
         materials: m,
         lights: l,
         ..
@@ -348,7 +351,17 @@ pub fn recipe<C: Capacities>(values: Values) -> impl Strategy<Value = Recipe<C>>
         ),
         prop::collection::vec((values.point(3.0), values.point(1.0), index.clone()), 0..p),
         prop::collection::vec((three(values.point(3.0)), index.clone()), 0..t),
-        prop::collection::vec((values.point(3.0), size, index), 0..b),
+        prop::collection::vec((values.point(3.0), size, index.clone()), 0..b),
+        prop::collection::vec(
+            (
+                values.point(3.0),
+                values.point(3.0),
+                values.length(0.05, 2.0),
+                any::<bool>(),
+                index,
+            ),
+            0..cy,
+        ),
         prop::collection::vec(values.material(), 1..m),
         prop::collection::vec(values.light(), 0..l),
         values.settings(),
@@ -360,6 +373,7 @@ pub fn recipe<C: Capacities>(values: Values) -> impl Strategy<Value = Recipe<C>>
                 planes,
                 triangles,
                 boxes,
+                cylinders,
                 materials,
                 lights,
                 (sampler, depth),
@@ -371,6 +385,7 @@ pub fn recipe<C: Capacities>(values: Values) -> impl Strategy<Value = Recipe<C>>
                 planes,
                 triangles,
                 boxes,
+                cylinders,
                 materials,
                 lights,
                 sampler,
@@ -467,6 +482,11 @@ impl<C: Capacities> Recipe<C> {
         for &(min, size, m) in &self.boxes {
             if let Ok(g) = Aabb::try_new(v(min), v(min) + v(size).abs()) {
                 s.add_box(g, id(m)).ok()?;
+            }
+        }
+        for &(base, top, radius, capped, m) in &self.cylinders {
+            if let Ok(g) = Cylinder::try_new(v(base), v(top), radius, capped) {
+                s.add(g, id(m)).ok()?;
             }
         }
         for l in &self.lights {

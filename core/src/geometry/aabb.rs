@@ -243,6 +243,10 @@ impl super::Kinded for Aabb {
         Ok(Self::try_new(self.min(), self.max())? == *self)
     }
 
+    fn scaled(&self, f: f32) -> Result<Self, crate::error::Error> {
+        Self::try_new(self.min() * f, self.max() * f)
+    }
+
     #[inline(always)]
     fn extent(&self) -> super::Extent {
         super::Extent::Box {

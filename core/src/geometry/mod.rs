@@ -17,6 +17,7 @@
 //! paths in `f64` (`wide`).
 
 mod aabb;
+mod cylinder;
 mod plane;
 mod sphere;
 pub(crate) mod triangle;
@@ -24,6 +25,7 @@ mod wide;
 
 pub use aabb::Aabb;
 pub(crate) use aabb::inverse as aabb_inverse;
+pub use cylinder::Cylinder;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
@@ -51,6 +53,13 @@ pub(crate) trait Kinded: Locate + Sized {
     /// # Errors
     /// The constructor's own, for numbers it refuses.
     fn check_baked(&self) -> Result<bool, crate::error::Error>;
+
+    /// The same geometry with every length multiplied by `f` (positions, radii;
+    /// directions kept), checked again by its constructor.
+    ///
+    /// # Errors
+    /// The constructor's, for a scaled value out of its range.
+    fn scaled(&self, f: f32) -> Result<Self, crate::error::Error>;
 
     /// The kind's part of a ray's search (module `search` hands it its
     /// candidates, `v`): the nearest hit among them (with [`Visit::FIRST`], the

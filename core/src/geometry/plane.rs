@@ -167,6 +167,13 @@ impl Plane {
         self.normal
     }
 
+    /// The tangents of its uv ([`tangent_basis`] of its normal): an orthonormal
+    /// frame of the plane.
+    #[must_use]
+    pub fn tangents(&self) -> (Vec3, Vec3) {
+        self.tangents
+    }
+
     /// The hit time of `ray` with `0 < t < t_max`, if any. A ray parallel to the
     /// plane divides by zero and gets an infinite or NaN time, which the range test
     /// rejects: never a hit, never a NaN.
@@ -184,6 +191,10 @@ impl super::Kinded for Plane {
 
     fn check_baked(&self) -> Result<bool, crate::error::Error> {
         Plane::check_baked(self)
+    }
+
+    fn scaled(&self, f: f32) -> Result<Self, crate::error::Error> {
+        Self::try_new(self.point() * f, self.normal())
     }
 
     #[inline(always)]

@@ -293,6 +293,10 @@ impl super::Kinded for Sphere {
         Ok(Self::try_new(self.center(), self.radius())? == *self)
     }
 
+    fn scaled(&self, f: f32) -> Result<Self, crate::error::Error> {
+        Self::try_new(self.center() * f, self.radius() * f)
+    }
+
     #[inline(always)]
     fn extent(&self) -> super::Extent {
         super::Extent::Ball {

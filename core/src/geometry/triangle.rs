@@ -453,6 +453,11 @@ impl super::Kinded for Triangle {
         Ok(Self::try_new(a, b, c)? == *self)
     }
 
+    fn scaled(&self, f: f32) -> Result<Self, crate::error::Error> {
+        let [a, b, c] = self.vertices();
+        Self::try_new(a * f, b * f, c * f)
+    }
+
     #[inline(always)]
     fn extent(&self) -> super::Extent {
         super::Extent::Points(self.vertices())

@@ -49,7 +49,7 @@ mod bvh;
 use crate::bvh::BvhView;
 use crate::cull::Hull;
 use crate::geometry::{Candidate, Kinded, Visit, aabb_inverse};
-use crate::kind::{Slot, each_kind};
+use crate::kind::{Geometry, each_kind};
 use crate::primitive::Primitive;
 use crate::ray::Ray;
 use crate::vec::Vec3;
@@ -338,7 +338,7 @@ impl<'r> Reach<'r> {
 /// for the triangles only: the miss tests of the other kinds cost about what a
 /// hull's slab test does).
 #[inline(always)]
-fn hull_of<'v, S: Source<'v>, G: Slot>(view: &SceneView<'_>, src: S) -> Option<Hull> {
+fn hull_of<'v, S: Source<'v>, G: Geometry>(view: &SceneView<'_>, src: S) -> Option<Hull> {
     #[cfg(feature = "bvh")]
     if src.hierarchy(G::KIND).is_some() {
         return None;
@@ -360,7 +360,7 @@ struct Visitor<'a, 'b, 'v, S, G, const FIRST: bool> {
     reach: &'b mut Reach<'a>,
 }
 
-impl<'a, 'v, S: Source<'v>, G: Slot, const FIRST: bool> Visit<'a, G>
+impl<'a, 'v, S: Source<'v>, G: Geometry, const FIRST: bool> Visit<'a, G>
     for Visitor<'a, '_, 'v, S, G, FIRST>
 {
     const FIRST: bool = FIRST;

@@ -447,11 +447,10 @@ pub fn warnings(desc: &SceneDesc) -> Vec<String> {
         .lights
         .iter()
         .any(|l| l.intensity > 0.0 && l.color.iter().any(|&c| c > 0.0));
-    let has_geometry = !(desc.spheres.is_empty()
-        && desc.planes.is_empty()
-        && desc.triangles.is_empty()
-        && desc.boxes.is_empty()
-        && desc.meshes.is_empty());
+    let mut has_geometry = !desc.meshes.is_empty();
+    crate::kinds::each_kind!(|G| {
+        has_geometry |= !<G as crate::kinds::Listed>::descs(desc).is_empty();
+    });
     if has_geometry && !lit && desc.ambient.iter().all(|&c| c <= 0.0) {
         out.push(
             "scene: nothing lights the surfaces (no light with intensity > 0 and \

@@ -61,6 +61,18 @@ pub enum Shape {
         /// Max corner.
         max: V3,
     },
+    /// Finite cylinder: the tube of `radius` around the segment from `base` to
+    /// `top`, closed by two caps when `capped`.
+    Cylinder {
+        /// Centre of the base.
+        base: V3,
+        /// Centre of the top.
+        top: V3,
+        /// Radius.
+        radius: f64,
+        /// Closed by its caps.
+        capped: bool,
+    },
 }
 
 /// A hit: time, triangle barycentrics of vertices 1 and 2, box face
@@ -95,6 +107,13 @@ impl Shape {
             normal: n * (1.0 / len),
             offset: exact::dot2(n, point, V3::ZERO) / len,
         }
+    }
+
+    /// Whether `u` wraps round (an angle about an axis): a footprint across
+    /// its seam is not a box of the texture.
+    #[must_use]
+    pub fn uv_wraps(&self) -> bool {
+        matches!(self, Self::Sphere { .. } | Self::Cylinder { .. })
     }
 
     /// The nearest hit with `0 < t < t_max`.
@@ -154,6 +173,12 @@ impl Shape {
                 in_range(t, t_max).map(|h| Hit { b1: u, b2: v, ..h })
             }
             Self::Box { min, max } => box_hit(min, max, ray, t_max),
+            Self::Cylinder {
+                base,
+                top,
+                radius,
+                capped,
+            } => cylinder_hit(base, top, radius, capped, ray, t_max),
         }
     }
 
@@ -164,6 +189,17 @@ impl Shape {
             Self::Sphere { center, .. } => (p - center).normalize(),
             Self::Plane { normal, .. } => normal,
             Self::Triangle { p } => (p[1] - p[0]).cross(p[2] - p[0]).normalize(),
+            Self::Cylinder { base, top, .. } => {
+                let w = (top - base).normalize();
+                match hit.face {
+                    0 => {
+                        let f = p - base;
+                        (f - w * f.dot(w)).normalize()
+                    }
+                    1 => -w,
+                    _ => w,
+                }
+            }
             Self::Box { .. } => {
                 let sign = if hit.face % 2 == 1 { 1.0 } else { -1.0 };
                 match hit.face / 2 {
@@ -189,6 +225,24 @@ impl Shape {
                 [d.dot(t), d.dot(b)]
             }
             Self::Triangle { .. } => [hit.b1, hit.b2],
+            Self::Cylinder {
+                base, top, radius, ..
+            } => {
+                // The angle about the axis in the frame of its tangents, and the
+                // height (side) or the distance from the axis (caps).
+                let h = (top - base).length();
+                let w = (top - base) * (1.0 / h);
+                let (tu, tv) = tangent_basis(w);
+                let f = p - base;
+                let (x, y) = (f.dot(tu), f.dot(tv));
+                let u = (y.atan2(x) + PI) / (2.0 * PI);
+                let v = if hit.face == 0 {
+                    f.dot(w) / h
+                } else {
+                    x.hypot(y) / radius
+                };
+                [u, v.clamp(0.0, 1.0)]
+            }
             Self::Box { min, max } => {
                 let (a, b) = match hit.face / 2 {
                     0 => (1, 2),
@@ -207,6 +261,60 @@ impl Shape {
             }
         }
     }
+}
+
+/// A cylinder's nearest hit: the side's roots between the caps' planes (face
+/// 0), and each cap within the radius (faces 1, base, and 2, top), with the
+/// vectors taken across the axis `w`: `|f + t d|^2 = r^2` for the parts of the
+/// origin's offset `f` and of the direction `d` square to it.
+fn cylinder_hit(
+    base: V3,
+    top: V3,
+    radius: f64,
+    capped: bool,
+    ray: &Ray,
+    t_max: f64,
+) -> Option<Hit> {
+    let h = (top - base).length();
+    let w = (top - base) * (1.0 / h);
+    let f = ray.origin - base;
+    let (fz, dz) = (f.dot(w), ray.dir.dot(w));
+    let (fp, dp) = (f - w * fz, ray.dir - w * dz);
+    let mut best: Option<Hit> = None;
+    let mut consider = |t: f64, face: usize| {
+        if t > 0.0 && t < best.map_or(t_max, |b| b.t) {
+            best = Some(Hit {
+                t,
+                face,
+                ..Hit::default()
+            });
+        }
+    };
+    let a = dp.dot(dp);
+    if a > 0.0 {
+        // The closest approach to the axis, and half a chord either side.
+        let tc = -fp.dot(dp) / a;
+        let l = (fp + dp * tc).length();
+        if l <= radius {
+            let s = ((radius - l) * (radius + l) / a).sqrt();
+            for t in [tc - s, tc + s] {
+                let z = fz + dz * t;
+                if (0.0..=h).contains(&z) {
+                    consider(t, 0);
+                }
+            }
+        }
+    }
+    if capped && dz != 0.0 {
+        for (face, z) in [(1, 0.0), (2, h)] {
+            let t = (z - fz) / dz;
+            let q = fp + dp * t;
+            if q.dot(q) <= radius * radius {
+                consider(t, face);
+            }
+        }
+    }
+    best
 }
 
 /// The slab test: the entry face when the origin is outside, else the exit face.

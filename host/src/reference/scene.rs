@@ -5,7 +5,9 @@
 use super::geometry::{Hit, Ray, Shape};
 use super::vec::V3;
 use crate::desc::{DescError, SceneDesc, TextureDesc};
+use crate::kinds::{HostKind, Listed, each_kind};
 use std::f64::consts::PI;
+use tessera::Geometry;
 use tessera::kind::Kind;
 
 /// A texture in `f64`.
@@ -308,30 +310,11 @@ impl RefScene {
             });
             Ok::<(), DescError>(())
         };
-        for (i, s) in desc.spheres.iter().enumerate() {
-            let shape = Shape::Sphere {
-                center: v(s.center),
-                radius: s.radius,
-            };
-            add(Kind::Sphere.index() as u64, i, shape, &s.material)?;
-        }
-        for (i, p) in desc.planes.iter().enumerate() {
-            let shape = Shape::plane(v(p.point), v(p.normal));
-            add(Kind::Plane.index() as u64, i, shape, &p.material)?;
-        }
-        for (i, t) in desc.triangles.iter().enumerate() {
-            let shape = Shape::Triangle {
-                p: t.vertices.map(v),
-            };
-            add(Kind::Triangle.index() as u64, i, shape, &t.material)?;
-        }
-        for (i, b) in desc.boxes.iter().enumerate() {
-            let shape = Shape::Box {
-                min: v(b.min),
-                max: v(b.max),
-            };
-            add(Kind::Box.index() as u64, i, shape, &b.material)?;
-        }
+        each_kind!(|G| {
+            for (i, d) in G::descs(desc).iter().enumerate() {
+                add(G::KIND.index() as u64, i, G::reference(d), G::material(d))?;
+            }
+        });
         // The meshes, after every list (as the core searches them), a face at a
         // time; a smooth one's normals welded as the host welds them.
         for (i, m) in desc.meshes.iter().enumerate() {

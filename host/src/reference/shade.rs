@@ -104,8 +104,7 @@ impl Tracer<'_> {
                 lo = [lo[0].min(u), lo[1].min(v)];
                 hi = [hi[0].max(u), hi[1].max(v)];
             }
-            let is_sphere = matches!(obj.shape, crate::reference::geometry::Shape::Sphere { .. });
-            let wraps = is_sphere && (hi[0] - lo[0] > 0.5 || hi[1] - lo[1] > 0.5);
+            let wraps = obj.shape.uv_wraps() && (hi[0] - lo[0] > 0.5 || hi[1] - lo[1] > 0.5);
             (!wraps).then_some((lo, hi))
         });
         let base = match footprint {
@@ -140,8 +139,11 @@ impl Tracer<'_> {
     /// within the primitive (a checker's cells are signed by their parity).
     fn part(obj: &Object, hit: &Hit, m: &Mat, (dir, uv): (V3, [f64; 2]), sig: &mut Signature) {
         match obj.shape {
-            Shape::Box { .. } => sig.push(PART | hit.face as u64),
-            Shape::Sphere { .. } if matches!(m.texture, Tex::Fringes { .. }) => {
+            Shape::Box { .. } | Shape::Cylinder { .. } => {
+                let wrap = obj.shape.uv_wraps() && matches!(m.texture, Tex::Fringes { .. });
+                sig.push(PART | hit.face as u64 | u64::from(wrap && uv[0] >= 0.5) << 8);
+            }
+            _ if obj.shape.uv_wraps() && matches!(m.texture, Tex::Fringes { .. }) => {
                 sig.push(PART | u64::from(uv[0] >= 0.5));
             }
             Shape::Triangle { p } if obj.kind == super::scene::MESH_FACE => {

@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::desc::{
-    BoxDesc, LightDesc, MaterialDesc, PlaneDesc, RenderDesc, SphereDesc, TextureDesc, TriangleDesc,
+    BoxDesc, LightDesc, MaterialDesc, PlaneDesc, SphereDesc, TextureDesc, TriangleDesc,
 };
 use tessera::{RenderSettings, Sampler, Viewport};
 
@@ -34,21 +34,7 @@ fn camera(position: [f64; 3], forward: [f64; 3]) -> CameraDesc {
 }
 
 fn empty(camera: CameraDesc) -> SceneDesc {
-    SceneDesc {
-        ambient: [0.0; 3],
-        background: [0.0; 3],
-        camera,
-        render: RenderDesc::default(),
-        materials: Vec::new(),
-        lights: Vec::new(),
-        spheres: Vec::new(),
-        planes: Vec::new(),
-        triangles: Vec::new(),
-        boxes: Vec::new(),
-        meshes: Vec::new(),
-        flushed: Vec::new(),
-        flushed_count: 0,
-    }
+    SceneDesc::new(camera)
 }
 
 /// Camera inside a diffuse sphere of radius r, point light at the centre: every

@@ -1,8 +1,11 @@
 //! Cases 7 and 8: scale invariance of the built-in scenes (`2^k`), and flush-to-zero.
 
 use image::RgbImage;
+use tessera::Geometry;
+use tessera::kind::Kind;
 use tessera::{Renderer, Viewport};
 use tessera_host::desc::{SceneDesc, TextureDesc};
+use tessera_host::kinds::{HostKind, Listed, Number, each_kind};
 
 /// The built-in scene descriptions of case 7.
 #[must_use]
@@ -31,24 +34,19 @@ pub fn scaled(desc: &SceneDesc, k: i32) -> SceneDesc {
     d.camera.look_at = d.camera.look_at.map(v);
     d.camera.near *= s;
     d.camera.far *= s;
-    for x in &mut d.spheres {
-        x.center = v(x.center);
-        x.radius *= s;
-    }
-    for x in &mut d.planes {
-        x.point = v(x.point);
-    }
-    for x in &mut d.triangles {
-        x.vertices = x.vertices.map(v);
-    }
+    each_kind!(|G| {
+        for x in G::descs_mut(&mut d) {
+            G::numbers(x, &mut |_, what, xs| {
+                if what != Number::Direction {
+                    xs.iter_mut().for_each(|x| *x *= s);
+                }
+            });
+        }
+    });
     for m in &mut d.meshes {
         for f in &mut m.faces {
             *f = f.map(v);
         }
-    }
-    for x in &mut d.boxes {
-        x.min = v(x.min);
-        x.max = v(x.max);
     }
     for x in &mut d.lights {
         x.position = v(x.position);
@@ -56,10 +54,12 @@ pub fn scaled(desc: &SceneDesc, k: i32) -> SceneDesc {
     }
     for m in &mut d.materials {
         let on_planes = desc.planes.iter().any(|p| p.material == m.name);
-        let elsewhere = desc.spheres.iter().any(|p| p.material == m.name)
-            || desc.triangles.iter().any(|p| p.material == m.name)
-            || desc.meshes.iter().any(|p| p.material == m.name)
-            || desc.boxes.iter().any(|p| p.material == m.name);
+        let mut elsewhere = desc.meshes.iter().any(|p| p.material == m.name);
+        each_kind!(|G| {
+            if G::KIND != Kind::Plane {
+                elsewhere |= G::descs(desc).iter().any(|p| G::material(p) == m.name);
+            }
+        });
         let Some(t) = &mut m.texture else { continue };
         assert!(
             !(on_planes && elsewhere),

@@ -2,7 +2,7 @@
 //
 // 5 materials, 1 light, 4 spheres, 1 plane: 484 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Cylinder, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 // The materials: each constant is a material's reference (its place in MATERIALS).
 /// The material "floor".
@@ -77,6 +77,11 @@ pub static TRIANGLES: [Primitive<Triangle>; 0] = [
 pub static BOXES: [Primitive<Aabb>; 0] = [
 ];
 
+/// The cylinders: base and top centres, radius, caps; the unit axis, the frame's tangents, the height.
+#[rustfmt::skip]
+pub static CYLINDERS: [Primitive<Cylinder>; 0] = [
+];
+
 /// The width the scene is meant to be rendered at, in pixels.
 #[allow(dead_code)]
 pub const WIDTH: u16 = 320;
@@ -126,6 +131,7 @@ pub static SCENE: BakedScene<'static, capacities!(spheres: 4, planes: 1)> = Bake
         planes: &PLANES,
         triangles: &TRIANGLES,
         boxes: &BOXES,
+        cylinders: &CYLINDERS,
     },
 );
 

@@ -3,7 +3,7 @@
 // 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 723 BVH nodes: 46000 bytes of flash.
 // Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml).
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, capacities, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, capacities, geometry::Aabb, geometry::Cylinder, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A node of a hierarchy.
 const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16) -> BvhNode {
@@ -57,6 +57,11 @@ pub static TRIANGLES: [Primitive<Triangle>; 0] = [
 /// The axis-aligned boxes: min and max corners.
 #[rustfmt::skip]
 pub static BOXES: [Primitive<Aabb>; 0] = [
+];
+
+/// The cylinders: base and top centres, radius, caps; the unit axis, the frame's tangents, the height.
+#[rustfmt::skip]
+pub static CYLINDERS: [Primitive<Cylinder>; 0] = [
 ];
 
 /// The vertices.
@@ -2277,6 +2282,7 @@ pub static SCENE: BakedScene<'static, capacities!(planes: 1)> = BakedScene::new(
         planes: &PLANES,
         triangles: &TRIANGLES,
         boxes: &BOXES,
+        cylinders: &CYLINDERS,
     },
 )
 .with_meshes(&MESHES);

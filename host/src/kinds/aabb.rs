@@ -1,0 +1,53 @@
+//! The axis-aligned box on the host.
+
+use super::{HostKind, Number};
+use crate::bake::v3;
+use crate::desc::{DescError, Item, show};
+use serde::Deserialize;
+use tessera::{error::Field, geometry::Aabb};
+
+/// An axis-aligned box.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BoxDesc {
+    /// Min corner.
+    pub min: [f64; 3],
+    /// Max corner.
+    pub max: [f64; 3],
+    /// Material name.
+    pub material: String,
+}
+
+impl HostKind for Aabb {
+    type Desc = BoxDesc;
+    const TABLE: &'static str = "The axis-aligned boxes: min and max corners.";
+
+    fn material(d: &BoxDesc) -> &str {
+        &d.material
+    }
+
+    fn numbers(d: &mut BoxDesc, f: &mut dyn FnMut(&'static str, Number, &mut [f64])) {
+        f("min", Number::Position, &mut d.min);
+        f("max", Number::Position, &mut d.max);
+    }
+
+    fn core(item: &Item, d: &BoxDesc) -> Result<Self, DescError> {
+        let min = item.v3(d.min, Field::BoxMin)?;
+        let max = item.v3(d.max, Field::BoxMax)?;
+        Aabb::try_new(min, max)
+            .map_err(|e| item.core(e, format!("min {} max {}", show(&d.min), show(&d.max))))
+    }
+
+    fn baked(&self) -> String {
+        format!("Aabb::baked({}, {})", v3(self.min()), v3(self.max()))
+    }
+
+    #[cfg(feature = "cli")]
+    fn reference(d: &BoxDesc) -> crate::reference::geometry::Shape {
+        let v = crate::reference::vec::V3::from_array;
+        crate::reference::geometry::Shape::Box {
+            min: v(d.min),
+            max: v(d.max),
+        }
+    }
+}
