@@ -776,10 +776,13 @@ impl<'a> Writer<'a> {
             color(view.background()),
             tessera::kind::Kind::ALL
                 .iter()
-                .map(|k| {
+                .zip(lists.lens)
+                .filter(|&(_, n)| n > 0)
+                .map(|(k, _)| {
                     let list = k.list().name();
                     format!("        {list}: &{},\n", list.to_uppercase())
                 })
+                .chain(std::iter::once("        ..Primitives::NONE\n".to_string()))
                 .collect::<String>(),
             lists.with_bvh,
             self.with_meshes,

@@ -129,9 +129,7 @@ pub static SCENE: BakedScene<'static, capacities!(spheres: 4, planes: 1)> = Bake
     Primitives {
         spheres: &SPHERES,
         planes: &PLANES,
-        triangles: &TRIANGLES,
-        boxes: &BOXES,
-        cylinders: &CYLINDERS,
+        ..Primitives::NONE
     },
 );
 

@@ -94,11 +94,8 @@ pub static SCENE: BakedScene<'static, capacities!(planes: 1)> = BakedScene::new(
     &MATERIALS,
     &LIGHTS,
     Primitives {
-        spheres: &SPHERES,
         planes: &PLANES,
-        triangles: &TRIANGLES,
-        boxes: &BOXES,
-        cylinders: &CYLINDERS,
+        ..Primitives::NONE
     },
 );
 

@@ -167,7 +167,7 @@ pub static SCENE: BakedScene<'static, capacities!(spheres: 3, planes: 2, triangl
         planes: &PLANES,
         triangles: &TRIANGLES,
         boxes: &BOXES,
-        cylinders: &CYLINDERS,
+        ..Primitives::NONE
     },
 );
 
