@@ -37,6 +37,7 @@ macro_rules! __kinds {
             (Triangle, triangles, Triangles, $crate::geometry::Triangle, "triangle"),
             (Box,      boxes,     Boxes,     $crate::geometry::Aabb,     "box"),
             (Cylinder, cylinders, Cylinders, $crate::geometry::Cylinder, "cylinder"),
+            (Disk,     disks,     Disks,     $crate::geometry::Disk,     "disk"),
         }
     };
 }

@@ -11,8 +11,8 @@ use std::marker::PhantomData;
 use tessera::Capacities;
 use tessera::{
     Camera, Color, Encoding, RenderSettings, Sampler, Scene, Vec3, error::MAX_COLOR,
-    error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb, geometry::Cylinder, geometry::Plane,
-    geometry::Sphere, geometry::Triangle, light::PointLight, material::Material,
+    error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb, geometry::Cylinder, geometry::Disk,
+    geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material,
     material::MaterialId, texture::Texture,
 };
 
@@ -59,6 +59,9 @@ pub struct Recipe<C: Capacities> {
     pub boxes: Vec<([f32; 3], [f32; 3], usize)>,
     /// The base and top centres, the radius, whether capped, material.
     pub cylinders: Vec<([f32; 3], [f32; 3], f32, bool, usize)>,
+    /// The centre, the normal, the radius, the inner radius (as a share of the
+    /// radius), material.
+    pub disks: Vec<([f32; 3], [f32; 3], f32, f32, usize)>,
     /// The materials.
     pub materials: Vec<MaterialRecipe>,
     /// The lights.
@@ -334,6 +337,7 @@ pub fn recipe<C: Capacities>(values: Values) -> impl Strategy<Value = Recipe<C>>
         triangles: t,
         boxes: b,
         cylinders: cy,
+        disks: di,
         materials: m,
         lights: l,
         ..
@@ -358,9 +362,19 @@ pub fn recipe<C: Capacities>(values: Values) -> impl Strategy<Value = Recipe<C>>
                 values.point(3.0),
                 values.length(0.05, 2.0),
                 any::<bool>(),
-                index,
+                index.clone(),
             ),
             0..cy,
+        ),
+        prop::collection::vec(
+            (
+                values.point(3.0),
+                values.point(1.0),
+                values.length(0.05, 2.0),
+                0.0f32..1.0,
+                index,
+            ),
+            0..di,
         ),
         prop::collection::vec(values.material(), 1..m),
         prop::collection::vec(values.light(), 0..l),
@@ -374,6 +388,7 @@ pub fn recipe<C: Capacities>(values: Values) -> impl Strategy<Value = Recipe<C>>
                 triangles,
                 boxes,
                 cylinders,
+                disks,
                 materials,
                 lights,
                 (sampler, depth),
@@ -386,6 +401,7 @@ pub fn recipe<C: Capacities>(values: Values) -> impl Strategy<Value = Recipe<C>>
                 triangles,
                 boxes,
                 cylinders,
+                disks,
                 materials,
                 lights,
                 sampler,
@@ -487,6 +503,12 @@ impl<C: Capacities> Recipe<C> {
         for &(base, top, radius, capped, m) in &self.cylinders {
             if let Ok(g) = Cylinder::try_new(v(base), v(top), radius, capped) {
                 s.add(g, id(m)).ok()?;
+            }
+        }
+        for &(centre, normal, radius, inner, m) in &self.disks {
+            if let Ok(g) = Disk::try_new(v(centre), v(normal), radius, radius * inner) {
+                s.add(g, id(m)).ok()?;
+                surface_points.push(v(centre));
             }
         }
         for l in &self.lights {

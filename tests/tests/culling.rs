@@ -170,7 +170,7 @@ proptest! {
 
     #[test]
     fn random_scenes_render_the_same_culled_or_not(
-        r in recipe::<tessera::capacities!(spheres: 6, planes: 3, triangles: 8, boxes: 4, cylinders: 3, materials: 4, lights: 4)>(Values::Tame)
+        r in recipe::<tessera::capacities!(spheres: 6, planes: 3, triangles: 8, boxes: 4, cylinders: 3, disks: 3, materials: 4, lights: 4)>(Values::Tame)
     ) {
         let Some(scene) = r.build() else {
             return Ok(());

@@ -18,6 +18,7 @@
 
 mod aabb;
 mod cylinder;
+mod disk;
 mod plane;
 mod sphere;
 pub(crate) mod triangle;
@@ -26,6 +27,7 @@ mod wide;
 pub use aabb::Aabb;
 pub(crate) use aabb::inverse as aabb_inverse;
 pub use cylinder::Cylinder;
+pub use disk::Disk;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;

@@ -12,12 +12,14 @@ use std::fmt;
 
 mod aabb;
 mod cylinder;
+mod disk;
 mod plane;
 mod sphere;
 mod triangle;
 
 pub use aabb::BoxDesc;
 pub use cylinder::CylinderDesc;
+pub use disk::DiskDesc;
 pub use plane::PlaneDesc;
 pub use sphere::SphereDesc;
 pub use triangle::TriangleDesc;

@@ -73,6 +73,18 @@ pub enum Shape {
         /// Closed by its caps.
         capped: bool,
     },
+    /// Disk (double-sided): the points of a plane within `radius` of its
+    /// centre and at least `inner` from it.
+    Disk {
+        /// Centre.
+        center: V3,
+        /// Unit normal.
+        normal: V3,
+        /// Radius.
+        radius: f64,
+        /// Inner radius (0 for a whole disk).
+        inner: f64,
+    },
 }
 
 /// A hit: time, triangle barycentrics of vertices 1 and 2, box face
@@ -113,7 +125,10 @@ impl Shape {
     /// its seam is not a box of the texture.
     #[must_use]
     pub fn uv_wraps(&self) -> bool {
-        matches!(self, Self::Sphere { .. } | Self::Cylinder { .. })
+        matches!(
+            self,
+            Self::Sphere { .. } | Self::Cylinder { .. } | Self::Disk { .. }
+        )
     }
 
     /// The nearest hit with `0 < t < t_max`.
@@ -179,6 +194,24 @@ impl Shape {
                 radius,
                 capped,
             } => cylinder_hit(base, top, radius, capped, ray, t_max),
+            Self::Disk {
+                center,
+                normal,
+                radius,
+                inner,
+            } => {
+                // The plane's time (its offset summed almost exactly), then the
+                // distance from the centre.
+                let denom = ray.dir.dot(normal);
+                if denom == 0.0 {
+                    return None;
+                }
+                let offset = exact::dot2(normal, center, V3::ZERO);
+                let hit = in_range((offset - ray.origin.dot(normal)) / denom, t_max)?;
+                let q = ray.at(hit.t) - center;
+                let rho2 = q.dot(q);
+                (rho2 <= radius * radius && rho2 >= inner * inner).then_some(hit)
+            }
         }
     }
 
@@ -187,7 +220,7 @@ impl Shape {
     pub fn normal(&self, p: V3, hit: &Hit) -> V3 {
         match *self {
             Self::Sphere { center, .. } => (p - center).normalize(),
-            Self::Plane { normal, .. } => normal,
+            Self::Plane { normal, .. } | Self::Disk { normal, .. } => normal,
             Self::Triangle { p } => (p[1] - p[0]).cross(p[2] - p[0]).normalize(),
             Self::Cylinder { base, top, .. } => {
                 let w = (top - base).normalize();
@@ -225,6 +258,20 @@ impl Shape {
                 [d.dot(t), d.dot(b)]
             }
             Self::Triangle { .. } => [hit.b1, hit.b2],
+            Self::Disk {
+                center,
+                normal,
+                radius,
+                inner,
+            } => {
+                // The angle about the centre in the frame of the plane's
+                // tangents, and the distance from the inner edge to the rim.
+                let (tu, tv) = tangent_basis(normal);
+                let q = p - center;
+                let (x, y) = (q.dot(tu), q.dot(tv));
+                let u = (y.atan2(x) + PI) / (2.0 * PI);
+                [u, ((x.hypot(y) - inner) / (radius - inner)).clamp(0.0, 1.0)]
+            }
             Self::Cylinder {
                 base, top, radius, ..
             } => {

@@ -2,7 +2,7 @@
 //
 // 1 material, 1 plane: 120 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Cylinder, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Cylinder, geometry::Disk, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 // The materials: each constant is a material's reference (its place in MATERIALS).
 /// The material "screen".
@@ -47,6 +47,11 @@ pub static BOXES: [Primitive<Aabb>; 0] = [
 /// The cylinders: base and top centres, radius, caps; the unit axis, the frame's tangents, the height.
 #[rustfmt::skip]
 pub static CYLINDERS: [Primitive<Cylinder>; 0] = [
+];
+
+/// The disks: their plane (as the planes' table), radius, inner radius.
+#[rustfmt::skip]
+pub static DISKS: [Primitive<Disk>; 0] = [
 ];
 
 /// The width the scene is meant to be rendered at, in pixels.

@@ -2,7 +2,7 @@
 //
 // 8 materials, 2 lights, 3 spheres, 2 planes, 2 boxes, 4 triangles: 956 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Cylinder, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Cylinder, geometry::Disk, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A triangle of material `m`.
 const fn t(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3], m: MaterialId) -> Primitive<Triangle> {
@@ -116,6 +116,11 @@ pub static BOXES: [Primitive<Aabb>; 2] = [
 /// The cylinders: base and top centres, radius, caps; the unit axis, the frame's tangents, the height.
 #[rustfmt::skip]
 pub static CYLINDERS: [Primitive<Cylinder>; 0] = [
+];
+
+/// The disks: their plane (as the planes' table), radius, inner radius.
+#[rustfmt::skip]
+pub static DISKS: [Primitive<Disk>; 0] = [
 ];
 
 /// The width the scene is meant to be rendered at, in pixels.

@@ -3,7 +3,7 @@
 // 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 723 BVH nodes: 46000 bytes of flash.
 // Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml).
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, capacities, geometry::Aabb, geometry::Cylinder, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, capacities, geometry::Aabb, geometry::Cylinder, geometry::Disk, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A node of a hierarchy.
 const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16) -> BvhNode {
@@ -62,6 +62,11 @@ pub static BOXES: [Primitive<Aabb>; 0] = [
 /// The cylinders: base and top centres, radius, caps; the unit axis, the frame's tangents, the height.
 #[rustfmt::skip]
 pub static CYLINDERS: [Primitive<Cylinder>; 0] = [
+];
+
+/// The disks: their plane (as the planes' table), radius, inner radius.
+#[rustfmt::skip]
+pub static DISKS: [Primitive<Disk>; 0] = [
 ];
 
 /// The vertices.
