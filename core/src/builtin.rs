@@ -418,12 +418,9 @@ mod tests {
                     pixels(v, &f)
                 })
                 .unwrap();
-            // Read where they lie (an empty table is not named: the view's is
-            // `Primitives::NONE`'s).
-            let table = baked_spheres(b);
+            // Read where they lie.
             assert!(
-                core::ptr::eq(view.spheres(), table)
-                    || view.spheres().is_empty() && table.is_empty(),
+                core::ptr::eq(view.materials(), baked_materials(b)),
                 "{}",
                 b.name()
             );
@@ -438,15 +435,15 @@ mod tests {
         }
     }
 
-    /// The baked scene's sphere table, where it lies.
-    fn baked_spheres(b: Builtin) -> &'static [crate::Primitive<crate::geometry::Sphere>] {
+    /// The baked scene's material table, where it lies.
+    fn baked_materials(b: Builtin) -> &'static [crate::material::Material] {
         match b {
-            Builtin::ChapterDirect => &baked::chapter_direct::SPHERES,
-            Builtin::ChapterReflect => &baked::chapter_reflect::SPHERES,
-            Builtin::Interference => &baked::interference::SPHERES,
-            Builtin::Showcase => &baked::showcase::SPHERES,
+            Builtin::ChapterDirect => &baked::chapter_direct::MATERIALS,
+            Builtin::ChapterReflect => &baked::chapter_reflect::MATERIALS,
+            Builtin::Interference => &baked::interference::MATERIALS,
+            Builtin::Showcase => &baked::showcase::MATERIALS,
             #[cfg(feature = "teapot")]
-            Builtin::Teapot => &baked::teapot::SPHERES,
+            Builtin::Teapot => &baked::teapot::MATERIALS,
         }
     }
 

@@ -26,19 +26,67 @@ use heapless::vec::VecView;
 /// The list of the geometry kinds: `__kinds!({m} args)` calls `m! { [args]
 /// rows }` with one row per kind, `(Kind variant, list name, List variant,
 /// type, name in a scene file)`, in search order. Every per-kind item of the
-/// core is generated from it.
+/// core is generated from it. The kinds behind a feature (`cylinder`, `disk`)
+/// join the list through one macro each, which adds its row when the feature
+/// is on: a firmware without them compiles no code of theirs and tests no list
+/// of theirs.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __kinds {
     ({$($m:tt)*} $($args:tt)*) => {
-        $($m)*! { [$($args)*]
+        $crate::__kinds_cylinder! { {$($m)*} [$($args)*]
             (Sphere,   spheres,   Spheres,   $crate::geometry::Sphere,   "sphere"),
             (Plane,    planes,    Planes,    $crate::geometry::Plane,    "plane"),
             (Triangle, triangles, Triangles, $crate::geometry::Triangle, "triangle"),
             (Box,      boxes,     Boxes,     $crate::geometry::Aabb,     "box"),
+        }
+    };
+}
+
+/// [`__kinds!`](crate::__kinds)'s rows and, with the feature `cylinder`, the
+/// cylinder's.
+#[cfg(feature = "cylinder")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __kinds_cylinder {
+    ({$($m:tt)*} [$($args:tt)*] $($rows:tt)*) => {
+        $crate::__kinds_disk! { {$($m)*} [$($args)*] $($rows)*
             (Cylinder, cylinders, Cylinders, $crate::geometry::Cylinder, "cylinder"),
+        }
+    };
+}
+
+/// [`__kinds!`](crate::__kinds)'s rows (the feature `cylinder` is off).
+#[cfg(not(feature = "cylinder"))]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __kinds_cylinder {
+    ({$($m:tt)*} [$($args:tt)*] $($rows:tt)*) => {
+        $crate::__kinds_disk! { {$($m)*} [$($args)*] $($rows)* }
+    };
+}
+
+/// The rows so far and, with the feature `disk`, the disk's: the last of the
+/// list, which calls `m`.
+#[cfg(feature = "disk")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __kinds_disk {
+    ({$($m:tt)*} [$($args:tt)*] $($rows:tt)*) => {
+        $($m)*! { [$($args)*] $($rows)*
             (Disk,     disks,     Disks,     $crate::geometry::Disk,     "disk"),
         }
+    };
+}
+
+/// The rows so far (the feature `disk` is off): the last of the list, which
+/// calls `m`.
+#[cfg(not(feature = "disk"))]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __kinds_disk {
+    ({$($m:tt)*} [$($args:tt)*] $($rows:tt)*) => {
+        $($m)*! { [$($args)*] $($rows)* }
     };
 }
 

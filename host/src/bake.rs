@@ -445,6 +445,8 @@ struct Writer<'a> {
     names: Vec<&'static str>,
     /// Whether the source needs the core's feature `bvh`.
     bvh_needed: bool,
+    /// The core's features its kinds need (`cylinder`, `disk`).
+    features: Vec<&'static str>,
     /// `.with_meshes(&MESHES)` when there are meshes, else empty.
     with_meshes: String,
 }
@@ -474,10 +476,8 @@ impl<'a> Writer<'a> {
                 "Sampler",
                 "Texture",
                 "Viewport",
-            ]
-            .into_iter()
-            .chain(type_names())
-            .collect(),
+            ],
+            features: Vec::new(),
             bvh_needed: false,
             with_meshes: String::new(),
         }
@@ -575,8 +575,11 @@ impl<'a> Writer<'a> {
         each_kind!(|G| {
             let list = view.list::<G>();
             lens[G::KIND.index()] = list.len();
-            if G::KIND == tessera::kind::Kind::Triangle {
+            if list.is_empty() {
+                // No table: the scene's `..Primitives::NONE` stands for it.
+            } else if G::KIND == tessera::kind::Kind::Triangle {
                 with_bvh = self.triangles(view.triangles());
+                self.names.push(type_name::<G>());
             } else {
                 let items: Vec<String> = list
                     .iter()
@@ -595,6 +598,11 @@ impl<'a> Writer<'a> {
                     &items,
                     size_of_val(list),
                 );
+                self.names.push(type_name::<G>());
+                self.names.extend(G::NAMES);
+                if let Some(feature) = G::FEATURE {
+                    self.features.push(feature);
+                }
             }
         });
         Written { lens, with_bvh }
@@ -754,7 +762,7 @@ impl<'a> Writer<'a> {
             self.body,
             "/// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it\n\
              /// from where it lies.\n\
-             #[allow(dead_code)]\npub static SCENE: BakedScene<'static, capacities!({})> = BakedScene::new(\n    \
+             #[allow(dead_code)]\n// `..Primitives::NONE` stands for the kinds it has none of (none, with the\n// core's optional kinds off).\n#[allow(clippy::needless_update)]\npub static SCENE: BakedScene<'static, capacities!({})> = BakedScene::new(\n    \
                  BakedCamera {{\n        position: {},\n        forward: {},\n        up: {},\n        \
                  fovy_degrees: {},\n        near: {},\n        far: {},\n    }},\n    \
                  Viewport::new(WIDTH, HEIGHT),\n    \
@@ -837,6 +845,12 @@ impl<'a> Writer<'a> {
             all.join("; "),
             self.bytes
         );
+        for feature in &self.features {
+            let _ = writeln!(
+                s,
+                "// Needs the core's feature `{feature}` (its features list in the firmware's Cargo.toml)."
+            );
+        }
         if self.bvh_needed {
             let _ = writeln!(
                 s,

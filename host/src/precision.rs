@@ -186,6 +186,19 @@ fn size_warnings(desc: &SceneDesc) -> Vec<String> {
             distance,
         ));
     }
+    for (i, c) in desc.cylinders.iter().enumerate() {
+        // The camera's distance from the side (of the infinite tube).
+        let axis = sub(c.top, c.base);
+        let f = sub(cam, c.base);
+        let along = dot(f, axis) / dot(axis, axis);
+        let radial = length(sub(f, axis.map(|a| a * along)));
+        named.push((
+            format!("cylinder {}", i + 1),
+            "its radius",
+            c.radius,
+            (radial - c.radius).abs(),
+        ));
+    }
     let mut out = Vec::new();
     let mut more = 0;
     // False for NaN (a degenerate distance): no warning.

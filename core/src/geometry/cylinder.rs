@@ -165,7 +165,7 @@ impl Cylinder {
 
     /// The nearest hit of `ray` with `0 < t < t_max`: the side's two roots and
     /// the caps', the nearest in range.
-    #[inline]
+    #[inline(never)]
     fn hit(&self, ray: &Ray, t_max: f32) -> Option<Candidate> {
         let o = self.local(ray.origin - self.base);
         let d = self.local(ray.dir);
@@ -237,6 +237,9 @@ impl Cylinder {
             return None;
         }
         let r = self.radius;
+        if self.huge_for(ray, o) {
+            return self.wide_roots(ray);
+        }
         // pbrt-v4's discriminant: the distance `l` of the axis from the line's
         // closest approach, `r^2 - l^2` as `(r - l)(r + l)`, with no
         // cancellation of `b^2 - 4ac`.
@@ -248,11 +251,6 @@ impl Cylinder {
             return None;
         }
         let disc = a * (r - l) * (r + l);
-        // The roots are `tc -+ sqrt(disc) / a`: the nearer one decides.
-        let s = math::sqrt(disc) / a;
-        if self.huge_for(ray, math::min(math::abs(tc - s), math::abs(tc + s))) {
-            return self.wide_roots(ray);
-        }
         let q = b + math::copysign(math::sqrt(disc), b);
         let c = o.x * o.x + o.y * o.y - r * r;
         // `c` is the origin's `x^2 + y^2 - r^2`: within its rounding of zero,
@@ -267,13 +265,20 @@ impl Cylinder {
         Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
     }
 
-    /// True when a side hit near time `t` of `ray` is so near beside the radius
-    /// (with the origin's magnitude) that the `f32` roots lose it: the roots
-    /// then come from `f64` and the point is the ray's.
+    /// True when the side is so large beside the ray's reach (the origin's
+    /// distance from the side, `o` its local coordinates, and the origin's
+    /// magnitude) that `f32` cannot place the ray against it: its `x^2 + y^2 -
+    /// r^2` and its roots lose the distance in ulps of the radius. Then the
+    /// roots come from `f64` and the point is the ray's (as the sphere's, see
+    /// `wide`). The test's own rounding is a few ulps of the radius, far below
+    /// the `r / REACH` it compares with.
     #[inline(always)]
-    fn huge_for(&self, ray: &Ray, t: f32) -> bool {
-        let o = ray.origin.abs();
-        self.radius > REACH * math::abs(t) && self.radius > REACH * (math::abs(t) + o.x + o.y + o.z)
+    fn huge_for(&self, ray: &Ray, o: Vec3) -> bool {
+        let w = ray.origin.abs();
+        let reach = w.x + w.y + w.z;
+        self.radius > REACH * reach
+            && self.radius
+                > REACH * (reach + math::abs(math::sqrt(o.x * o.x + o.y * o.y) - self.radius))
     }
 
     /// The side's roots in `f64`, smaller first, a root within the rounding of
@@ -392,7 +397,7 @@ impl Locate for Cylinder {
         }
         let l = math::sqrt(q.x * q.x + q.y * q.y);
         let radial = self.tangents.0 * q.x + self.tangents.1 * q.y;
-        if self.huge_for(ray, hit.t) {
+        if self.huge_for(ray, self.local(ray.origin - self.base)) {
             // The point on the ray ([`Cylinder::side_distance`] measures how
             // far from the side it is).
             return (p, radial.normalize_or(self.tangents.0), Vec3::ZERO);
@@ -409,7 +414,7 @@ impl Locate for Cylinder {
 
     #[inline]
     fn error(&self, ray: &Ray, hit: &Candidate, point: Vec3, q: Vec3) -> Vec3 {
-        if hit.face == SIDE && self.huge_for(ray, hit.t) {
+        if hit.face == SIDE && self.huge_for(ray, self.local(ray.origin - self.base)) {
             return self.side_distance(point) + point.abs() * gamma(2);
         }
         // In the frame: the re-projected `x, y` (or the cap's `z`) within a few

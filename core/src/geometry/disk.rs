@@ -116,7 +116,7 @@ impl Disk {
 
     /// The hit time of `ray` with `0 < t < t_max`, if any: the plane's, kept
     /// when the point lies between the radii (widened by its rounding).
-    #[inline(always)]
+    #[inline(never)]
     fn hit(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let t = self.plane.hit(ray, t_max)?;
         let d = ray.at(t) - self.center();

@@ -17,7 +17,9 @@
 //! paths in `f64` (`wide`).
 
 mod aabb;
+#[cfg(feature = "cylinder")]
 mod cylinder;
+#[cfg(feature = "disk")]
 mod disk;
 mod plane;
 mod sphere;
@@ -26,7 +28,9 @@ mod wide;
 
 pub use aabb::Aabb;
 pub(crate) use aabb::inverse as aabb_inverse;
+#[cfg(feature = "cylinder")]
 pub use cylinder::Cylinder;
+#[cfg(feature = "disk")]
 pub use disk::Disk;
 pub use plane::Plane;
 pub use sphere::Sphere;

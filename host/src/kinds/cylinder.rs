@@ -32,6 +32,7 @@ impl HostKind for Cylinder {
     type Desc = CylinderDesc;
     const TABLE: &'static str = "The cylinders: base and top centres, radius, caps; the unit \
                                  axis, the frame's tangents, the height.";
+    const FEATURE: Option<&'static str> = Some("cylinder");
 
     fn material(d: &CylinderDesc) -> &str {
         &d.material

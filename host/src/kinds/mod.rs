@@ -44,6 +44,13 @@ pub trait HostKind: tessera::Geometry {
     /// The doc line of its table in a baked file (what each entry holds).
     const TABLE: &'static str;
 
+    /// The core's feature that compiles the kind in (none: always there): a
+    /// baked file that holds some says it needs it.
+    const FEATURE: Option<&'static str> = None;
+
+    /// The core's names its baked literal uses beside its own type.
+    const NAMES: &'static [&'static str] = &[];
+
     /// The item's material name.
     fn material(d: &Self::Desc) -> &str;
 

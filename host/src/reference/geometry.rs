@@ -324,9 +324,14 @@ fn cylinder_hit(
 ) -> Option<Hit> {
     let h = (top - base).length();
     let w = (top - base) * (1.0 / h);
-    let f = ray.origin - base;
-    let (fz, dz) = (f.dot(w), ray.dir.dot(w));
-    let (fp, dp) = (f - w * fz, ray.dir - w * dz);
+    // The origin's offset from the base summed almost exactly (`exact`), and
+    // its part across the axis: near a side far larger than the distance, the
+    // quadratic's constant `|f|^2 - r^2` is a small difference of squares.
+    let (fh, fl) = exact::diff(ray.origin, base);
+    let fz = exact::dot2(w, fh, fl);
+    let dz = ray.dir.dot(w);
+    let (fph, fpl) = (fh - w * fz, fl);
+    let dp = ray.dir - w * dz;
     let mut best: Option<Hit> = None;
     let mut consider = |t: f64, face: usize| {
         if t > 0.0 && t < best.map_or(t_max, |b| b.t) {
@@ -339,12 +344,14 @@ fn cylinder_hit(
     };
     let a = dp.dot(dp);
     if a > 0.0 {
-        // The closest approach to the axis, and half a chord either side.
-        let tc = -fp.dot(dp) / a;
-        let l = (fp + dp * tc).length();
-        if l <= radius {
-            let s = ((radius - l) * (radius + l) / a).sqrt();
-            for t in [tc - s, tc + s] {
+        // a t^2 + 2 b t + c = 0, the roots without cancellation: q / a and c / q.
+        let b = exact::dot2(dp, fph, fpl);
+        let c = exact::norm2_minus(fph, fpl, radius);
+        let disc = exact::square_minus(b, a * c);
+        if disc >= 0.0 {
+            let q = -(b + disc.sqrt().copysign(b));
+            let roots = if q == 0.0 { [0.0, 0.0] } else { [q / a, c / q] };
+            for t in roots {
                 let z = fz + dz * t;
                 if (0.0..=h).contains(&z) {
                     consider(t, 0);
@@ -352,6 +359,7 @@ fn cylinder_hit(
             }
         }
     }
+    let fp = fph + fpl;
     if capped && dz != 0.0 {
         for (face, z) in [(1, 0.0), (2, h)] {
             let t = (z - fz) / dz;

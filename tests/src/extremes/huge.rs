@@ -38,17 +38,24 @@ pub enum HugeSurface {
     Sphere,
     /// The slope as a `[[plane]]` given by a point the size away.
     Plane,
+    /// A capped cylinder of the size's radius lying along `x`, from `-size` to
+    /// `size`, whose top is the ground `y = 0`.
+    Cylinder,
+    /// The ground `y = 0` as a disk of the size's radius.
+    Disk,
 }
 
 impl HugeSurface {
     /// Every surface.
-    pub const ALL: [Self; 6] = [
+    pub const ALL: [Self; 8] = [
         Self::Floor,
         Self::Ground,
         Self::Upright,
         Self::Tilted,
         Self::Sphere,
         Self::Plane,
+        Self::Cylinder,
+        Self::Disk,
     ];
 
     /// Its name in the report.
@@ -61,6 +68,8 @@ impl HugeSurface {
             Self::Tilted => "tilted triangle",
             Self::Sphere => "sphere",
             Self::Plane => "plane, far point",
+            Self::Cylinder => "cylinder",
+            Self::Disk => "disk",
         }
     }
 
@@ -178,6 +187,16 @@ pub fn huge_scene(surface: HugeSurface, placement: Placement, ratio: f64) -> Str
         HugeSurface::Sphere => format!(
             "[[sphere]]\ncenter = {}\nradius = {}\nmaterial = \"ground\"\n",
             point([0.0, -s, 0.0]),
+            num(s)
+        ),
+        HugeSurface::Cylinder => format!(
+            "[[cylinder]]\nbase = {}\ntop = {}\nradius = {}\nmaterial = \"ground\"\n",
+            point([-s, -s, 0.0]),
+            point([s, -s, 0.0]),
+            num(s)
+        ),
+        HugeSurface::Disk => format!(
+            "[[disk]]\ncenter = [0, 0, 0]\nnormal = [0, 1, 0]\nradius = {}\nmaterial = \"ground\"\n",
             num(s)
         ),
         HugeSurface::Plane => format!(

@@ -2,7 +2,7 @@
 //
 // 5 materials, 1 light, 4 spheres, 1 plane: 484 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Cylinder, geometry::Disk, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Plane, geometry::Sphere, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 // The materials: each constant is a material's reference (its place in MATERIALS).
 /// The material "floor".
@@ -67,26 +67,6 @@ pub static PLANES: [Primitive<Plane>; 1] = [
     Primitive { geometry: Plane::baked([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.0, [[1.0, -0.0, -0.0], [-0.0, 0.0, -1.0]]), material: MAT_FLOOR },
 ];
 
-/// The triangles, in the scene's order.
-#[rustfmt::skip]
-pub static TRIANGLES: [Primitive<Triangle>; 0] = [
-];
-
-/// The axis-aligned boxes: min and max corners.
-#[rustfmt::skip]
-pub static BOXES: [Primitive<Aabb>; 0] = [
-];
-
-/// The cylinders: base and top centres, radius, caps; the unit axis, the frame's tangents, the height.
-#[rustfmt::skip]
-pub static CYLINDERS: [Primitive<Cylinder>; 0] = [
-];
-
-/// The disks: their plane (as the planes' table), radius, inner radius.
-#[rustfmt::skip]
-pub static DISKS: [Primitive<Disk>; 0] = [
-];
-
 /// The width the scene is meant to be rendered at, in pixels.
 #[allow(dead_code)]
 pub const WIDTH: u16 = 320;
@@ -111,6 +91,9 @@ impl Loops for SceneLoops {
 /// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it
 /// from where it lies.
 #[allow(dead_code)]
+// `..Primitives::NONE` stands for the kinds it has none of (none, with the
+// core's optional kinds off).
+#[allow(clippy::needless_update)]
 pub static SCENE: BakedScene<'static, capacities!(spheres: 4, planes: 1)> = BakedScene::new(
     BakedCamera {
         position: [0.0, 1.8, 7.0],

@@ -2,7 +2,7 @@
 //
 // 1 material, 1 plane: 120 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Cylinder, geometry::Disk, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Plane, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 // The materials: each constant is a material's reference (its place in MATERIALS).
 /// The material "screen".
@@ -23,35 +23,10 @@ pub static MATERIALS: [Material; 1] = [
 pub static LIGHTS: [PointLight; 0] = [
 ];
 
-/// The spheres: centre, radius.
-#[rustfmt::skip]
-pub static SPHERES: [Primitive<Sphere>; 0] = [
-];
-
 /// The planes: a point, the unit normal, the offset from the origin along it, the tangents of the texture's uv.
 #[rustfmt::skip]
 pub static PLANES: [Primitive<Plane>; 1] = [
     Primitive { geometry: Plane::baked([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.0, [[1.0, -0.0, -0.0], [-0.0, 1.0, -0.0]]), material: MAT_SCREEN },
-];
-
-/// The triangles, in the scene's order.
-#[rustfmt::skip]
-pub static TRIANGLES: [Primitive<Triangle>; 0] = [
-];
-
-/// The axis-aligned boxes: min and max corners.
-#[rustfmt::skip]
-pub static BOXES: [Primitive<Aabb>; 0] = [
-];
-
-/// The cylinders: base and top centres, radius, caps; the unit axis, the frame's tangents, the height.
-#[rustfmt::skip]
-pub static CYLINDERS: [Primitive<Cylinder>; 0] = [
-];
-
-/// The disks: their plane (as the planes' table), radius, inner radius.
-#[rustfmt::skip]
-pub static DISKS: [Primitive<Disk>; 0] = [
 ];
 
 /// The width the scene is meant to be rendered at, in pixels.
@@ -78,6 +53,9 @@ impl Loops for SceneLoops {
 /// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it
 /// from where it lies.
 #[allow(dead_code)]
+// `..Primitives::NONE` stands for the kinds it has none of (none, with the
+// core's optional kinds off).
+#[allow(clippy::needless_update)]
 pub static SCENE: BakedScene<'static, capacities!(planes: 1)> = BakedScene::new(
     BakedCamera {
         position: [0.0, 0.0, 0.1],

@@ -2,7 +2,7 @@
 //
 // 8 materials, 2 lights, 3 spheres, 2 planes, 2 boxes, 4 triangles: 956 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Cylinder, geometry::Disk, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A triangle of material `m`.
 const fn t(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3], m: MaterialId) -> Primitive<Triangle> {
@@ -113,16 +113,6 @@ pub static BOXES: [Primitive<Aabb>; 2] = [
     Primitive { geometry: Aabb::baked([-1.1, 0.0, 1.6], [-0.5, 0.6, 2.2]), material: MAT_BOXES },
 ];
 
-/// The cylinders: base and top centres, radius, caps; the unit axis, the frame's tangents, the height.
-#[rustfmt::skip]
-pub static CYLINDERS: [Primitive<Cylinder>; 0] = [
-];
-
-/// The disks: their plane (as the planes' table), radius, inner radius.
-#[rustfmt::skip]
-pub static DISKS: [Primitive<Disk>; 0] = [
-];
-
 /// The width the scene is meant to be rendered at, in pixels.
 #[allow(dead_code)]
 pub const WIDTH: u16 = 320;
@@ -147,6 +137,9 @@ impl Loops for SceneLoops {
 /// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it
 /// from where it lies.
 #[allow(dead_code)]
+// `..Primitives::NONE` stands for the kinds it has none of (none, with the
+// core's optional kinds off).
+#[allow(clippy::needless_update)]
 pub static SCENE: BakedScene<'static, capacities!(spheres: 3, planes: 2, triangles: 4, boxes: 2)> = BakedScene::new(
     BakedCamera {
         position: [0.5, 2.6, 7.5],

@@ -3,7 +3,7 @@
 // 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 723 BVH nodes: 46000 bytes of flash.
 // Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml).
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, capacities, geometry::Aabb, geometry::Cylinder, geometry::Disk, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, capacities, geometry::Plane, light::PointLight, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A node of a hierarchy.
 const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16) -> BvhNode {
@@ -38,35 +38,10 @@ pub static LIGHTS: [PointLight; 2] = [
     PointLight::baked([4.0, 3.0, -1.0], Color::new(0.5, 0.6, 0.8), 10.0),
 ];
 
-/// The spheres: centre, radius.
-#[rustfmt::skip]
-pub static SPHERES: [Primitive<Sphere>; 0] = [
-];
-
 /// The planes: a point, the unit normal, the offset from the origin along it, the tangents of the texture's uv.
 #[rustfmt::skip]
 pub static PLANES: [Primitive<Plane>; 1] = [
     Primitive { geometry: Plane::baked([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.0, [[1.0, -0.0, -0.0], [-0.0, 0.0, -1.0]]), material: MAT_FLOOR },
-];
-
-/// The triangles, in the scene's order.
-#[rustfmt::skip]
-pub static TRIANGLES: [Primitive<Triangle>; 0] = [
-];
-
-/// The axis-aligned boxes: min and max corners.
-#[rustfmt::skip]
-pub static BOXES: [Primitive<Aabb>; 0] = [
-];
-
-/// The cylinders: base and top centres, radius, caps; the unit axis, the frame's tangents, the height.
-#[rustfmt::skip]
-pub static CYLINDERS: [Primitive<Cylinder>; 0] = [
-];
-
-/// The disks: their plane (as the planes' table), radius, inner radius.
-#[rustfmt::skip]
-pub static DISKS: [Primitive<Disk>; 0] = [
 ];
 
 /// The vertices.
@@ -2262,6 +2237,9 @@ impl Loops for SceneLoops {
 /// The whole scene: `SCENE.view()?` and `SCENE.renderer()?` check it once and render it
 /// from where it lies.
 #[allow(dead_code)]
+// `..Primitives::NONE` stands for the kinds it has none of (none, with the
+// core's optional kinds off).
+#[allow(clippy::needless_update)]
 pub static SCENE: BakedScene<'static, capacities!(planes: 1)> = BakedScene::new(
     BakedCamera {
         position: [2.0, 1.6, 3.0],
