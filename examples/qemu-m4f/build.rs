@@ -52,6 +52,20 @@ fn bake(out: &Path) -> Result<(), String> {
              (on by default; build without --no-default-features)"
         ));
     }
+    // The kinds the core compiles only with a feature of its own (the example
+    // forwards each: `--features cylinder,disk`).
+    let missing: Vec<&str> = tessera_host::bake::kind_features(&desc)
+        .into_iter()
+        .filter(|f| env::var_os(format!("CARGO_FEATURE_{}", f.to_uppercase())).is_none())
+        .collect();
+    if !missing.is_empty() {
+        return Err(format!(
+            "{scene} has kinds of the core's optional features: it needs `{}` \
+             (build with --features {})",
+            missing.join("`, `"),
+            missing.join(",")
+        ));
+    }
     // The scene's name, for the firmware to print.
     println!("cargo::rustc-env=TESSERA_SCENE_NAME={scene}");
     fs::write(out.join("scene.rs"), source).map_err(|e| format!("cannot write scene.rs: {e}"))

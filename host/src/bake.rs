@@ -909,6 +909,22 @@ impl<'a> Writer<'a> {
     }
 }
 
+/// The core's features that a scene's kinds need (`cylinder`, `disk`: the
+/// kinds the core compiles only with them), in the core's order: a firmware
+/// that bakes the scene enables them.
+#[must_use]
+pub fn kind_features(desc: &SceneDesc) -> Vec<&'static str> {
+    let mut out = Vec::new();
+    each_kind!(|G| {
+        if let Some(feature) = G::FEATURE
+            && !<G as crate::kinds::Listed>::descs(desc).is_empty()
+        {
+            out.push(feature);
+        }
+    });
+    out
+}
+
 /// The baked source of a scene description: the whole scene (see [`source`]),
 /// with a header naming the scene file. Errors: the scene's own (as for
 /// rendering it: its camera, settings and every item checked).

@@ -21,11 +21,13 @@ const DEFAULT: &str = "scene.toml";
 
 /// The scene files built, as `TESSERA_SCENE` names them (relative to the
 /// example's folder): the teapot (1,000 triangles in a mesh), the showcase (no
-/// mesh, no BVH) and the default last, so that the ELF left in the example's
+/// mesh, no BVH), the cylinders and disks (the core's optional kinds, built with
+/// their features) and the default last, so that the ELF left in the example's
 /// target folder is the one a user builds there.
-const SCENES: [&str; 3] = [
+const SCENES: [&str; 4] = [
     "../../scenes/teapot.toml",
     "../../scenes/showcase.toml",
+    "../../scenes/pillars.toml",
     DEFAULT,
 ];
 
@@ -72,6 +74,13 @@ fn build_and_run(scene: &'static str) -> Result<Run, String> {
     let dir = example();
     let mut cmd = firmware::cargo();
     cmd.current_dir(&dir).args(["build", "--release"]);
+    // The core's features the scene's kinds need, as the example's build.rs
+    // asks for them.
+    let desc = tessera_host::file::load(&dir.join(scene)).map_err(|e| e.to_string())?;
+    let features = tessera_host::bake::kind_features(&desc);
+    if !features.is_empty() {
+        cmd.args(["--features", &features.join(",")]);
+    }
     if scene == DEFAULT {
         cmd.env_remove("TESSERA_SCENE");
     } else {
@@ -236,6 +245,8 @@ fn the_qemu_example_keeps_its_scenes_in_flash_and_its_tile_in_ram() {
         let mut need = vec!["SCENE", "MATERIALS", "LIGHTS"];
         if run.scene.ends_with("showcase.toml") {
             need.extend(["SPHERES", "PLANES", "TRIANGLES", "BOXES"]);
+        } else if run.scene.ends_with("pillars.toml") {
+            need.extend(["PLANES", "CYLINDERS", "DISKS"]);
         } else {
             need.extend(["MESHES", "MESH0_VERTICES", "MESH0_FACES", "MESH0_NODES"]);
         }

@@ -100,3 +100,48 @@ fn srgb_renders_agree_with_the_reference() {
         .unwrap();
     }
 }
+
+/// The scene of the cylinders and disks (`scenes/pillars.toml`: capped and open
+/// cylinders, a tilted one, a coin, a ring, disks, glass and mirrors) against the
+/// reference, at its own settings and with the antialiasing, adaptive and sparse
+/// samplers: the same bar.
+#[test]
+fn the_cylinders_and_disks_agree_with_the_reference() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/pillars.toml");
+    let desc = tessera_host::file::load(&path).unwrap();
+    assert!(!desc.cylinders.is_empty() && !desc.disks.is_empty());
+    let scene = desc.to_core().unwrap();
+    let own = desc.settings().unwrap();
+    let mut report = String::new();
+    for (sampler, vp) in [
+        (own.sampler, Viewport::new(320, 240)),
+        (Sampler::Stratified(3), Viewport::new(160, 120)),
+        (Sampler::adaptive(3), Viewport::new(160, 120)),
+        (Sampler::sparse(), Viewport::new(160, 120)),
+    ] {
+        let settings = RenderSettings {
+            sampler,
+            seed: 3,
+            ..own
+        };
+        let (img, non_finite) = scene.with_view(|view| {
+            let renderer = Renderer::try_new(scene.camera(), vp, settings).unwrap();
+            let img = tessera_host::render_tiles::<16>(view, &renderer, None).unwrap();
+            let mut nf = 0;
+            for y in 0..u32::from(vp.height) {
+                for x in 0..u32::from(vp.width) {
+                    nf += usize::from(!renderer.pixel_color(view, x, y, &mut ()).is_finite());
+                }
+            }
+            (img, nf)
+        });
+        let r = tessera_host::reference::render(&desc, vp, &settings).unwrap();
+        let acc = measure(&img, non_finite, &r.to_rgb8(), r.non_finite(), &r.signature).unwrap();
+        report.push_str(&format!(
+            "== {sampler:?} {}x{}\n{acc}\n",
+            vp.width, vp.height
+        ));
+        assert!(acc.meets_bar(), "pillars {sampler:?}:\n{acc}");
+    }
+    println!("{report}");
+}

@@ -28,6 +28,8 @@ impl HostKind for Disk {
     type Desc = DiskDesc;
     const TABLE: &'static str =
         "The disks: their plane (as the planes' table), radius, inner radius.";
+    const FEATURE: Option<&'static str> = Some("disk");
+    const NAMES: &'static [&'static str] = &["Plane"];
 
     fn material(d: &DiskDesc) -> &str {
         &d.material
