@@ -138,6 +138,23 @@ fn case07_scaled_scenes_render_bit_identically() {
     }
 }
 
+/// Case 7 for the cylinders and disks (`scenes/pillars.toml`): scaled by `2^k`
+/// (radii from about `1e-15` to `1e15`), the same bits; and the flush of
+/// denormals changes nothing at the ends of the range.
+#[test]
+fn case07_the_cylinders_and_disks_scale_bit_identically() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/pillars.toml");
+    let desc = tessera_host::file::load(&path).unwrap();
+    let (lo, hi) = validated_range(&desc);
+    assert!(lo <= -48 && hi >= 48, "validated [{lo}, {hi}]");
+    let bad = scale_mismatches(&desc, (-48..=48).step_by(8).chain([lo, hi]));
+    assert!(bad.is_empty(), "{bad:?}");
+    for k in [lo, hi] {
+        let m = flushed("pillars", &desc, k);
+        assert_eq!((m.differing, m.non_finite), (0, 0), "{m:?}");
+    }
+}
+
 #[test]
 fn case08_flushing_denormals_changes_nothing_in_the_supported_range() {
     #[cfg(target_arch = "x86_64")]

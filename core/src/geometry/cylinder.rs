@@ -596,6 +596,110 @@ mod tests {
         }
     }
 
+    /// Rays ever nearer the silhouette of the side (`h = r (1 - 2^-k)` from
+    /// the axis), against the analytic time `z0 - sqrt(r^2 - h^2)` in `f64`:
+    /// within a few ulps for an axis along `y` (its frame is exact), and at
+    /// radii from `2^-40` to `2^40` the same bits scaled (every step of the test
+    /// is homogeneous); just beyond the silhouette, a miss.
+    #[test]
+    fn grazing_rays_on_the_side_meet_the_analytic_time_at_any_scale() {
+        for k in 1..=22 {
+            let h = 1.0 - libm::ldexpf(1.0, -k);
+            let mut times = [0.0f32; 3];
+            for (slot, e) in times.iter_mut().zip([-40, 0, 40]) {
+                let f = libm::ldexpf(1.0, e);
+                let c =
+                    Cylinder::try_new(Vec3::ZERO, Vec3::new(0.0, 4.0 * f, 0.0), f, true).unwrap();
+                let r = Ray::unit(Vec3::new(h * f, 2.0 * f, 5.0 * f), -Vec3::Z);
+                let hit = c.intersect(&r, f32::INFINITY).unwrap();
+                assert_eq!(hit.face, SIDE);
+                *slot = hit.t / f;
+            }
+            assert!(
+                times.iter().all(|&t| t.to_bits() == times[1].to_bits()),
+                "{k}: {times:?}"
+            );
+            let h64 = f64::from(h);
+            let exact = 5.0 - (1.0 - h64 * h64).sqrt();
+            let err = (f64::from(times[1]) - exact).abs() / exact;
+            assert!(err < 4.0 * f64::from(f32::EPSILON), "{k}: {err:e}");
+            let beyond = 1.0 + libm::ldexpf(1.0, -20);
+            let c = unit_y();
+            let r = Ray::unit(Vec3::new(beyond, 1.0, 5.0), -Vec3::Z);
+            assert_eq!(c.intersect(&r, f32::INFINITY), None);
+        }
+    }
+
+    /// The same near a tilted axis (its frame rounded): against the time in
+    /// `f64` of the very `f32` numbers the core is given (the centres, the
+    /// radius, the ray), so that the difference is the core's own. The axis
+    /// and its frame are rounded to `f32`, which moves the side by ulps of the
+    /// radius; near the silhouette the time moves by that times `h / sqrt(r^2 -
+    /// h^2)` (the slope of the time against the ray's distance from the axis):
+    /// within `4 eps (1 + h / sqrt(r^2 - h^2))` of the time, down to `2^-16` of
+    /// the radius from the silhouette.
+    #[test]
+    fn grazing_rays_near_a_tilted_axis_meet_the_time_of_their_numbers() {
+        type D = [f64; 3];
+        let sub = |a: D, b: D| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        let dot = |a: D, b: D| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let w64 = |v: Vec3| v.to_array().map(f64::from);
+        let (base, top, r) = (Vec3::new(0.2, -0.3, 0.1), Vec3::new(0.9, 2.1, -0.5), 0.6f32);
+        let c = Cylinder::try_new(base, top, r, false).unwrap();
+        let (b64, r64) = (w64(base), f64::from(r));
+        let axis = sub(w64(top), b64);
+        let w = axis.map(|x| x / dot(axis, axis).sqrt());
+        // The f64 time of the ray `(o, d)` as given: the side's quadratic
+        // across the axis.
+        let time = |o: D, d: D| {
+            let f = sub(o, b64);
+            let fp = sub(f, w.map(|x| x * dot(f, w)));
+            let dp = sub(d, w.map(|x| x * dot(d, w)));
+            let (a, b, cc) = (dot(dp, dp), dot(fp, dp), dot(fp, fp) - r64 * r64);
+            (-b - (b * b - a * cc).sqrt()) / a
+        };
+        let d = Vec3::new(-0.2, 0.1, -1.0).try_normalize().unwrap();
+        let d = d - c.axis * d.dot(c.axis);
+        let d = d.try_normalize().unwrap();
+        let side = c.axis.cross(d);
+        let on_axis = base + c.axis * 1.2;
+        for k in 1..=16 {
+            let h = r * (1.0 - libm::ldexpf(1.0, -k));
+            let o = on_axis + side * h - d * 5.0;
+            let ray = Ray::unit(o, d);
+            let exact = time(w64(o), w64(d));
+            let hit = c.intersect(&ray, f32::INFINITY).unwrap();
+            let err = (f64::from(hit.t) - exact).abs() / exact;
+            let h = f64::from(h);
+            let slope = h / (r64 * r64 - h * h).sqrt();
+            let bound = 4.0 * f64::from(f32::EPSILON) * (1.0 + slope);
+            assert!(err < bound, "{k}: {} {exact} ({err:e} > {bound:e})", hit.t);
+        }
+    }
+
+    /// Rays parallel to the top cap, just below its plane and just above: the
+    /// side, then nothing; and rays down onto the cap just inside the rim and
+    /// just outside it: the cap, then nothing.
+    #[test]
+    fn rays_at_the_rim_hit_or_miss_by_which_side_of_it_they_pass() {
+        let c = unit_y();
+        let e = libm::ldexpf(1.0, -18);
+        let below = Ray::unit(Vec3::new(0.0, 2.0 - e, 5.0), -Vec3::Z);
+        assert_eq!(
+            c.intersect(&below, f32::INFINITY).map(|h| h.face),
+            Some(SIDE)
+        );
+        let above = Ray::unit(Vec3::new(0.0, 2.0 + e, 5.0), -Vec3::Z);
+        assert_eq!(c.intersect(&above, f32::INFINITY), None);
+        let inside = Ray::unit(Vec3::new(1.0 - e, 5.0, 0.0), -Vec3::Y);
+        assert_eq!(
+            c.intersect(&inside, f32::INFINITY).map(|h| h.face),
+            Some(TOP)
+        );
+        let outside = Ray::unit(Vec3::new(1.0 + e, 5.0, 0.0), -Vec3::Y);
+        assert_eq!(c.intersect(&outside, f32::INFINITY), None);
+    }
+
     #[test]
     fn uv_go_round_the_axis_and_up_the_side() {
         let c = unit_y();

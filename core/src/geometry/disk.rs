@@ -244,6 +244,49 @@ mod tests {
         assert!((v - 0.5).abs() < 1e-6, "{v}");
     }
 
+    /// Rays down onto a ring just inside and just outside its edges: hit, then
+    /// missed, the edges widened only by the point's rounding (a few ulps of
+    /// what the ray spans); at radii from `2^-40` to `2^40`, the same times
+    /// scaled bit for bit.
+    #[test]
+    fn rays_at_the_edges_hit_or_miss_by_which_side_they_pass_at_any_scale() {
+        let e = libm::ldexpf(1.0, -16);
+        for k in [-40, 0, 40] {
+            let f = libm::ldexpf(1.0, k);
+            let d = Disk::try_new(Vec3::ZERO, Vec3::Y, 2.0 * f, f).unwrap();
+            let down = |x: f32| Ray::unit(Vec3::new(x * f, 3.0 * f, 0.0), -Vec3::Y);
+            for (x, hit) in [
+                (2.0 * (1.0 - e), true),
+                (2.0 * (1.0 + 4.0 * e), false),
+                (1.0 + e, true),
+                (1.0 - 4.0 * e, false),
+            ] {
+                let h = d.intersect(&down(x), f32::INFINITY);
+                assert_eq!(h.is_some(), hit, "{k} {x}");
+                if let Some(h) = h {
+                    assert_eq!(h.t / f, 3.0, "{k} {x}");
+                }
+            }
+        }
+    }
+
+    /// A ray almost in the disk's plane (`2^-20` off it, over a thousand
+    /// radii) meets it where the analytic time says, and one in the plane
+    /// never does.
+    #[test]
+    fn grazing_rays_meet_the_analytic_time() {
+        let d = Disk::try_new(Vec3::ZERO, Vec3::Y, 1.0, 0.0).unwrap();
+        let s = libm::ldexpf(1.0, -20);
+        // From 1,000 units away, 1e-3 above the plane, falling s per unit.
+        let dir = Vec3::new(-1.0, -s, 0.0).try_normalize().unwrap();
+        let o = Vec3::new(1000.0, 1000.0 * s, 0.0);
+        let h = d.intersect(&Ray::unit(o, dir), f32::INFINITY).unwrap();
+        let exact = 1000.0 * (1.0 + f64::from(s) * f64::from(s)).sqrt();
+        assert!((f64::from(h.t) - exact).abs() < 1e-3, "{} {exact}", h.t);
+        let flat = Ray::unit(Vec3::new(5.0, 0.0, 0.0), -Vec3::X);
+        assert_eq!(d.intersect(&flat, f32::INFINITY), None);
+    }
+
     #[test]
     fn bad_numbers_are_refused_by_name() {
         assert_eq!(
