@@ -105,8 +105,8 @@ pub fn line_col(text: &str, byte: usize) -> (usize, usize) {
 
 /// The largest scene file accepted, in bytes: 4 MiB. A scene that fills every
 /// list of the host scene (1024 spheres, 64 planes, 8192 triangles, 1024 boxes,
-/// 256 materials, 64 lights) with every number written to full `f64` precision is
-/// about 2.3 MB; the TOML parser needs up to about 80 bytes of memory a byte of
+/// 1024 cylinders, 1024 disks, 256 materials, 64 lights) with every number
+/// written to full `f64` precision (20 characters each) is about 3 MB; the TOML parser needs up to about 80 bytes of memory a byte of
 /// text (a file of `1,`), so this bounds parsing to about 330 MB (the release
 /// binary's peak on 4 MiB of `1,`: 316 MiB).
 pub const MAX_FILE_BYTES: usize = 4 << 20;
