@@ -37,6 +37,13 @@ pub enum Values {
     Tame,
 }
 
+/// A cylinder: the base and top centres, the radius, whether capped, material.
+pub type CylinderRecipe = ([f32; 3], [f32; 3], f32, bool, usize);
+
+/// A disk: the centre, the normal, the radius, the inner radius (as a share of
+/// the radius), material.
+pub type DiskRecipe = ([f32; 3], [f32; 3], f32, f32, usize);
+
 /// A random scene's ingredients, in plain numbers, for a `Scene<C>`: fewer
 /// primitives of each kind than `C`'s capacity of that kind, 1 to fewer
 /// materials than its capacity and fewer lights than its capacity.
@@ -57,11 +64,10 @@ pub struct Recipe<C: Capacities> {
     pub triangles: Vec<([[f32; 3]; 3], usize)>,
     /// The minimum corner, the size (its absolute value is taken), material.
     pub boxes: Vec<([f32; 3], [f32; 3], usize)>,
-    /// The base and top centres, the radius, whether capped, material.
-    pub cylinders: Vec<([f32; 3], [f32; 3], f32, bool, usize)>,
-    /// The centre, the normal, the radius, the inner radius (as a share of the
-    /// radius), material.
-    pub disks: Vec<([f32; 3], [f32; 3], f32, f32, usize)>,
+    /// The cylinders.
+    pub cylinders: Vec<CylinderRecipe>,
+    /// The disks.
+    pub disks: Vec<DiskRecipe>,
     /// The materials.
     pub materials: Vec<MaterialRecipe>,
     /// The lights.

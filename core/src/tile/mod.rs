@@ -15,8 +15,8 @@
 //! and `tests/tests/docs.rs` checks them against `docs/chip-cost.md`.) The
 //! renderer's stack does not depend on `N` (but for the sparse sampler's two rows
 //! of traced pixels, `16 N` bytes): measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md`), `render_tile` needs 1,560 to 2,544 bytes (1.5
-//! to 2.5 KiB) below its caller, the tile's culling lists (the primitives that may
+//! painting; `docs/chip-cost.md` has each scene's), `render_tile` needs under 3
+//! KiB below its caller, the tile's culling lists (the primitives that may
 //! reach the tile, module `cull`) and the shader's pending-ray stack
 //! (`MAX_DEPTH + 1` rays) included.
 
