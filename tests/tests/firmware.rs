@@ -271,6 +271,57 @@ fn instruction_counts_stay_within_the_baseline() {
         "instruction counts rose over {}:\n{table}",
         baseline::FILE
     );
+    // The generated page is current: its instructions per pixel are these
+    // runs' (64x64 pixels), within 2 % either way.
+    let page = firmware::repo_root().join("docs").join("chip-cost.md");
+    let text = std::fs::read_to_string(&page).expect("docs/chip-cost.md");
+    let stale: Vec<String> = runs
+        .iter()
+        .zip(&out.runs)
+        .filter_map(|(r, res)| {
+            let now = res.instructions as f64 / f64::from(r.width) / f64::from(r.height);
+            let said = page_instr_per_px(&text, r.scene.name(), r.depth, &r.sampler.to_string());
+            let close = said.is_some_and(|x| (x - now).abs() <= 0.02 * now + 1.0);
+            (!close).then(|| format!("{r}: the page says {said:?}, the chip {now:.0}"))
+        })
+        .collect();
+    assert!(
+        stale.is_empty(),
+        "docs/chip-cost.md is not current (regenerate it: cargo run -p tessera-tests \
+         --release --bin chip-report): {stale:#?}"
+    );
+}
+
+/// `docs/chip-cost.md`'s exact instructions per pixel of `scene` at `depth` with
+/// `sampler` (its table "Instructions per pixel").
+fn page_instr_per_px(text: &str, scene: &str, depth: u8, sampler: &str) -> Option<f64> {
+    let table = text.split("## Instructions per pixel").nth(1)?;
+    // The section's first table only.
+    let mut lines = table
+        .lines()
+        .skip_while(|l| !l.starts_with('|'))
+        .take_while(|l| l.starts_with('|'));
+    let cells = |l: &str| -> Vec<String> {
+        l.trim_matches('|')
+            .split('|')
+            .map(|c| c.trim().to_string())
+            .collect()
+    };
+    let header = cells(lines.next()?);
+    let at = |name: &str| header.iter().position(|h| h == name);
+    let (s, d, p, x) = (
+        at("scene")?,
+        at("depth")?,
+        at("sampler")?,
+        at("exact instr/px")?,
+    );
+    lines
+        .map(cells)
+        .find(|c| {
+            let is = |i: usize, want: &str| c.get(i).is_some_and(|x| x == want);
+            is(s, scene) && is(d, &depth.to_string()) && is(p, sampler)
+        })
+        .and_then(|c| c.get(x)?.replace(',', "").parse().ok())
 }
 
 /// Extreme scales on the chip (case 12 of docs/extremes.md): every built-in scene
@@ -389,4 +440,28 @@ fn the_teapot_alone_needs_under_8_kib_beyond_its_tile() {
         preview > 0 && preview * 10 < render,
         "{preview} vs {render}"
     );
+}
+
+/// The staleness check reads the page's table by scene, depth and sampler
+/// (columns found by their headers), and finds nothing where the page has no row.
+#[test]
+fn the_cost_pages_figures_are_read_by_scene_depth_and_sampler() {
+    let text = "# x\n## Instructions per pixel\n\ntext\n\n\
+                | scene | depth | sampler | rays/px | exact instr/px | est. |\n\
+                |---|---|---|---|---|---|\n\
+                | a | 0 | centre | 1 | 458 | 847 |\n\
+                | a | 1 | centre | 1 | 1,545 | 1001 |\n\
+                | b | 0 | stratified:4 | 16 | 7203 | 9 |\n\n## Next\n| a | 0 | centre | 1 | 9 |\n";
+    assert_eq!(page_instr_per_px(text, "a", 0, "centre"), Some(458.0));
+    assert_eq!(page_instr_per_px(text, "a", 1, "centre"), Some(1545.0));
+    assert_eq!(
+        page_instr_per_px(text, "b", 0, "stratified:4"),
+        Some(7203.0)
+    );
+    assert_eq!(page_instr_per_px(text, "b", 0, "centre"), None);
+    assert_eq!(page_instr_per_px("no table", "a", 0, "centre"), None);
+    // A row of a later table is not the section's.
+    let later = text.replace("| a | 1 | centre | 1 | 1,545 | 1001 |\n", "");
+    let later = later.replace("## Next\n", "## Next\n| a | 1 | centre | 1 | 77 | 0 |\n");
+    assert_eq!(page_instr_per_px(&later, "a", 1, "centre"), None);
 }
