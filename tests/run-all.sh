@@ -160,14 +160,15 @@ done
 say "tests"
 run cargo test-all
 
-# The same tests with the approximations: the core's own (math: each
-# approximation's error bound) with each alone and all together (fast-math), and
+# The same tests with the approximations: the core's unit tests (math: each
+# approximation's error bound; not its doc examples or its layers test, which no
+# approximation changes) with each alone and all together (fast-math), and
 # the host library's (the f64 reference against the core) with fast-math. Not the
 # command's integration tests (messages, outputs, files: nothing an approximation
 # changes), nor tessera-tests, which holds the long runs (qemu, golden images:
 # exact images).
 say "tests with the approximations (core: each alone and fast-math; host library: fast-math)"
 for feature in fast-rsqrt fast-recip fast-pow fast-math; do
-  run cargo test -p tessera --features "$feature"
+  run cargo test -p tessera --features "$feature" --lib
 done
 run cargo test -p tessera-host --features fast-math --lib

@@ -141,7 +141,7 @@ impl<C: Capacities> Scene<C> {
     /// `material`.
     ///
     /// # Errors
-    /// [`Error::BadMaterial`] for a material the scene does not hold,
+    /// [`Error::MaterialOutOfRange`] for a material the scene does not hold,
     /// [`Error::CapacityExceeded`] when the kind's list is full.
     pub fn add<G: Geometry>(&mut self, geometry: G, material: MaterialId) -> Result<(), Error> {
         self.check_material(material)?;

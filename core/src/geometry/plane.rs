@@ -167,8 +167,8 @@ impl Plane {
         self.normal
     }
 
-    /// The tangents of its uv ([`tangent_basis`] of its normal): an orthonormal
-    /// frame of the plane.
+    /// The tangents of its uv (the orthonormal basis of Duff et al. that
+    /// completes its normal): an orthonormal frame of the plane.
     #[must_use]
     pub fn tangents(&self) -> (Vec3, Vec3) {
         self.tangents
