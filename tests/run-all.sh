@@ -160,15 +160,13 @@ done
 say "tests"
 run cargo test-all
 
-# The same tests with the approximations: the core's unit tests (math: each
+# The same tests with the approximations on: the core's unit tests (math: each
 # approximation's error bound; not its doc examples or its layers test, which no
-# approximation changes) with each alone and all together (fast-math), and
-# the host library's (the f64 reference against the core) with fast-math. Not the
+# approximation changes) and the host library's (the f64 reference against the
+# core), with fast-math (every approximation; each alone is linted above). Not the
 # command's integration tests (messages, outputs, files: nothing an approximation
 # changes), nor tessera-tests, which holds the long runs (qemu, golden images:
 # exact images).
-say "tests with the approximations (core: each alone and fast-math; host library: fast-math)"
-for feature in fast-rsqrt fast-recip fast-pow fast-math; do
-  run cargo test -p tessera --features "$feature" --lib
-done
+say "tests with the approximations (fast-math: the core's unit tests, the host library's)"
+run cargo test -p tessera --features fast-math --lib
 run cargo test -p tessera-host --features fast-math --lib

@@ -7,21 +7,39 @@ use tessera::{RenderSettings, Renderer, Sampler, Viewport};
 use tessera_host::compare::{Accuracy, measure};
 
 fn accuracy(b: Builtin, settings: RenderSettings, vp: Viewport) -> Accuracy {
-    let (img, non_finite) = b
-        .with_scene(|view, cam| {
-            let renderer = Renderer::try_new(cam, vp, settings).unwrap();
-            let img = tessera_host::render_tiles::<16>(view, &renderer, None).unwrap();
-            let mut nf = 0;
-            for y in 0..u32::from(vp.height) {
-                for x in 0..u32::from(vp.width) {
-                    nf += usize::from(!renderer.pixel_color(view, x, y, &mut ()).is_finite());
-                }
-            }
-            (img, nf)
-        })
+    let core = b
+        .with_scene(|view, cam| render(view, cam, vp, settings))
         .unwrap();
-    let desc = tessera_host::file::builtin_desc(b);
-    let r = tessera_host::reference::render(&desc, vp, &settings).unwrap();
+    against_reference(core, &tessera_host::file::builtin_desc(b), vp, settings)
+}
+
+/// The core's tiles of `view` seen by `cam`, and how many of its pixels have a
+/// colour that is not finite.
+fn render(
+    view: &tessera::SceneView<'_>,
+    cam: &tessera::Camera,
+    vp: Viewport,
+    settings: RenderSettings,
+) -> (image::RgbImage, usize) {
+    let renderer = Renderer::try_new(cam, vp, settings).unwrap();
+    let img = tessera_host::render_tiles::<16>(view, &renderer, None).unwrap();
+    let mut nf = 0;
+    for y in 0..u32::from(vp.height) {
+        for x in 0..u32::from(vp.width) {
+            nf += usize::from(!renderer.pixel_color(view, x, y, &mut ()).is_finite());
+        }
+    }
+    (img, nf)
+}
+
+/// The core's render (`core`, from [`render`]) of `desc` against the reference's.
+fn against_reference(
+    (img, non_finite): (image::RgbImage, usize),
+    desc: &tessera_host::desc::SceneDesc,
+    vp: Viewport,
+    settings: RenderSettings,
+) -> Accuracy {
+    let r = tessera_host::reference::render(desc, vp, &settings).unwrap();
     measure(&img, non_finite, &r.to_rgb8(), r.non_finite(), &r.signature).unwrap()
 }
 
@@ -124,19 +142,8 @@ fn the_cylinders_and_disks_agree_with_the_reference() {
             seed: 3,
             ..own
         };
-        let (img, non_finite) = scene.with_view(|view| {
-            let renderer = Renderer::try_new(scene.camera(), vp, settings).unwrap();
-            let img = tessera_host::render_tiles::<16>(view, &renderer, None).unwrap();
-            let mut nf = 0;
-            for y in 0..u32::from(vp.height) {
-                for x in 0..u32::from(vp.width) {
-                    nf += usize::from(!renderer.pixel_color(view, x, y, &mut ()).is_finite());
-                }
-            }
-            (img, nf)
-        });
-        let r = tessera_host::reference::render(&desc, vp, &settings).unwrap();
-        let acc = measure(&img, non_finite, &r.to_rgb8(), r.non_finite(), &r.signature).unwrap();
+        let core = scene.with_view(|view| render(view, scene.camera(), vp, settings));
+        let acc = against_reference(core, &desc, vp, settings);
         report.push_str(&format!(
             "== {sampler:?} {}x{}\n{acc}\n",
             vp.width, vp.height
