@@ -56,7 +56,11 @@ fn bake(out: &Path) -> Result<(), String> {
     // forwards each: `--features cylinder,disk`).
     let missing: Vec<&str> = tessera_host::bake::kind_features(&desc)
         .into_iter()
-        .filter(|f| env::var_os(format!("CARGO_FEATURE_{}", f.to_uppercase())).is_none())
+        .filter(|f| {
+            // Cargo's variable for feature `a-b` is `CARGO_FEATURE_A_B`.
+            let var = format!("CARGO_FEATURE_{}", f.to_uppercase().replace('-', "_"));
+            env::var_os(var).is_none()
+        })
         .collect();
     if !missing.is_empty() {
         return Err(format!(
