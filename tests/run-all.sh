@@ -75,17 +75,32 @@ say "clippy (exact and fast-math backends, and each approximation alone)"
 run cargo lint
 run cargo lint-fast
 for feature in fast-rsqrt fast-recip fast-pow; do
-  run cargo clippy -p tessera --all-targets --features "$feature" -- -D warnings
+  run cargo clippy -p tessera-core --all-targets --features "$feature" -- -D warnings
 done
 # The host library without its command (a firmware's build-dependency: scene
 # reader and baker; tests/lite_deps.rs checks its dependencies).
 run cargo clippy -p tessera-host --no-default-features --all-targets -- -D warnings
+# The core's `defmt` feature (defmt::Format for the errors and value types), on
+# the host and for the Cortex-M4F.
+run cargo clippy -p tessera-core --all-targets --features defmt -- -D warnings
+run cargo clippy -p tessera-core --target thumbv7em-none-eabihf --features defmt -- -D warnings
 
 say "rustdoc: no warnings (broken or private links, unclosed HTML tags)"
 run env RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 # The core alone, with its default features (what a firmware's docs build sees):
 # the workspace build unifies the host's features (bvh, teapot) into it.
-run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera --no-deps
+run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera-core --no-deps
+# What the online documentation builds ([package.metadata.docs.rs]): every feature
+# of the core, for the Cortex-M4F; the host library with its command's features.
+run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera-core --no-deps --all-features --target thumbv7em-none-eabihf
+run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera-host --no-deps --features cli
+
+# The two crates users depend on, as the crate registry would take them: each
+# packaged from its own files and built from the package alone (the host against
+# the packaged core), then the upload skipped. --allow-dirty: the steps before
+# may have refreshed a lock file.
+say "packages: cargo publish --dry-run (tessera-core, tessera-host)"
+run cargo publish --dry-run --allow-dirty -p tessera-core -p tessera-host --target-dir target/package-check
 
 # rust-version is what the dependencies need (flip-rs 1.88, criterion 1.86): the
 # whole workspace, every target, type-checks with that toolchain, and cargo refuses
@@ -116,6 +131,8 @@ run cargo clippy --manifest-path tests/dualcore/Cargo.toml --target thumbv8m.mai
 say "board example (examples/blackpill-st7789): format and clippy"
 run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
 run cargo clippy --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+# Without defmt: the LED-only build for a board without a probe.
+run cargo clippy --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf --no-default-features -- -D warnings
 
 # The Raspberry Pi Pico 2 example (an RP2350, both cores, and a Waveshare
 # Pico-LCD-1.3 fed by DMA): its own workspace, for the Cortex-M33; the test
@@ -123,6 +140,10 @@ run cargo clippy --manifest-path examples/blackpill-st7789/Cargo.toml --target t
 say "Pico 2 example (examples/pico2-st7789): format and clippy"
 run cargo fmt --manifest-path examples/pico2-st7789/Cargo.toml -- --check
 run cargo clippy --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
+# Its features (defmt, fps-label) off, and each alone.
+run cargo clippy --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf --no-default-features -- -D warnings
+run cargo clippy --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf --no-default-features --features defmt -- -D warnings
+run cargo clippy --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf --no-default-features --features fps-label -- -D warnings
 
 # The firmware to copy (a scene file on qemu's Cortex-M4F): its own workspace; the
 # tests `qemu_example::...` in `cargo test-all` build it in its folder, as a user
@@ -139,10 +160,11 @@ run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-non
 say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends; for the other targets"
 run cargo fw-core
 run cargo fw-core --features fast-math
-run cargo build -p tessera --release --target thumbv8m.main-none-eabihf
-run cargo build -p tessera --release --target riscv32imafc-unknown-none-elf
-run cargo build -p tessera --release --target thumbv6m-none-eabi --features teapot
-run cargo build -p tessera --release --target riscv32imc-unknown-none-elf --features teapot
+run cargo build -p tessera-core --release --target thumbv7em-none-eabihf --features defmt
+run cargo build -p tessera-core --release --target thumbv8m.main-none-eabihf
+run cargo build -p tessera-core --release --target riscv32imafc-unknown-none-elf
+run cargo build -p tessera-core --release --target thumbv6m-none-eabi --features teapot
+run cargo build -p tessera-core --release --target riscv32imc-unknown-none-elf --features teapot
 
 # The image renders every built-in scene through the tile API and its panic handler
 # calls an undefined symbol: the link fails ("undefined symbol:
@@ -168,5 +190,5 @@ run cargo test-all
 # changes), nor tessera-tests, which holds the long runs (qemu, golden images:
 # exact images).
 say "tests with the approximations (fast-math: the core's unit tests, the host library's)"
-run cargo test -p tessera --features fast-math --lib
+run cargo test -p tessera-core --features fast-math --lib
 run cargo test -p tessera-host --features fast-math --lib

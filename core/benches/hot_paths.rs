@@ -1,11 +1,11 @@
 //! Criterion benchmarks of the hot paths, so regressions show:
-//! `cargo bench -p tessera` (add `--features fast-math` for the other backend).
+//! `cargo bench -p tessera-core` (add `--features fast-math` for the other backend).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
-use tessera::builtin::{self, Builtin};
-use tessera::testing::Shape;
-use tessera::{
+use tessera_core::builtin::{self, Builtin};
+use tessera_core::testing::Shape;
+use tessera_core::{
     RenderSettings, Renderer, Tile, TileCoord, Vec3, Viewport, camera::CameraBasis, geometry::Aabb,
     geometry::Plane, geometry::Sphere, geometry::Triangle, trace::Ray,
 };
@@ -86,7 +86,7 @@ fn shading(c: &mut Criterion) {
     let (ray, t_far) = basis.ray(120.5, 118.5);
     c.bench_function("shade a hit (blue sphere, depth 1)", |b| {
         b.iter(|| {
-            black_box(tessera::trace::trace(
+            black_box(tessera_core::trace::trace(
                 &view,
                 black_box(ray),
                 t_far,

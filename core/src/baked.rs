@@ -26,6 +26,7 @@ use core::marker::PhantomData;
 /// normalises it: a baked scene keeps these numbers and makes its camera when
 /// a frame is made ([`BakedScene::renderer`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BakedCamera {
     /// Where the camera is.
     pub position: [f32; 3],
@@ -71,10 +72,10 @@ impl BakedCamera {
 /// check it first:
 ///
 /// ```
-/// use tessera::geometry::Sphere;
-/// use tessera::light::PointLight;
-/// use tessera::material::{Material, MaterialId};
-/// use tessera::{
+/// use tessera_core::geometry::Sphere;
+/// use tessera_core::light::PointLight;
+/// use tessera_core::material::{Material, MaterialId};
+/// use tessera_core::{
 ///     capacities, BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives,
 ///     RenderSettings, Sampler, Tile, TileCoord, Viewport,
 /// };
@@ -106,7 +107,7 @@ impl BakedCamera {
 /// let renderer = SCENE.renderer()?;
 /// let mut tile = Tile::<16>::new();
 /// renderer.render_tile(&view, TileCoord::new(0, 0), &mut tile, &mut ())?;
-/// # Ok::<(), tessera::Error>(())
+/// # Ok::<(), tessera_core::Error>(())
 /// ```
 pub struct BakedScene<'a, C: Capacities> {
     camera: BakedCamera,

@@ -49,9 +49,9 @@ pub mod baked {
 /// [`teapot`] with [`SceneView::with_meshes`]:
 ///
 /// ```
-/// # fn main() -> Result<(), tessera::Error> {
-/// let scene = tessera::builtin::teapot()?;
-/// let view = scene.view().with_meshes(&tessera::builtin::TEAPOT_MESHES)?;
+/// # fn main() -> Result<(), tessera_core::Error> {
+/// let scene = tessera_core::builtin::teapot()?;
+/// let view = scene.view().with_meshes(&tessera_core::builtin::TEAPOT_MESHES)?;
 /// assert_eq!(view.meshes()[0].faces().len(), 1088);
 /// # Ok(())
 /// # }
@@ -62,6 +62,7 @@ pub static TEAPOT_MESHES: &[crate::mesh::Mesh<'static>] = &baked::teapot::MESHES
 /// The built-in scenes, by name. Non-exhaustive: the feature `teapot` adds one,
 /// so that code written without it still compiles with it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Builtin {
     /// The chapter's first picture: direct light only.
@@ -137,11 +138,11 @@ impl Builtin {
     /// [`Builtin::with_scene`], with no scene in RAM.
     ///
     /// ```
-    /// use tessera::{builtin::Builtin, Tile, TileCoord};
+    /// use tessera_core::{builtin::Builtin, Tile, TileCoord};
     /// let (view, renderer) = Builtin::Showcase.baked()?;
     /// let mut tile = Tile::<16>::new();
     /// renderer.render_tile(&view, TileCoord::new(0, 0), &mut tile, &mut ())?;
-    /// # Ok::<(), tessera::Error>(())
+    /// # Ok::<(), tessera_core::Error>(())
     /// ```
     ///
     /// # Errors

@@ -130,10 +130,10 @@ pub struct BvhNode {
 /// with [`SceneView::with_bvh`](crate::SceneView::with_bvh).
 ///
 /// ```
-/// use tessera::{bvh::Bvh, Camera, Color, Error, material::Material, Scene, geometry::Triangle, Vec3};
+/// use tessera_core::{bvh::Bvh, Camera, Color, Error, material::Material, Scene, geometry::Triangle, Vec3};
 ///
 /// let cam = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0)?;
-/// let mut scene: Scene<tessera::capacities!(triangles: 100, materials: 1)> = Scene::new(cam);
+/// let mut scene: Scene<tessera_core::capacities!(triangles: 100, materials: 1)> = Scene::new(cam);
 /// let red = scene.add_material(Material::matte(Color::new(0.9, 0.1, 0.1)))?;
 /// for i in 0..100 {
 ///     let x = i as f32 * 0.1;

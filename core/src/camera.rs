@@ -26,6 +26,7 @@ use crate::vec::Vec3;
 
 /// The camera: where it is, where it looks, and its view frustum.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Camera {
     position: Vec3,
     forward: Vec3,
@@ -49,7 +50,7 @@ impl Camera {
     /// [`crate::error::MAX_EXTENT`], `near` at least [`crate::error::MIN_LENGTH`].
     ///
     /// ```
-    /// use tessera::{Camera, Error, Vec3};
+    /// use tessera_core::{Camera, Error, Vec3};
     /// let cam = Camera::try_new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, 0.1, 100.0);
     /// assert!(cam.is_ok());
     /// let bad = Camera::try_new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, 2.0, 1.0);
@@ -156,6 +157,7 @@ impl Camera {
 
 /// The viewport: `N_L x N_H` pixels (width x height).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Viewport {
     /// Width `N_L`, pixels.
     pub width: u16,

@@ -4,6 +4,7 @@ use core::ops::{Add, AddAssign, Mul};
 
 /// A linear RGB colour; 1.0 is full scale. Components may exceed 1 before output.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Color {
     /// Red.
     pub r: f32,
@@ -118,6 +119,7 @@ const SRGB_THRESHOLDS: [u32; 255] = [
 
 /// How a pixel's linear colour becomes its 8 bits ([`crate::RenderSettings`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Encoding {
     /// The linear value itself, rounded ([`Color::to_rgb8`]): for images that are
     /// processed further as linear data.
@@ -176,6 +178,7 @@ impl core::fmt::Display for Encoding {
 
 /// An encoding name that is not `linear` or `srgb`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct UnknownEncoding;
 
 impl core::fmt::Display for UnknownEncoding {
@@ -329,6 +332,7 @@ impl Mul<f32> for Color {
 
 /// An output pixel: 8 bits per channel, 3 bytes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Rgb8 {
     /// Red.
     pub r: u8,
@@ -513,7 +517,7 @@ mod tests {
     }
 
     /// [`srgb8`] against the definition on all 2^32 bit patterns: too many for
-    /// the suite's debug build; run it with `cargo test -p tessera --release --lib
+    /// the suite's debug build; run it with `cargo test -p tessera-core --release --lib
     /// -- --ignored srgb8_is_the_definition_on_every_pattern`.
     #[test]
     #[ignore = "all 2^32 patterns: run by hand after changing the encoder"]

@@ -18,12 +18,14 @@ use crate::shade::RayCounter;
 pub use crate::tile::TilePixel;
 use crate::tile::{AllLoops, Loops, Renderer, Tile, TileCoord};
 use crate::view::SceneView;
+use core::convert::Infallible;
 use core::marker::PhantomData;
 use embedded_graphics_core::Drawable;
+use embedded_graphics_core::Pixel;
 use embedded_graphics_core::draw_target::DrawTarget;
-use embedded_graphics_core::geometry::{OriginDimensions, Point, Size};
+use embedded_graphics_core::geometry::{Dimensions, OriginDimensions, Point, Size};
 use embedded_graphics_core::pixelcolor::raw::{RawData, RawU16};
-use embedded_graphics_core::pixelcolor::{Gray8, PixelColor, Rgb555, Rgb565, Rgb888};
+use embedded_graphics_core::pixelcolor::{Gray8, PixelColor, Rgb555, Rgb565, Rgb888, RgbColor};
 use embedded_graphics_core::primitives::Rectangle;
 
 /// The rectangle of `w x h` pixels at `(x, y)` of the frame (coordinates beyond
@@ -97,6 +99,143 @@ impl TilePixel for Rgb888 {
     }
 }
 
+/// A tile pixel that embedded-graphics draws on: the colour a drawing over a
+/// tile is made of ([`DrawPixel::Color`]) and its conversion to the pixel. A
+/// `Tile<N, P>` of such pixels is a `DrawTarget` of that colour, in frame
+/// coordinates, clipped to the tile: text, shapes and images drawn over each
+/// tile after it is rendered and before it is sent make one picture over the
+/// whole frame, with no second buffer.
+///
+/// | tile pixel | colour drawn |
+/// |---|---|
+/// | [`Rgb8`] | `Rgb888` |
+/// | `Rgb888`, `Rgb565`, `Rgb555`, `Gray8` | the same |
+/// | [`Rgb565Wire`] | `Rgb565` (stored high byte first) |
+///
+/// A drawn colour is stored as it is, not dithered: a label's flat colour
+/// stays flat.
+pub trait DrawPixel: TilePixel {
+    /// The embedded-graphics colour drawn on a tile of this pixel.
+    type Color: PixelColor;
+    /// The pixel of colour `c`.
+    fn from_color(c: Self::Color) -> Self;
+    /// The colour of this pixel.
+    fn to_color(self) -> Self::Color;
+}
+
+impl DrawPixel for Rgb8 {
+    type Color = Rgb888;
+    #[inline]
+    fn from_color(c: Rgb888) -> Self {
+        Self::new(c.r(), c.g(), c.b())
+    }
+    #[inline]
+    fn to_color(self) -> Rgb888 {
+        Rgb888::new(self.r, self.g, self.b)
+    }
+}
+
+macro_rules! draws_itself {
+    ($($c:ty),*) => {$(
+        impl DrawPixel for $c {
+            type Color = $c;
+            #[inline]
+            fn from_color(c: $c) -> Self {
+                c
+            }
+            #[inline]
+            fn to_color(self) -> $c {
+                self
+            }
+        }
+    )*};
+}
+draws_itself!(Rgb888, Rgb565, Rgb555, Gray8);
+
+/// The pixel of tile `tile` at frame point `p`, if the tile holds it.
+fn frame_pixel<const N: usize, P: TilePixel>(tile: &mut Tile<N, P>, p: Point) -> Option<&mut P> {
+    let (x0, y0) = tile.origin();
+    let x = usize::try_from(i64::from(p.x) - i64::from(x0)).ok()?;
+    let y = usize::try_from(i64::from(p.y) - i64::from(y0)).ok()?;
+    tile.pixel_mut(x, y)
+}
+
+/// The frame's rectangle the tile covers (its rendered part; empty before the
+/// first render).
+impl<const N: usize, P: DrawPixel> Dimensions for Tile<N, P> {
+    fn bounding_box(&self) -> Rectangle {
+        tile_area(self)
+    }
+}
+
+/// A rendered tile as a drawing surface in **frame** coordinates: a pixel drawn
+/// at `(x, y)` lands on the tile's pixel `(x - x0, y - y0)` if the tile covers
+/// it, and is dropped otherwise, so one drawing drawn over every tile of a frame
+/// in turn equals the same drawing over the whole frame.
+///
+/// ```
+/// use embedded_graphics_core::{pixelcolor::Rgb565, prelude::*, primitives::Rectangle};
+/// use tessera_core::display::Rgb565Wire;
+/// use tessera_core::{builtin, RenderSettings, Tile, TileCoord, Viewport};
+///
+/// let scene = builtin::chapter_direct()?;
+/// let renderer = scene.renderer(Viewport::new(40, 30), RenderSettings::default())?;
+/// let mut tile = Tile::<16, Rgb565Wire>::blank();
+/// renderer.render_tile(&scene.view(), TileCoord::new(1, 0), &mut tile, &mut ())?;
+/// // A bar across the frame's top rows: on this tile, columns 16 to 31 of it.
+/// tile.fill_solid(&Rectangle::new(Point::new(0, 0), Size::new(40, 2)), Rgb565::WHITE).unwrap();
+/// assert_eq!(tile.pixel(0, 1), Some(Rgb565Wire::from(Rgb565::WHITE)));
+/// assert_ne!(tile.pixel(0, 2), Some(Rgb565Wire::from(Rgb565::WHITE)));
+/// # Ok::<(), tessera_core::Error>(())
+/// ```
+impl<const N: usize, P: DrawPixel> DrawTarget for Tile<N, P> {
+    type Color = P::Color;
+    type Error = Infallible;
+
+    fn draw_iter<I>(&mut self, pixels: I) -> Result<(), Infallible>
+    where
+        I: IntoIterator<Item = Pixel<P::Color>>,
+    {
+        for Pixel(p, c) in pixels {
+            if let Some(px) = frame_pixel(self, p) {
+                *px = P::from_color(c);
+            }
+        }
+        Ok(())
+    }
+
+    fn fill_solid(&mut self, area: &Rectangle, color: P::Color) -> Result<(), Infallible> {
+        // The overlap in i64, offsets from the tile's origin: any rectangle
+        // embedded-graphics can hold (up to `u32::MAX` wide, anywhere) is cut
+        // without overflow.
+        let (x0, y0) = self.origin();
+        let span = |start: i32, len: u32, origin: u32, live: u16| {
+            let from = (i64::from(start) - i64::from(origin)).max(0);
+            let to = (i64::from(start) - i64::from(origin) + i64::from(len)).min(i64::from(live));
+            let from = usize::try_from(from).unwrap_or(usize::MAX);
+            (from, usize::try_from(to).unwrap_or(0))
+        };
+        let (left, right) = span(area.top_left.x, area.size.width, x0, self.width());
+        let (top, bottom) = span(area.top_left.y, area.size.height, y0, self.height());
+        if left >= right || top >= bottom {
+            return Ok(());
+        }
+        let px = P::from_color(color);
+        let w = usize::from(self.width());
+        for row in self
+            .as_mut_slice()
+            .chunks_mut(w.max(1))
+            .take(bottom)
+            .skip(top)
+        {
+            for p in row.iter_mut().take(right).skip(left) {
+                *p = px;
+            }
+        }
+        Ok(())
+    }
+}
+
 /// An RGB565 pixel in the order a display controller takes it on the wire: the
 /// high byte (red and the top of green) first, as ST7789, ILI9341 and ST7735
 /// panels read 16-bit colour. A `Tile<N, Rgb565Wire>` is filled in that order
@@ -106,6 +245,7 @@ impl TilePixel for Rgb888 {
 /// rendering of the next tile).
 #[repr(transparent)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Rgb565Wire(pub [u8; 2]);
 
 impl TilePixel for Rgb565Wire {
@@ -114,6 +254,18 @@ impl TilePixel for Rgb565Wire {
     fn from_rgb8(p: Rgb8, x: u32, y: u32, dither: Dither) -> Self {
         let (r, g, b) = dither.rgb565(p, x, y);
         Self::from(Rgb565::new(r, g, b))
+    }
+}
+
+impl DrawPixel for Rgb565Wire {
+    type Color = Rgb565;
+    #[inline]
+    fn from_color(c: Rgb565) -> Self {
+        Self::from(c)
+    }
+    #[inline]
+    fn to_color(self) -> Rgb565 {
+        Rgb565::from(self)
     }
 }
 
@@ -214,9 +366,9 @@ where
 ///
 /// ```
 /// use embedded_graphics_core::{pixelcolor::Rgb565, prelude::*};
-/// use tessera::dither::Dither;
-/// use tessera::display::Drawing;
-/// use tessera::{builtin, RenderSettings, Viewport};
+/// use tessera_core::dither::Dither;
+/// use tessera_core::display::Drawing;
+/// use tessera_core::{builtin, RenderSettings, Viewport};
 ///
 /// // A display that only counts what it receives.
 /// struct Count(u32);
@@ -239,7 +391,7 @@ where
 /// let mut display = Count(0);
 /// picture.draw(&mut display).unwrap();
 /// assert_eq!(display.0, 40 * 30);
-/// # Ok::<(), tessera::Error>(())
+/// # Ok::<(), tessera_core::Error>(())
 /// ```
 ///
 /// [`Drawable`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/trait.Drawable.html
@@ -363,6 +515,48 @@ impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable for Drawing<'
     where
         D: DrawTarget<Color = C>,
     {
+        self.draw_overlaid(target, |_| ())
+    }
+}
+
+impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawing<'_, C, N, L> {
+    /// [`Drawable::draw`], with `overlay` called on each tile after it is
+    /// rendered and before it is sent: a tile is a `DrawTarget` in frame
+    /// coordinates ([`DrawPixel`]), so a label or a shape drawn in `overlay`
+    /// lands where it belongs in the frame, cut along the tiles' edges. The
+    /// preview of [`Drawing::progressive`] is sent without it.
+    ///
+    /// ```
+    /// use embedded_graphics_core::{pixelcolor::Rgb565, prelude::*, primitives::Rectangle};
+    /// # use tessera_core::display::Drawing;
+    /// # use tessera_core::{builtin, RenderSettings, Viewport};
+    /// # struct Panel;
+    /// # impl OriginDimensions for Panel { fn size(&self) -> Size { Size::new(40, 30) } }
+    /// # impl DrawTarget for Panel {
+    /// #     type Color = Rgb565;
+    /// #     type Error = core::convert::Infallible;
+    /// #     fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(&mut self, _: I) -> Result<(), Self::Error> { Ok(()) }
+    /// # }
+    /// let scene = builtin::chapter_direct()?;
+    /// let renderer = scene.renderer(Viewport::new(40, 30), RenderSettings::default())?;
+    /// let frame = Drawing::<Rgb565, 16>::new(&renderer, &scene.view());
+    /// // A white bar across the frame, drawn over whichever tiles it crosses.
+    /// let bar = Rectangle::new(Point::new(0, 12), Size::new(40, 4));
+    /// frame.draw_overlaid(&mut Panel, |tile| {
+    ///     let _ = tile.fill_solid(&bar, Rgb565::WHITE);
+    /// }).unwrap();
+    /// # Ok::<(), tessera_core::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// The target's.
+    ///
+    /// [`Drawable::draw`]: https://docs.rs/embedded-graphics-core/0.4/embedded_graphics_core/trait.Drawable.html#tymethod.draw
+    pub fn draw_overlaid<D, F>(&self, target: &mut D, mut overlay: F) -> Result<(), D::Error>
+    where
+        D: DrawTarget<Color = C>,
+        F: FnMut(&mut Tile<N, C>),
+    {
         if self.block > 0 {
             self.draw_preview(target)?;
         }
@@ -378,6 +572,7 @@ impl<C: TilePixel + PixelColor, const N: usize, L: Loops> Drawable for Drawing<'
                     .render_tile_in::<L, N, _, _>(&self.scene, coord, &mut tile, &mut ())
                     .is_ok()
                 {
+                    overlay(&mut tile);
                     draw_panel_tile(&tile, target)?;
                 }
             }
@@ -402,6 +597,20 @@ impl<const N: usize, L: Loops> Drawing<'_, Rgb565Wire, N, L> {
         self.send_counting(sink, &mut ())
     }
 
+    /// [`Drawing::send`], with `overlay` called on each tile after it is
+    /// rendered and before its transfer starts (as [`Drawing::draw_overlaid`]):
+    /// a label drawn over the frame on its way to the panel.
+    ///
+    /// # Errors
+    /// As [`Drawing::send`].
+    pub fn send_overlaid<S: TileSink, F: FnMut(&mut Tile<N, Rgb565Wire>)>(
+        &self,
+        sink: &mut S,
+        overlay: F,
+    ) -> Result<(), S::Error> {
+        self.send_with(sink, &mut (), overlay)
+    }
+
     /// [`Drawing::send`], the rays cast added to `count`.
     ///
     /// # Errors
@@ -410,6 +619,15 @@ impl<const N: usize, L: Loops> Drawing<'_, Rgb565Wire, N, L> {
         &self,
         sink: &mut S,
         count: &mut R,
+    ) -> Result<(), S::Error> {
+        self.send_with(sink, count, |_| ())
+    }
+
+    fn send_with<S: TileSink, R: RayCounter, F: FnMut(&mut Tile<N, Rgb565Wire>)>(
+        &self,
+        sink: &mut S,
+        count: &mut R,
+        mut overlay: F,
     ) -> Result<(), S::Error> {
         let mut tiles = [Tile::<N, Rgb565Wire>::blank(), Tile::blank()];
         let mut in_flight = false;
@@ -424,6 +642,10 @@ impl<const N: usize, L: Loops> Drawing<'_, Rgb565Wire, N, L> {
                 .renderer
                 .render_tile_in::<L, N, _, _>(&self.scene, coord, tile, count)
                 .is_ok();
+            // Drawn while the other buffer's transfer runs.
+            if rendered {
+                overlay(tile);
+            }
             // The other buffer's transfer is done before this one starts (and
             // before that buffer is rendered into again, next turn).
             if in_flight {

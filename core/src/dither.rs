@@ -19,6 +19,7 @@ use core::str::FromStr;
 
 /// How 8-bit channels become a panel's fewer bits.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Dither {
     /// The nearest level.
     None,
@@ -133,6 +134,7 @@ impl fmt::Display for Dither {
 
 /// A dithering name that is not `none`, `bayer4` or `bayer8`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct UnknownDither;
 
 impl fmt::Display for UnknownDither {

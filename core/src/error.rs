@@ -5,6 +5,7 @@ use core::fmt;
 
 /// Which number of the scene or settings an [`Error`] is about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[allow(missing_docs)] // each variant's doc is its Display text below
 #[non_exhaustive]
 pub enum Field {
@@ -99,6 +100,7 @@ impl Field {
 
 /// A scene list, named in capacity errors.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[allow(missing_docs)]
 #[non_exhaustive]
 pub enum List {
@@ -138,6 +140,7 @@ impl List {
 /// Everything that can go wrong when building a camera, a scene or a frame, or when
 /// rendering a tile. The `Display` text says what is wrong and which value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Error {
     /// A number is NaN or infinite.

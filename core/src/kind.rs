@@ -11,7 +11,7 @@
 //! A scene's capacities are a type made by name with [`capacities!`](crate::capacities):
 //!
 //! ```
-//! use tessera::{capacities, Scene};
+//! use tessera_core::{capacities, Scene};
 //! type Chapter = Scene<capacities!(spheres: 4, planes: 1, materials: 5, lights: 1)>;
 //! ```
 //!

@@ -20,7 +20,7 @@
 //! Whitted-style shader with reflection and transmission.
 //!
 //! ```
-//! use tessera::{builtin, RenderSettings, Tile, TileCoord, Viewport};
+//! use tessera_core::{builtin, RenderSettings, Tile, TileCoord, Viewport};
 //!
 //! let scene = builtin::chapter_direct()?;
 //! let renderer = scene.renderer(Viewport::new(40, 30), RenderSettings::default())?;
@@ -28,7 +28,7 @@
 //! renderer.render_tile(&scene.view(), TileCoord::new(2, 1), &mut tile, &mut ())?;
 //! // The last tile of a 40-pixel-wide frame holds 8 columns and 14 rows.
 //! assert_eq!((tile.width(), tile.height()), (8, 14));
-//! # Ok::<(), tessera::Error>(())
+//! # Ok::<(), tessera_core::Error>(())
 //! ```
 #![no_std]
 #![deny(missing_docs)]

@@ -7,6 +7,7 @@ use crate::vec::Vec3;
 /// A point light: at a distance `r`, a surface facing it receives
 /// `color * intensity / r^2`. It casts shadows (a shadow ray per lit hit).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PointLight {
     position: Vec3,
     color: Color,

@@ -13,13 +13,14 @@ use crate::texture::Texture;
 
 /// A reference to a material of a scene (its index in the scene's material list).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct MaterialId(pub u16);
 
 /// A material. Build with [`Material::matte`] and the `with_*` methods, which check
 /// each number.
 ///
 /// ```
-/// use tessera::{Color, material::Material};
+/// use tessera_core::{Color, material::Material};
 /// let glass = Material::matte(Color::WHITE)
 ///     .with_diffuse(0.0).unwrap()
 ///     .with_specular(0.5, 64.0).unwrap()
@@ -28,6 +29,7 @@ pub struct MaterialId(pub u16);
 /// assert!(Material::matte(Color::WHITE).with_reflectivity(1.5).is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Material {
     texture: Texture,
     ambient: f32,

@@ -11,6 +11,7 @@ use crate::vec::Vec3;
 /// of all, which would report a miss for a direction of length 2 while the plane,
 /// triangle and box return the parametric `t`). Build one with [`Ray::new`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Ray {
     pub(crate) origin: Vec3,
     pub(crate) dir: Vec3,

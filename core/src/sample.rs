@@ -11,6 +11,7 @@ use crate::error::{Error, Field};
 /// A fixed position inside a pixel, each coordinate in `[0, 1)` (`(0, 0)` = top-left
 /// corner, `(0.5, 0.5)` = centre).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SubPixel {
     x: f32,
     y: f32,
@@ -54,6 +55,7 @@ impl SubPixel {
 
 /// How a pixel is sampled.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Sampler {
     /// One ray through the top-left corner of the pixel (the chapter's `r0`).

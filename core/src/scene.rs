@@ -25,8 +25,8 @@ use heapless::vec::VecView;
 /// `Scene<capacities!(spheres: 4, planes: 1, materials: 5, lights: 1)>`.
 ///
 /// ```
-/// use tessera::{capacities, Camera, Color, Error, material::Material, Scene, geometry::Sphere, Vec3};
-/// use tessera::error::List;
+/// use tessera_core::{capacities, Camera, Color, Error, material::Material, Scene, geometry::Sphere, Vec3};
+/// use tessera_core::error::List;
 ///
 /// let cam = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0)?;
 /// let mut scene: Scene<capacities!(spheres: 1, materials: 1)> = Scene::new(cam);

@@ -39,6 +39,7 @@ use crate::view::SceneView;
 /// How many rays a trace cast, by kind (for reports and for tests of what is not
 /// traced).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RayCount {
     /// Camera rays.
     pub primary: u64,

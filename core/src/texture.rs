@@ -6,6 +6,7 @@ use crate::math;
 
 /// What colours a surface: one colour, or a procedural uv texture.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Texture {
     /// One colour everywhere; needs no uv (the shader never computes one).
@@ -37,7 +38,7 @@ impl Texture {
     /// distance `screen`, all in the units of `u` (metres for the chapter).
     ///
     /// ```
-    /// use tessera::{Color, texture::Texture};
+    /// use tessera_core::{Color, texture::Texture};
     /// let t = Texture::young(Color::WHITE, 2e-3, 500e-9, 3.0).unwrap();
     /// let Texture::Fringes { spacing, .. } = t else { unreachable!() };
     /// assert!((spacing - 0.75e-3).abs() < 1e-9);

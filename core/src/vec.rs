@@ -5,6 +5,7 @@ use core::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
 /// A 3-vector of `f32` (point, direction or normal).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Vec3 {
     /// x component.
     pub x: f32,

@@ -4,7 +4,7 @@
 //! size and the `[render]` settings, ambient and background, the materials
 //! (each referred to by a constant `MAT_<NAME>`, never a bare index), the
 //! lights, every primitive, the triangles' BVH and the meshes with theirs, in a
-//! [`tessera::BakedScene`] `SCENE`, which checks every item once when a view is
+//! [`tessera_core::BakedScene`] `SCENE`, which checks every item once when a view is
 //! taken. It also writes `SceneLoops`, the tile loops the scene needs at its
 //! settings, so that a firmware links only those.
 //!
@@ -16,9 +16,9 @@
 use crate::desc::{DescError, HostBvh, HostScene, SceneDesc};
 use crate::kinds::{HostKind, each_kind, type_name, type_names};
 use std::fmt::Write as _;
-use tessera::Geometry;
-use tessera::bvh::BvhNode;
-use tessera::tile::TileLoop;
+use tessera_core::Geometry;
+use tessera_core::bvh::BvhNode;
+use tessera_core::tile::TileLoop;
 
 /// `s` as a Rust string literal (with its quotes) that reads back to `s` and
 /// cannot leave its place in the generated file: one line of printable text,
@@ -199,23 +199,23 @@ pub struct Baking<'a> {
     /// The core scene (every value checked).
     pub scene: &'a HostScene,
     /// The camera's numbers.
-    pub camera: tessera::BakedCamera,
+    pub camera: tessera_core::BakedCamera,
     /// The scene's `[render]` settings.
-    pub settings: tessera::RenderSettings,
+    pub settings: tessera_core::RenderSettings,
     /// Its size.
-    pub viewport: tessera::Viewport,
+    pub viewport: tessera_core::Viewport,
     /// Its tile size (8, 16 or 32).
     pub tile: usize,
     /// Each material's name, in the scene's order.
     pub names: Vec<String>,
 }
 
-/// `c` as a Rust expression of a [`tessera::Color`].
-fn color(c: tessera::Color) -> String {
+/// `c` as a Rust expression of a [`tessera_core::Color`].
+fn color(c: tessera_core::Color) -> String {
     format!("Color::new({}, {}, {})", lit(c.r), lit(c.g), lit(c.b))
 }
 
-pub(crate) fn v3(p: tessera::Vec3) -> String {
+pub(crate) fn v3(p: tessera_core::Vec3) -> String {
     vec3(p.to_array())
 }
 
@@ -319,16 +319,16 @@ fn unknown(item: &str, what: &str) -> DescError {
 }
 
 /// The `Texture` expression of `t`, in `item`.
-fn texture(t: &tessera::texture::Texture, item: &str) -> Result<String, DescError> {
+fn texture(t: &tessera_core::texture::Texture, item: &str) -> Result<String, DescError> {
     Ok(match *t {
-        tessera::texture::Texture::Solid(c) => format!("Texture::Solid({})", color(c)),
-        tessera::texture::Texture::Checker { a, b, scale } => format!(
+        tessera_core::texture::Texture::Solid(c) => format!("Texture::Solid({})", color(c)),
+        tessera_core::texture::Texture::Checker { a, b, scale } => format!(
             "Texture::Checker {{ a: {}, b: {}, scale: {} }}",
             color(a),
             color(b),
             lit(scale)
         ),
-        tessera::texture::Texture::Fringes { color: c, spacing } => format!(
+        tessera_core::texture::Texture::Fringes { color: c, spacing } => format!(
             "Texture::Fringes {{ color: {}, spacing: {} }}",
             color(c),
             lit(spacing)
@@ -338,16 +338,16 @@ fn texture(t: &tessera::texture::Texture, item: &str) -> Result<String, DescErro
 }
 
 /// The name of `e`'s variant of `Encoding`.
-fn variant(e: tessera::Encoding) -> &'static str {
+fn variant(e: tessera_core::Encoding) -> &'static str {
     match e {
-        tessera::Encoding::Linear => "Linear",
-        tessera::Encoding::Srgb => "Srgb",
+        tessera_core::Encoding::Linear => "Linear",
+        tessera_core::Encoding::Srgb => "Srgb",
     }
 }
 
 /// The `Sampler` expression of `s`.
-fn sampler(s: tessera::Sampler) -> Result<String, DescError> {
-    use tessera::Sampler as S;
+fn sampler(s: tessera_core::Sampler) -> Result<String, DescError> {
+    use tessera_core::Sampler as S;
     Ok(match s {
         S::Corner => "Sampler::Corner".into(),
         S::Centre => "Sampler::Centre".into(),
@@ -393,7 +393,7 @@ fn table(s: &mut String, doc: &str, name: &str, ty: &str, items: &[String]) {
 /// of them for it to pay), `BOXES`, each mesh's `MESH{i}_VERTICES`, `_FACES`,
 /// `_NORMALS`, `_NODES`, `_ORDER` in `MESHES`; `WIDTH`, `HEIGHT` and `TILE`;
 /// `Loops`, the tile loops the scene needs; and `SCENE`, the
-/// [`tessera::BakedScene`] of them all.
+/// [`tessera_core::BakedScene`] of them all.
 ///
 /// # Errors
 /// A texture, sampler or tile loop of the core that this baker cannot write.
@@ -411,7 +411,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> Result<String, 
 /// The lengths of the tables of the scene's lists: what `SCENE` is made of.
 struct Written {
     /// Each kind's table's length, in the core's order.
-    lens: [usize; tessera::kind::KINDS],
+    lens: [usize; tessera_core::kind::KINDS],
     /// `.with_bvh(..)` when the triangles have a hierarchy, else empty.
     with_bvh: String,
 }
@@ -420,7 +420,7 @@ impl Written {
     /// The arguments of `capacities!` for the tables: each list that holds
     /// something, by name.
     fn capacities(&self) -> String {
-        tessera::kind::Kind::ALL
+        tessera_core::kind::Kind::ALL
             .iter()
             .zip(self.lens)
             .filter(|&(_, n)| n > 0)
@@ -484,7 +484,7 @@ impl<'a> Writer<'a> {
     }
 
     /// The constant a primitive's material is written with.
-    fn mat(&self, m: tessera::material::MaterialId) -> String {
+    fn mat(&self, m: tessera_core::material::MaterialId) -> String {
         self.consts
             .get(usize::from(m.0))
             .cloned()
@@ -498,7 +498,7 @@ impl<'a> Writer<'a> {
     }
 
     /// The material constants, by name, and `MATERIALS`.
-    fn materials(&mut self, view: &tessera::SceneView<'_>) -> Result<(), DescError> {
+    fn materials(&mut self, view: &tessera_core::SceneView<'_>) -> Result<(), DescError> {
         let _ = writeln!(
             self.body,
             "// The materials: each constant is a material's reference (its place in MATERIALS)."
@@ -545,7 +545,7 @@ impl<'a> Writer<'a> {
     }
 
     /// `LIGHTS`.
-    fn lights(&mut self, view: &tessera::SceneView<'_>) {
+    fn lights(&mut self, view: &tessera_core::SceneView<'_>) {
         let lights: Vec<String> = view
             .lights()
             .iter()
@@ -569,15 +569,15 @@ impl<'a> Writer<'a> {
 
     /// Each kind's table, in the core's order (`SPHERES`, `PLANES`, ...), and
     /// the triangles' hierarchy when it pays.
-    fn primitives(&mut self, view: &tessera::SceneView<'_>) -> Written {
-        let mut lens = [0; tessera::kind::KINDS];
+    fn primitives(&mut self, view: &tessera_core::SceneView<'_>) -> Written {
+        let mut lens = [0; tessera_core::kind::KINDS];
         let mut with_bvh = String::new();
         each_kind!(|G| {
             let list = view.list::<G>();
             lens[G::KIND.index()] = list.len();
             if list.is_empty() {
                 // No table: the scene's `..Primitives::NONE` stands for it.
-            } else if G::KIND == tessera::kind::Kind::Triangle {
+            } else if G::KIND == tessera_core::kind::Kind::Triangle {
                 with_bvh = self.triangles(view.triangles());
                 self.names.push(type_name::<G>());
             } else {
@@ -613,7 +613,7 @@ impl<'a> Writer<'a> {
     /// scene (empty without).
     fn triangles(
         &mut self,
-        triangles: &[tessera::Primitive<tessera::geometry::Triangle>],
+        triangles: &[tessera_core::Primitive<tessera_core::geometry::Triangle>],
     ) -> String {
         let tris: Vec<String> = triangles
             .iter()
@@ -636,7 +636,7 @@ impl<'a> Writer<'a> {
             size_of_val(triangles),
         );
         let mut with_bvh = String::new();
-        if triangles.len() >= tessera::bvh::CROSSOVER {
+        if triangles.len() >= tessera_core::bvh::CROSSOVER {
             let mut bvh = Box::new(HostBvh::new());
             // The host scene's capacities: 2 T nodes always suffice.
             if bvh.build(triangles).is_ok() {
@@ -718,12 +718,16 @@ impl<'a> Writer<'a> {
     }
 
     /// `WIDTH`, `HEIGHT`, `TILE`, `SceneLoops` and `SCENE`.
-    fn frame(&mut self, view: &tessera::SceneView<'_>, lists: &Written) -> Result<(), DescError> {
+    fn frame(
+        &mut self,
+        view: &tessera_core::SceneView<'_>,
+        lists: &Written,
+    ) -> Result<(), DescError> {
         let b = self.b;
         if self.bvh_needed {
             self.names.extend(["BakedBvh", "BvhNode"]);
         }
-        if matches!(b.settings.sampler, tessera::Sampler::Offset(_)) {
+        if matches!(b.settings.sampler, tessera_core::Sampler::Offset(_)) {
             self.names.push("SubPixel");
         }
         let st = &b.settings;
@@ -782,7 +786,7 @@ impl<'a> Writer<'a> {
             st.seed,
             color(view.ambient()),
             color(view.background()),
-            tessera::kind::Kind::ALL
+            tessera_core::kind::Kind::ALL
                 .iter()
                 .zip(lists.lens)
                 .filter(|&(_, n)| n > 0)
@@ -803,7 +807,7 @@ impl<'a> Writer<'a> {
     /// `use` line and the helpers the tables call.
     fn preamble(
         &mut self,
-        view: &tessera::SceneView<'_>,
+        view: &tessera_core::SceneView<'_>,
         krate: &str,
         header: &[String],
     ) -> String {
@@ -816,7 +820,7 @@ impl<'a> Writer<'a> {
             count(view.lights().len(), "light", "lights"),
         ];
         each_kind!(|G| {
-            if G::KIND != tessera::kind::Kind::Triangle {
+            if G::KIND != tessera_core::kind::Kind::Triangle {
                 let kind = G::KIND;
                 let n = view.list::<G>().len();
                 others.push(count(n, kind.name(), kind.list().name()));
@@ -951,13 +955,13 @@ pub fn scene_source(desc: &SceneDesc, name: &str, krate: &str) -> Result<String,
 /// The source of a built-in scene baked for use inside the core
 /// (`core/src/builtin/baked/<name>.rs`): `text`, its scene file
 /// `scenes/<name>.toml`, baked with the crate path `crate`, and the text itself
-/// as the constant `SOURCE` (what [`tessera::builtin::Builtin::source`] returns:
+/// as the constant `SOURCE` (what [`tessera_core::builtin::Builtin::source`] returns:
 /// the core carries its built-in scenes' files without reading a file outside
 /// its own folder).
 ///
 /// # Errors
 /// The scene file's, as for rendering it (the message names the file).
-pub fn builtin_source(b: tessera::builtin::Builtin, text: &str) -> Result<String, String> {
+pub fn builtin_source(b: tessera_core::builtin::Builtin, text: &str) -> Result<String, String> {
     let name = format!("scenes/{}.toml", b.name());
     let desc = crate::file::parse(text, &name).map_err(|e| e.to_string())?;
     let mut out = scene_source(&desc, &name, "crate").map_err(|e| format!("{name}: {e}"))?;
@@ -989,7 +993,7 @@ mod tests {
     /// `TESSERA_BLESS=1` to write them after a deliberate change).
     #[test]
     fn the_cores_baked_scenes_are_current() {
-        for &b in tessera::builtin::Builtin::ALL {
+        for &b in tessera_core::builtin::Builtin::ALL {
             let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!(
                 "../core/src/builtin/baked/{}.rs",
                 b.name().replace('-', "_")
@@ -1310,8 +1314,8 @@ mod tests {
         }
         // A scene whose names all give their own constants lists none.
         let teapot = builtin_source(
-            tessera::builtin::Builtin::Teapot,
-            tessera::builtin::Builtin::Teapot.source(),
+            tessera_core::builtin::Builtin::Teapot,
+            tessera_core::builtin::Builtin::Teapot.source(),
         )
         .unwrap();
         assert!(!teapot.contains("Numbered"), "{teapot}");
@@ -1323,7 +1327,7 @@ mod tests {
             crate::escape("a\nb\u{202e}c \"d\""),
             "a\\u{a}b\\u{202e}c \"d\""
         );
-        let desc = crate::file::builtin_desc(tessera::builtin::Builtin::Teapot);
+        let desc = crate::file::builtin_desc(tessera_core::builtin::Builtin::Teapot);
         let scene = desc.to_core().unwrap();
         let baking = Baking {
             scene: &scene,
@@ -1366,12 +1370,15 @@ mod tests {
         }
         for (bad, why) in [
             ("fn", "\"fn\" is a Rust keyword, not a crate name"),
-            ("tessera::fn", "\"fn\" is a Rust keyword, not a module name"),
+            (
+                "tessera_core::fn",
+                "\"fn\" is a Rust keyword, not a module name",
+            ),
             ("::fn", "\"fn\" is a Rust keyword, not a crate name"),
             ("Self", "\"Self\" is a Rust keyword"),
             ("_", "\"_\" is a placeholder, not a crate name"),
             ("a::_", "\"_\" is a placeholder, not a module name"),
-            ("tessera::crate", "\"crate\" may only start a path"),
+            ("tessera_core::crate", "\"crate\" may only start a path"),
             ("::crate", "\"crate\" may only start a path"),
             ("::self", "\"self\" may only start a path"),
             ("a::self", "\"self\" may only start a path"),
@@ -1401,7 +1408,7 @@ mod tests {
             ("tes-sera", "\"tes-sera\" is not an identifier"),
             ("3d", "\"3d\" is not an identifier"),
             ("a:b", "\"a:b\" is not an identifier"),
-            ("tessera::{X}", "\"{X}\" is not an identifier"),
+            ("tessera_core::{X}", "\"{X}\" is not an identifier"),
             ("a b", "\"a b\" is not an identifier"),
             ("tesséra", "\"tesséra\" is not an identifier"),
             ("a\nb", "\"a\\nb\" is not an identifier"),

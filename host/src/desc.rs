@@ -8,13 +8,13 @@ pub use crate::kinds::{BoxDesc, PlaneDesc, SphereDesc, TriangleDesc};
 use crate::kinds::{HostKind, Listed, each_kind};
 use serde::Deserialize;
 use std::fmt;
-use tessera::Geometry;
-use tessera::kind::{KINDS, Kind};
-use tessera::{
+use tessera_core::Geometry;
+use tessera_core::kind::{KINDS, Kind};
+use tessera_core::{
     Camera, Color, Sampler, Scene, Vec3, geometry::Triangle, light::PointLight, material::Material,
     material::MaterialId, texture::Texture,
 };
-use tessera::{error::Field, error::List};
+use tessera_core::{error::Field, error::List};
 
 /// How many spheres the host scene holds.
 pub const MAX_SPHERES: usize = 1024;
@@ -32,7 +32,7 @@ pub const MAX_LIGHTS: usize = 64;
 
 /// The host's scene capacities: 1,024 of each geometry kind but the planes and
 /// the triangles.
-pub type HostCaps = tessera::capacities!(
+pub type HostCaps = tessera_core::capacities!(
     planes: MAX_PLANES,
     triangles: MAX_TRIANGLES,
     materials: MAX_MATERIALS,
@@ -46,10 +46,10 @@ pub type CoreScene = Scene<HostCaps>;
 const _: () = assert!(MAX_BOXES == MAX_SPHERES);
 
 /// A BVH for the host scene's triangles (`2 T` nodes: always enough).
-pub type HostBvh = tessera::bvh::Bvh<{ 2 * MAX_TRIANGLES }, MAX_TRIANGLES>;
+pub type HostBvh = tessera_core::bvh::Bvh<{ 2 * MAX_TRIANGLES }, MAX_TRIANGLES>;
 
 /// A BVH for the host scene's spheres.
-pub type HostSphereBvh = tessera::bvh::Bvh<{ 2 * MAX_SPHERES }, MAX_SPHERES>;
+pub type HostSphereBvh = tessera_core::bvh::Bvh<{ 2 * MAX_SPHERES }, MAX_SPHERES>;
 
 /// A scene file's core scene: its lists ([`CoreScene`]) and its meshes, indexed
 /// (shared vertices, `u16` faces, vertex normals when smooth) with a BVH each.
@@ -59,7 +59,7 @@ pub struct HostScene {
     meshes: Vec<HostMesh>,
 }
 
-/// A mesh of a [`HostScene`]: what a [`tessera::mesh::Mesh`] of it borrows.
+/// A mesh of a [`HostScene`]: what a [`tessera_core::mesh::Mesh`] of it borrows.
 #[derive(Clone, Copy)]
 pub struct MeshParts<'a> {
     /// The distinct vertices.
@@ -77,13 +77,14 @@ pub struct MeshParts<'a> {
 impl<'a> MeshParts<'a> {
     /// The core's mesh of these parts.
     #[must_use]
-    pub fn mesh(&self) -> tessera::mesh::Mesh<'a> {
-        let bvh = tessera::bvh::BakedBvh::new(self.bvh.nodes(), self.bvh.order(), self.bvh.reach());
-        tessera::mesh::Mesh::new(self.vertices, self.faces, self.normals, self.material, bvh)
+    pub fn mesh(&self) -> tessera_core::mesh::Mesh<'a> {
+        let bvh =
+            tessera_core::bvh::BakedBvh::new(self.bvh.nodes(), self.bvh.order(), self.bvh.reach());
+        tessera_core::mesh::Mesh::new(self.vertices, self.faces, self.normals, self.material, bvh)
     }
 }
 
-/// A mesh's data, which a [`tessera::mesh::Mesh`] borrows.
+/// A mesh's data, which a [`tessera_core::mesh::Mesh`] borrows.
 struct HostMesh {
     vertices: Vec<[f32; 3]>,
     faces: Vec<[u16; 3]>,
@@ -134,9 +135,10 @@ impl HostScene {
 
     /// Runs `f` with the scene's view: its meshes, and its triangles through a
     /// BVH when there are enough of them for it to pay
-    /// ([`tessera::SceneView::with_bvh`]).
-    pub fn with_view<R>(&self, f: impl FnOnce(&tessera::SceneView<'_>) -> R) -> R {
-        let meshes: Vec<tessera::mesh::Mesh<'_>> = self.mesh_parts().map(|m| m.mesh()).collect();
+    /// ([`tessera_core::SceneView::with_bvh`]).
+    pub fn with_view<R>(&self, f: impl FnOnce(&tessera_core::SceneView<'_>) -> R) -> R {
+        let meshes: Vec<tessera_core::mesh::Mesh<'_>> =
+            self.mesh_parts().map(|m| m.mesh()).collect();
         let view = self.scene.view();
         // Checked when the scene was made: cannot fail (if it did, the meshes
         // would be missing from the image, which every test would see).
@@ -147,7 +149,7 @@ impl HostScene {
         };
         // Built only where it pays; as below, it cannot fail, and the flat list
         // renders the same image.
-        let spheres = (view.spheres().len() >= tessera::bvh::SPHERE_CROSSOVER)
+        let spheres = (view.spheres().len() >= tessera_core::bvh::SPHERE_CROSSOVER)
             .then(|| {
                 let mut b = Box::new(HostSphereBvh::new());
                 b.build(view.spheres()).ok().map(|()| b)
@@ -157,7 +159,7 @@ impl HostScene {
             Some(b) => view.with_sphere_bvh(b).unwrap_or(view),
             None => view,
         };
-        if view.triangles().len() < tessera::bvh::CROSSOVER {
+        if view.triangles().len() < tessera_core::bvh::CROSSOVER {
             return f(&view);
         }
         let mut bvh = Box::new(HostBvh::new());
@@ -261,7 +263,7 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 pub const LISTS: [(&str, usize, List); 2 + KINDS] = {
     let mut out = [("material", MAX_MATERIALS, List::Materials); 2 + KINDS];
     out[1] = ("light", MAX_LIGHTS, List::Lights);
-    let capacities = <HostCaps as tessera::Capacities>::COUNTS.kinds();
+    let capacities = <HostCaps as tessera_core::Capacities>::COUNTS.kinds();
     let mut i = 0;
     while i < KINDS {
         let kind = Kind::ALL[i];
@@ -274,7 +276,7 @@ pub const LISTS: [(&str, usize, List); 2 + KINDS] = {
 /// The message for item number `count + 1` of a list that holds `capacity`:
 /// `too many spheres: the scene holds at most 1024` (the core's words).
 pub fn too_many(list: List, capacity: usize) -> String {
-    tessera::Error::CapacityExceeded { list, capacity }.to_string()
+    tessera_core::Error::CapacityExceeded { list, capacity }.to_string()
 }
 
 /// `SceneDesc`, with one list per geometry kind of the core's list.
@@ -352,7 +354,7 @@ macro_rules! scene_desc {
     };
 }
 
-tessera::__kinds!({ scene_desc });
+tessera_core::__kinds!({ scene_desc });
 
 /// How many of the numbers read as zero a description remembers by name (an OBJ
 /// file may hold millions; the loader shows a few and counts the rest).
@@ -672,7 +674,7 @@ fn c3(a: [f64; 3], what: &str) -> Result<Color, String> {
 }
 
 /// The message of a core error, with the offending value appended when known.
-fn describe(e: tessera::Error, value: Option<String>) -> String {
+fn describe(e: tessera_core::Error, value: Option<String>) -> String {
     match value {
         Some(v) => format!("{e}, got {v}"),
         None => e.to_string(),
@@ -680,7 +682,7 @@ fn describe(e: tessera::Error, value: Option<String>) -> String {
 }
 
 /// A core error about `item`, with the offending value appended when known.
-fn err(item: String, e: tessera::Error, value: Option<String>) -> DescError {
+fn err(item: String, e: tessera_core::Error, value: Option<String>) -> DescError {
     DescError {
         item,
         message: describe(e, value),
@@ -688,12 +690,12 @@ fn err(item: String, e: tessera::Error, value: Option<String>) -> DescError {
 }
 
 /// The field a core error is about, if it names one.
-fn field_of(e: tessera::Error) -> Option<Field> {
+fn field_of(e: tessera_core::Error) -> Option<Field> {
     match e {
-        tessera::Error::NotFinite(f)
-        | tessera::Error::ZeroLength(f)
-        | tessera::Error::NotPositive(f)
-        | tessera::Error::OutOfRange { field: f, .. } => Some(f),
+        tessera_core::Error::NotFinite(f)
+        | tessera_core::Error::ZeroLength(f)
+        | tessera_core::Error::NotPositive(f)
+        | tessera_core::Error::OutOfRange { field: f, .. } => Some(f),
         _ => None,
     }
 }
@@ -817,8 +819,8 @@ impl SceneDesc {
     }
 
     /// The render settings of the file.
-    pub fn settings(&self) -> Result<tessera::RenderSettings, DescError> {
-        let s = tessera::RenderSettings {
+    pub fn settings(&self) -> Result<tessera_core::RenderSettings, DescError> {
+        let s = tessera_core::RenderSettings {
             sampler: self.sampler()?,
             max_depth: self.render.depth,
             seed: self.render.seed,
@@ -838,8 +840,8 @@ impl SceneDesc {
     }
 
     /// The viewport of the file.
-    pub fn viewport(&self) -> tessera::Viewport {
-        tessera::Viewport::new(self.render.width, self.render.height)
+    pub fn viewport(&self) -> tessera_core::Viewport {
+        tessera_core::Viewport::new(self.render.width, self.render.height)
     }
 
     /// The index of the material called `name`.
@@ -849,8 +851,8 @@ impl SceneDesc {
 
     /// The camera's numbers in `f32`, as the core's [`Camera::try_new`] takes
     /// them (`look_at` made a direction), not yet checked by it: what a baked
-    /// scene keeps ([`tessera::BakedCamera`]).
-    pub fn camera_numbers(&self) -> Result<tessera::BakedCamera, DescError> {
+    /// scene keeps ([`tessera_core::BakedCamera`]).
+    pub fn camera_numbers(&self) -> Result<tessera_core::BakedCamera, DescError> {
         let c = &self.camera;
         let item = Item::new("camera");
         let position = item.v3(c.position, Field::CameraPosition)?;
@@ -863,7 +865,7 @@ impl SceneDesc {
             (None, Some(t)) => v3(t, "camera look_at").map_err(|m| item.fail(m))? - position,
             _ => return Err(item.fail("give exactly one of `forward` and `look_at`".into())),
         };
-        Ok(tessera::BakedCamera {
+        Ok(tessera_core::BakedCamera {
             position: position.to_array(),
             forward: forward.to_array(),
             up: up.to_array(),
@@ -880,8 +882,8 @@ impl SceneDesc {
         let n = self.camera_numbers()?;
         n.camera().map_err(|e| {
             let value = match e {
-                tessera::Error::NotPositive(_) => Some(show(&[c.near])),
-                tessera::Error::NearNotBeforeFar => {
+                tessera_core::Error::NotPositive(_) => Some(show(&[c.near])),
+                tessera_core::Error::NearNotBeforeFar => {
                     Some(format!("near {} far {}", num(c.near), num(c.far)))
                 }
                 _ => match field_of(e) {
@@ -981,9 +983,9 @@ impl SceneDesc {
                     .map_err(|e| item.refused(e))?;
             }
         });
-        if self.meshes.len() > tessera::mesh::MAX_MESHES {
-            let item = Item(format!("mesh {}", tessera::mesh::MAX_MESHES + 1));
-            return Err(item.fail(too_many(List::Meshes, tessera::mesh::MAX_MESHES)));
+        if self.meshes.len() > tessera_core::mesh::MAX_MESHES {
+            let item = Item(format!("mesh {}", tessera_core::mesh::MAX_MESHES + 1));
+            return Err(item.fail(too_many(List::Meshes, tessera_core::mesh::MAX_MESHES)));
         }
         let mut meshes = Vec::with_capacity(self.meshes.len());
         for (i, m) in self.meshes.iter().enumerate() {
@@ -1022,7 +1024,7 @@ impl SceneDesc {
             faces.push([a?, b?, c?]);
             let face_item = Item(format!("{} face {}", item.0, j + 1));
             let t = core_triangle(&face_item, &f.map(|i| w.positions[i]))?;
-            triangles.push(tessera::Primitive {
+            triangles.push(tessera_core::Primitive {
                 geometry: t,
                 material,
             });
@@ -1065,12 +1067,12 @@ impl Item {
     }
 
     /// The core refused this item; the offending value is `value`.
-    pub(crate) fn core(&self, e: tessera::Error, value: String) -> DescError {
+    pub(crate) fn core(&self, e: tessera_core::Error, value: String) -> DescError {
         err(self.0.clone(), e, Some(value))
     }
 
     /// The core refused this item, with no value to show (a full list, ...).
-    pub(crate) fn refused(&self, e: tessera::Error) -> DescError {
+    pub(crate) fn refused(&self, e: tessera_core::Error) -> DescError {
         err(self.0.clone(), e, None)
     }
 
@@ -1092,7 +1094,11 @@ impl Item {
 
 /// The value of the field a core error `e` names among `fields`, or `other` (the
 /// value shown with the message).
-pub(crate) fn value_for(e: tessera::Error, fields: &[(Field, &[f64])], other: &[f64]) -> String {
+pub(crate) fn value_for(
+    e: tessera_core::Error,
+    fields: &[(Field, &[f64])],
+    other: &[f64],
+) -> String {
     let f = field_of(e);
     let v = fields
         .iter()
@@ -1115,13 +1121,13 @@ fn core_light(item: &Item, l: &LightDesc) -> Result<PointLight, DescError> {
 }
 
 /// The core's triangle of `vertices`; refused as the core refuses it.
-pub fn core_triangle_of(vertices: &[[f64; 3]; 3]) -> Result<Triangle, tessera::Error> {
+pub fn core_triangle_of(vertices: &[[f64; 3]; 3]) -> Result<Triangle, tessera_core::Error> {
     match vertices.map(|p| f3(p, "")) {
         [Ok(pa), Ok(pb), Ok(pc)] => {
             let [pa, pb, pc] = [pa, pb, pc].map(|[x, y, z]| Vec3::new(x, y, z));
             Triangle::try_new(pa, pb, pc)
         }
-        _ => Err(tessera::Error::NotFinite(Field::TriangleVertex)),
+        _ => Err(tessera_core::Error::NotFinite(Field::TriangleVertex)),
     }
 }
 
@@ -1174,7 +1180,7 @@ fn core_texture(m: &MaterialDesc) -> Result<Texture, String> {
 /// The value of the texture key a core error `e` is about: `color [0.1, -1, 0]`
 /// for a Young texture's colour, `d 0 wavelength 5e-7 distance 3` for its
 /// spacing, the material's `color` when there is no texture.
-fn texture_value(m: &MaterialDesc, e: tessera::Error) -> String {
+fn texture_value(m: &MaterialDesc, e: tessera_core::Error) -> String {
     let is_color = field_of(e) == Some(Field::TextureColor);
     match &m.texture {
         None => show(&m.color),

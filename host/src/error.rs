@@ -9,7 +9,7 @@ use std::fmt;
 #[derive(Debug)]
 pub enum HostError {
     /// The core refused the scene, camera or settings.
-    Core(tessera::Error),
+    Core(tessera_core::Error),
     /// A tile size other than 8, 16 or 32.
     TileSize(usize),
     /// Writing the output failed.
@@ -120,8 +120,8 @@ impl fmt::Display for HostError {
 
 impl std::error::Error for HostError {}
 
-impl From<tessera::Error> for HostError {
-    fn from(e: tessera::Error) -> Self {
+impl From<tessera_core::Error> for HostError {
+    fn from(e: tessera_core::Error) -> Self {
         Self::Core(e)
     }
 }

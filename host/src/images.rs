@@ -7,7 +7,7 @@ use crate::{HostError, limits, output, png};
 use image::RgbImage;
 use std::io::{Seek, Write};
 use std::path::Path;
-use tessera::{
+use tessera_core::{
     Camera, RenderSettings, Renderer, SceneView, Tile, TileCoord, Viewport, trace::RayCount,
 };
 
@@ -68,7 +68,7 @@ fn one_tile<const N: usize>(
     renderer: &Renderer,
     across: usize,
     i: usize,
-) -> Result<(Tile<N>, RayCount), tessera::Error> {
+) -> Result<(Tile<N>, RayCount), tessera_core::Error> {
     let coord = TileCoord::new((i % across) as u16, (i / across) as u16);
     let mut tile = Tile::<N>::new();
     let mut rays = RayCount::default();
@@ -84,7 +84,7 @@ fn tiles_parallel<const N: usize>(
     across: usize,
     tiles: std::ops::Range<usize>,
     on_tile: &(dyn Fn() + Sync),
-) -> Result<Vec<(Tile<N>, RayCount)>, tessera::Error> {
+) -> Result<Vec<(Tile<N>, RayCount)>, tessera_core::Error> {
     use rayon::prelude::*;
     tiles
         .into_par_iter()
@@ -254,7 +254,7 @@ mod tests {
     use std::io::Cursor;
     use std::sync::Arc;
     use std::sync::atomic::{AtomicUsize, Ordering};
-    use tessera::builtin::Builtin;
+    use tessera_core::builtin::Builtin;
 
     /// What `write_png` wrote before it streamed: `image`'s encoder, whole image.
     fn image_png(img: &RgbImage) -> Vec<u8> {

@@ -60,6 +60,7 @@ pub mod reference;
 #[cfg(feature = "cli")]
 pub mod simulate;
 pub mod teapot;
+pub mod template;
 mod text;
 #[cfg(feature = "cli")]
 pub mod trade;

@@ -28,7 +28,9 @@
 //!   most [`MAX_GIF_DELAY_MS`] between frames.
 
 use crate::HostError;
-use tessera::{Camera, RenderSettings, Renderer, Sampler, SceneView, Viewport, trace::RayCount};
+use tessera_core::{
+    Camera, RenderSettings, Renderer, Sampler, SceneView, Viewport, trace::RayCount,
+};
 
 /// The most render threads.
 pub const MAX_THREADS: usize = 256;
@@ -261,8 +263,8 @@ impl Work {
         let mut levels: f64 = faces.iter().map(|&n| level(n)).sum();
         // As the host's scenes take hierarchies (desc::HostScene::with_view).
         for (n, crossover) in [
-            (spheres, tessera::bvh::SPHERE_CROSSOVER),
-            (triangles, tessera::bvh::CROSSOVER),
+            (spheres, tessera_core::bvh::SPHERE_CROSSOVER),
+            (triangles, tessera_core::bvh::CROSSOVER),
         ] {
             if n < crossover {
                 flat += n;
@@ -479,7 +481,7 @@ pub fn work_warning(what: &str, seconds: f64, work: &Work) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tessera::builtin::Builtin;
+    use tessera_core::builtin::Builtin;
 
     /// The bound of the costly fixture, by hand: 76,800 pixels x 4096 samples x
     /// (2^9 - 1) rays of a tree x (1 + 64) lights.

@@ -4,15 +4,19 @@
 //! tessera                                   # = tessera render: the default scene -> tessera.png
 //! tessera render [SCENE] -o out.png [--size WxH] [--tile N] [--sampler S] [--depth D] [--seed S] [--threads N]
 //! tessera compare [SCENE] [--heatmap diff.png] ...
+//! tessera diff A B [--heatmap diff.png]     # two image files (PNG, PPM) pixel for pixel
 //! tessera simulate [SCENE] [--color rgb565] [-o panel.png] [--orbit 36 -o orbit.gif]
 //! tessera trade [--scenes a,b] [--size WxH] [--runs N] [--reference] [--truth-dir DIR]
+//! tessera bake SCENE -o scene.rs [--crate PATH]
 //! tessera scenes                            # list the built-in scenes
+//! tessera completions bash|zsh|fish|elvish|powershell
+//! tessera man                               # the manual page, every command on one page
 //! ```
 //! SCENE is a built-in scene name or a `.toml` scene file.
 //!
 //! Outputs are written through a temporary file next to them and renamed, all at
-//! once when there are several; see `cli::OUTPUT_HELP` for what is refused. The
-//! commands live in [`cli`], one module each.
+//! once when there are several; `tessera --help` (from `cli::GENERAL`) says what is
+//! refused. The commands live in [`cli`], one module each.
 
 mod cli;
 

@@ -14,7 +14,7 @@
 use crate::desc::{Face, MAX_TRIANGLES, MeshDesc, core_triangle_of, num, too_many};
 use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
-use tessera::error::List;
+use tessera_core::error::List;
 
 /// The most OBJ text a scene reads, in bytes, all its meshes together: 16 MiB.
 /// The host's 8,192 triangles take about 1 MiB of OBJ text (with normals and
@@ -135,7 +135,7 @@ pub fn read(
                 ));
             };
             let face = [a, b, c];
-            if core_triangle_of(&face) == Err(tessera::Error::DegenerateTriangle) {
+            if core_triangle_of(&face) == Err(tessera_core::Error::DegenerateTriangle) {
                 degenerate += 1;
             } else if faces.len() == room {
                 return Err(format!(
@@ -425,21 +425,21 @@ mod tests {
         let (a, b) = (d.to_core().unwrap(), written.to_core().unwrap());
         let (mesh, list) = (a.mesh_parts().next().unwrap(), b.lists().view());
         assert_eq!(mesh.faces.len(), 20);
-        let faces: Vec<tessera::geometry::Triangle> = mesh
+        let faces: Vec<tessera_core::geometry::Triangle> = mesh
             .faces
             .iter()
             .map(|f| {
                 let [p, q, r] = f.map(|i| {
                     let [x, y, z] = mesh.vertices[usize::from(i)];
-                    tessera::Vec3::new(x, y, z)
+                    tessera_core::Vec3::new(x, y, z)
                 });
-                tessera::geometry::Triangle::try_new(p, q, r).unwrap()
+                tessera_core::geometry::Triangle::try_new(p, q, r).unwrap()
             })
             .collect();
-        let listed: Vec<tessera::geometry::Triangle> =
+        let listed: Vec<tessera_core::geometry::Triangle> =
             list.triangles().iter().map(|t| t.geometry).collect();
         assert_eq!(faces, listed);
-        let vp = tessera::Viewport::new(32, 24);
+        let vp = tessera_core::Viewport::new(32, 24);
         let render = |s: &crate::desc::HostScene| {
             s.with_view(|v| crate::render(v, s.camera(), vp, d.settings().unwrap(), 16))
                 .unwrap()

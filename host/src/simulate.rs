@@ -3,15 +3,18 @@
 //! 240x240 `Rgb565`), saved as PNG, or as an animated GIF of a camera orbit.
 
 use crate::HostError;
-use embedded_graphics_core::pixelcolor::{Gray8, PixelColor, Rgb555, Rgb565, Rgb888};
-use embedded_graphics_core::prelude::{Drawable, Size};
+use embedded_graphics::mono_font::{MonoTextStyleBuilder, ascii::FONT_6X10};
+use embedded_graphics::text::{Baseline, Text};
+use embedded_graphics_core::draw_target::DrawTarget;
+use embedded_graphics_core::pixelcolor::{Gray8, PixelColor, Rgb555, Rgb565, Rgb888, RgbColor};
+use embedded_graphics_core::prelude::{Drawable, Point, Size};
 use embedded_graphics_simulator::{OutputSettings, SimulatorDisplay};
 use image::RgbImage;
 use std::fmt;
 use std::io::Write;
 use std::str::FromStr;
-use tessera::display::{Drawing, TilePixel};
-use tessera::{Camera, Renderer, SceneView, Vec3, dither::Dither};
+use tessera_core::display::{DrawPixel, Drawing, TilePixel};
+use tessera_core::{Camera, Renderer, SceneView, Vec3, dither::Dither};
 
 /// The colour type of the simulated panel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -53,29 +56,69 @@ impl fmt::Display for PanelColor {
     }
 }
 
+/// The longest label [`simulate_labelled`] draws, in characters.
+pub const MAX_LABEL: usize = 64;
+
+/// Checks a label: at most [`MAX_LABEL`] characters, each printable ASCII (the
+/// font's).
+///
+/// # Errors
+/// What is wrong, naming the first character the font lacks.
+pub fn check_label(text: &str) -> Result<(), String> {
+    if let Some(c) = text.chars().find(|c| !(c.is_ascii_graphic() || *c == ' ')) {
+        return Err(format!(
+            "the label holds {c:?}, which its font (ASCII, 6x10) cannot draw"
+        ));
+    }
+    if text.len() > MAX_LABEL {
+        return Err(format!(
+            "the label is {} characters long, more than {MAX_LABEL}",
+            text.len()
+        ));
+    }
+    Ok(())
+}
+
+/// Draws `text` in white on black in the bottom-left corner of a frame `height`
+/// pixels high (6x10 pixels a character, 2 from the edges) onto `target`: a
+/// whole panel, or a tile (in frame coordinates, clipped to it).
+pub fn draw_label<D: DrawTarget>(target: &mut D, text: &str, height: u32) -> Result<(), D::Error>
+where
+    D::Color: From<Rgb888>,
+{
+    let style = MonoTextStyleBuilder::new()
+        .font(&FONT_6X10)
+        .text_color(D::Color::from(<Rgb888 as RgbColor>::WHITE))
+        .background_color(D::Color::from(<Rgb888 as RgbColor>::BLACK))
+        .build();
+    let bottom = i32::try_from(height).unwrap_or(i32::MAX).saturating_sub(2);
+    Text::with_baseline(text, Point::new(2, bottom), style, Baseline::Bottom).draw(target)?;
+    Ok(())
+}
+
 /// Draws `frame` onto a simulated panel of colour type `C` as the embedded-graphics
-/// drawable [`tessera::display::Drawing`] (tiles of N x N, one `fill_contiguous`
-/// each) and returns what the panel shows, as 8-bit RGB.
+/// drawable [`tessera_core::display::Drawing`] (tiles of N x N, one `fill_contiguous`
+/// each), `label` drawn over each tile before it is sent, and returns what the
+/// panel shows, as 8-bit RGB.
 fn panel<C, const N: usize>(
     scene: &SceneView<'_>,
     renderer: &Renderer,
     dither: Option<Dither>,
+    label: Option<&str>,
 ) -> Result<RgbImage, HostError>
 where
-    C: PixelColor + From<Rgb888> + Into<Rgb888> + TilePixel,
+    C: PixelColor + From<Rgb888> + Into<Rgb888> + TilePixel + DrawPixel<Color = C>,
 {
     let vp = renderer.viewport();
     let size = Size::new(u32::from(vp.width), u32::from(vp.height));
     let mut display =
         SimulatorDisplay::<C>::with_default_color(size, C::from(Rgb888::new(0, 0, 0)));
-    let Ok(()) = match dither {
-        None => Drawing::<C, N>::new(renderer, scene)
-            .dithered(Dither::None)
-            .draw(&mut display),
-        Some(d) => Drawing::<C, N>::new(renderer, scene)
-            .dithered(d)
-            .draw(&mut display),
-    };
+    let drawing = Drawing::<C, N>::new(renderer, scene).dithered(dither.unwrap_or(Dither::None));
+    let Ok(()) = drawing.draw_overlaid(&mut display, |tile| {
+        if let Some(text) = label {
+            let Ok(()) = draw_label(tile, text, size.height);
+        }
+    });
     let out = display.to_rgb_output_image(&OutputSettings::default());
     let buf = out.as_image_buffer();
     RgbImage::from_raw(buf.width(), buf.height(), buf.as_raw().to_vec())
@@ -94,7 +137,7 @@ pub fn simulate(
 
 /// [`simulate`] with tiles of `tile` pixels (8, 16 or 32), each pixel converted to
 /// the panel's colour with `dither` (`None`: `embedded-graphics`' own conversion;
-/// see [`tessera::dither::Dither`]).
+/// see [`tessera_core::dither::Dither`]).
 pub fn simulate_tiled(
     scene: &SceneView<'_>,
     renderer: &Renderer,
@@ -102,17 +145,37 @@ pub fn simulate_tiled(
     tile: usize,
     dither: Option<Dither>,
 ) -> Result<RgbImage, HostError> {
+    simulate_labelled(scene, renderer, color, tile, dither, None)
+}
+
+/// [`simulate_tiled`] with `label` ([`draw_label`]) drawn over each tile after
+/// it is rendered and before it is sent to the panel, as a firmware draws a
+/// label over the frame with no framebuffer.
+///
+/// # Errors
+/// A label [`check_label`] refuses, or the panel image's.
+pub fn simulate_labelled(
+    scene: &SceneView<'_>,
+    renderer: &Renderer,
+    color: PanelColor,
+    tile: usize,
+    dither: Option<Dither>,
+    label: Option<&str>,
+) -> Result<RgbImage, HostError> {
+    if let Some(text) = label {
+        check_label(text).map_err(HostError::Limit)?;
+    }
     with_tile_size!(tile, |N| match color {
-        PanelColor::Rgb565 => panel::<Rgb565, N>(scene, renderer, dither),
-        PanelColor::Rgb555 => panel::<Rgb555, N>(scene, renderer, dither),
-        PanelColor::Rgb888 => panel::<Rgb888, N>(scene, renderer, dither),
-        PanelColor::Gray8 => panel::<Gray8, N>(scene, renderer, dither),
+        PanelColor::Rgb565 => panel::<Rgb565, N>(scene, renderer, dither, label),
+        PanelColor::Rgb555 => panel::<Rgb555, N>(scene, renderer, dither, label),
+        PanelColor::Rgb888 => panel::<Rgb888, N>(scene, renderer, dither, label),
+        PanelColor::Gray8 => panel::<Gray8, N>(scene, renderer, dither, label),
     })
 }
 
 /// The cameras of an orbit of `frames` steps around the vertical (camera up) axis
 /// through `pivot`, starting at `camera`: all of them, or the first the core
-/// refuses (a position beyond [`tessera::error::MAX_EXTENT`]), as a
+/// refuses (a position beyond [`tessera_core::error::MAX_EXTENT`]), as a
 /// [`HostError::Scene`] whose item is the frame (`orbit frame 3 of 36`, numbered
 /// from 0 as the frames' files are) and whose message gives the position.
 pub fn orbit(camera: &Camera, pivot: Vec3, frames: u32) -> Result<Vec<Camera>, HostError> {
@@ -174,9 +237,9 @@ fn show(v: Vec3) -> String {
 /// The core's error if the camera's position or forward direction is not a ray
 /// (not finite): a camera built by [`Camera::try_new`] always is.
 pub fn pivot(scene: &SceneView<'_>, camera: &Camera) -> Result<Vec3, HostError> {
-    let ray =
-        tessera::trace::Ray::new(camera.position(), camera.forward()).map_err(HostError::Core)?;
-    let t = tessera::trace::first_hit(scene, &ray, camera.far())
+    let ray = tessera_core::trace::Ray::new(camera.position(), camera.forward())
+        .map_err(HostError::Core)?;
+    let t = tessera_core::trace::first_hit(scene, &ray, camera.far())
         .unwrap_or_else(|| (-camera.position()).dot(camera.forward()))
         .max(10.0 * camera.near());
     Ok(ray.at(t))
@@ -274,8 +337,8 @@ pub fn gif(frames: &[RgbImage], delay_ms: u32) -> Result<Vec<u8>, HostError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tessera::builtin::Builtin;
-    use tessera::{RenderSettings, Viewport};
+    use tessera_core::builtin::Builtin;
+    use tessera_core::{RenderSettings, Viewport};
 
     #[test]
     fn rgb565_panel_shows_the_tiles_quantised_to_565() {
@@ -291,6 +354,68 @@ mod tests {
             }
             let exact = simulate(view, &renderer, PanelColor::Rgb888).unwrap();
             assert_eq!(exact.as_raw(), host.as_raw());
+        })
+        .unwrap();
+    }
+
+    /// An `RgbImage` as a whole-frame target: the drawing a label makes over
+    /// the finished picture, for comparison.
+    struct Picture(RgbImage);
+
+    impl embedded_graphics_core::geometry::OriginDimensions for Picture {
+        fn size(&self) -> Size {
+            Size::new(self.0.width(), self.0.height())
+        }
+    }
+
+    impl DrawTarget for Picture {
+        type Color = Rgb888;
+        type Error = core::convert::Infallible;
+        fn draw_iter<I>(&mut self, pixels: I) -> Result<(), Self::Error>
+        where
+            I: IntoIterator<Item = embedded_graphics_core::Pixel<Rgb888>>,
+        {
+            for embedded_graphics_core::Pixel(p, c) in pixels {
+                let (Ok(x), Ok(y)) = (u32::try_from(p.x), u32::try_from(p.y)) else {
+                    continue;
+                };
+                if x < self.0.width() && y < self.0.height() {
+                    self.0.put_pixel(x, y, image::Rgb([c.r(), c.g(), c.b()]));
+                }
+            }
+            Ok(())
+        }
+    }
+
+    /// The label drawn over each tile (crossing tile columns and a tile row)
+    /// is the label drawn over the finished frame, for every tile size.
+    #[test]
+    fn a_label_over_the_tiles_is_the_label_over_the_frame() {
+        let b = Builtin::ChapterReflect;
+        b.with_scene(|view, cam| {
+            let renderer = Renderer::try_new(cam, Viewport::new(150, 40), b.settings()).unwrap();
+            let text = "frame 12 of 36: ray traced";
+            for tile in [8, 16, 32] {
+                let plain =
+                    simulate_tiled(view, &renderer, PanelColor::Rgb888, tile, None).unwrap();
+                let labelled =
+                    simulate_labelled(view, &renderer, PanelColor::Rgb888, tile, None, Some(text))
+                        .unwrap();
+                let mut want = Picture(plain.clone());
+                let Ok(()) = draw_label(&mut want, text, 40);
+                assert!(labelled == want.0, "tile {tile}");
+                let changed = plain
+                    .pixels()
+                    .zip(labelled.pixels())
+                    .filter(|(a, b)| a != b);
+                assert!(changed.count() > 500, "tile {tile}: no label drawn");
+            }
+            for bad in ["caf\u{e9}", "tab\there", &"x".repeat(65)] {
+                let e = simulate_labelled(view, &renderer, PanelColor::Rgb565, 16, None, Some(bad))
+                    .unwrap_err()
+                    .to_string();
+                assert!(e.contains("label"), "{bad:?}: {e}");
+            }
         })
         .unwrap();
     }

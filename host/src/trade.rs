@@ -14,8 +14,8 @@ use crate::desc::SceneDesc;
 use image::RgbImage;
 use std::path::Path;
 use std::time::Instant;
-use tessera::builtin::Builtin;
-use tessera::{RenderSettings, Renderer, Sampler, SceneView, Viewport, error::MAX_DEPTH};
+use tessera_core::builtin::Builtin;
+use tessera_core::{RenderSettings, Renderer, Sampler, SceneView, Viewport, error::MAX_DEPTH};
 
 /// One setting of the trade.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -195,7 +195,7 @@ pub const CONVERGED: RenderSettings = RenderSettings {
     sampler: Sampler::Stratified(16),
     max_depth: MAX_DEPTH,
     seed: 0x5eed,
-    encoding: tessera::Encoding::Srgb,
+    encoding: tessera_core::Encoding::Srgb,
 };
 
 /// The converged reference of a scene: the f64 renderer with [`CONVERGED`].
@@ -424,7 +424,7 @@ pub fn interference_study(
             sampler: Sampler::Prefiltered,
             max_depth: 0,
             seed: 0,
-            encoding: tessera::Encoding::Linear,
+            encoding: tessera_core::Encoding::Linear,
         };
         let truth = crate::reference::render(&desc, vp, &truth_settings)?.to_rgb8();
         let (_, amp, std) = row_stats(&truth, None, fp);
@@ -446,7 +446,7 @@ pub fn interference_study(
                 sampler,
                 max_depth: 0,
                 seed: 5,
-                encoding: tessera::Encoding::Linear,
+                encoding: tessera_core::Encoding::Linear,
             };
             let img = scene.with_view(|v| crate::render(v, scene.camera(), vp, settings, 16))?;
             let (rmse, amplitude, row_std) = row_stats(&img, Some(&truth), fp);

@@ -22,13 +22,13 @@ fn no_arguments_renders_the_default_scene_and_says_where() {
     let img = image::open(dir.join("tessera.png")).unwrap().to_rgb8();
     assert_eq!(img.dimensions(), (320, 240));
     // Same bytes as the library renders.
-    let want = tessera::builtin::Builtin::DEFAULT
+    let want = tessera_core::builtin::Builtin::DEFAULT
         .with_scene(|v, c| {
             tessera_host::render(
                 v,
                 c,
-                tessera::Viewport::new(320, 240),
-                tessera::builtin::Builtin::DEFAULT.settings(),
+                tessera_core::Viewport::new(320, 240),
+                tessera_core::builtin::Builtin::DEFAULT.settings(),
                 16,
             )
         })
@@ -57,21 +57,21 @@ fn encoding_srgb_writes_the_librarys_srgb_render() {
         .unwrap();
     assert!(out.status.success(), "stderr: {}", text(&out.stderr));
     let img = image::open(dir.join("s.png")).unwrap().to_rgb8();
-    let b = tessera::builtin::Builtin::DEFAULT;
+    let b = tessera_core::builtin::Builtin::DEFAULT;
     let render = |encoding| {
         b.with_scene(|v, c| {
-            let settings = tessera::RenderSettings {
+            let settings = tessera_core::RenderSettings {
                 encoding,
                 ..b.settings()
             };
-            tessera_host::render(v, c, tessera::Viewport::new(64, 48), settings, 16)
+            tessera_host::render(v, c, tessera_core::Viewport::new(64, 48), settings, 16)
         })
         .unwrap()
         .unwrap()
     };
     let (srgb, linear) = (
-        render(tessera::Encoding::Srgb),
-        render(tessera::Encoding::Linear),
+        render(tessera_core::Encoding::Srgb),
+        render(tessera_core::Encoding::Linear),
     );
     assert_eq!(img.as_raw(), srgb.as_raw());
     let sum = |i: &image::RgbImage| i.as_raw().iter().map(|&x| u64::from(x)).sum::<u64>();
@@ -330,17 +330,23 @@ fn simulate_saves_what_a_240x240_rgb565_panel_shows() {
     );
     let shown = image::open(dir.join("panel.png")).unwrap().to_rgb8();
     assert_eq!(shown.dimensions(), (240, 240));
-    let b = tessera::builtin::Builtin::DEFAULT;
+    let b = tessera_core::builtin::Builtin::DEFAULT;
     let host = b
         .with_scene(|v, c| {
-            tessera_host::render(v, c, tessera::Viewport::new(240, 240), b.settings(), 16)
+            tessera_host::render(
+                v,
+                c,
+                tessera_core::Viewport::new(240, 240),
+                b.settings(),
+                16,
+            )
         })
         .unwrap()
         .unwrap();
     // Dithered by default (bayer4 at each pixel's position).
     for ((x, y, s), h) in shown.enumerate_pixels().zip(host.pixels()) {
-        let p = tessera::color::Rgb8::new(h[0], h[1], h[2]);
-        let (r, g, b) = tessera::dither::Dither::Bayer4.rgb565(p, x, y);
+        let p = tessera_core::color::Rgb8::new(h[0], h[1], h[2]);
+        let (r, g, b) = tessera_core::dither::Dither::Bayer4.rgb565(p, x, y);
         let want: Rgb888 = Rgb565::new(r, g, b).into();
         assert_eq!(s.0, [want.r(), want.g(), want.b()], "({x}, {y})");
     }
@@ -404,21 +410,33 @@ fn compare_exits_non_zero_when_the_bar_is_not_met() {
     assert_eq!(image::open(dir.join("h.png")).unwrap().width(), 64);
 }
 
+/// How outputs are written, what inputs may be, the limits and the exit status:
+/// said once, in `tessera --help` and the manual page, which each command's own
+/// `--help` points to.
 #[test]
 fn the_help_says_how_outputs_are_written() {
+    let flat = |s: &str| s.split_whitespace().collect::<Vec<_>>().join(" ");
+    let top = flat(&text(&bin().arg("--help").output().unwrap().stdout));
+    let man = text(&bin().arg("man").output().unwrap().stdout);
+    let man = flat(&man.replace(r"\-", "-").replace(r"\*(Aq", "'"));
+    for key in [
+        "A symbolic link is followed: the file it names is written",
+        "a link to a folder is refused",
+        "every file the command reads: the scene file and its meshes' OBJ files",
+        "--threads at most 256",
+        "a FIFO, a device, a socket or a folder is refused at once",
+        "when compare's accuracy bar is not met",
+    ] {
+        assert!(top.contains(key), "tessera --help lacks {key:?}: {top}");
+        assert!(man.contains(key), "tessera man lacks {key:?}: {man}");
+    }
     for cmd in ["render", "compare", "simulate", "bake"] {
         let out = bin().args([cmd, "--help"]).output().unwrap();
-        let help = text(&out.stdout).replace('\n', " ");
-        for key in [
-            "A symbolic link is followed: the file it names is written",
-            "a link to a folder is refused",
-            "every file the command reads: the scene file and its meshes' OBJ files",
-            "--threads at most 256",
-            "a FIFO, a device, a socket or a folder is refused at once",
-            "when compare's accuracy bar is not met",
-        ] {
-            assert!(help.contains(key), "{cmd} --help lacks {key:?}: {help}");
-        }
+        let help = flat(&text(&out.stdout));
+        assert!(
+            help.contains("output files, inputs, limits, exit status): `tessera --help`"),
+            "{cmd} --help does not say where: {help}"
+        );
     }
 }
 

@@ -28,10 +28,10 @@ use mipidsi::options::{ColorInversion, ColorOrder, Orientation, Rotation};
 use std::cell::RefCell;
 use std::convert::Infallible;
 use std::rc::Rc;
-use tessera::builtin::Builtin;
-use tessera::display::Drawing;
-use tessera::dither::Dither;
-use tessera::{Renderer, Viewport};
+use tessera_core::builtin::Builtin;
+use tessera_core::display::Drawing;
+use tessera_core::dither::Dither;
+use tessera_core::{Renderer, Viewport};
 
 // ---------------------------------------------------------------------------------
 // The fake hardware: SPI device, DC pin, reset pin and delay share one event log.

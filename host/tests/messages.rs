@@ -26,7 +26,7 @@ fn usage_error(args: &[&str], want: &[&str]) -> String {
 
 #[test]
 fn a_depth_beyond_the_maximum_is_a_usage_error_naming_the_range() {
-    let max = tessera::error::MAX_DEPTH.to_string();
+    let max = tessera_core::error::MAX_DEPTH.to_string();
     for cmd in ["render", "compare", "simulate"] {
         usage_error(
             &[cmd, "--depth", "9"],
@@ -367,7 +367,7 @@ fn a_costly_scene_is_warned_about_before_the_work_starts() {
 #[test]
 fn no_scene_of_the_repository_is_warned_about() {
     let dir = scratch("not-costly");
-    let mut scenes: Vec<String> = tessera::builtin::Builtin::ALL
+    let mut scenes: Vec<String> = tessera_core::builtin::Builtin::ALL
         .iter()
         .map(|b| b.name().to_string())
         .collect();
@@ -482,8 +482,8 @@ fn obj_faces_are_bounded_before_they_are_parsed() {
 fn a_cached_reference_that_is_not_a_regular_file_is_refused() {
     use std::process::Stdio;
     let dir = scratch("truth-fifo");
-    let b = tessera::builtin::Builtin::ChapterDirect;
-    let vp = tessera::Viewport::new(16, 12);
+    let b = tessera_core::builtin::Builtin::ChapterDirect;
+    let vp = tessera_core::Viewport::new(16, 12);
     let desc = tessera_host::file::builtin_desc(b);
     let name = tessera_host::trade::truth_file_name(b.name(), &desc, vp);
     std::fs::create_dir(dir.join("truth")).unwrap();

@@ -12,12 +12,18 @@ mod cli;
 #[cfg(feature = "cli")]
 mod common;
 #[cfg(feature = "cli")]
+mod diff;
+#[cfg(feature = "cli")]
 mod display_driver;
+#[cfg(feature = "cli")]
+mod generated;
 #[cfg(feature = "cli")]
 mod limits;
 mod lite_deps;
 #[cfg(feature = "cli")]
 mod messages;
+#[cfg(feature = "cli")]
+mod new;
 #[cfg(feature = "cli")]
 mod outputs;
 #[cfg(feature = "cli")]

@@ -16,8 +16,8 @@
 
 use crate::firmware::{self, CORTEX_M4F, Core, Run};
 use std::path::PathBuf;
-use tessera::Sampler;
-use tessera::builtin::Builtin;
+use tessera_core::Sampler;
+use tessera_core::builtin::Builtin;
 
 /// A count may rise by this many percent over the baseline before the test fails
 /// (and a fall by more gets a note).

@@ -183,7 +183,7 @@ mod tests {
                    110,899,701 (100.0%)  PROGRAM TOTALS\n\
                    --------\n\
                    Ir                   file:function\n\
-                   37,281,076 (33.62%)  ???:<tessera::geometry::sphere::Sphere as tessera::geometry::Shape>::intersect [/x/tessera]\n\
+                   37,281,076 (33.62%)  ???:<tessera_core::geometry::sphere::Sphere as tessera_core::geometry::Shape>::intersect [/x/tessera]\n\
                    \x20  604,657 ( 0.55%)  ./string/memmove.S:__memcpy_avx [/usr/lib/libc.so.6]\n";
         let f = parse_annotate(ann);
         assert_eq!(f.len(), 2);
@@ -192,7 +192,7 @@ mod tests {
         assert_eq!(f[0].file, "???");
         assert_eq!(
             f[0].function,
-            "<tessera::geometry::sphere::Sphere as tessera::geometry::Shape>::intersect"
+            "<tessera_core::geometry::sphere::Sphere as tessera_core::geometry::Shape>::intersect"
         );
         assert_eq!(
             (f[1].file.as_str(), f[1].function.as_str()),

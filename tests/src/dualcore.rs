@@ -13,7 +13,7 @@ use crate::firmware::{self, Core, TempDir, field, number};
 use crate::profile;
 use image::RgbImage;
 use std::path::{Path, PathBuf};
-use tessera::builtin::Builtin;
+use tessera_core::builtin::Builtin;
 
 /// The firmware's target.
 pub const TARGET: &str = "thumbv8m.main-none-eabihf";
@@ -145,7 +145,7 @@ pub struct Output {
 /// The host build of the core's frame of `b`: the scene built in RAM, its own
 /// settings, the firmware's size and tiles (what both cores' pixels must equal).
 pub fn host(b: Builtin) -> Result<RgbImage, String> {
-    let vp = tessera::Viewport::new(SIZE, SIZE);
+    let vp = tessera_core::Viewport::new(SIZE, SIZE);
     b.with_scene(|view, cam| tessera_host::render(view, cam, vp, b.settings(), TILE))
         .map_err(|e| format!("{}: {e}", b.name()))?
         .map_err(|e| format!("{}: {e}", b.name()))

@@ -268,7 +268,7 @@ fn charge(map: &mut HashMap<String, FunctionCost>, fr: &[Frame], k: usize, i: &I
 /// as core::iter::traits::iterator::Iterator>::next` -> `<Iter<T> as Iterator>::next`),
 /// an inherent impl block named by its type (`shade::<impl scene::SceneView>::trace`
 /// -> `SceneView::trace`), and free functions kept with their module
-/// (`tessera::math::max` -> `math::max`).
+/// (`tessera_core::math::max` -> `math::max`).
 #[must_use]
 pub fn short_name(name: &str) -> String {
     let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
@@ -342,7 +342,7 @@ mod tests {
     fn short_names() {
         for (long, short) in [
             ("geometry::sphere::Sphere::roots", "Sphere::roots"),
-            ("tessera::math::max", "math::max"),
+            ("tessera_core::math::max", "math::max"),
             ("shade::nearest_in", "shade::nearest_in"),
             (
                 "<geometry::sphere::Sphere as geometry::Shape>::intersect",
@@ -353,7 +353,7 @@ mod tests {
                 "<Iter<T> as Iterator>::next",
             ),
             (
-                "tessera::shade::<impl tessera::scene::SceneView>::trace_footprint",
+                "tessera_core::shade::<impl tessera_core::scene::SceneView>::trace_footprint",
                 "SceneView::trace_footprint",
             ),
             (

@@ -530,12 +530,12 @@ impl SqrtReport {
     pub fn host() -> Self {
         let inputs = || sqrt_check::inputs();
         let wrong = inputs()
-            .filter(|&x| !sqrt_check::correctly_rounded(x, tessera::testing::sqrt(x)))
+            .filter(|&x| !sqrt_check::correctly_rounded(x, tessera_core::testing::sqrt(x)))
             .count();
         Self {
             cases: inputs().count() as u64,
             wrong: wrong as u64,
-            hash: sqrt_check::hash(inputs().map(tessera::testing::sqrt)),
+            hash: sqrt_check::hash(inputs().map(tessera_core::testing::sqrt)),
         }
     }
 }
@@ -575,10 +575,10 @@ pub use runs::{Run, SceneRef, parse as parse_run};
 impl SceneRef {
     /// The scene's own settings (a built-in scene's, or the defaults).
     #[must_use]
-    pub fn settings(self) -> tessera::RenderSettings {
+    pub fn settings(self) -> tessera_core::RenderSettings {
         match self {
             Self::Builtin(b) | Self::Baked(b) => b.settings(),
-            Self::Extreme(_) => tessera::RenderSettings::default(),
+            Self::Extreme(_) => tessera_core::RenderSettings::default(),
         }
     }
 }
@@ -1010,8 +1010,8 @@ pub fn memory_regions(path: &Path) -> Result<(u64, u64), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tessera::Sampler;
-    use tessera::builtin::Builtin;
+    use tessera_core::Sampler;
+    use tessera_core::builtin::Builtin;
 
     /// Every run the reports and tests send reads back as itself: the run list's
     /// writer and reader agree.
@@ -1025,7 +1025,7 @@ mod tests {
                 (Sampler::Random(5), 32, 7),
                 (b.settings().sampler, 16, 0),
             ] {
-                for encoding in [tessera::Encoding::Srgb, tessera::Encoding::Linear] {
+                for encoding in [tessera_core::Encoding::Srgb, tessera_core::Encoding::Linear] {
                     runs.push(Run {
                         sampler,
                         tile,
@@ -1049,9 +1049,9 @@ mod tests {
         // The encoding: absent is the default (srgb), named in any case, and
         // nothing after it.
         let srgb = parse_run("chapter-reflect centre 1 16 8 8 0").unwrap();
-        assert_eq!(srgb.encoding, tessera::Encoding::Srgb);
+        assert_eq!(srgb.encoding, tessera_core::Encoding::Srgb);
         let linear = parse_run("chapter-reflect centre 1 16 8 8 0 LINEAR").unwrap();
-        assert_eq!(linear.encoding, tessera::Encoding::Linear);
+        assert_eq!(linear.encoding, tessera_core::Encoding::Linear);
         assert_eq!(
             parse_run("chapter-reflect centre 1 16 8 8 0 gamma"),
             Err("bad encoding: linear or srgb")

@@ -43,7 +43,7 @@ pub mod nofpu;
 pub mod random_scene;
 
 use std::path::PathBuf;
-use tessera::{
+use tessera_core::{
     Camera, Color, Scene, Vec3, geometry::Sphere, light::PointLight, material::Material,
 };
 
@@ -56,7 +56,10 @@ pub fn inside_sphere(
     intensity: f32,
     diffuse: f32,
     color: Color,
-) -> Result<Scene<tessera::capacities!(spheres: 1, materials: 1, lights: 1)>, tessera::Error> {
+) -> Result<
+    Scene<tessera_core::capacities!(spheres: 1, materials: 1, lights: 1)>,
+    tessera_core::Error,
+> {
     inside_sphere_at(
         Vec3::new(0.25, -0.5, 0.75) * r,
         r,
@@ -73,7 +76,10 @@ pub fn inside_sphere_at(
     intensity: f32,
     diffuse: f32,
     color: Color,
-) -> Result<Scene<tessera::capacities!(spheres: 1, materials: 1, lights: 1)>, tessera::Error> {
+) -> Result<
+    Scene<tessera_core::capacities!(spheres: 1, materials: 1, lights: 1)>,
+    tessera_core::Error,
+> {
     let cam = Camera::try_new(
         center,
         Vec3::new(0.3, -0.2, -1.0),

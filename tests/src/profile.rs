@@ -291,7 +291,7 @@ mod tests {
     #[test]
     fn counts_agree_within_the_tolerance_per_tile() {
         // 64x64 in tiles of 16: 16 tiles, 1,280 instructions allowed either way.
-        let run = Run::of(tessera::builtin::Builtin::ChapterDirect, 64, 64);
+        let run = Run::of(tessera_core::builtin::Builtin::ChapterDirect, 64, 64);
         assert_eq!(tiles(&run), 16);
         assert_eq!(agree(&run, 101_280, 100_000), Ok(1280));
         assert_eq!(agree(&run, 100_000, 101_280), Ok(-1280));

@@ -8,8 +8,8 @@
 
 use proptest::prelude::*;
 use std::marker::PhantomData;
-use tessera::Capacities;
-use tessera::{
+use tessera_core::Capacities;
+use tessera_core::{
     Camera, Color, Encoding, RenderSettings, Sampler, Scene, Vec3, error::MAX_COLOR,
     error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb, geometry::Cylinder, geometry::Disk,
     geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material,
@@ -337,7 +337,7 @@ impl Values {
 
 /// Random recipes of `values` for a `Scene<C>` (see [`Recipe`]).
 pub fn recipe<C: Capacities>(values: Values) -> impl Strategy<Value = Recipe<C>> {
-    let tessera::kind::Counts {
+    let tessera_core::kind::Counts {
         spheres: s,
         planes: p,
         triangles: t,

@@ -10,7 +10,7 @@
 //! stratified render's, the others the centre render's.
 
 use image::RgbImage;
-use tessera::{
+use tessera_core::{
     Camera, Color, RenderSettings, Sampler, Scene, Tile, TileCoord, Vec3, Viewport,
     geometry::Plane, geometry::Sphere, light::PointLight, material::Material, trace::RayCount,
 };
@@ -24,8 +24,8 @@ pub(crate) const H: u16 = 34;
 /// horizon: every lit floor pixel is several steps above the shadow's level);
 /// one light. No texture: the adaptive sampler's centre ray (prefiltered) is
 /// the centre sampler's. (The sparse sampler's tests use it too.)
-pub(crate) fn scene() -> Scene<tessera::capacities!(spheres: 1, planes: 1, materials: 2, lights: 1)>
-{
+pub(crate) fn scene()
+-> Scene<tessera_core::capacities!(spheres: 1, planes: 1, materials: 2, lights: 1)> {
     let cam = Camera::try_new(
         Vec3::new(0.0, 5.0, 4.0),
         Vec3::new(0.0, -5.0, -4.5),
@@ -67,7 +67,7 @@ fn render(sampler: Sampler) -> RgbImage {
         sampler,
         max_depth: 0,
         seed: 3,
-        encoding: tessera::Encoding::Linear,
+        encoding: tessera_core::Encoding::Linear,
     };
     let renderer = s.renderer(Viewport::new(W, H), settings).unwrap();
     render_tiles::<16>(&s.view(), &renderer, None).unwrap()
@@ -157,7 +157,7 @@ fn traces_the_tiles_and_their_apron_once_then_only_the_refined_samples() {
         sampler: Sampler::Adaptive { k, threshold: 255 },
         max_depth: 0,
         seed: 3,
-        encoding: tessera::Encoding::Linear,
+        encoding: tessera_core::Encoding::Linear,
     };
     let renderer = s.renderer(Viewport::new(W, H), settings).unwrap();
     let (across, down) = renderer.tile_grid(tile);
@@ -199,7 +199,7 @@ fn frame_pixels_match_the_tiles() {
                     sampler,
                     max_depth: 0,
                     seed: 3,
-                    encoding: tessera::Encoding::Linear,
+                    encoding: tessera_core::Encoding::Linear,
                 },
             )
             .unwrap();

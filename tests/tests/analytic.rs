@@ -1,6 +1,6 @@
 //! Scenes whose every pixel has a known value.
 
-use tessera::{Color, Encoding, RenderSettings, Sampler, Viewport};
+use tessera_core::{Color, Encoding, RenderSettings, Sampler, Viewport};
 use tessera_tests::inside_sphere;
 
 /// The 8-bit value of `v` (linear, clamped, rounded), computed independently.

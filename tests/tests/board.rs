@@ -1,10 +1,11 @@
 //! The board example (`examples/blackpill-st7789`, an STM32F411 "Black Pill" with an
 //! ST7789 panel): it builds and links for the Cortex-M4F within the chip's memory,
-//! and its README's sizes are those of the linked ELF.
+//! and its README's sizes are those of the linked ELF (its default build, with the
+//! feature `defmt`).
 
 use std::path::PathBuf;
 use tessera_tests::firmware::{self, Sizes};
-use tessera_tests::readme::{figure_after, table_figure, within};
+use tessera_tests::readme::{figure_after, number, table_figure, within};
 use tessera_tests::thousands;
 
 fn example() -> PathBuf {
@@ -35,7 +36,7 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
     // It renders the teapot from flash: the baked mesh and BVH are in .rodata.
     let mesh = {
         use std::mem::size_of_val;
-        use tessera::builtin::baked::teapot as t;
+        use tessera_core::builtin::baked::teapot as t;
         size_of_val(&t::MESH0_VERTICES)
             + size_of_val(&t::MESH0_NORMALS)
             + size_of_val(&t::MESH0_FACES)
@@ -63,6 +64,7 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
         (".rodata", s.rodata),
         (".data", s.data),
         (".bss", s.bss),
+        (".uninit", s.uninit),
     ] {
         expect(section, table_figure(&readme, section), truth);
     }
@@ -70,9 +72,21 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
     expect("flash", said_flash, s.flash());
     expect(
         "static RAM",
-        figure_after(&readme, "- **Static RAM** (`.data` + `.bss`): "),
+        figure_after(&readme, "- **Static RAM** (`.data` + `.bss` + `.uninit`): "),
         s.ram(),
     );
+    // The llvm-size row of the default build: Berkeley text (flash less
+    // `.data`), data, bss (with `.uninit`) and flash.
+    let row = row_figures(&readme, "| default (`defmt`) |");
+    let truth = [s.flash() - s.data, s.data, s.bss + s.uninit, s.flash()];
+    for (i, (what, truth)) in ["text", "data", "bss", "flash"]
+        .iter()
+        .zip(truth)
+        .enumerate()
+    {
+        let said = row.as_ref().and_then(|r| r.get(i).copied());
+        expect(&format!("llvm-size {what}"), said, truth);
+    }
     // The README's flash figure in KiB and per cent is its bytes'.
     if let Some(f) = said_flash {
         let kib = format!(
@@ -90,4 +104,12 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
         "examples/blackpill-st7789/README.md is not the linked ELF ({}): {wrong:#?}",
         elf.display()
     );
+}
+
+/// The figures of the README's table row that starts with `start`: the number
+/// starting each cell after the first.
+fn row_figures(readme: &str, start: &str) -> Option<Vec<u64>> {
+    let line = readme.lines().find(|l| l.starts_with(start))?;
+    let inner = line.trim().strip_prefix('|')?.strip_suffix('|')?;
+    inner.split('|').skip(1).map(number).collect()
 }

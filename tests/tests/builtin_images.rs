@@ -2,8 +2,8 @@
 //! `target/test-images/` to be looked at), with checks of what each must show.
 
 use image::RgbImage;
-use tessera::builtin::Builtin;
-use tessera::{Encoding, RenderSettings, Viewport};
+use tessera_core::builtin::Builtin;
+use tessera_core::{Encoding, RenderSettings, Viewport};
 use tessera_tests::output_dir;
 
 /// `b` with its own settings (sRGB, what a viewer sees), for the PNG files.

@@ -4,7 +4,7 @@
 //! is the exact coverage of each pixel by the half-plane, computed analytically.
 //! Deterministic: fixed seeds, no timing.
 
-use tessera::{
+use tessera_core::{
     Camera, Color, RenderSettings, Renderer, Sampler, Scene, Vec3, Viewport, geometry::Triangle,
     material::Material,
 };
@@ -29,7 +29,7 @@ fn world(px: f64, py: f64) -> Vec3 {
     )
 }
 
-fn scene() -> Scene<tessera::capacities!(triangles: 1, materials: 1)> {
+fn scene() -> Scene<tessera_core::capacities!(triangles: 1, materials: 1)> {
     let cam = Camera::try_new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, 1.0, 100.0).unwrap();
     let mut s = Scene::new(cam);
     s.set_ambient(Color::WHITE).unwrap();
@@ -104,7 +104,7 @@ fn stratified_converges_faster_than_random_on_edges() {
                     sampler,
                     max_depth: 0,
                     seed,
-                    encoding: tessera::Encoding::Linear,
+                    encoding: tessera_core::Encoding::Linear,
                 },
             )
             .unwrap()

@@ -10,9 +10,9 @@
 use image::RgbImage;
 use proptest::prelude::*;
 use std::path::Path;
-use tessera::builtin::Builtin;
-use tessera::testing::{BuiltinHooks as _, ViewHooks as _};
-use tessera::{
+use tessera_core::builtin::Builtin;
+use tessera_core::testing::{BuiltinHooks as _, ViewHooks as _};
+use tessera_core::{
     Camera, Color, RenderSettings, Renderer, Sampler, Scene, SceneView, Vec3, Viewport, bvh::Bvh,
     geometry::Plane, geometry::Triangle, light::PointLight, material::Material,
 };
@@ -170,7 +170,7 @@ proptest! {
 
     #[test]
     fn random_scenes_render_the_same_culled_or_not(
-        r in recipe::<tessera::capacities!(spheres: 6, planes: 3, triangles: 8, boxes: 4, cylinders: 3, disks: 3, materials: 4, lights: 4)>(Values::Tame)
+        r in recipe::<tessera_core::capacities!(spheres: 6, planes: 3, triangles: 8, boxes: 4, cylinders: 3, disks: 3, materials: 4, lights: 4)>(Values::Tame)
     ) {
         let Some(scene) = r.build() else {
             return Ok(());
@@ -216,7 +216,7 @@ enum Copies {
 /// BVHs ([`same_culled_or_not`]): the same bytes.
 fn coincident(copies: Copies, plane_point: Vec3, normal: Vec3) {
     type TieScene = Scene<
-        tessera::capacities!(spheres: 300, planes: 1, triangles: 300, materials: 8, lights: 1),
+        tessera_core::capacities!(spheres: 300, planes: 1, triangles: 300, materials: 8, lights: 1),
     >;
     let cam = Camera::look_at(Vec3::new(0.0, 0.0, 12.0), Vec3::ZERO, Vec3::Y, 0.1, 100.0).unwrap();
     let mut s = Box::new(TieScene::new(cam));
@@ -262,7 +262,8 @@ fn coincident(copies: Copies, plane_point: Vec3, normal: Vec3) {
                 s.add_triangle(t, colours[m]).unwrap();
             }
             Copies::Spheres => {
-                let ball = tessera::geometry::Sphere::try_new(Vec3::new(x, y, 0.0), 0.45).unwrap();
+                let ball =
+                    tessera_core::geometry::Sphere::try_new(Vec3::new(x, y, 0.0), 0.45).unwrap();
                 s.add_sphere(ball, colours[m]).unwrap();
             }
         }
@@ -271,7 +272,7 @@ fn coincident(copies: Copies, plane_point: Vec3, normal: Vec3) {
         sampler: Sampler::Centre,
         max_depth: 2,
         seed: 1,
-        encoding: tessera::Encoding::Linear,
+        encoding: tessera_core::Encoding::Linear,
     };
     let renderer = s.renderer(Viewport::new(96, 72), settings).unwrap();
     let what = format!("coincident {copies:?}, plane at {plane_point:?}");

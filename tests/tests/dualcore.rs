@@ -9,7 +9,7 @@
 //! target; without them they fail and say to run `bash tests/run-all.sh`.
 
 use std::sync::OnceLock;
-use tessera::builtin::Builtin;
+use tessera_core::builtin::Builtin;
 use tessera_tests::dualcore::{self, Output};
 use tessera_tests::firmware;
 

@@ -4,8 +4,8 @@
 //! `cargo run -p tessera-tests --release --bin extremes-report` prints the figures
 //! over larger sweeps. Case 12 (firmware under qemu) lives with the firmware tests.
 
-use tessera::error::Field;
-use tessera::{
+use tessera_core::error::Field;
+use tessera_core::{
     Camera, Color, Error, Vec3, error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb,
     geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight,
 };

@@ -6,7 +6,7 @@
 //! `tessera_tests::random_scene`).
 
 use proptest::prelude::*;
-use tessera::Viewport;
+use tessera_core::Viewport;
 use tessera_host::render_tiles;
 use tessera_tests::random_scene::{Values, recipe};
 
@@ -23,7 +23,7 @@ proptest! {
 
     #[test]
     fn accepted_scenes_give_finite_colours_whatever_the_tile_size(
-        r in recipe::<tessera::capacities!(spheres: 4, planes: 3, triangles: 3, boxes: 3, cylinders: 3, disks: 3, materials: 4, lights: 4)>(Values::Wild)
+        r in recipe::<tessera_core::capacities!(spheres: 4, planes: 3, triangles: 3, boxes: 3, cylinders: 3, disks: 3, materials: 4, lights: 4)>(Values::Wild)
     ) {
         let generated = GENERATED.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         // By the end, at least an eighth of the scenes (shrinking included) must

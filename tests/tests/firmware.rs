@@ -8,10 +8,10 @@
 use image::RgbImage;
 use std::path::PathBuf;
 use std::sync::OnceLock;
-use tessera::Viewport;
-use tessera::builtin::Builtin;
-use tessera::testing::Extreme;
-use tessera::{Sampler, Sampler::*};
+use tessera_core::Viewport;
+use tessera_core::builtin::Builtin;
+use tessera_core::testing::Extreme;
+use tessera_core::{Sampler, Sampler::*};
 use tessera_tests::baseline;
 use tessera_tests::firmware::{self, Output, Run, SceneRef};
 
@@ -91,7 +91,7 @@ pub(crate) fn identity_runs() -> Vec<Run> {
     ] {
         runs.push(Run {
             tile,
-            encoding: tessera::Encoding::Linear,
+            encoding: tessera_core::Encoding::Linear,
             ..with(b, sampler, 5, 77, 53)
         });
     }
@@ -389,13 +389,13 @@ fn the_teapot_alone_needs_under_8_kib_beyond_its_tile() {
     let want = b
         .with_scene(|view, cam| {
             let renderer =
-                tessera::Renderer::try_new(cam, Viewport::new(64, 64), b.settings()).unwrap();
+                tessera_core::Renderer::try_new(cam, Viewport::new(64, 64), b.settings()).unwrap();
             let (across, down) = renderer.tile_grid(16);
-            let mut tile = tessera::Tile::<16>::new();
+            let mut tile = tessera_core::Tile::<16>::new();
             let mut hash = 0x811c_9dc5_u32;
             for ty in 0..down {
                 for tx in 0..across {
-                    let coord = tessera::TileCoord::new(tx, ty);
+                    let coord = tessera_core::TileCoord::new(tx, ty);
                     renderer
                         .render_tile(view, coord, &mut tile, &mut ())
                         .unwrap();
@@ -414,7 +414,7 @@ fn the_teapot_alone_needs_under_8_kib_beyond_its_tile() {
         "the teapot alone: chip pixels differ from the host"
     );
     let sizes = firmware::sections(&alone).unwrap();
-    let tile = size_of::<tessera::Tile<16>>() as u64;
+    let tile = size_of::<tessera_core::Tile<16>>() as u64;
     let statics = sizes.ram() - tile;
     println!(
         "teapot alone: flash {} bytes, statics {} bytes beyond the {tile}-byte tile, stack \

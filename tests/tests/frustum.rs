@@ -2,8 +2,8 @@
 //! seen) and "model only what the scene requires" (rays that cannot change a pixel
 //! are never cast).
 
-use tessera::builtin::Builtin;
-use tessera::{
+use tessera_core::builtin::Builtin;
+use tessera_core::{
     Camera, Color, RenderSettings, Renderer, Scene, Vec3, Viewport, geometry::Sphere,
     material::Material, trace::RayCount,
 };
@@ -12,9 +12,9 @@ const BG: Color = Color::new(0.0, 0.0, 1.0);
 
 /// A red sphere of radius 0.5 at distance `d` straight ahead of a camera with near
 /// 1 and far 10; returns the centre pixel.
-fn centre_pixel_with_sphere_at(d: f32) -> tessera::color::Rgb8 {
+fn centre_pixel_with_sphere_at(d: f32) -> tessera_core::color::Rgb8 {
     let cam = Camera::try_new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, 1.0, 10.0).unwrap();
-    let mut s: Scene<tessera::capacities!(spheres: 1, materials: 1)> = Scene::new(cam);
+    let mut s: Scene<tessera_core::capacities!(spheres: 1, materials: 1)> = Scene::new(cam);
     s.set_ambient(Color::WHITE).unwrap();
     s.set_background(BG).unwrap();
     let red = s
@@ -30,8 +30,8 @@ fn centre_pixel_with_sphere_at(d: f32) -> tessera::color::Rgb8 {
 
 #[test]
 fn only_what_lies_between_near_and_far_is_seen() {
-    let red = tessera::color::Rgb8::new(255, 0, 0);
-    let blue = tessera::color::Rgb8::new(0, 0, 255);
+    let red = tessera_core::color::Rgb8::new(255, 0, 0);
+    let blue = tessera_core::color::Rgb8::new(0, 0, 255);
     assert_eq!(centre_pixel_with_sphere_at(5.0), red);
     // Front surface at 9.9: inside the frustum.
     assert_eq!(centre_pixel_with_sphere_at(10.4), red);
@@ -105,10 +105,10 @@ fn unlit_materials_cast_no_shadow_rays() {
 #[test]
 fn deepest_recursion_through_glass_stays_finite() {
     let settings = RenderSettings {
-        max_depth: tessera::error::MAX_DEPTH,
-        sampler: tessera::Sampler::Stratified(2),
+        max_depth: tessera_core::error::MAX_DEPTH,
+        sampler: tessera_core::Sampler::Stratified(2),
         seed: 3,
-        encoding: tessera::Encoding::Linear,
+        encoding: tessera_core::Encoding::Linear,
     };
     let c = count(Builtin::Showcase, settings);
     assert!(c.secondary > c.primary, "{c:?}");

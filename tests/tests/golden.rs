@@ -4,8 +4,8 @@
 //! the new images before committing them.
 
 use std::path::PathBuf;
-use tessera::Viewport;
-use tessera::builtin::Builtin;
+use tessera_core::Viewport;
+use tessera_core::builtin::Builtin;
 
 fn golden_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("golden")

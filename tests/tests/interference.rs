@@ -4,7 +4,7 @@
 //! with no error; centre sampling aliases once pixels outgrow the fringes; 5 random
 //! rays (the chapter's example) drown the pattern in noise. Deterministic, no timing.
 
-use tessera::Viewport;
+use tessera_core::Viewport;
 use tessera_host::trade::{FringeResult, interference_study};
 
 fn get<'a>(r: &'a [FringeResult], fp: f64, method: &str) -> &'a FringeResult {

@@ -15,8 +15,8 @@
 //! and say to run `bash tests/run-all.sh`, which installs them.
 
 use crate::firmware::{assert_clock, differences};
-use tessera::Sampler;
-use tessera::builtin::Builtin;
+use tessera_core::Sampler;
+use tessera_core::builtin::Builtin;
 use tessera_tests::firmware::{self, Core, Run, SceneRef, SqrtReport};
 
 /// The renders checked on each core without an FPU: every built-in scene at its

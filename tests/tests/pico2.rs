@@ -2,12 +2,13 @@
 //! Waveshare Pico-LCD-1.3): it builds and links for the Cortex-M33 within the
 //! Pico 2's flash and the RP2350's RAM (the statics and both cores' stacks), the
 //! boot ROM finds its block and the boot stack is core 0's, its README's sizes
-//! are those of the linked ELF, and its frame-rate estimate is docs/chip-cost.md's.
+//! are those of the linked ELF (its default build, with the features `defmt` and
+//! `fps-label`), and its frame-rate estimate is docs/chip-cost.md's.
 
 use object::{Object, ObjectSection, ObjectSymbol};
 use std::path::PathBuf;
 use tessera_tests::firmware::{self, Sizes};
-use tessera_tests::readme::{figure_after, table_figure, within};
+use tessera_tests::readme::{figure_after, number, table_figure, within};
 use tessera_tests::thousands;
 
 /// Where the RP2350 maps the QSPI flash (XIP).
@@ -129,6 +130,7 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
         (".rodata", s.rodata),
         (".data", s.data),
         (".bss", s.bss),
+        (".uninit", s.uninit),
     ] {
         expect(name, table_figure(&readme, name), truth);
     }
@@ -136,9 +138,21 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
     expect("flash", said_flash, flash);
     expect(
         "static RAM",
-        figure_after(&readme, "- **Static RAM** (`.data` + `.bss`): "),
+        figure_after(&readme, "- **Static RAM** (`.data` + `.bss` + `.uninit`): "),
         statics,
     );
+    // The llvm-size row of the default build: Berkeley text (every flash
+    // section but `.data`), data, bss (with `.uninit`) and flash.
+    let row = row_figures(&readme, "| default (`defmt`, `fps-label`) |");
+    let truth = [flash - s.data, s.data, s.bss + s.uninit, flash];
+    for (i, (what, truth)) in ["text", "data", "bss", "flash"]
+        .iter()
+        .zip(truth)
+        .enumerate()
+    {
+        let said = row.as_ref().and_then(|r| r.get(i).copied());
+        expect(&format!("llvm-size {what}"), said, truth);
+    }
     let said_ram = figure_after(&readme, "- **RAM with core 0's stack**: ");
     expect("RAM with core 0's stack", said_ram, ram);
     // The README's figures in KiB and per cent are its bytes'.
@@ -178,6 +192,14 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
         "examples/pico2-st7789/README.md is not the linked ELF ({}): {wrong:#?}",
         elf.display()
     );
+}
+
+/// The figures of the README's table row that starts with `start`: the number
+/// starting each cell after the first.
+fn row_figures(readme: &str, start: &str) -> Option<Vec<u64>> {
+    let line = readme.lines().find(|l| l.starts_with(start))?;
+    let inner = line.trim().strip_prefix('|')?.strip_suffix('|')?;
+    inner.split('|').skip(1).map(number).collect()
 }
 
 /// What docs/chip-cost.md's "Frames per second" table estimates for `scene` on a

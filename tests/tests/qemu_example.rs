@@ -237,7 +237,7 @@ fn the_qemu_example_writes_the_hosts_picture_of_each_scene_file() {
 #[test]
 fn the_qemu_example_keeps_its_scenes_in_flash_and_its_tile_in_ram() {
     let (flash, ram) = firmware::memory_regions(&example().join("memory.x")).unwrap();
-    let tile = size_of::<tessera::Tile<16>>() as u64;
+    let tile = size_of::<tessera_core::Tile<16>>() as u64;
     for run in runs() {
         let s = &run.sizes;
         assert!(s.flash() <= flash && s.ram() <= ram, "{}: {s:?}", run.scene);
@@ -409,5 +409,129 @@ fn the_qemu_examples_runner_is_the_tests_qemu() {
         config.contains(&format!("target = \"{}\"", firmware::TARGET)),
         "{}",
         path.display()
+    );
+}
+
+/// The example is the firmware template made with its name and this checkout
+/// (`tessera new examples/qemu-m4f --path .`): its manifest is the template's,
+/// filled in, and every other file of the template is the example's.
+#[test]
+fn the_qemu_example_is_the_template_filled_in() {
+    let dir = example();
+    let files = tessera_host::template::files(
+        "qemu-m4f",
+        &tessera_host::template::Source::Checkout(PathBuf::from("../..")),
+    )
+    .unwrap();
+    for (path, bytes) in files {
+        // The example has a README of its own (how it is measured), and a
+        // .gitignore of its own (git reads no linked .gitignore).
+        if path == Path::new("README.md") {
+            continue;
+        }
+        let theirs = std::fs::read(dir.join(&path))
+            .unwrap_or_else(|e| panic!("examples/qemu-m4f/{}: {e}", path.display()));
+        assert!(
+            theirs == bytes,
+            "examples/qemu-m4f/{} is not the template's",
+            path.display()
+        );
+    }
+}
+
+/// A firmware as a user starts one: `tessera new my-firmware --path <checkout>`
+/// writes the crate; `cargo build --release` in its folder builds it (its
+/// `.cargo/config.toml` names the target, its `build.rs` bakes `scene.toml`);
+/// run under qemu, it writes `tessera.ppm`; `tessera render` of the same scene
+/// file and `tessera diff` of the two pictures find them identical. The firmware
+/// runs under the tests' qemu command (the example's runner, checked equal to it
+/// above), with their timeout.
+///
+/// The build shares the example's target folder and dependency versions (its
+/// Cargo.lock), so it compiles only the new crate: the test run's time, not a
+/// first build's.
+#[test]
+fn a_firmware_made_by_tessera_new_draws_the_hosts_picture() {
+    firmware::qemu_version().unwrap_or_else(|e| panic!("{e}"));
+    let started = std::time::Instant::now();
+    let root = firmware::repo_root();
+    let scratch = TempDir::new().unwrap();
+    let project = scratch.path().join("my-firmware");
+    // The command, as a user of the checkout runs it.
+    let tessera = |args: &[&std::ffi::OsStr]| {
+        let mut cmd = firmware::cargo();
+        cmd.current_dir(&root)
+            .args(["run", "-q", "-p", "tessera-host", "--bin", "tessera", "--"])
+            .args(args);
+        cmd
+    };
+    let out = firmware::checked(
+        &mut tessera(&[
+            "new".as_ref(),
+            project.as_os_str(),
+            "--path".as_ref(),
+            root.as_os_str(),
+        ]),
+        "tessera new",
+        "tessera new failed",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(said.starts_with("created "), "{said}");
+    std::fs::copy(example().join("Cargo.lock"), project.join("Cargo.lock")).unwrap();
+    let generated = started.elapsed();
+
+    let mut build = firmware::cargo();
+    build
+        .current_dir(&project)
+        .args(["build", "--release"])
+        .env("CARGO_TARGET_DIR", example().join("target"));
+    firmware::checked(&mut build, "cargo", "building the new firmware failed")
+        .unwrap_or_else(|e| panic!("{e}"));
+    let built = started.elapsed();
+    let elf = example().join("target/thumbv7em-none-eabihf/release/my-firmware");
+    let stdout = firmware::run_in(&project, &elf).unwrap_or_else(|e| panic!("{e}"));
+    assert!(stdout.starts_with("tessera: scene.toml, "), "{stdout}");
+    let ran = started.elapsed();
+
+    // As its README says: the host's picture of the same scene file, and the
+    // two compared by the command.
+    let chip = project.join(PICTURE);
+    let host_png = project.join("host.png");
+    firmware::checked(
+        &mut tessera(&[
+            "render".as_ref(),
+            project.join("scene.toml").as_os_str(),
+            "-o".as_ref(),
+            host_png.as_os_str(),
+        ]),
+        "tessera render",
+        "tessera render of the new firmware's scene failed",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let diff = firmware::checked(
+        &mut tessera(&["diff".as_ref(), chip.as_os_str(), host_png.as_os_str()]),
+        "tessera diff",
+        "the new firmware's picture differs from the host's",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let said = String::from_utf8_lossy(&diff.stdout);
+    assert!(
+        said.lines()
+            .any(|l| l.split_whitespace().eq(["identical", "yes"])),
+        "{said}"
+    );
+    // And by this test's own reading of both.
+    let picture = ppm(&std::fs::read(&chip).unwrap()).unwrap();
+    let want = host(&project.join("scene.toml"));
+    assert!(
+        picture.as_raw() == want.as_raw(),
+        "the new firmware's picture is not the host's"
+    );
+    println!(
+        "tessera new: generated in {:.1} s, built in {:.1} s, ran in {:.1} s ({stdout})",
+        generated.as_secs_f64(),
+        (built - generated).as_secs_f64(),
+        (ran - built).as_secs_f64()
     );
 }

@@ -2,8 +2,8 @@
 //! scene: >= 99.5% of the pixels within 1 LSB and 100% within 2 LSB outside the
 //! 1-pixel silhouette band, and no NaN or infinity.
 
-use tessera::builtin::Builtin;
-use tessera::{RenderSettings, Renderer, Sampler, Viewport};
+use tessera_core::builtin::Builtin;
+use tessera_core::{RenderSettings, Renderer, Sampler, Viewport};
 use tessera_host::compare::{Accuracy, measure};
 
 fn accuracy(b: Builtin, settings: RenderSettings, vp: Viewport) -> Accuracy {
@@ -16,8 +16,8 @@ fn accuracy(b: Builtin, settings: RenderSettings, vp: Viewport) -> Accuracy {
 /// The core's tiles of `view` seen by `cam`, and how many of its pixels have a
 /// colour that is not finite.
 fn render(
-    view: &tessera::SceneView<'_>,
-    cam: &tessera::Camera,
+    view: &tessera_core::SceneView<'_>,
+    cam: &tessera_core::Camera,
     vp: Viewport,
     settings: RenderSettings,
 ) -> (image::RgbImage, usize) {
@@ -96,7 +96,7 @@ fn srgb_renders_agree_with_the_reference() {
         let settings = RenderSettings {
             sampler,
             seed: 5,
-            encoding: tessera::Encoding::Srgb,
+            encoding: tessera_core::Encoding::Srgb,
             ..b.settings()
         };
         let acc = accuracy(b, settings, vp);
@@ -105,7 +105,7 @@ fn srgb_renders_agree_with_the_reference() {
             let renderer = Renderer::try_new(cam, vp, settings).unwrap();
             let img = tessera_host::render_tiles::<16>(view, &renderer, None).unwrap();
             let linear = RenderSettings {
-                encoding: tessera::Encoding::Linear,
+                encoding: tessera_core::Encoding::Linear,
                 ..settings
             };
             let lin = tessera_host::render(view, cam, vp, linear, 16).unwrap();

@@ -9,7 +9,7 @@
 //! that image.
 
 use super::adaptive::{H, W, class, scene};
-use tessera::{
+use tessera_core::{
     Camera, Color, Encoding, RenderSettings, Sampler, Scene, Tile, TileCoord, Vec3, Viewport,
     builtin::Builtin, geometry::Sphere, material::Material, trace::RayCount,
 };
@@ -194,7 +194,7 @@ fn stays_close_to_the_prefiltered_image_with_fewer_rays() {
                 ..b.settings()
             };
             b.with_scene(|view, cam| {
-                let r = tessera::Renderer::try_new(cam, vp, st).unwrap();
+                let r = tessera_core::Renderer::try_new(cam, vp, st).unwrap();
                 let (img, c) = tessera_host::render_parallel::<16>(view, &r, &|| {}).unwrap();
                 (img, c.primary)
             })
@@ -242,7 +242,7 @@ fn an_empty_view_counts_the_rays_it_does_not_trace() {
         100.0,
     )
     .unwrap();
-    let mut s: Scene<tessera::capacities!(spheres: 1, materials: 1)> = Scene::new(cam);
+    let mut s: Scene<tessera_core::capacities!(spheres: 1, materials: 1)> = Scene::new(cam);
     let bg = Color::new(0.0, 0.0, 0.7);
     s.set_background(bg).unwrap();
     let m = s.add_material(Material::matte(Color::WHITE)).unwrap();

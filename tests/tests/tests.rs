@@ -17,6 +17,7 @@ mod golden;
 mod install;
 mod interference;
 mod nofpu;
+mod overlay;
 mod pico2;
 mod qemu_example;
 mod reference;

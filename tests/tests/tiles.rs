@@ -1,8 +1,8 @@
 //! A pixel depends only on the scene, the camera, the settings and its coordinates:
 //! never on the tile size or the order in which tiles are rendered.
 
-use tessera::builtin::Builtin;
-use tessera::{RenderSettings, Sampler, Viewport};
+use tessera_core::builtin::Builtin;
+use tessera_core::{RenderSettings, Sampler, Viewport};
 use tessera_host::render_tiles;
 
 /// A deterministic shuffle (xorshift) of `0..n`.
@@ -41,7 +41,7 @@ fn tile_size_and_order_do_not_change_a_pixel() {
                 ..b.settings()
             };
             b.with_scene(|view, cam| {
-                let renderer = tessera::Renderer::try_new(cam, vp, settings).unwrap();
+                let renderer = tessera_core::Renderer::try_new(cam, vp, settings).unwrap();
                 let reference = render_tiles::<16>(view, &renderer, None).unwrap();
                 let t8 = render_tiles::<8>(view, &renderer, None).unwrap();
                 let t32 = render_tiles::<32>(view, &renderer, None).unwrap();
@@ -82,20 +82,20 @@ fn partial_edge_tiles_report_their_size_and_out_of_frame_is_an_error() {
     let b = Builtin::ChapterDirect;
     b.with_scene(|view, cam| {
         let renderer =
-            tessera::Renderer::try_new(cam, Viewport::new(20, 10), b.settings()).unwrap();
-        let mut tile = tessera::Tile::<16>::new();
+            tessera_core::Renderer::try_new(cam, Viewport::new(20, 10), b.settings()).unwrap();
+        let mut tile = tessera_core::Tile::<16>::new();
         renderer
-            .render_tile(view, tessera::TileCoord::new(1, 0), &mut tile, &mut ())
+            .render_tile(view, tessera_core::TileCoord::new(1, 0), &mut tile, &mut ())
             .unwrap();
         assert_eq!((tile.width(), tile.height()), (4, 10));
         assert_eq!(tile.pixels().count(), 40);
         assert_eq!(
-            renderer.render_tile(view, tessera::TileCoord::new(2, 0), &mut tile, &mut ()),
-            Err(tessera::Error::TileOutOfFrame)
+            renderer.render_tile(view, tessera_core::TileCoord::new(2, 0), &mut tile, &mut ()),
+            Err(tessera_core::Error::TileOutOfFrame)
         );
         assert_eq!(
-            renderer.render_tile(view, tessera::TileCoord::new(0, 1), &mut tile, &mut ()),
-            Err(tessera::Error::TileOutOfFrame)
+            renderer.render_tile(view, tessera_core::TileCoord::new(0, 1), &mut tile, &mut ()),
+            Err(tessera_core::Error::TileOutOfFrame)
         );
     })
     .unwrap();

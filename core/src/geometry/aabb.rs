@@ -13,6 +13,7 @@ use crate::vec::Vec3;
 
 /// An axis-aligned box `[min, max]`; a flat box (`min == max` on an axis) is allowed.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Aabb {
     min: Vec3,
     max: Vec3,

@@ -29,6 +29,7 @@ const TOP: u8 = 2;
 /// A finite cylinder of radius `radius > 0` around the segment from `base` to
 /// `top`, open or closed by two caps.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Cylinder {
     base: Vec3,
     top: Vec3,
@@ -49,7 +50,7 @@ impl Cylinder {
     /// `[`crate::error::MAX_EXTENT`]`]`.
     ///
     /// ```
-    /// use tessera::{Error, error::Field, geometry::Cylinder, Vec3};
+    /// use tessera_core::{Error, error::Field, geometry::Cylinder, Vec3};
     /// assert!(Cylinder::try_new(Vec3::ZERO, Vec3::Y, 0.5, true).is_ok());
     /// assert_eq!(
     ///     Cylinder::try_new(Vec3::ZERO, Vec3::ZERO, 0.5, true),

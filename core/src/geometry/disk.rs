@@ -18,6 +18,7 @@ use core::f32::consts::{FRAC_1_PI, PI};
 /// `radius`, without the points nearer the centre than `inner` (`0 <= inner <
 /// radius`).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Disk {
     plane: Plane,
     radius: f32,
@@ -31,7 +32,7 @@ impl Disk {
     /// `[`crate::error::MAX_EXTENT`]`]` and the inner radius in `[0, radius)`.
     ///
     /// ```
-    /// use tessera::{Error, error::Field, geometry::Disk, Vec3};
+    /// use tessera_core::{Error, error::Field, geometry::Disk, Vec3};
     /// assert!(Disk::try_new(Vec3::ZERO, Vec3::Y, 1.0, 0.5).is_ok());
     /// assert_eq!(
     ///     Disk::try_new(Vec3::ZERO, Vec3::Y, -1.0, 0.0),

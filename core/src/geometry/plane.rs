@@ -10,6 +10,7 @@ use crate::vec::Vec3;
 
 /// The infinite plane through `point` with unit normal `normal` (double-sided).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Plane {
     point: Vec3,
     normal: Vec3,
@@ -36,7 +37,7 @@ impl Plane {
     /// the point's components must be within [`crate::error::MAX_EXTENT`].
     ///
     /// ```
-    /// use tessera::{Error, error::Field, geometry::Plane, Vec3};
+    /// use tessera_core::{Error, error::Field, geometry::Plane, Vec3};
     /// assert!(Plane::try_new(Vec3::ZERO, Vec3::new(0.0, 2.0, 0.0)).is_ok());
     /// assert_eq!(
     ///     Plane::try_new(Vec3::ZERO, Vec3::ZERO),

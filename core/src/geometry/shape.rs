@@ -1,6 +1,6 @@
 //! What every geometry kind answers ([`Shape`]), and what it answers with
 //! ([`Candidate`], [`Surface`]): internals of the core, public only through
-//! `tessera::testing` (feature `testing`) for the test crates.
+//! `tessera_core::testing` (feature `testing`) for the test crates.
 
 #[cfg(doc)]
 use super::{Aabb, Plane, Sphere, Triangle};

@@ -13,6 +13,7 @@ const SHRINK2: f32 = (1.0 - gamma(3)) * (1.0 - gamma(3));
 
 /// A sphere of centre `center` and radius `radius > 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Sphere {
     center: Vec3,
     radius: f32,
@@ -24,7 +25,7 @@ impl Sphere {
     /// `[`crate::error::MAX_EXTENT`]`]`.
     ///
     /// ```
-    /// use tessera::{Error, error::Field, geometry::Sphere, Vec3};
+    /// use tessera_core::{Error, error::Field, geometry::Sphere, Vec3};
     /// assert!(Sphere::try_new(Vec3::ZERO, 1.0).is_ok());
     /// assert_eq!(
     ///     Sphere::try_new(Vec3::ZERO, -1.0),

@@ -148,6 +148,7 @@ impl Shear {
 /// A double-sided triangle. Its outward normal follows the winding:
 /// `(p1 - p0) x (p2 - p0)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Triangle {
     p0: Vec3,
     p1: Vec3,

@@ -8,6 +8,7 @@ use crate::dither::Dither;
 /// Which tile of the frame: tile `(tx, ty)` covers pixels `tx*N .. tx*N + N` by
 /// `ty*N .. ty*N + N`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TileCoord {
     /// Column of tiles, from the left.
     pub tx: u16,
@@ -126,6 +127,28 @@ impl<const N: usize, P: TilePixel> Tile<N, P> {
     pub fn as_slice(&self) -> &[P] {
         let live = usize::from(self.width) * usize::from(self.height);
         self.pixels.as_flattened().get(..live).unwrap_or(&[])
+    }
+    /// Pixel `(x, y)` of the tile to change, if it holds one (a firmware's own
+    /// marks over the picture; [`crate::display`] makes the tile an
+    /// embedded-graphics `DrawTarget` in frame coordinates).
+    #[must_use]
+    pub fn pixel_mut(&mut self, x: usize, y: usize) -> Option<&mut P> {
+        if x < usize::from(self.width) && y < usize::from(self.height) {
+            let w = usize::from(self.width);
+            self.as_mut_slice().get_mut(y * w + x)
+        } else {
+            None
+        }
+    }
+    /// [`Tile::as_slice`], to change: the `width x height` pixels of the
+    /// picture, row after row. The rest of the buffer stays black.
+    #[must_use]
+    pub fn as_mut_slice(&mut self) -> &mut [P] {
+        let live = usize::from(self.width) * usize::from(self.height);
+        self.pixels
+            .as_flattened_mut()
+            .get_mut(..live)
+            .unwrap_or(&mut [])
     }
     /// The rows that hold pixels, each `width` long, top to bottom.
     pub fn rows(&self) -> impl Iterator<Item = &[P]> {

@@ -10,6 +10,7 @@ use crate::view::SceneView;
 
 /// How a frame is rendered.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RenderSettings {
     /// Where the rays go in each pixel.
     pub sampler: Sampler,
@@ -53,6 +54,7 @@ impl RenderSettings {
 /// or the sparse sampler's loop (which encode each pixel themselves). A frame's tiles all take one
 /// ([`Renderer::tile_loop`]); a firmware links those it names ([`Loops`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum TileLoop {
     /// No ray bounces; pixels in this encoding.
@@ -112,7 +114,7 @@ impl TileLoop {
 /// [`Loops::links`].
 ///
 /// ```
-/// use tessera::{builtin, Encoding, tile::Loops, RenderSettings, Tile, TileCoord, tile::TileLoop, Viewport};
+/// use tessera_core::{builtin, Encoding, tile::Loops, RenderSettings, Tile, TileCoord, tile::TileLoop, Viewport};
 ///
 /// /// Direct light only, sRGB, no adaptive sampling.
 /// enum DirectSrgb {}
@@ -127,7 +129,7 @@ impl TileLoop {
 /// let renderer = scene.renderer(Viewport::new(32, 32), settings)?;
 /// let mut tile = Tile::<16>::new();
 /// renderer.render_tile_in::<DirectSrgb, 16, _, _>(&scene.view(), TileCoord::new(0, 0), &mut tile, &mut ())?;
-/// # Ok::<(), tessera::Error>(())
+/// # Ok::<(), tessera_core::Error>(())
 /// ```
 pub trait Loops {
     /// Whether this set links `tile_loop`. Asked with constants where the loops

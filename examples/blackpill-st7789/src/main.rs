@@ -19,6 +19,12 @@
 //! rendering and off when the picture is complete; on an error it blinks a code
 //! forever ([`Failure::blinks`]). Nothing in the render path panics: every error
 //! of tessera and of the panel is returned and shown on the LED.
+//!
+//! With the feature `defmt` (on by default) it also logs over RTT, for a probe
+//! (`probe-rs run`): the scene, frame and tile sizes at the start, the time the
+//! picture took, and every error with its value ([`log`]); a panic's message goes
+//! there too (panic-probe). Without a probe the log costs nothing but its flash
+//! (RTT does not wait for a reader until one attaches).
 #![no_std]
 #![no_main]
 #![deny(unsafe_code)]
@@ -40,9 +46,11 @@ use stm32f4xx_hal::prelude::*;
 use stm32f4xx_hal::rcc::{Config, Rcc};
 use stm32f4xx_hal::spi::Spi;
 use stm32f4xx_hal::timer::SysDelay;
-use tessera::builtin::baked::teapot::{SCENE, SceneLoops};
-use tessera::display::Drawing;
-use tessera::{Viewport, dither::Dither};
+use tessera_core::builtin::baked::teapot::{SCENE, SceneLoops};
+use tessera_core::display::Drawing;
+use tessera_core::{Viewport, dither::Dither};
+
+mod log;
 
 /// The crystal of the Black Pill, in MHz.
 const HSE_MHZ: u32 = 25;
@@ -93,10 +101,11 @@ type Panel<'b> = Display<SpiInterface<'b, PanelSpi, gpio::PB0<Output>>, ST7789, 
 /// What stopped the picture; the LED blinks [`Failure::blinks`] times, pauses,
 /// and again, forever.
 #[derive(Debug)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 enum Failure {
-    /// tessera refused the scene, the mesh, the frame or the loops linked (kept
-    /// for a debugger).
-    Scene(#[allow(dead_code)] tessera::Error),
+    /// tessera refused the scene, the mesh, the frame or the loops linked (logged
+    /// with the feature `defmt`, kept for a debugger).
+    Scene(#[allow(dead_code)] tessera_core::Error),
     /// The panel's initialisation failed.
     PanelInit,
     /// A write to the panel failed (SPI or DC pin).
@@ -115,8 +124,8 @@ impl Failure {
     }
 }
 
-impl From<tessera::Error> for Failure {
-    fn from(e: tessera::Error) -> Self {
+impl From<tessera_core::Error> for Failure {
+    fn from(e: tessera_core::Error) -> Self {
         Self::Scene(e)
     }
 }
@@ -157,7 +166,7 @@ struct PanelPins {
 /// LED forever.
 #[entry]
 fn main() -> ! {
-    let (Some(dp), Some(cp)) = (pac::Peripherals::take(), pac::CorePeripherals::take()) else {
+    let (Some(dp), Some(mut cp)) = (pac::Peripherals::take(), pac::CorePeripherals::take()) else {
         halt();
     };
     // Above 84 MHz the F411's regulator must be in scale 1 (PWR_CR.VOS; the reset
@@ -170,6 +179,7 @@ fn main() -> ! {
         .RCC
         .freeze(Config::hse(HSE_MHZ.MHz()).sysclk(SYSCLK_MHZ.MHz()));
     let mut delay = cp.SYST.delay(&rcc.clocks);
+    log::start_clock(&mut cp.DCB, &mut cp.DWT);
     let gpioa = dp.GPIOA.split(&mut rcc);
     let gpiob = dp.GPIOB.split(&mut rcc);
     let gpioc = dp.GPIOC.split(&mut rcc);
@@ -189,7 +199,10 @@ fn main() -> ! {
             led.set_high();
             halt()
         }
-        Err(failure) => blink_forever(&mut led, &mut delay, failure.blinks()),
+        Err(failure) => {
+            log::failed(&failure);
+            blink_forever(&mut led, &mut delay, failure.blinks())
+        }
     }
 }
 
@@ -218,7 +231,7 @@ fn show_teapot(
     // The panel's memory holds noise after a reset: clear it before lighting it.
     panel
         .clear(Rgb565::BLACK)
-        .map_err(|_| Failure::PanelWrite)?;
+        .map_err(|e| log::panel_error(Failure::PanelWrite, &e))?;
     pins.blk.set_high();
     draw_teapot(&mut panel)
 }
@@ -242,11 +255,11 @@ fn init_panel<'b>(
         .invert_colors(ColorInversion::Inverted)
         .reset_pin(rst)
         .init(delay)
-        .map_err(|_| Failure::PanelInit)
+        .map_err(|e| log::panel_error(Failure::PanelInit, &e))
 }
 
 /// Ray traces the built-in teapot onto `display` with the README's API: the
-/// whole scene baked in flash (`tessera::builtin::baked::teapot`, what `tessera
+/// whole scene baked in flash (`tessera_core::builtin::baked::teapot`, what `tessera
 /// bake scenes/teapot.toml` writes: no byte of it in RAM), its frame of
 /// [`PICTURE`] (240x240) with the scene's own settings (centre sampling, depth
 /// 0, sRGB: what `tessera render teapot` uses), drawn progressively (a preview
@@ -254,20 +267,25 @@ fn init_panel<'b>(
 ///
 /// It links only the tile loops the scene needs (`SceneLoops`, which the baker
 /// writes: direct light, sRGB, no adaptive or sparse sampler); the others are left out
-/// of the image (`tessera::tile::Loops`; the README gives the flash this saves), and
+/// of the image (`tessera_core::tile::Loops`; the README gives the flash this saves), and
 /// settings that needed one would be refused by `linking`, not drawn wrong.
 fn draw_teapot<D>(display: &mut D) -> Result<(), Failure>
 where
     D: DrawTarget<Color = Rgb565>,
+    D::Error: log::Value,
 {
     let view = SCENE.view()?;
     let renderer = SCENE.renderer_at(Viewport::new(PICTURE.0, PICTURE.1), SCENE.settings())?;
+    log::drawing(&renderer, TILE, PREVIEW_BLOCK);
+    let started = log::now();
     Drawing::<Rgb565, TILE>::new(&renderer, &view)
         .dithered(Dither::Bayer4)
         .progressive(PREVIEW_BLOCK)
         .linking::<SceneLoops>()?
         .draw(display)
-        .map_err(|_| Failure::PanelWrite)
+        .map_err(|e| log::panel_error(Failure::PanelWrite, &e))?;
+    log::drawn(started);
+    Ok(())
 }
 
 /// Blinks `led` (active low) `count` times, pauses, and again, forever.
@@ -290,7 +308,10 @@ fn halt() -> ! {
     }
 }
 
-/// Halts on a panic (none is expected: the render path returns its errors).
+/// Halts on a panic (none is expected: the render path returns its errors). With
+/// the feature `defmt`, panic-probe's handler instead: it logs the message, then
+/// stops the core on a `HardFault` (which halts it too, without a probe).
+#[cfg(not(feature = "defmt"))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
     cortex_m::interrupt::disable();

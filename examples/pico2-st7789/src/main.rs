@@ -22,12 +22,22 @@
 //!
 //! Each frame is a new [`Renderer`] for a new [`Camera`]: the scene's own camera
 //! turned about its target by `1 / FRAMES_PER_TURN` of a turn more than the frame
-//! before ([`orbit`]). Core 0 publishes it ([`RENDERER`], [`FRAME`]) once core 1 has
-//! finished the frame before ([`CORE1_DONE`]) and the queue is reset.
+//! before ([`orbit`]). Core 0 publishes it with the frame's label ([`JOB`],
+//! [`FRAME`]) once core 1 has finished the frame before ([`CORE1_DONE`]) and the
+//! queue is reset.
+//!
+//! With the feature `fps-label` (on by default) each frame shows the rate of the
+//! frame before, timed with the RP2350's timer, in its top left corner: a
+//! [`Label`] made once a frame and drawn with embedded-graphics over each tile it
+//! crosses, after the tile renders and before it is sent, on both cores
+//! ([`label`]).
 //!
 //! The on-board LED (GP25) changes state after every frame; on an error it blinks a
 //! code forever ([`Failure::blinks`]). Nothing in the render path panics: errors of
-//! tessera and of the panel link are returned and shown on the LED.
+//! tessera and of the panel link are returned and shown on the LED. With the
+//! feature `defmt` (on by default) it also logs over RTT, for a probe: the start,
+//! each frame's time, and every error with its value, from either core ([`log`]);
+//! a panic's message goes there too (panic-probe).
 #![no_std]
 #![no_main]
 
@@ -49,10 +59,15 @@ use hal::gpio::{FunctionSioOutput, FunctionSpi, Pin, PullDown};
 use hal::multicore::{Multicore, Stack};
 use hal::pac;
 use rp235x_hal as hal;
-use tessera::builtin::baked::chapter_reflect as scene;
-use tessera::display::{Drawing, Rgb565Wire, TileSink, tile_area, wire_bytes};
-use tessera::tile::TileQueue;
-use tessera::{Camera, Renderer, SceneView, Tile, Vec3, Viewport};
+use tessera_core::builtin::baked::chapter_reflect as scene;
+use tessera_core::display::{Drawing, Rgb565Wire, TileSink, tile_area, wire_bytes};
+use tessera_core::tile::TileQueue;
+use tessera_core::{Camera, Renderer, SceneView, Tile, Vec3, Viewport};
+
+mod label;
+mod log;
+
+use label::Label;
 
 /// The Pico 2's crystal, in Hz.
 const XTAL_HZ: u32 = 12_000_000;
@@ -104,14 +119,15 @@ static PICOTOOL_ENTRIES: [hal::binary_info::EntryAddr; 4] = [
 /// The frame's tiles, handed out to both cores one at a time.
 static QUEUE: TileQueue = TileQueue::new(GRID.0, GRID.1);
 /// The number of the frame being rendered (from 1; 0 before the first), stored by
-/// core 0 (release) after [`RENDERER`] and [`QUEUE`]'s reset: core 1 starts a
+/// core 0 (release) after [`JOB`] and [`QUEUE`]'s reset: core 1 starts a
 /// frame when it sees a new number (acquire).
 static FRAME: AtomicU32 = AtomicU32::new(0);
 /// The last frame for which core 1 has stopped taking tiles and handed over every
 /// tile it rendered (stored with release after its last hand-over).
 static CORE1_DONE: AtomicU32 = AtomicU32::new(0);
-/// The renderer of the frame [`FRAME`] names: plain data, copied out by core 1.
-static RENDERER: Mutex<Cell<Option<Renderer>>> = Mutex::new(Cell::new(None));
+/// The renderer and label of the frame [`FRAME`] names: plain data, copied out
+/// by core 1.
+static JOB: Mutex<Cell<Option<FrameJob>>> = Mutex::new(Cell::new(None));
 /// Core 1's stack (in `.bss`; core 0's is SRAM8 and SRAM9, memory.x). The HAL
 /// puts its lowest address in core 1's MSPLIM: an overflow faults.
 static CORE1_STACK: Stack<CORE1_STACK_WORDS> = Stack::new();
@@ -132,8 +148,8 @@ mod handoff {
     use super::TILE;
     use core::cell::UnsafeCell;
     use core::sync::atomic::{AtomicBool, AtomicU8, Ordering};
-    use tessera::Tile;
-    use tessera::display::Rgb565Wire;
+    use tessera_core::Tile;
+    use tessera_core::display::Rgb565Wire;
 
     /// Core 1 may render into the buffer.
     const FREE: u8 = 0;
@@ -277,6 +293,7 @@ mod st7789 {
 
 /// Why the panel link failed.
 #[derive(Debug)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 enum PanelError {
     /// The SPI bus and the DMA channel were not where the link keeps them (cannot
     /// happen: each state change puts them back).
@@ -522,11 +539,13 @@ impl Sender {
 /// What stopped the animation; the LED blinks [`Failure::blinks`] times, pauses,
 /// and again, forever.
 #[derive(Debug)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 enum Failure {
-    /// tessera refused the scene, a camera, a frame or the loops linked (kept for
-    /// a debugger).
-    Scene(#[allow(dead_code)] tessera::Error),
-    /// The panel link failed.
+    /// tessera refused the scene, a camera, a frame or the loops linked (logged
+    /// with the feature `defmt`, kept for a debugger).
+    Scene(#[allow(dead_code)] tessera_core::Error),
+    /// The panel link failed (logged with the feature `defmt`, kept for a
+    /// debugger).
     Panel(#[allow(dead_code)] PanelError),
 }
 
@@ -540,8 +559,8 @@ impl Failure {
     }
 }
 
-impl From<tessera::Error> for Failure {
-    fn from(e: tessera::Error) -> Self {
+impl From<tessera_core::Error> for Failure {
+    fn from(e: tessera_core::Error) -> Self {
         Self::Scene(e)
     }
 }
@@ -552,11 +571,19 @@ impl From<PanelError> for Failure {
     }
 }
 
+/// What core 0 hands core 1 for a frame ([`JOB`]): the frame's renderer and its
+/// label, so that both cores draw the same text on their tiles.
+#[derive(Clone, Copy)]
+struct FrameJob {
+    renderer: Renderer,
+    label: Label,
+}
+
 /// The renderer of frame `frame`: the scene's camera turned about its target, the
 /// vertical through the point it looks at, by `frame / FRAMES_PER_TURN` of a
 /// turn; the panel's size and the scene's own settings (centre sampling, one
 /// bounce, sRGB; 4x4 Bayer dithering to RGB565, the renderer's default).
-fn orbit(frame: u32) -> Result<Renderer, tessera::Error> {
+fn orbit(frame: u32) -> Result<Renderer, tessera_core::Error> {
     let baked = scene::SCENE.camera();
     let position = Vec3::from_array(baked.position);
     // The baker writes `forward` as the scene file's `look_at - position`.
@@ -593,17 +620,27 @@ fn core1_main(view: SceneView<'static>, mut tiles: handoff::Producer) -> ! {
             continue;
         }
         seen = frame;
-        if let Some(renderer) = critical_section::with(|cs| RENDERER.borrow(cs).get()) {
+        if let Some(job) = critical_section::with(|cs| JOB.borrow(cs).get()) {
             while let Some(coord) = QUEUE.next() {
                 tiles.render(|tile| {
-                    renderer
+                    let rendered = job
+                        .renderer
                         .render_tile_in::<scene::SceneLoops, TILE, _, _>(
                             &view,
                             coord,
                             tile,
                             &mut (),
-                        )
-                        .is_ok()
+                        );
+                    match rendered {
+                        Ok(()) => {
+                            job.label.draw(tile);
+                            true
+                        }
+                        Err(e) => {
+                            log::tile_failed(1, coord, e);
+                            false
+                        }
+                    }
                 });
             }
         }
@@ -612,36 +649,41 @@ fn core1_main(view: SceneView<'static>, mut tiles: handoff::Producer) -> ! {
 }
 
 /// Core 0's frame with core 1: publishes the frame, then renders and sends tiles
-/// with [`render_and_send`] until core 1 is done and every tile is sent.
+/// with [`render_and_send`] until core 1 is done and every tile is sent. Returns
+/// how many tiles core 0 rendered.
 fn draw_frame(
     sender: &mut Sender,
-    renderer: &Renderer,
+    job: &FrameJob,
     view: &SceneView<'_>,
     frame: u32,
-) -> Result<(), PanelError> {
+) -> Result<u32, PanelError> {
     // Core 1 stopped taking tiles at the end of the frame before (CORE1_DONE).
     QUEUE.reset();
-    critical_section::with(|cs| RENDERER.borrow(cs).set(Some(*renderer)));
+    critical_section::with(|cs| JOB.borrow(cs).set(Some(*job)));
     FRAME.store(frame, Ordering::Release);
     // Core 0's two buffers, on its stack: no transfer may outlive them, so the
     // last one is waited for here whatever `render_and_send` returned.
     let mut own = [Tile::<TILE, Rgb565Wire>::blank(), Tile::blank()];
-    let drawn = render_and_send(sender, &mut own, renderer, view, frame);
+    let drawn = render_and_send(sender, &mut own, job, view, frame);
     let finished = sender.finish();
-    drawn.and(finished)
+    let core0_tiles = drawn?;
+    finished?;
+    Ok(core0_tiles)
 }
 
-/// Renders tiles from the queue into `own` (alternately) and sends them, sending
-/// core 1's as they come, until core 1 is done with `frame` and every tile it
-/// rendered has been started; the last transfer may still run.
+/// Renders tiles from the queue into `own` (alternately), draws the frame's label
+/// over each, and sends them, sending core 1's as they come, until core 1 is done
+/// with `frame` and every tile it rendered has been started; the last transfer
+/// may still run. Returns how many tiles core 0 rendered.
 fn render_and_send(
     sender: &mut Sender,
     own: &mut [Tile<TILE, Rgb565Wire>; 2],
-    renderer: &Renderer,
+    job: &FrameJob,
     view: &SceneView<'_>,
     frame: u32,
-) -> Result<(), PanelError> {
+) -> Result<u32, PanelError> {
     let mut k = 0;
+    let mut rendered_here = 0;
     loop {
         if let Some(coord) = QUEUE.next() {
             let [a, b] = &mut *own;
@@ -649,19 +691,31 @@ fn render_and_send(
             if sender.in_flight == Some(Held::Own(k)) {
                 sender.finish()?;
             }
-            let rendered = renderer
+            let rendered = match job
+                .renderer
                 .render_tile_in::<scene::SceneLoops, TILE, _, _>(view, coord, tile, &mut ())
-                .is_ok();
+            {
+                Ok(()) => {
+                    job.label.draw(tile);
+                    true
+                }
+                Err(e) => {
+                    log::tile_failed(0, coord, e);
+                    false
+                }
+            };
             // Core 1's tiles first, then this one: its transfer then runs while
             // the next tile renders, and no buffer of core 1's is held meanwhile.
             sender.send_core1_tiles()?;
             if rendered {
                 sender.start(Held::Own(k), tile)?;
                 k ^= 1;
+                rendered_here += 1;
             }
         } else if CORE1_DONE.load(Ordering::Acquire) == frame {
             // Everything core 1 handed over is visible now: send the rest.
-            return sender.send_core1_tiles();
+            sender.send_core1_tiles()?;
+            return Ok(rendered_here);
         } else {
             // No tile left to take: send core 1's last ones as they come.
             sender.send_core1_tiles()?;
@@ -671,27 +725,44 @@ fn render_and_send(
 }
 
 /// Renders frame after frame of the orbit onto the panel, with core 1 if it
-/// started, else with core 0 alone (`Drawing::send`). Returns only on an error.
+/// started, else with core 0 alone (`Drawing::send_overlaid`), each with the
+/// rate of the frame before ([`Label`], timed by `timer`). Returns only on an
+/// error.
 fn animate(
     sender: &mut Sender,
     view: &SceneView<'_>,
     two_cores: bool,
+    timer: hal::Timer<hal::timer::CopyableTimer0>,
     backlight: &mut impl OutputPin,
     led: &mut impl StatefulOutputPin,
 ) -> Result<Infallible, Failure> {
+    let tiles = u32::from(GRID.0) * u32::from(GRID.1);
     let mut frame: u32 = 0;
+    // The start of the frame before (µs) and how many tiles core 0 rendered of it.
+    let mut before: Option<(u64, u32)> = None;
     loop {
         frame = frame.wrapping_add(1).max(1);
-        let renderer = orbit(frame)?;
+        let now = timer.get_counter().ticks();
+        let period = before.map(|(start, core0_tiles)| {
+            let period = now.wrapping_sub(start);
+            log::frame(frame.wrapping_sub(1), period, core0_tiles, tiles);
+            period
+        });
+        let job = FrameJob {
+            renderer: orbit(frame)?,
+            label: Label::new(period),
+        };
         // Checked once a frame, so that no tile meets `Error::NotLinked`.
-        renderer.check_loops::<scene::SceneLoops>(view)?;
-        if two_cores {
-            draw_frame(sender, &renderer, view, frame)?;
+        job.renderer.check_loops::<scene::SceneLoops>(view)?;
+        let core0_tiles = if two_cores {
+            draw_frame(sender, &job, view, frame)?
         } else {
-            Drawing::<Rgb565Wire, TILE>::new(&renderer, view)
+            Drawing::<Rgb565Wire, TILE>::new(&job.renderer, view)
                 .linking::<scene::SceneLoops>()?
-                .send(&mut sender.panel)?;
-        }
+                .send_overlaid(&mut sender.panel, |tile| job.label.draw(tile))?;
+            tiles
+        };
+        before = Some((now, core0_tiles));
         if frame == 1 {
             // The panel's memory is the first frame now, no longer noise.
             let _ = backlight.set_high();
@@ -708,7 +779,7 @@ fn main() -> ! {
         halt()
     };
     let mut watchdog = hal::Watchdog::new(pac.WATCHDOG);
-    let Ok(clocks) = hal::clocks::init_clocks_and_plls(
+    let clocks = match hal::clocks::init_clocks_and_plls(
         XTAL_HZ,
         pac.XOSC,
         pac.CLOCKS,
@@ -716,8 +787,12 @@ fn main() -> ! {
         pac.PLL_USB,
         &mut pac.RESETS,
         &mut watchdog,
-    ) else {
-        halt()
+    ) {
+        Ok(clocks) => clocks,
+        Err(e) => {
+            log::clocks_failed(&e);
+            halt()
+        }
     };
     let mut timer = hal::Timer::new_timer0(pac.TIMER0, &mut pac.RESETS, &clocks);
     let mut sio = hal::Sio::new(pac.SIO);
@@ -760,21 +835,38 @@ fn main() -> ! {
             // Core 1 with its own stack; if it does not start, core 0 renders alone.
             let mut mc = Multicore::new(&mut pac.PSM, &mut pac.PPB, &mut sio.fifo);
             let two_cores = match (mc.cores().get_mut(1), CORE1_STACK.take()) {
-                (Some(core1), Some(stack)) => core1
-                    .spawn(stack, move || core1_main(view, producer))
-                    .is_ok(),
+                (Some(core1), Some(stack)) => {
+                    match core1.spawn(stack, move || core1_main(view, producer)) {
+                        Ok(()) => true,
+                        Err(e) => {
+                            log::core1_not_started(&e);
+                            false
+                        }
+                    }
+                }
                 _ => false,
             };
+            log::started(two_cores);
             let mut sender = Sender {
                 panel,
                 from_core1: consumer,
                 in_flight: None,
             };
-            animate(&mut sender, &view, two_cores, &mut backlight, &mut led)
+            animate(
+                &mut sender,
+                &view,
+                two_cores,
+                timer,
+                &mut backlight,
+                &mut led,
+            )
         });
     match outcome {
         Ok(never) => match never {},
-        Err(failure) => blink_forever(&mut led, &mut timer, failure.blinks()),
+        Err(failure) => {
+            log::failed(&failure);
+            blink_forever(&mut led, &mut timer, failure.blinks())
+        }
     }
 }
 
@@ -798,7 +890,10 @@ fn halt() -> ! {
     }
 }
 
-/// Halts on a panic (none is expected: the render path returns its errors).
+/// Halts on a panic (none is expected: the render path returns its errors). With
+/// the feature `defmt`, panic-probe's handler instead: it logs the message, then
+/// stops the core on a `HardFault` (which halts it too, without a probe).
+#[cfg(not(feature = "defmt"))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
     cortex_m::interrupt::disable();

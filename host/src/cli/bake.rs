@@ -2,7 +2,7 @@
 //! host library's `bake` module).
 
 use super::{Error, Source};
-use clap::Args;
+use clap::{Args, ValueHint};
 use std::io::Write as _;
 use std::path::PathBuf;
 use tessera_host::output::{self, Pending};
@@ -12,15 +12,15 @@ pub struct BakeArgs {
     /// A built-in scene name (see `tessera scenes`) or a .toml scene file
     scene: String,
     /// Output Rust file (a symbolic link is followed)
-    #[arg(short, long)]
+    #[arg(short, long, value_hint = ValueHint::FilePath)]
     output: PathBuf,
     /// The name the firmware gives the core crate (`crate` inside the core itself):
     /// a Rust path, identifiers joined by `::` (no keyword)
-    #[arg(long = "crate", default_value = "tessera", value_parser = parse_path)]
+    #[arg(long = "crate", default_value = "tessera_core", value_parser = parse_path)]
     krate: String,
 }
 
-/// `--crate`: a Rust path of a `use` (`tessera`, `crate`, `my_deps::tessera`;
+/// `--crate`: a Rust path of a `use` (`tessera_core`, `crate`, `my_deps::tessera_core`;
 /// see [`tessera_host::bake::check_crate_path`]).
 fn parse_path(s: &str) -> Result<String, String> {
     tessera_host::bake::check_crate_path(s).map(|()| s.to_string())

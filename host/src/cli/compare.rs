@@ -2,10 +2,10 @@
 //! of the differences when asked for one.
 
 use super::{Common, Error, Source, describe, threads, warn_work};
-use clap::Args;
+use clap::{Args, ValueHint};
 use image::RgbImage;
 use std::path::PathBuf;
-use tessera::{RenderSettings, Renderer, Viewport};
+use tessera_core::{RenderSettings, Renderer, Viewport};
 use tessera_host::output::{self, Pending};
 use tessera_host::{HostError, compare, limits};
 
@@ -14,7 +14,7 @@ pub struct CompareArgs {
     #[command(flatten)]
     common: Common,
     /// Also write a heat map of the differences to this PNG (none by default)
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", value_hint = ValueHint::FilePath)]
     heatmap: Option<PathBuf>,
 }
 

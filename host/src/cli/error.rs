@@ -38,6 +38,39 @@ pub enum Error {
     /// `simulate --window` in a build without the `sdl` feature.
     #[cfg(not(feature = "sdl"))]
     NoWindow,
+    /// An image file `diff` reads: unreadable, or not a PNG or PPM it takes (the
+    /// message says what is wrong).
+    Image {
+        /// The file, as given.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// `diff`'s two images are not the same size.
+    SizesDiffer {
+        /// The first image and its width and height.
+        a: (PathBuf, u32, u32),
+        /// The second.
+        b: (PathBuf, u32, u32),
+    },
+    /// `diff`'s two images differ.
+    ImagesDiffer {
+        /// The first image.
+        a: PathBuf,
+        /// The second.
+        b: PathBuf,
+        /// How: the pixels and the largest difference.
+        how: String,
+    },
+    /// What `completions` or `man` made could not be written to stdout.
+    Stdout(std::io::Error),
+    /// `new` could not create the crate at `path`.
+    New {
+        /// The folder asked for, or the checkout.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
     /// A folder could not be created.
     Folder {
         /// The folder.
@@ -54,7 +87,7 @@ impl fmt::Display for Error {
             Self::File(e) => write!(f, "{e}"),
             Self::Scene { name, source } => write!(f, "{}: {source}", escape(name)),
             Self::NoSuchScene(name) => {
-                let names: Vec<&str> = tessera::builtin::Builtin::ALL
+                let names: Vec<&str> = tessera_core::builtin::Builtin::ALL
                     .iter()
                     .map(|b| b.name())
                     .collect();
@@ -72,7 +105,26 @@ impl fmt::Display for Error {
             Self::NoWindow => f.write_str(
                 "this tessera was built without the SDL window: rebuild with `--features sdl` (needs libsdl2-dev)",
             ),
+            Self::Image { path, message } => write!(f, "{}: {message}", escape_path(path)),
+            Self::SizesDiffer { a, b } => write!(
+                f,
+                "the images are not the same size: {} is {}x{}, {} is {}x{}",
+                escape_path(&a.0),
+                a.1,
+                a.2,
+                escape_path(&b.0),
+                b.1,
+                b.2
+            ),
+            Self::ImagesDiffer { a, b, how } => write!(
+                f,
+                "{} and {} differ: {how}",
+                escape_path(a),
+                escape_path(b)
+            ),
+            Self::Stdout(e) => write!(f, "cannot write to stdout: {e}"),
             Self::Folder { path, source } => write!(f, "{}: {source}", escape_path(path)),
+            Self::New { path, message } => write!(f, "{}: {message}", escape_path(path)),
         }
     }
 }
@@ -85,8 +137,8 @@ impl From<HostError> for Error {
     }
 }
 
-impl From<tessera::Error> for Error {
-    fn from(e: tessera::Error) -> Self {
+impl From<tessera_core::Error> for Error {
+    fn from(e: tessera_core::Error) -> Self {
         Self::Host(HostError::Core(e))
     }
 }

@@ -1,10 +1,16 @@
-//! The `tessera` command line: the arguments shared by the commands, and a module
-//! per command (`render`, `compare`, `simulate`, `trade`; `scenes` is one loop).
-//! Every command returns the one [`Error`] type.
+//! The `tessera` command line: the arguments shared by the commands, the long
+//! explanations (said once, in `tessera --help` and the manual page), and a module
+//! per command (`render`, `compare`, `diff`, `simulate`, `trade`, `bake`, `new`;
+//! `completions` and `man` in `generate`; `scenes` is one loop). Every command
+//! returns the one [`Error`] type.
 
 mod bake;
 mod compare;
+mod diff;
 mod error;
+mod generate;
+mod image_file;
+mod new;
 mod render;
 mod simulate;
 mod source;
@@ -13,82 +19,206 @@ mod trade;
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
-use tessera::builtin::Builtin;
-use tessera::{RenderSettings, Viewport};
+use tessera_core::builtin::Builtin;
+use tessera_core::{RenderSettings, Viewport};
 use tessera_host::limits;
 
 pub use error::Error;
 use source::Source;
 
-/// How outputs are written (shown by `--help`).
-const OUTPUT_HELP: &str = "\
-Output files: each is written to a temporary file next to it (.tessera-PID-N.tmp) \
+/// What each command's own `--help` ends with: where the long explanations are.
+const SEE_MORE: &str = "More (this command in detail, output files, inputs, limits, exit \
+status): `tessera --help`, or every command on one page: `tessera man`.";
+
+/// Each command in detail, said once: in `tessera --help` (after the list of
+/// commands) and in the manual page (`tessera man`, between the command's synopsis
+/// and its options). A command's own `--help` is its purpose in one line and its
+/// options.
+const COMMAND_DETAILS: &[(&str, &str)] = &[
+    (
+        "render",
+        "renders the scene to a PNG, streamed a row of tiles at a time; prints a one-line \
+summary (size, samples, tiles, threads, time, rays a pixel, rays a second) and where \
+it wrote. `tessera` alone is `tessera render` with its defaults: the default scene \
+(chapter-reflect) to tessera.png.",
+    ),
+    (
+        "compare",
+        "renders the scene with the core (f32) and with the independent reference \
+(f64) and prints PSNR, mean FLIP, the largest difference and the share of pixels \
+within 0/1/2 LSB outside a 1-pixel band around silhouettes (where a rounding \
+difference may flip a whole sample). The accuracy bar: at least 99.5% of the pixels \
+outside the band within 1 LSB, all within 2 LSB, no NaN or infinity. --heatmap \
+writes the differences as a PNG (black: equal, blue: 1 LSB, green: 2, yellow: 3-4, \
+red: 5+; grey: band). Two image files: diff.",
+    ),
+    (
+        "diff",
+        "compares two image files of the same size pixel for pixel, A as FLIP's \
+reference: each a PNG (8-bit, opaque: what render writes) or a PPM, binary (P6) or \
+plain (P3), with maxval 255 and comments in its header (what the firmware example \
+examples/qemu-m4f writes). It prints compare's figures without the silhouette band, \
+the number of differing pixels and the 8 largest differences ((x, y) from the top \
+left, A's and B's channels); --heatmap writes them as compare's does. Exit status 0 \
+when the images are identical, 1 when they differ.",
+    ),
+    (
+        "simulate",
+        "draws the scene through the core's embedded-graphics output onto a \
+simulated panel (240x240 unless --size is given) and saves what the panel shows, in \
+its colour type and after its dithering; --orbit N renders N frames of the camera \
+circling what it looks at, as an animated GIF or numbered PNGs.",
+    ),
+    (
+        "trade",
+        "one tab-separated row per setting (sampler, depth) of this build's math \
+backend (exact, or fast-math): host ns/pixel on one thread, the median of --runs \
+timed runs and their spread, and the accuracy against a converged f64 reference.",
+    ),
+    (
+        "bake",
+        "writes the scene as Rust `static` data for a firmware (flash, not RAM): \
+`SCENE` (a `tessera_core::BakedScene`: camera, size, settings, materials, lights, \
+every primitive, meshes and BVHs), a constant per material (`MAT_<NAME>`), `WIDTH`, \
+`HEIGHT`, `TILE` and `SceneLoops` (the tile loops the scene needs). Render it with \
+`SCENE.view()?` and `SCENE.renderer()?`. A scene with meshes or 100 triangles or \
+more needs the core's feature `bvh` (the file says so).",
+    ),
+    (
+        "new",
+        "creates a firmware crate in FOLDER (which must not exist; its last part is \
+the crate's name) from tessera's template: a Cortex-M4F under qemu whose build.rs \
+bakes scene.toml into flash, and whose firmware renders it tile by tile and writes \
+tessera.ppm to the host (`cargo run --release` in the folder; `tessera diff \
+tessera.ppm` against `tessera render scene.toml` finds them identical). Its \
+README lists every piece and why. It depends on tessera-core and tessera-host \
+from the crate registry at this version, or with `--path CHECKOUT` on a checkout \
+of tessera's repository. The files are written in a hidden folder beside it, \
+then renamed: a failed run leaves nothing half-written.",
+    ),
+    (
+        "completions",
+        "writes the completion script of bash, zsh, fish, elvish or powershell to \
+stdout, e.g. `tessera completions bash > ~/.local/share/bash-completion/completions/tessera`.",
+    ),
+    (
+        "man",
+        "writes the manual page (roff) to stdout: every command and option on one \
+page, e.g. `tessera man > tessera.1 && man ./tessera.1`.",
+    ),
+];
+
+/// What every command shares, said once (in `tessera --help` and the manual page).
+const GENERAL: &[(&str, &str)] = &[
+    (
+        "Scenes",
+        "SCENE is a built-in scene's name (`tessera scenes` lists them) or a .toml \
+scene file (the repository's scenes/README.md documents every key). render, compare \
+and simulate take the scene's own size and [render] settings, or a built-in's at \
+320x240, unless an option overrides them; the image is the same whatever --threads \
+or --tile.",
+    ),
+    (
+        "Output files",
+        "each is written to a temporary file next to it (.tessera-PID-N.tmp) \
 and renamed onto it when complete, so an existing file is replaced whole or left \
 untouched; Ctrl-C, SIGTERM, SIGHUP and a file size limit leave no temporary file. \
 Several outputs (orbit frames) are all or nothing. Refused before any work: an \
 output that exists and is not a regular file (a folder, a device such as /dev/null, \
 a FIFO), and every file the command reads: the scene file and its meshes' OBJ \
-files, also under another path or through a hard or symbolic link. A symbolic \
-link is followed: the file it names is written (created, for a dangling link) and \
-the link stays; a link to a folder is refused.
-
-Inputs (the scene file, its meshes' OBJ files) must be regular files: a FIFO, a \
-device, a socket or a folder is refused at once, unread.
-
-Limits, checked before any work: --threads at most 256; compare and trade at most \
-about 28.5 million pixels (FLIP's work limit), where compare's memory peaks at \
-about 950 MB (33 bytes a pixel; 2.3 GB with --sampler adaptive:K, 80 bytes a \
-pixel); simulate at most 4 GiB for its panel, 3600 orbit frames and a GIF delay \
-of 655350 ms (--delay-ms). render has no size limit: it streams the PNG a row of \
-tiles at a time.
-
-Work: before it starts, each command bounds its work (samples a pixel, the rays a \
-sample may take: each level of --depth can double them with glass, a shadow ray \
+files (diff's images), also under another path or through a hard or symbolic link. \
+A symbolic link is followed: the file it names is written (created, for a dangling \
+link) and the link stays; a link to a folder is refused.",
+    ),
+    (
+        "Inputs",
+        "the scene file, its meshes' OBJ files and diff's images must be regular \
+files: a FIFO, a device, a socket or a folder is refused at once, unread.",
+    ),
+    (
+        "Limits",
+        "checked before any work: --threads at most 256; compare, diff and trade \
+at most about 28.5 million pixels (FLIP's work limit), where compare's memory peaks \
+at about 950 MB (33 bytes a pixel; 2.3 GB with --sampler adaptive:K, 80 bytes a \
+pixel); simulate at most 4 GiB for its panel, 3600 orbit frames and a GIF delay of \
+655350 ms (--delay-ms). render has no size limit: it streams the PNG a row of tiles \
+at a time.",
+    ),
+    (
+        "Work",
+        "before it starts, each command bounds its work (samples a pixel, the rays \
+a sample may take: each level of --depth can double them with glass, a shadow ray \
 per light at each hit; the primitives) and, where that bound is above a minute on \
 this machine, measures a trial of 1200 pixels; it warns (and goes on) when the \
-estimate is above a minute, with what drives it.
+estimate is above a minute, with what drives it.",
+    ),
+    (
+        "Exit status",
+        "0 on success, 1 on an error, when compare's accuracy bar is not met or \
+when diff's images differ, 2 on a bad command line.",
+    ),
+];
 
-Exit status: 0 on success, 1 on an error or when compare's accuracy bar is not met, \
-2 on a bad command line.";
+/// The end of `tessera --help`: each command in detail, then what they share.
+fn long_help() -> String {
+    let commands = COMMAND_DETAILS
+        .iter()
+        .map(|(name, text)| format!("  {name}: {text}"))
+        .collect::<Vec<_>>()
+        .join("\n\n");
+    let general = GENERAL
+        .iter()
+        .map(|(heading, text)| format!("{heading}: {text}"))
+        .collect::<Vec<_>>()
+        .join("\n\n");
+    format!("Commands in detail:\n\n{commands}\n\n{general}")
+}
 
 #[derive(Parser)]
 #[command(
     name = "tessera",
     version,
     about = "A ray tracer for microcontrollers: host tools",
-    after_long_help = OUTPUT_HELP
+    after_long_help = long_help()
 )]
 pub struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
 }
 
+// Each command's `--help`: its purpose in one line, its options and where the rest
+// is ([`SEE_MORE`]); the rest is said once, in [`COMMAND_DETAILS`] and [`GENERAL`].
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene to a PNG (the default command).
-    #[command(after_long_help = OUTPUT_HELP)]
+    /// Render a scene to a PNG (the default command)
+    #[command(after_help = SEE_MORE)]
     Render(render::RenderArgs),
-    /// Render with the core (f32) and the reference (f64) and print the accuracy.
-    #[command(after_long_help = OUTPUT_HELP)]
+    /// Render with the core (f32) and the reference (f64) and print the accuracy
+    #[command(after_help = SEE_MORE)]
     Compare(compare::CompareArgs),
-    /// Draw a scene onto a simulated display panel (embedded-graphics-simulator) and
-    /// save what the panel shows.
-    #[command(after_long_help = OUTPUT_HELP)]
+    /// Compare two image files (PNG or PPM) pixel for pixel
+    #[command(after_help = SEE_MORE)]
+    Diff(diff::DiffArgs),
+    /// Draw a scene onto a simulated display panel and save what it shows
+    #[command(after_help = SEE_MORE)]
     Simulate(simulate::SimulateArgs),
-    /// Measure the speed/accuracy trade of this build's math backend: one row per
-    /// setting (tab-separated), host ns/pixel on one thread and accuracy against a
-    /// converged f64 reference.
+    /// Measure this build's math backend: speed and accuracy, a row per setting
+    #[command(after_help = SEE_MORE)]
     Trade(trade::TradeArgs),
-    /// Write a whole scene as Rust `static` data for a firmware (flash, not RAM):
-    /// `SCENE` (a `tessera::BakedScene`: camera, size, settings, materials, lights,
-    /// every primitive, meshes and BVHs), a constant per material (`MAT_<NAME>`),
-    /// `WIDTH`, `HEIGHT`, `TILE` and `SceneLoops` (the tile loops the scene needs).
-    /// Render it with `SCENE.view()?` and `SCENE.renderer()?`. A scene with meshes or
-    /// 100 triangles or more needs the core's feature `bvh` (the file says so).
-    #[command(after_long_help = OUTPUT_HELP)]
+    /// Write a scene as Rust `static` data for a firmware's flash
+    #[command(after_help = SEE_MORE)]
     Bake(bake::BakeArgs),
-    /// List the built-in scenes.
+    /// Create a firmware crate from tessera's template (Cortex-M4F under qemu)
+    #[command(after_help = SEE_MORE)]
+    New(new::NewArgs),
+    /// List the built-in scenes
     Scenes,
+    /// Write a shell's completion script to stdout
+    #[command(after_help = SEE_MORE)]
+    Completions(generate::CompletionsArgs),
+    /// Write the manual page (roff, every command on one page) to stdout
+    #[command(after_help = SEE_MORE)]
+    Man,
 }
 
 impl Cli {
@@ -98,15 +228,19 @@ impl Cli {
             None => render::run(&render::RenderArgs::default()),
             Some(Command::Render(a)) => render::run(&a),
             Some(Command::Compare(a)) => compare::run(&a),
+            Some(Command::Diff(a)) => diff::run(&a),
             Some(Command::Simulate(a)) => simulate::run(&a),
             Some(Command::Trade(a)) => trade::run(&a),
             Some(Command::Bake(a)) => bake::run(&a),
+            Some(Command::New(a)) => new::run(&a),
             Some(Command::Scenes) => {
                 for &b in Builtin::ALL {
                     println!("{}", b.name());
                 }
                 Ok(())
             }
+            Some(Command::Completions(a)) => generate::completions(&a),
+            Some(Command::Man) => generate::man(),
         }
     }
 }
@@ -124,7 +258,7 @@ struct Common {
     /// adaptive:K or adaptive:K,T (K x K samples only where a pixel needs them), sparse or
     /// sparse:T (a ray through a quarter of the pixels, the others interpolated where they agree)
     #[arg(long)]
-    sampler: Option<tessera::Sampler>,
+    sampler: Option<tessera_core::Sampler>,
     /// Reflection/refraction depth: 0 (no reflected or refracted ray) to 8
     #[arg(long, value_parser = parse_depth)]
     depth: Option<u8>,
@@ -134,7 +268,7 @@ struct Common {
     /// How the pixels become 8 bits: srgb (what displays expect) or linear (the
     /// value itself) [default: the scene file's, or srgb]
     #[arg(long)]
-    encoding: Option<tessera::Encoding>,
+    encoding: Option<tessera_core::Encoding>,
     /// Tile size: 8, 16 or 32
     #[arg(long, value_parser = parse_tile)]
     tile: Option<usize>,
@@ -193,10 +327,10 @@ fn parse_size(s: &str) -> Result<(u16, u16), String> {
 
 fn parse_depth(s: &str) -> Result<u8, String> {
     match s.trim().parse::<u8>() {
-        Ok(d) if d <= tessera::error::MAX_DEPTH => Ok(d),
+        Ok(d) if d <= tessera_core::error::MAX_DEPTH => Ok(d),
         _ => Err(format!(
             "expected a depth from 0 to {} (reflections and refractions), got {s:?}",
-            tessera::error::MAX_DEPTH
+            tessera_core::error::MAX_DEPTH
         )),
     }
 }
@@ -244,8 +378,8 @@ fn threads(n: usize) -> usize {
 fn warn_work(
     source: &Source,
     what: &str,
-    view: &tessera::SceneView<'_>,
-    camera: &tessera::Camera,
+    view: &tessera_core::SceneView<'_>,
+    camera: &tessera_core::Camera,
     mut work: limits::Work,
     seconds: impl Fn(&limits::Work) -> f64,
 ) -> Result<(), Error> {
@@ -269,7 +403,7 @@ fn describe(source: &Source, vp: Viewport, settings: &RenderSettings) -> String 
     let n = settings.sampler.count();
     let bound = if matches!(
         settings.sampler,
-        tessera::Sampler::Adaptive { .. } | tessera::Sampler::Sparse { .. }
+        tessera_core::Sampler::Adaptive { .. } | tessera_core::Sampler::Sparse { .. }
     ) {
         "at most "
     } else {

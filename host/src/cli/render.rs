@@ -1,10 +1,10 @@
 //! `tessera render`: a scene to a PNG, streamed a row of tiles at a time.
 
 use super::{Common, Error, Source, describe, progress, threads, warn_work};
-use clap::Args;
+use clap::{Args, ValueHint};
 use std::path::PathBuf;
 use std::time::Instant;
-use tessera::Renderer;
+use tessera_core::Renderer;
 use tessera_host::limits;
 use tessera_host::output::{self, Pending};
 
@@ -15,8 +15,8 @@ const DEFAULT_OUTPUT: &str = "tessera.png";
 pub struct RenderArgs {
     #[command(flatten)]
     common: Common,
-    /// Output PNG (a symbolic link is followed; see below)
-    #[arg(short, long, default_value = DEFAULT_OUTPUT)]
+    /// Output PNG (a symbolic link is followed)
+    #[arg(short, long, default_value = DEFAULT_OUTPUT, value_hint = ValueHint::FilePath)]
     output: PathBuf,
 }
 

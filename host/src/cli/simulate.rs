@@ -2,11 +2,11 @@
 //! an orbit of the camera, saved as PNG(s) or a GIF and optionally shown in a window.
 
 use super::{Common, Error, Source, describe, progress, warn_work};
-use clap::Args;
+use clap::{Args, ValueHint};
 use image::RgbImage;
 use std::path::PathBuf;
 use std::time::Instant;
-use tessera::{Renderer, Viewport};
+use tessera_core::{Renderer, Viewport};
 use tessera_host::output::{self, Pending, Target};
 use tessera_host::simulate::{self as sim, PanelColor};
 use tessera_host::{HostError, limits};
@@ -22,10 +22,10 @@ pub struct SimulateArgs {
     /// nearest level, as embedded-graphics converts), bayer4 or bayer8 (ordered
     /// dithering by the pixel's position in the frame)
     #[arg(long, default_value = "bayer4", value_parser = parse_dither)]
-    dither: tessera::dither::Dither,
+    dither: tessera_core::dither::Dither,
     /// Output: a PNG, or with --orbit an animated GIF (.gif) or numbered PNG frames
     /// (NAME-000.png, ...) [default: simulator.png, or simulator-orbit.gif]
-    #[arg(short, long)]
+    #[arg(short, long, value_hint = ValueHint::FilePath)]
     output: Option<PathBuf>,
     /// Render an orbit of the camera around what it looks at, in this many frames
     /// (1 to 3600)
@@ -39,10 +39,20 @@ pub struct SimulateArgs {
     /// Also show the frame(s) in an SDL window (build with --features sdl)
     #[arg(long)]
     window: bool,
+    /// Text drawn over the bottom-left corner of each tile before it reaches the
+    /// panel, as a firmware labels its frames; `{frame}` is the frame's number
+    #[arg(long, value_parser = parse_label)]
+    label: Option<String>,
 }
 
-/// `--dither`: a [`tessera::dither::Dither`].
-fn parse_dither(s: &str) -> Result<tessera::dither::Dither, String> {
+/// `--label`: printable ASCII, at most [`sim::MAX_LABEL`] characters once the
+/// frame's number is in.
+fn parse_label(s: &str) -> Result<String, String> {
+    sim::check_label(&s.replace("{frame}", "9999")).map(|()| s.to_string())
+}
+
+/// `--dither`: a [`tessera_core::dither::Dither`].
+fn parse_dither(s: &str) -> Result<tessera_core::dither::Dither, String> {
     s.parse()
         .map_err(|_| format!("expected none, bayer4 or bayer8, got {s:?}"))
 }
@@ -187,8 +197,19 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             frames.len() as u64,
             u64::from(vp.width) * u64::from(vp.height) * frames.len() as u64,
         );
-        let frames = frames.iter().map(|renderer| {
-            let img = sim::simulate_tiled(view, renderer, args.color, tile, Some(args.dither))?;
+        let frames = frames.iter().enumerate().map(|(k, renderer)| {
+            let label = args
+                .label
+                .as_ref()
+                .map(|l| l.replace("{frame}", &k.to_string()));
+            let img = sim::simulate_labelled(
+                view,
+                renderer,
+                args.color,
+                tile,
+                Some(args.dither),
+                label.as_deref(),
+            )?;
             bar.inc(1);
             Ok(img)
         });

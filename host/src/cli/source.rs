@@ -2,8 +2,8 @@
 
 use super::{Common, Error};
 use std::path::{Path, PathBuf};
-use tessera::builtin::Builtin;
-use tessera::{Camera, RenderSettings, SceneView, Viewport};
+use tessera_core::builtin::Builtin;
+use tessera_core::{Camera, RenderSettings, SceneView, Viewport};
 use tessera_host::desc::{DescError, SceneDesc};
 use tessera_host::output::{Input, Target};
 

@@ -1,11 +1,11 @@
 //! `tessera trade`: the speed/accuracy rows of this build's math backend.
 
 use super::{Error, parse_size};
-use clap::Args;
+use clap::{Args, ValueHint};
 use image::RgbImage;
 use std::path::PathBuf;
-use tessera::builtin::Builtin;
-use tessera::{RenderSettings, Viewport};
+use tessera_core::builtin::Builtin;
+use tessera_core::{RenderSettings, Viewport};
 use tessera_host::{limits, trade};
 
 /// The image size `trade` measures at by default.
@@ -30,7 +30,7 @@ pub struct TradeArgs {
     /// Folder caching the converged references (NAME-WxH-ENCODING-HASH.png, the
     /// hash of the scene and the reference's settings), shared between builds of
     /// both backends
-    #[arg(long)]
+    #[arg(long, value_hint = ValueHint::DirPath)]
     truth_dir: Option<PathBuf>,
 }
 

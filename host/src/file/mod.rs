@@ -27,7 +27,7 @@ use serde::Deserialize;
 use std::fmt;
 use std::io::Read;
 use std::path::Path;
-use tessera::builtin::Builtin;
+use tessera_core::builtin::Builtin;
 use toml::de::{DeTable, DeValue};
 
 mod prescan;
@@ -497,10 +497,10 @@ fn check(desc: &SceneDesc) -> Result<(), DescError> {
     let scene = desc.to_core()?;
     let settings = desc.settings()?;
     let vp = desc.viewport();
-    tessera::Renderer::try_new(scene.camera(), vp, settings).map_err(|e| {
+    tessera_core::Renderer::try_new(scene.camera(), vp, settings).map_err(|e| {
         let c = &desc.camera;
         match e {
-            tessera::Error::EmptyViewport => DescError {
+            tessera_core::Error::EmptyViewport => DescError {
                 item: "render".into(),
                 message: format!("{e}, got {}x{}", vp.width, vp.height),
             },
@@ -565,7 +565,7 @@ mod tests {
     use super::*;
     use std::path::PathBuf;
     #[cfg(feature = "cli")]
-    use tessera::Viewport;
+    use tessera_core::Viewport;
 
     fn scenes_dir() -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes")
@@ -946,7 +946,7 @@ color = [0.9, 0.1, 0.1]
         let text = format!("{HEAD}\n[render]\nencoding = \"SRGB\"\n");
         assert_eq!(
             desc(&text).settings().unwrap().encoding,
-            tessera::Encoding::Srgb
+            tessera_core::Encoding::Srgb
         );
         let text = format!("{HEAD}\n[render]\nwidth = 0\n");
         assert_eq!(

@@ -4,7 +4,7 @@ use super::{HostKind, Number};
 use crate::bake::v3;
 use crate::desc::{DescError, Item, show};
 use serde::Deserialize;
-use tessera::{error::Field, geometry::Aabb};
+use tessera_core::{error::Field, geometry::Aabb};
 
 /// An axis-aligned box.
 #[derive(Clone, Debug, Deserialize, PartialEq)]

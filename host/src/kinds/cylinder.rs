@@ -4,7 +4,7 @@ use super::{HostKind, Number};
 use crate::bake::{lit, v3, vec3};
 use crate::desc::{DescError, Item, value_for};
 use serde::Deserialize;
-use tessera::{error::Field, geometry::Cylinder};
+use tessera_core::{error::Field, geometry::Cylinder};
 
 /// A finite cylinder: the tube of `radius` around the segment from `base` to
 /// `top`, closed by its two end caps unless `capped = false`.

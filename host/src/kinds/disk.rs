@@ -4,7 +4,7 @@ use super::{HostKind, Number};
 use crate::bake::{lit, vec3};
 use crate::desc::{DescError, Item, value_for};
 use serde::Deserialize;
-use tessera::{error::Field, geometry::Disk};
+use tessera_core::{error::Field, geometry::Disk};
 
 /// A disk: the points of the plane through `center` with normal `normal`
 /// within `radius` of the centre, and at least `inner` from it (a ring).

@@ -37,7 +37,7 @@ pub enum Number {
 }
 
 /// A geometry kind of the core, on the host.
-pub trait HostKind: tessera::Geometry {
+pub trait HostKind: tessera_core::Geometry {
     /// Its item of a scene file (`[[sphere]]`).
     type Desc: DeserializeOwned + Clone + fmt::Debug + PartialEq;
 
@@ -90,14 +90,14 @@ pub trait Listed: HostKind {
 #[doc(hidden)]
 macro_rules! __host_each_kind {
     (|$G:ident| $body:block) => {
-        tessera::__kinds!({tessera::__each_kind_blocks} $G, $body)
+        tessera_core::__kinds!({tessera_core::__each_kind_blocks} $G, $body)
     };
 }
 pub use crate::__host_each_kind as each_kind;
 
 /// The name of a kind's core type (`Sphere`, `Aabb`), as a baked file spells it.
 #[must_use]
-pub fn type_name<G: tessera::Geometry>() -> &'static str {
+pub fn type_name<G: tessera_core::Geometry>() -> &'static str {
     let full = std::any::type_name::<G>();
     full.rsplit("::").next().unwrap_or(full)
 }

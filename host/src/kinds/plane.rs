@@ -4,7 +4,7 @@ use super::{HostKind, Number};
 use crate::bake::{lit, vec3};
 use crate::desc::{DescError, Item, value_for};
 use serde::Deserialize;
-use tessera::{error::Field, geometry::Plane};
+use tessera_core::{error::Field, geometry::Plane};
 
 /// A plane.
 #[derive(Clone, Debug, Deserialize, PartialEq)]

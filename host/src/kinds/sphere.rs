@@ -4,7 +4,7 @@ use super::{HostKind, Number};
 use crate::bake::{lit, v3};
 use crate::desc::{DescError, Item, value_for};
 use serde::Deserialize;
-use tessera::{error::Field, geometry::Sphere};
+use tessera_core::{error::Field, geometry::Sphere};
 
 /// A sphere.
 #[derive(Clone, Debug, Deserialize, PartialEq)]

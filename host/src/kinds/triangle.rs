@@ -4,7 +4,7 @@
 use super::{HostKind, Number};
 use crate::desc::{DescError, Item, core_triangle};
 use serde::Deserialize;
-use tessera::geometry::Triangle;
+use tessera_core::geometry::Triangle;
 
 /// A triangle.
 #[derive(Clone, Debug, Deserialize, PartialEq)]

@@ -2,7 +2,7 @@
 //! `f64` with `std` math (no tiles, no fixed capacity, plain `Vec`s; every ray
 //! tests every primitive), implementing the core's model and shading from the same
 //! [`SceneDesc`]. It is the truth the `f32` core is measured against; it shares with
-//! the core only the sub-pixel sample positions ([`tessera::Sampler::offset`]).
+//! the core only the sub-pixel sample positions ([`tessera_core::Sampler::offset`]).
 //!
 //! The core skips, per tile, the primitives no ray of the tile can hit (its `cull`
 //! module); that culling is conservative and never changes a pixel (the core's
@@ -47,7 +47,7 @@ pub struct RefImage {
     /// ([`RefImage::signature_at`]).
     pub signature: Vec<u64>,
     /// How [`RefImage::to_rgb8`] makes the 8 bits (the settings').
-    pub encoding: tessera::Encoding,
+    pub encoding: tessera_core::Encoding,
 }
 
 /// The 8 bits of the linear value `v` in `encoding`, in `f64`: clamped to
@@ -55,12 +55,12 @@ pub struct RefImage {
 /// (srgb) times 255, plus 0.5, truncated: the correctly rounded code the core's
 /// `Color::to_rgb8` and `Color::to_srgb8` give from `f32`.
 #[must_use]
-pub fn encode8(v: f64, encoding: tessera::Encoding) -> u8 {
+pub fn encode8(v: f64, encoding: tessera_core::Encoding) -> u8 {
     let v = v.clamp(0.0, 1.0);
     let e = match encoding {
-        tessera::Encoding::Linear => v,
-        tessera::Encoding::Srgb if v <= 0.003_130_8 => 12.92 * v,
-        tessera::Encoding::Srgb => 1.055 * v.powf(1.0 / 2.4) - 0.055,
+        tessera_core::Encoding::Linear => v,
+        tessera_core::Encoding::Srgb if v <= 0.003_130_8 => 12.92 * v,
+        tessera_core::Encoding::Srgb => 1.055 * v.powf(1.0 / 2.4) - 0.055,
     };
     (e * 255.0 + 0.5) as u8
 }
@@ -115,7 +115,7 @@ pub struct RefCamera {
 
 impl RefCamera {
     /// The camera of a description (assumed validated) for a viewport.
-    pub fn new(c: &CameraDesc, viewport: tessera::Viewport) -> Result<Self, DescError> {
+    pub fn new(c: &CameraDesc, viewport: tessera_core::Viewport) -> Result<Self, DescError> {
         let position = V3::from_array(c.position);
         let forward = match (c.forward, c.look_at) {
             (Some(f), None) => V3::from_array(f),
@@ -193,8 +193,8 @@ fn right_vector(fwd: V3, forward: V3, up: V3) -> V3 {
 /// for subnormal numbers ([`SceneDesc::flush_subnormals`]).
 pub fn render(
     desc: &SceneDesc,
-    viewport: tessera::Viewport,
-    settings: &tessera::RenderSettings,
+    viewport: tessera_core::Viewport,
+    settings: &tessera_core::RenderSettings,
 ) -> Result<RefImage, DescError> {
     let core = desc.to_core()?;
     core.lists()
@@ -216,7 +216,7 @@ pub fn render(
         max_depth: settings.max_depth,
     };
     let (width, height) = (u32::from(viewport.width), u32::from(viewport.height));
-    if let tessera::Sampler::Adaptive { k, threshold } = settings.sampler {
+    if let tessera_core::Sampler::Adaptive { k, threshold } = settings.sampler {
         return Ok(adaptive(
             &tracer,
             &camera,
@@ -226,7 +226,7 @@ pub fn render(
             threshold,
         ));
     }
-    if let tessera::Sampler::Sparse { threshold } = settings.sampler {
+    if let tessera_core::Sampler::Sparse { threshold } = settings.sampler {
         return Ok(sparse(
             &tracer,
             &camera,
@@ -240,7 +240,7 @@ pub fn render(
     let mut signature = Vec::with_capacity(framed_len(width, height));
     for (x, y) in framed(width, height) {
         let mut sig = Signature::default();
-        let color = if settings.sampler == tessera::Sampler::Prefiltered {
+        let color = if settings.sampler == tessera_core::Sampler::Prefiltered {
             prefiltered(&tracer, &camera, (x, y), &mut sig)
         } else {
             mean(
@@ -308,7 +308,7 @@ fn prefiltered(
 fn mean(
     tracer: &Tracer<'_>,
     camera: &RefCamera,
-    sampler: tessera::Sampler,
+    sampler: tessera_core::Sampler,
     seed: u32,
     (x, y): (i64, i64),
     sig: &mut Signature,
@@ -342,7 +342,7 @@ fn centre(
     tracer: &Tracer<'_>,
     camera: &RefCamera,
     (x, y): (u32, u32),
-    encoding: tessera::Encoding,
+    encoding: tessera_core::Encoding,
 ) -> Centre {
     let mut sig = Signature::default();
     let color = prefiltered(tracer, camera, (x.into(), y.into()), &mut sig);
@@ -367,7 +367,7 @@ fn sparse(
     tracer: &Tracer<'_>,
     camera: &RefCamera,
     (width, height): (u32, u32),
-    settings: &tessera::RenderSettings,
+    settings: &tessera_core::RenderSettings,
     threshold: u8,
 ) -> RefImage {
     let e = settings.encoding;
@@ -429,7 +429,7 @@ fn sparse(
                         let sum: u32 = n.iter().map(|s| u32::from(s.4[c])).sum();
                         ((sum + k / 2) / k) as u8
                     };
-                    let p = tessera::color::Rgb8::new(mean(0), mean(1), mean(2));
+                    let p = tessera_core::color::Rgb8::new(mean(0), mean(1), mean(2));
                     let c = e.decode(p);
                     let c = V3::new(f64::from(c.r), f64::from(c.g), f64::from(c.b));
                     (c, first.1)
@@ -468,7 +468,7 @@ fn adaptive(
     tracer: &Tracer<'_>,
     camera: &RefCamera,
     (width, height): (u32, u32),
-    settings: &tessera::RenderSettings,
+    settings: &tessera_core::RenderSettings,
     k: u8,
     threshold: u8,
 ) -> RefImage {
@@ -482,7 +482,7 @@ fn adaptive(
         (x >= 0 && y >= 0 && x < i64::from(width) && y < i64::from(height))
             .then(|| &centres[(y * i64::from(width) + x) as usize])
     };
-    let stratified = tessera::Sampler::Stratified(k);
+    let stratified = tessera_core::Sampler::Stratified(k);
     let mut pixels = Vec::with_capacity(centres.len());
     let mut signature = Vec::with_capacity(framed_len(width, height));
     for (xi, yi) in framed(width, height) {

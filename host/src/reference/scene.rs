@@ -7,8 +7,8 @@ use super::vec::V3;
 use crate::desc::{DescError, SceneDesc, TextureDesc};
 use crate::kinds::{HostKind, Listed, each_kind};
 use std::f64::consts::PI;
-use tessera::Geometry;
-use tessera::kind::Kind;
+use tessera_core::Geometry;
+use tessera_core::kind::Kind;
 
 /// A texture in `f64`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -379,9 +379,9 @@ mod tests {
     fn checker_parity_agrees_with_the_core_where_indices_saturate() {
         let (a, b) = (V3::new(1.0, 1.0, 1.0), V3::ZERO);
         for scale in [1e20f32, 3.4e38] {
-            let core = tessera::texture::Texture::Checker {
-                a: tessera::Color::WHITE,
-                b: tessera::Color::BLACK,
+            let core = tessera_core::texture::Texture::Checker {
+                a: tessera_core::Color::WHITE,
+                b: tessera_core::Color::BLACK,
                 scale,
             };
             let reference = Tex::Checker {
@@ -396,7 +396,7 @@ mod tests {
                 [1e30, 0.25],
                 [-1e30, 0.25],
             ] {
-                let want_a = core.eval(uv) == tessera::Color::WHITE;
+                let want_a = core.eval(uv) == tessera_core::Color::WHITE;
                 let got = reference.eval(uv.map(f64::from));
                 assert_eq!(got == a, want_a, "scale {scale} uv {uv:?}");
                 let parity = reference.checker_parity(uv.map(f64::from));

@@ -4,7 +4,7 @@ use super::*;
 use crate::desc::{
     BoxDesc, LightDesc, MaterialDesc, PlaneDesc, SphereDesc, TextureDesc, TriangleDesc,
 };
-use tessera::{RenderSettings, Sampler, Viewport};
+use tessera_core::{RenderSettings, Sampler, Viewport};
 
 fn material(name: &str, color: [f64; 3]) -> MaterialDesc {
     MaterialDesc {
@@ -64,7 +64,7 @@ fn inside_a_lit_sphere_every_pixel_is_kd_color_i_over_r2() {
             sampler: Sampler::Stratified(2),
             max_depth: 2,
             seed: 9,
-            encoding: tessera::Encoding::Linear,
+            encoding: tessera_core::Encoding::Linear,
         };
         let img = render(&d, Viewport::new(24, 16), &settings).unwrap();
         let e = intensity / (r * r);
@@ -116,7 +116,7 @@ fn quantisation_and_non_finite() {
             [f64::INFINITY, 0.0, 0.0],
         ],
         signature: vec![0; 15],
-        encoding: tessera::Encoding::Linear,
+        encoding: tessera_core::Encoding::Linear,
     };
     let rgb = img.to_rgb8();
     assert_eq!(rgb.get_pixel(0, 0).0, [128, 0, 255]);
@@ -124,7 +124,7 @@ fn quantisation_and_non_finite() {
     assert_eq!(rgb.get_pixel(2, 0).0, [255, 0, 0]);
     // sRGB: the same curve as the core's table, in f64 (0.5 linear is 188).
     let srgb = RefImage {
-        encoding: tessera::Encoding::Srgb,
+        encoding: tessera_core::Encoding::Srgb,
         ..img.clone()
     }
     .to_rgb8();
@@ -133,9 +133,9 @@ fn quantisation_and_non_finite() {
     assert_eq!(srgb.get_pixel(2, 0).0, [255, 0, 0]);
     for k in 0..=1000 {
         let v = k as f32 / 1000.0;
-        let core = tessera::Color::splat(v).to_srgb8().r;
+        let core = tessera_core::Color::splat(v).to_srgb8().r;
         assert_eq!(
-            super::encode8(f64::from(v), tessera::Encoding::Srgb),
+            super::encode8(f64::from(v), tessera_core::Encoding::Srgb),
             core,
             "{v}"
         );
@@ -282,7 +282,7 @@ fn against_the_core(d: &SceneDesc) -> Vec<(RefImage, [f64; 3], f64)> {
                 sampler,
                 max_depth: 4,
                 seed,
-                encoding: tessera::Encoding::Linear,
+                encoding: tessera_core::Encoding::Linear,
             };
             let reference = render(d, vp, &settings).unwrap();
             assert_eq!(reference.non_finite(), 0);

@@ -119,7 +119,7 @@ fn cargo_run(dir: &Path, main: &str, release: bool) -> String {
         format!(
             "[package]\nname = \"bake-check\"\nversion = \"0.0.0\"\nedition = \"2024\"\n\
              publish = false\n\n[dependencies]\n\
-             tessera = {{ path = {:?}, features = {:?} }}\n\n[workspace]\n",
+             tessera-core = {{ path = {:?}, features = {:?} }}\n\n[workspace]\n",
             core.to_str().unwrap(),
             core_features()
         ),
@@ -256,9 +256,9 @@ fn every_scene_file_baked_renders_like_tessera_render() {
     std::fs::create_dir(&out_dir).unwrap();
     let main = format!(
         "{mods}\n\
-         use tessera::{{BakedScene, Tile, TileCoord, tile::Loops}};\n\n\
+         use tessera_core::{{BakedScene, Tile, TileCoord, tile::Loops}};\n\n\
          /// The scene at its own size, settings and tile size, as RGB bytes in a file.\n\
-         fn render<const N: usize, L: Loops, C: tessera::Capacities>(\n    \
+         fn render<const N: usize, L: Loops, C: tessera_core::Capacities>(\n    \
              scene: &BakedScene<'static, C>,\n    name: &str,\n) {{\n    \
              let view = scene.view().expect(\"a valid scene\");\n    \
              let renderer = scene.renderer().expect(\"a valid frame\");\n    \
@@ -397,14 +397,14 @@ fn bake_refuses_a_keyword_as_the_crate() {
     for (krate, message) in [
         ("fn", "\"fn\" is a Rust keyword, not a crate name"),
         (
-            "tessera::async",
+            "tessera_core::async",
             "\"async\" is a Rust keyword, not a module name",
         ),
         ("gen", "\"gen\" is a Rust keyword, not a crate name"),
         ("_", "\"_\" is a placeholder, not a crate name"),
-        ("tessera::crate", "\"crate\" may only start a path"),
+        ("tessera_core::crate", "\"crate\" may only start a path"),
         ("r#self", "\"r#self\" cannot be a raw identifier"),
-        ("tessera::", "an empty segment"),
+        ("tessera_core::", "an empty segment"),
         ("tes-sera", "\"tes-sera\" is not an identifier"),
     ] {
         let out = bin()

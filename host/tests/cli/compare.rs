@@ -98,7 +98,7 @@ fn a_boxs_face_edge_far_from_the_origin_is_in_the_band() {
     // two faces: the centre rays of its 3x3 neighbourhood all hit the box, on
     // more than one face.
     let desc = tessera_host::file::parse(&scene, "box.toml").unwrap();
-    let vp = tessera::Viewport::new(96, 64);
+    let vp = tessera_core::Viewport::new(96, 64);
     let camera = tessera_host::reference::RefCamera::new(&desc.camera, vp).unwrap();
     let b = &desc.boxes[0];
     let shape = Shape::Box {

@@ -11,7 +11,7 @@
 //!
 //! A frame: CPU 0 checks the scene's baked tables (`Builtin::with_baked_scene`),
 //! makes the renderer (64x64 pixels, the scene's own settings), resets the tile
-//! queue ([`QUEUE`], a `tessera::tile::TileQueue`), publishes the scene and the
+//! queue ([`QUEUE`], a `tessera_core::tile::TileQueue`), publishes the scene and the
 //! renderer as the [`Job`] and, for two cores, bumps [`POSTED`]; then both CPUs
 //! run [`work`]: take a tile from the queue, render it into their own
 //! tile buffer, copy it into [`FRAME`] and record which CPU (read from the SSE-200's
@@ -61,9 +61,9 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
 use semihost::{HostFile, IoError};
-use tessera::builtin::Builtin;
-use tessera::tile::TileQueue;
-use tessera::{Renderer, SceneView, Tile, TileCoord, Viewport};
+use tessera_core::builtin::Builtin;
+use tessera_core::tile::TileQueue;
+use tessera_core::{Renderer, SceneView, Tile, TileCoord, Viewport};
 
 /// The frame's size, pixels.
 const WIDTH: u16 = 64;
@@ -194,7 +194,7 @@ static CORE1_VECTORS: Vectors = Vectors {
 };
 
 enum FwError {
-    Core(tessera::Error),
+    Core(tessera_core::Error),
     Io(IoError, &'static str),
     TwiceRendered(u8),
     Missing,
@@ -219,8 +219,8 @@ impl fmt::Display for FwError {
     }
 }
 
-impl From<tessera::Error> for FwError {
-    fn from(e: tessera::Error) -> Self {
+impl From<tessera_core::Error> for FwError {
+    fn from(e: tessera_core::Error) -> Self {
         Self::Core(e)
     }
 }

@@ -67,7 +67,7 @@ use riscv_semihosting::{
     hprintln,
 };
 use semihost::{HostFile, IoError};
-use tessera::{Renderer, Tile, TileCoord, Viewport};
+use tessera_core::{Renderer, Tile, TileCoord, Viewport};
 
 /// Iterations of the calibration loop (2 instructions each).
 const CALIBRATION_LOOPS: u32 = 2_000_000;
@@ -77,7 +77,7 @@ enum FwError {
     RunsTooLong(usize),
     Utf8,
     Parse { line: usize, msg: &'static str },
-    Core(tessera::Error),
+    Core(tessera_core::Error),
     StackOverflow,
     Init(&'static str),
 }
@@ -101,8 +101,8 @@ impl fmt::Display for FwError {
     }
 }
 
-impl From<tessera::Error> for FwError {
-    fn from(e: tessera::Error) -> Self {
+impl From<tessera_core::Error> for FwError {
+    fn from(e: tessera_core::Error) -> Self {
         Self::Core(e)
     }
 }

@@ -11,10 +11,10 @@
 //! [`Run`] with its `Display`, the firmware reads it back with [`parse`].
 
 use core::fmt;
-use tessera::builtin::Builtin;
-use tessera::testing::BuiltinHooks as _;
-use tessera::testing::Extreme;
-use tessera::{Camera, Encoding, RenderSettings, Sampler, SceneView};
+use tessera_core::builtin::Builtin;
+use tessera_core::testing::BuiltinHooks as _;
+use tessera_core::testing::Extreme;
+use tessera_core::{Camera, Encoding, RenderSettings, Sampler, SceneView};
 
 /// What a run renders: a built-in scene, built in RAM or from its `static`
 /// data, or a scene of the extremes battery.
@@ -25,7 +25,7 @@ pub enum SceneRef {
     /// A built-in scene from its baked `static` tables
     /// (`Builtin::with_baked_scene`), named `baked-<name>`.
     Baked(Builtin),
-    /// A scene of the extremes battery (`tessera::testing::Extreme`).
+    /// A scene of the extremes battery (`tessera_core::testing::Extreme`).
     Extreme(Extreme),
 }
 
@@ -81,13 +81,13 @@ impl SceneRef {
         self,
         k: i32,
         f: impl FnOnce(&SceneView<'_>, &Camera) -> R,
-    ) -> Result<R, tessera::Error> {
+    ) -> Result<R, tessera_core::Error> {
         match self {
             Self::Builtin(b) => b.with_scaled_scene(k, f),
             Self::Baked(b) if k == 0 => b.with_baked_scene(f),
             Self::Extreme(e) if k == 0 => e.with_scene(f),
-            Self::Baked(_) | Self::Extreme(_) => Err(tessera::Error::OutOfRange {
-                field: tessera::error::Field::CameraPosition,
+            Self::Baked(_) | Self::Extreme(_) => Err(tessera_core::Error::OutOfRange {
+                field: tessera_core::error::Field::CameraPosition,
                 range: "a baked or extreme scene at its own scale (no @k)",
             }),
         }

@@ -1,5 +1,5 @@
 //! A firmware that checks the core's square root on the chip: `tessera`'s
-//! `math::sqrt` (through `tessera::testing::sqrt`: `vsqrt.f32` on an Arm FPU,
+//! `math::sqrt` (through `tessera_core::testing::sqrt`: `vsqrt.f32` on an Arm FPU,
 //! `fsqrt.s` on RISC-V with F) for every input of [`sqrt_check::inputs`] (hard
 //! cases, special values, pseudo-random floats), each result tested exactly by
 //! [`sqrt_check::correctly_rounded`]. It prints
@@ -41,7 +41,7 @@ fn main() -> ! {
     let (mut cases, mut wrong) = (0u32, 0u32);
     let results = sqrt_check::inputs().map(|x| {
         // Opaque to the compiler: the root is computed on the chip.
-        let r = tessera::testing::sqrt(core::hint::black_box(x));
+        let r = tessera_core::testing::sqrt(core::hint::black_box(x));
         cases += 1;
         if !sqrt_check::correctly_rounded(x, r) {
             if wrong < SHOWN {

@@ -1,4 +1,4 @@
-//! The check that the core's square root (`tessera::testing::sqrt`, the per-pixel
+//! The check that the core's square root (`tessera_core::testing::sqrt`, the per-pixel
 //! `math::sqrt`) is correctly rounded: the inputs and an exact test of a result.
 //! One source for both sides: the firmware `tessera-sqrt` (`src/sqrt.rs`) runs it
 //! on each core, and the host-side harness (`tessera_tests::firmware`, which

@@ -1,5 +1,5 @@
 //! A firmware that renders only the built-in teapot, as a firmware engineer would
-//! write it: the whole scene baked in flash (`tessera::builtin::baked::teapot`,
+//! write it: the whole scene baked in flash (`tessera_core::builtin::baked::teapot`,
 //! what `tessera bake scenes/teapot.toml` writes: no byte of the scene in RAM), one
 //! 16x16 tile buffer in `.bss`. It renders
 //! 64x64 tile after tile and prints
@@ -51,8 +51,8 @@ use riscv_semihosting::{
     debug::{self, EXIT_FAILURE, EXIT_SUCCESS},
     hprintln,
 };
-use tessera::builtin::baked::teapot::SCENE;
-use tessera::{Tile, TileCoord, Viewport};
+use tessera_core::builtin::baked::teapot::SCENE;
+use tessera_core::{Tile, TileCoord, Viewport};
 
 /// The image: 64x64 in 16x16 tiles.
 const SIZE: u16 = 64;
@@ -141,7 +141,7 @@ fn main() -> ! {
 /// display: no frame buffer to hash the image's rows), and the SysTick ticks of
 /// the preview and of the tiles.
 #[inline(never)]
-fn draw(tile: &mut Tile<N>) -> Result<(u32, u64, u64), tessera::Error> {
+fn draw(tile: &mut Tile<N>) -> Result<(u32, u64, u64), tessera_core::Error> {
     // The scene's tables where they lie (checked once), at its own settings.
     let view = SCENE.view()?;
     let renderer = SCENE.renderer_at(Viewport::new(SIZE, SIZE), SCENE.settings())?;

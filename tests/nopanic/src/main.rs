@@ -35,9 +35,9 @@
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
-use tessera::builtin::Builtin;
-use tessera::testing::BuiltinHooks as _;
-use tessera::{
+use tessera_core::builtin::Builtin;
+use tessera_core::testing::BuiltinHooks as _;
+use tessera_core::{
     Camera, RenderSettings, Renderer, Sampler, SceneView, Tile, TileCoord, Viewport,
     sample::SubPixel,
 };
@@ -119,7 +119,7 @@ static mut SINK: u32 = 0;
 
 /// The sampler numbered `n` (0 corner, 1 centre, 2 offset, 3 stratified, 4 random,
 /// 6 adaptive, else prefiltered).
-fn sampler(n: u8, count: u16, offset: [f32; 2]) -> Result<Sampler, tessera::Error> {
+fn sampler(n: u8, count: u16, offset: [f32; 2]) -> Result<Sampler, tessera_core::Error> {
     Ok(match n {
         6 => Sampler::adaptive(u8::try_from(count).unwrap_or(u8::MAX)),
         0 => Sampler::Corner,
@@ -138,8 +138,8 @@ enum Failure {
     Black,
 }
 
-impl From<tessera::Error> for Failure {
-    fn from(_: tessera::Error) -> Self {
+impl From<tessera_core::Error> for Failure {
+    fn from(_: tessera_core::Error) -> Self {
         Self::Core
     }
 }
@@ -172,9 +172,9 @@ fn render_all() -> Result<(), Failure> {
             seed: j.seed,
             // Hidden like the rest: both encodings' loops are linked and proved.
             encoding: if j.srgb {
-                tessera::Encoding::Srgb
+                tessera_core::Encoding::Srgb
             } else {
-                tessera::Encoding::Linear
+                tessera_core::Encoding::Linear
             },
         };
         let viewport = Viewport::new(j.width, j.height);

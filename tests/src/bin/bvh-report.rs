@@ -22,8 +22,8 @@
 //! in the flat triangle list, or as built in: smooth, through its BVH).
 
 use std::time::Instant;
-use tessera::testing::ViewHooks as _;
-use tessera::{
+use tessera_core::testing::ViewHooks as _;
+use tessera_core::{
     Camera, Color, RenderSettings, Renderer, Sampler, Scene, SceneView, Vec3, Viewport, bvh::Bvh,
     geometry::Plane, geometry::Triangle, light::PointLight, material::Material,
 };
@@ -46,7 +46,8 @@ const SIZES: [(u32, usize); 10] = [
 /// Renders per setting and mode.
 const RUNS: usize = 7;
 
-type MeshScene = Scene<tessera::capacities!(planes: 1, triangles: 8192, materials: 2, lights: 1)>;
+type MeshScene =
+    Scene<tessera_core::capacities!(planes: 1, triangles: 8192, materials: 2, lights: 1)>;
 type MeshBvh = Bvh<16384, 8192>;
 
 /// The first `faces` faces of the icosphere subdivided `level` times, centred at
@@ -92,7 +93,7 @@ fn renderer(s: &MeshScene, width: u16) -> Renderer {
         sampler: Sampler::Centre,
         max_depth: 3,
         seed: 1,
-        encoding: tessera::Encoding::Linear,
+        encoding: tessera_core::Encoding::Linear,
     };
     Renderer::try_new(s.camera(), Viewport::new(width, width * 3 / 4), settings).expect("frame")
 }
@@ -115,7 +116,7 @@ fn side_by_side(
     let vp = renderer.viewport();
     let px = f64::from(vp.width) * f64::from(vp.height);
     let (mut a, mut b) = (Vec::new(), Vec::new());
-    let (n0, s0) = tessera::testing::visits();
+    let (n0, s0) = tessera_core::testing::visits();
     for _ in 0..RUNS {
         let t = Instant::now();
         render(flat, renderer);
@@ -124,7 +125,7 @@ fn side_by_side(
         render(bvh, renderer);
         b.push(t.elapsed().as_nanos() as f64 / px);
     }
-    let (n1, s1) = tessera::testing::visits();
+    let (n1, s1) = tessera_core::testing::visits();
     let tests = (n1 - n0) as f64 / (s1 - s0).max(1) as f64;
     Ok((median(a), median(b), tests))
 }
@@ -205,7 +206,8 @@ fn main() -> Result<(), String> {
     teapot()
 }
 
-type BallScene = Scene<tessera::capacities!(spheres: 1024, planes: 1, materials: 2, lights: 1)>;
+type BallScene =
+    Scene<tessera_core::capacities!(spheres: 1024, planes: 1, materials: 2, lights: 1)>;
 type BallBvh = Bvh<2048, 1024>;
 
 /// `n` small spheres on a square grid on a floor, one light.
@@ -233,7 +235,7 @@ fn balls(n: usize) -> Box<BallScene> {
     for i in 0..n {
         let (x, z) = ((i % side) as f32, (i / side) as f32);
         let c = Vec3::new(-4.0 + (x + 0.5) * step, 0.4 * step, -4.0 + (z + 0.5) * step);
-        let ball = tessera::geometry::Sphere::try_new(c, 0.4 * step).expect("sphere");
+        let ball = tessera_core::geometry::Sphere::try_new(c, 0.4 * step).expect("sphere");
         s.add_sphere(ball, red).expect("sphere");
     }
     s.add_light(PointLight::try_new(Vec3::new(2.0, 8.0, 4.0), Color::WHITE, 60.0).expect("light"))
@@ -257,7 +259,7 @@ fn spheres() -> Result<(), String> {
             sampler: Sampler::Centre,
             max_depth: 3,
             seed: 1,
-            encoding: tessera::Encoding::Linear,
+            encoding: tessera_core::Encoding::Linear,
         };
         let f = Renderer::try_new(s.camera(), Viewport::new(width, width * 3 / 4), settings)
             .map_err(|e| e.to_string())?;
@@ -278,12 +280,13 @@ fn spheres() -> Result<(), String> {
     Ok(())
 }
 
-type TeapotList = Scene<tessera::capacities!(planes: 1, triangles: 2048, materials: 2, lights: 2)>;
+type TeapotList =
+    Scene<tessera_core::capacities!(planes: 1, triangles: 2048, materials: 2, lights: 2)>;
 
 /// The built-in teapot's scene with its faces as a triangle list (`faces`), or
 /// without them.
 fn teapot_list(view: &SceneView<'_>, cam: &Camera, faces: bool) -> Result<Box<TeapotList>, String> {
-    let e = |e: tessera::Error| e.to_string();
+    let e = |e: tessera_core::Error| e.to_string();
     let mut s = Box::new(TeapotList::new(*cam));
     s.set_ambient(view.ambient()).map_err(e)?;
     s.set_background(view.background()).map_err(e)?;
@@ -319,7 +322,7 @@ fn teapot_one(args: &[String]) -> Result<(), String> {
         return Err(usage());
     };
     let width: u16 = width.parse().map_err(|_| usage())?;
-    let b = tessera::builtin::Builtin::Teapot;
+    let b = tessera_core::builtin::Builtin::Teapot;
     let vp = Viewport::new(width, width * 3 / 4);
     b.with_scene(|view, cam| -> Result<(), String> {
         let renderer = Renderer::try_new(cam, vp, b.settings()).map_err(|e| e.to_string())?;
@@ -340,7 +343,7 @@ fn teapot_one(args: &[String]) -> Result<(), String> {
 /// 1,088 faces as the flat triangle list, as a flat-shaded mesh through its BVH
 /// (the same image), and the scene as built in (smooth).
 fn teapot() -> Result<(), String> {
-    let b = tessera::builtin::Builtin::Teapot;
+    let b = tessera_core::builtin::Builtin::Teapot;
     let vp = Viewport::new(800, 600);
     let px = 800.0 * 600.0;
     b.with_scene(|view, cam| -> Result<(), String> {
@@ -350,12 +353,12 @@ fn teapot() -> Result<(), String> {
         bvh.build(list.view().triangles())
             .map_err(|e| e.to_string())?;
         let mesh = view.meshes()[0];
-        let flat_mesh = [tessera::mesh::Mesh::new(
+        let flat_mesh = [tessera_core::mesh::Mesh::new(
             mesh.vertices(),
             mesh.faces(),
             &[],
             mesh.material(),
-            tessera::bvh::BakedBvh::new(bvh.nodes(), bvh.order(), bvh.reach()),
+            tessera_core::bvh::BakedBvh::new(bvh.nodes(), bvh.order(), bvh.reach()),
         )];
         let lists = list.view();
         let no_triangles = teapot_list(view, cam, false)?;
@@ -378,14 +381,14 @@ fn teapot() -> Result<(), String> {
             ("flat-shaded mesh through its BVH", &flat_meshed, 3),
             ("as built in: smooth mesh, baked BVH", view, 3),
         ] {
-            let (n0, s0) = tessera::testing::visits();
+            let (n0, s0) = tessera_core::testing::visits();
             let mut t = Vec::new();
             for _ in 0..runs {
                 let start = Instant::now();
                 render(v, &renderer);
                 t.push(start.elapsed().as_nanos() as f64 / px);
             }
-            let (n1, s1) = tessera::testing::visits();
+            let (n1, s1) = tessera_core::testing::visits();
             let tests = if s1 > s0 {
                 format!("{:.1}", (n1 - n0) as f64 / (s1 - s0) as f64)
             } else {

@@ -34,10 +34,10 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
-use tessera::builtin::Builtin;
-use tessera::testing::Extreme;
-use tessera::{Encoding, Viewport};
-use tessera::{Sampler, Sampler::*};
+use tessera_core::builtin::Builtin;
+use tessera_core::testing::Extreme;
+use tessera_core::{Encoding, Viewport};
+use tessera_core::{Sampler, Sampler::*};
 use tessera_tests::firmware::{self, Core, Output, Run, SceneRef, Sizes, repo_relative};
 use tessera_tests::{baseline, cycles, dualcore, profile, thousands, thousands_rounded};
 
@@ -311,8 +311,8 @@ fn camera_rays(run: &Run) -> Result<f64, String> {
     let (_, rays) = run
         .scene
         .with_scaled_scene(0, |view, cam| {
-            let r =
-                tessera::Renderer::try_new(cam, vp, run.settings()).map_err(|e| e.to_string())?;
+            let r = tessera_core::Renderer::try_new(cam, vp, run.settings())
+                .map_err(|e| e.to_string())?;
             tessera_host::render_with(view, &r, run.tile, 1, &|| {}).map_err(|e| e.to_string())
         })
         .map_err(|e| e.to_string())??;
@@ -717,7 +717,7 @@ impl Measured {
         );
         let _ = writeln!(
             w,
-            "The scenes of `tessera::testing::Extreme` (cases 13 and 14 of \
+            "The scenes of `tessera_core::testing::Extreme` (cases 13 and 14 of \
              [extremes.md](extremes.md)), centre sampling, depth 3, exact backend: a ground \
              (two triangles, or a sphere whose top is the ground) `2^25` units across, seen \
              from 2 units, whose hits take the `f64` paths of `core/src/geometry/wide.rs` \
@@ -1015,7 +1015,7 @@ impl Measured {
              `-global sse-200.CPU0_FPU=true`, as both cores of an RP2350 have) runs \
              `tests/dualcore`: each built-in scene at {}x{} in tiles of {}x{}, with \
              its own settings, rendered by CPU 0 alone and then by both cores taking \
-             tiles from one `tessera::tile::TileQueue`. Each core's instructions in its \
+             tiles from one `tessera_core::tile::TileQueue`. Each core's instructions in its \
              tile loop are counted by a qemu plugin per vCPU \
              (`tests/profiler/vcpu_count.c`: the SysTick clock is shared under \
              `-icount`). Both frames' pixels equal the host's, byte for byte (checked \

@@ -1,6 +1,6 @@
 //! `dither-report`: what ordered dithering buys on a 16-bit panel. Renders every
 //! built-in scene at 240x240 (its own settings, tiles 16), draws it onto a simulated
-//! `Rgb565` panel (`tessera::display::Drawing::dithered`, as `tessera simulate`)
+//! `Rgb565` panel (`tessera_core::display::Drawing::dithered`, as `tessera simulate`)
 //! with each conversion, and measures the mean FLIP of what the panel shows
 //! against the 8-bit image; writes `docs/dither.md` and the side-by-side crops
 //! `docs/images/dither-crops.png` (the chapter-direct floor, 4x: nearest,
@@ -12,9 +12,9 @@
 
 use image::{RgbImage, imageops};
 use std::fmt::Write as _;
-use tessera::Viewport;
-use tessera::builtin::Builtin;
-use tessera::{Renderer, dither::Dither};
+use tessera_core::Viewport;
+use tessera_core::builtin::Builtin;
+use tessera_core::{Renderer, dither::Dither};
 use tessera_host::simulate::{PanelColor, simulate_tiled};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin dither-report";
@@ -38,7 +38,7 @@ fn main() -> Result<(), String> {
          {SIZE}x{SIZE} (its own sampler and depth, tiles 16) drawn onto a simulated `Rgb565` \
          panel, each pixel converted by `embedded-graphics`' own `From<Rgb888>` (the \
          nearest level: the same panel, byte for byte, as `none`, which this report \
-         checks), to the nearest level by `tessera::dither::Dither::None` (`none`), or by \
+         checks), to the nearest level by `tessera_core::dither::Dither::None` (`none`), or by \
          ordered dithering with a 4x4 or 8x8 Bayer matrix at the pixel's position in \
          the frame (`bayer4`, `bayer8`). Mean FLIP of what the panel shows \
          (its 5-6-5 levels expanded back to 8 bits, as the simulator shows them) against \

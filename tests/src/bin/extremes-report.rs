@@ -9,7 +9,7 @@
 
 use std::fmt::Write;
 use std::path::PathBuf;
-use tessera::{Vec3, error::MAX_EXTENT, error::MIN_LENGTH};
+use tessera_core::{Vec3, error::MAX_EXTENT, error::MIN_LENGTH};
 use tessera_tests::extremes::*;
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin extremes-report";
@@ -68,7 +68,7 @@ fn header(md: &mut String, sphere_ulps: f64, camera_px: f64, ranges: &[(&str, i3
          Every coordinate (camera, light, sphere centre, plane point, triangle vertex, \
          box corner) and the camera's far distance must lie within ±2^60 (about \
          1.15e18), and sphere radii and the camera's near distance must be at least \
-         2^-52 (about 2.2e-16): `tessera::error::MAX_EXTENT` and `tessera::error::MIN_LENGTH`. The \
+         2^-52 (about 2.2e-16): `tessera_core::error::MAX_EXTENT` and `tessera_core::error::MIN_LENGTH`. The \
          constructors refuse anything beyond with an error naming the value (`sphere \
          radius must be in [2^-52, 2^60] (about 2.2e-16 to 1.15e18)`; a scene file \
          adds the item and the number). Within that range the image does not depend on \
@@ -137,7 +137,7 @@ fn case02(md: &mut String) {
          3000 primary rays hit a sphere (radius 1), a box (half-extents 1, 0.7, 1.3) and \
          a plane whose hits lie about `|p|` from the origin (from outside and, for the \
          closed shapes, from inside). From each hit, 18 secondary rays leave through \
-         `tessera::testing::offset_origin` with the surface's error bound: the reflected and \
+         `tessera_core::testing::offset_origin` with the surface's error bound: the reflected and \
          the refracted direction (index 1.5) and 16 random directions, 8 on each side. \
          A ray leaving a convex shape (or a plane) must not hit it (`intersect` and \
          `occluded`); a ray entering must find the far side, not its own spawn point. \
@@ -473,7 +473,7 @@ fn case10(md: &mut String) {
     let _ = writeln!(
         md,
         "\n## 10. Refraction near the critical angle\n\n\
-         `tessera::testing::refract` for relative indices {IORS:?}, entering and leaving, \
+         `tessera_core::testing::refract` for relative indices {IORS:?}, entering and leaving, \
          4001 incidence angles over [0, 90] degrees plus, when leaving, offsets of 1e-1 \
          to 1e-9 rad and steps of 1e-8 rad around the critical angle, in an oblique \
          frame; against the geometry of the same `f32` vectors in `f64`. The decision \

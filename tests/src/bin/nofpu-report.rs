@@ -19,7 +19,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
-use tessera::builtin::Builtin;
+use tessera_core::builtin::Builtin;
 use tessera_tests::firmware::{self, Core, Run, RunResult, Sizes};
 use tessera_tests::nofpu::{self, Kind, RoutineCost, Routines};
 use tessera_tests::profile::{self, Profile};

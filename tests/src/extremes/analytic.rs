@@ -1,6 +1,6 @@
 //! Case 9: the analytic scene (inside a lit diffuse sphere, every pixel known).
 
-use tessera::{Color, RenderSettings, Sampler, Viewport};
+use tessera_core::{Color, RenderSettings, Sampler, Viewport};
 
 /// Figures of case 9 at one radius.
 #[derive(Clone, Debug, Default)]
@@ -35,7 +35,7 @@ pub fn analytic(r: f32) -> Analytic {
             sampler,
             max_depth: 2,
             seed: 1,
-            encoding: tessera::Encoding::Linear,
+            encoding: tessera_core::Encoding::Linear,
         };
         let Ok(renderer) = scene.renderer(Viewport::new(40, 30), settings) else {
             out.worst_lsb = -1;

@@ -1,8 +1,8 @@
 //! Case 5: boxes, rays in face planes, along edges, signed zeros, against the exact answer.
 
 use super::{INF, V3, V3Ext, exact_ray};
-use tessera::testing::Shape;
-use tessera::{Vec3, geometry::Aabb};
+use tessera_core::testing::Shape;
+use tessera_core::{Vec3, geometry::Aabb};
 
 /// Figures of case 5 for one box.
 #[derive(Clone, Debug, Default)]

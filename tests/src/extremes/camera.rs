@@ -1,7 +1,7 @@
 //! Case 6: the camera far from the origin, and up close to forward (degenerate basis, roll).
 
 use super::{Rng, V3, V3Ext};
-use tessera::{Camera, Vec3, Viewport, camera::CameraBasis};
+use tessera_core::{Camera, Vec3, Viewport, camera::CameraBasis};
 
 /// Camera distances from the origin in case 6.
 pub const CAMERA_DISTANCES: [f32; 5] = [0.0, 1e1, 1e3, 1e4, 1e5];

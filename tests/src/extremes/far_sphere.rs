@@ -1,8 +1,8 @@
 //! Case 1: far spheres, hit/miss and `t` against `f64` as the sphere moves away.
 
 use super::{INF, V3, V3Ext, ray_towards, ulp32};
-use tessera::geometry::Sphere;
-use tessera::testing::Shape;
+use tessera_core::geometry::Sphere;
+use tessera_core::testing::Shape;
 
 /// Distance/radius ratios of case 1: 1e1 to 1e6 in half decades.
 pub const FAR_SPHERE_RATIOS: [f64; 11] = [

@@ -10,7 +10,7 @@
 //! vertex rounded by `f32` at `10^12` would move the surface by thousands of units.
 
 use super::support::compared;
-use tessera::Viewport;
+use tessera_core::Viewport;
 use tessera_host::compare::Accuracy;
 use tessera_host::desc::SceneDesc;
 
@@ -239,7 +239,7 @@ pub fn huge(surface: HugeSurface, placement: Placement, ratio: f64) -> Huge {
     let c = compared(&desc, HUGE_VIEWPORT).unwrap_or_else(|e| panic!("{e}"));
     let encoding = desc
         .settings()
-        .map_or(tessera::Encoding::Srgb, |s| s.encoding);
+        .map_or(tessera_core::Encoding::Srgb, |s| s.encoding);
     let sky = [0.1, 0.2, 0.5].map(|v| tessera_host::reference::encode8(v, encoding));
     let sky = c.reference.pixels().filter(|p| p.0 == sky).count();
     let covered = 1.0 - sky as f64 / f64::from(c.reference.width() * c.reference.height());

@@ -1,6 +1,6 @@
 //! Case 11: the edges of the supported range (the analytic sphere anywhere).
 
-use tessera::{Color, RenderSettings, Vec3, Viewport};
+use tessera_core::{Color, RenderSettings, Vec3, Viewport};
 
 /// The analytic scene of case 9 with its centre at `center`: a diffuse sphere of
 /// radius `r` (colour `(0.9, 0.6, 0.3)`, diffuse 0.8), the camera and a light of
@@ -8,8 +8,10 @@ use tessera::{Color, RenderSettings, Vec3, Viewport};
 pub fn lit_sphere_at(
     center: Vec3,
     r: f32,
-) -> Result<tessera::Scene<tessera::capacities!(spheres: 1, materials: 1, lights: 1)>, tessera::Error>
-{
+) -> Result<
+    tessera_core::Scene<tessera_core::capacities!(spheres: 1, materials: 1, lights: 1)>,
+    tessera_core::Error,
+> {
     crate::inside_sphere_at(center, r, 0.9 * r * r, 0.8, Color::new(0.9, 0.6, 0.3))
 }
 
@@ -17,7 +19,7 @@ pub fn lit_sphere_at(
 /// from the analytic value, and the count of non-finite pixels.
 #[must_use]
 pub fn lit_sphere_error(
-    scene: &tessera::Scene<tessera::capacities!(spheres: 1, materials: 1, lights: 1)>,
+    scene: &tessera_core::Scene<tessera_core::capacities!(spheres: 1, materials: 1, lights: 1)>,
 ) -> (i32, usize) {
     let want = [0.9f64, 0.6, 0.3].map(|c| (c * 0.72 * 255.0).round() as i32);
     let renderer = scene

@@ -1,7 +1,7 @@
 //! Case 10: refraction near the critical angle against Snell's law in `f64`.
 
 use super::{V3, V3Ext};
-use tessera::testing::refract;
+use tessera_core::testing::refract;
 
 /// Relative indices of case 10.
 pub const IORS: [f32; 7] = [1.0, 1.0001, 1.2, 1.33, 1.5, 2.42, 4.0];

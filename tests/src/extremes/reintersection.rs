@@ -1,10 +1,10 @@
 //! Case 2: re-intersection of secondary rays leaving a surface through `offset_origin`.
 
 use super::{INF, Rng, V3, V3Ext, exact_ray, ray_towards};
-use tessera::testing::offset_origin;
-use tessera::testing::refract;
-use tessera::testing::{Candidate, Shape, Surface};
-use tessera::{Vec3, geometry::Aabb, geometry::Plane, geometry::Sphere, trace::Ray};
+use tessera_core::testing::offset_origin;
+use tessera_core::testing::refract;
+use tessera_core::testing::{Candidate, Shape, Surface};
+use tessera_core::{Vec3, geometry::Aabb, geometry::Plane, geometry::Sphere, trace::Ray};
 
 /// Distances of the hit points from the origin in case 2.
 pub const MAGNITUDES: [f32; 7] = [0.0, 1.0, 10.0, 100.0, 1e3, 1e4, 1e5];

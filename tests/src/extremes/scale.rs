@@ -1,16 +1,16 @@
 //! Cases 7 and 8: scale invariance of the built-in scenes (`2^k`), and flush-to-zero.
 
 use image::RgbImage;
-use tessera::Geometry;
-use tessera::kind::Kind;
-use tessera::{Renderer, Viewport};
+use tessera_core::Geometry;
+use tessera_core::kind::Kind;
+use tessera_core::{Renderer, Viewport};
 use tessera_host::desc::{SceneDesc, TextureDesc};
 use tessera_host::kinds::{HostKind, Listed, Number, each_kind};
 
 /// The built-in scene descriptions of case 7.
 #[must_use]
 pub fn builtins() -> Vec<(&'static str, SceneDesc)> {
-    tessera::builtin::Builtin::ALL
+    tessera_core::builtin::Builtin::ALL
         .iter()
         .map(|&b| (b.name(), tessera_host::file::builtin_desc(b)))
         .collect()

@@ -7,7 +7,7 @@
 //! they must agree.
 
 use super::support::compared;
-use tessera::Viewport;
+use tessera_core::Viewport;
 use tessera_host::desc::{SceneDesc, TextureDesc};
 
 /// The subnormal values tried: the smallest and the largest of each sign.

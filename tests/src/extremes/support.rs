@@ -2,7 +2,7 @@
 //! [`V3`], with the few conversions the battery needs in [`V3Ext`]), ulps, a seeded
 //! generator, and the battery's rays, built exactly.
 
-use tessera::{Renderer, Vec3, Viewport, trace::Ray};
+use tessera_core::{Renderer, Vec3, Viewport, trace::Ray};
 use tessera_host::compare::{Accuracy, measure};
 use tessera_host::desc::SceneDesc;
 pub use tessera_host::reference::vec::V3;

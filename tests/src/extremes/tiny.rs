@@ -1,8 +1,8 @@
 //! Case 4: tiny triangles, the ray aimed at the centroid must hit.
 
 use super::{INF, Rng, V3, V3Ext, ray_towards};
-use tessera::testing::Shape;
-use tessera::{Vec3, geometry::Triangle};
+use tessera_core::testing::Shape;
+use tessera_core::{Vec3, geometry::Triangle};
 
 /// Edge lengths of case 4 (the report goes further down).
 pub const TINY_SIZES: [f64; 7] = [1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1];

@@ -3,9 +3,9 @@
 //! its traversal must lose no ray the triangles hit).
 
 use super::{INF, Rng, V3, V3Ext, exact_ray, ray_towards, show};
-use tessera::testing::Shape;
-use tessera::testing::ViewHooks as _;
-use tessera::{
+use tessera_core::testing::Shape;
+use tessera_core::testing::ViewHooks as _;
+use tessera_core::{
     Camera, Color, Scene, SceneView, Vec3, bvh::Bvh, geometry::Triangle, material::Material,
     trace::Ray,
 };
@@ -24,7 +24,7 @@ pub struct Watertight {
 }
 
 /// The scene a mesh is put in to be searched through a BVH.
-type MeshScene = Scene<tessera::capacities!(triangles: 2048, materials: 1)>;
+type MeshScene = Scene<tessera_core::capacities!(triangles: 2048, materials: 1)>;
 /// Its BVH.
 type MeshBvh = Bvh<4096, 2048>;
 
@@ -49,7 +49,7 @@ fn through_bvh(mesh: &[Triangle]) -> (Box<MeshScene>, Box<MeshBvh>) {
 fn leaks(mesh: &[Triangle], view: &SceneView<'_>, ray: &Ray) -> bool {
     !mesh.iter().any(|t| t.intersect(ray, INF).is_some())
         || !mesh.iter().any(|t| t.occluded(ray, INF))
-        || tessera::trace::first_hit(view, ray, INF).is_none()
+        || tessera_core::trace::first_hit(view, ray, INF).is_none()
 }
 
 /// Case 3, fans: a non-planar fan of 7 triangles around `center` (ring radius about

@@ -8,7 +8,7 @@ use crate::thousands_rounded as thousands;
 use plotters::coord::Shift;
 use plotters::coord::combinators::{LogCoord, WithKeyPoints};
 use plotters::prelude::*;
-use tessera::builtin::Builtin;
+use tessera_core::builtin::Builtin;
 
 /// The colours of the backends, in the order of [`BACKENDS`] (repeated beyond).
 const COLOURS: [RGBColor; 6] = [

@@ -130,7 +130,7 @@ fn how_measured(w: &mut String, chip: &ChipSummary) {
          largest channel difference (LSB of 8 bits) and the share of all pixels whose \
          channels are all within 1 LSB. Sampling error counts: a 1-sample setting is \
          compared with the box-filtered (area-averaged) picture.",
-        tessera::error::MAX_DEPTH
+        tessera_core::error::MAX_DEPTH
     );
     let scenes: Vec<&str> = CHIP_SCENES.iter().map(|b| b.name()).collect();
     let _ = writeln!(
@@ -263,7 +263,7 @@ fn interference(w: &mut String, fringes: &[FringeResult]) {
         let rays = match f.method.as_str() {
             "truth" => "exact area average (f64)".to_string(),
             m => m
-                .parse::<tessera::Sampler>()
+                .parse::<tessera_core::Sampler>()
                 .map(|s| s.count().to_string())
                 .unwrap_or_default(),
         };

@@ -4,7 +4,7 @@
 
 use super::{BACKENDS, REFERENCE};
 use std::collections::HashMap;
-use tessera::builtin::Builtin;
+use tessera_core::builtin::Builtin;
 use tessera_host::trade::{self, Row, Setting};
 
 /// What the chip costs per pixel for one backend, scene and setting.
@@ -203,7 +203,7 @@ pub(super) fn short_base(b: Builtin) -> String {
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
-    use tessera::Sampler;
+    use tessera_core::Sampler;
 
     #[test]
     fn the_pareto_front_keeps_what_nothing_beats() {

@@ -15,8 +15,8 @@ use std::process::{Command, Stdio};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
-use tessera::Viewport;
-use tessera::builtin::Builtin;
+use tessera_core::Viewport;
+use tessera_core::builtin::Builtin;
 use tessera_host::trade::{self, FringeResult, Row, Setting};
 
 /// Everything the report is made of.
@@ -417,7 +417,7 @@ fn chip(runs: &[Run]) -> Result<ChipMeasured, String> {
 mod tests {
     use super::super::entries::tests::row;
     use super::*;
-    use tessera::Sampler;
+    use tessera_core::Sampler;
 
     #[test]
     fn each_binary_s_rows_take_its_backend_s_name() {

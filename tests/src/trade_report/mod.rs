@@ -22,7 +22,7 @@ mod measure;
 mod pick;
 
 use std::path::{Path, PathBuf};
-use tessera::builtin::Builtin;
+use tessera_core::builtin::Builtin;
 
 /// The command that regenerates the report.
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin trade-report";

@@ -9,7 +9,7 @@ use super::entries::{Entry, find, of_scene, same_setting};
 use super::{EXACT, FOOTPRINTS, approximations};
 use crate::thousands_rounded as thousands;
 use std::fmt::Write as _;
-use tessera::builtin::Builtin;
+use tessera_core::builtin::Builtin;
 use tessera_host::trade::{self, FringeResult};
 
 /// The paragraph, claim after claim.
@@ -471,7 +471,7 @@ fn sparse(p: &mut String, entries: &[Entry]) -> Result<(), String> {
          quarter of the pixels, the others interpolated from their traced neighbours \
          where these met the same things and agree within {} levels, else traced); \
          against prefiltered, exact math, at each scene's depth, at {}:",
-        tessera::Sampler::SPARSE_THRESHOLD,
+        tessera_core::Sampler::SPARSE_THRESHOLD,
         super::SIZE
     );
     for b in super::SCENES {

@@ -23,7 +23,7 @@ use core::fmt;
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
-use tessera::{Tile, TileCoord};
+use tessera_core::{Tile, TileCoord};
 
 /// The tile size: the scene file's `tile` (8, 16 or 32).
 const N: usize = scene::TILE;
@@ -115,7 +115,7 @@ fn run() -> Result<(), Error> {
 /// window, then `tile.pixels()` in the panel's colours (with embedded-graphics,
 /// one `display.fill_contiguous(&rectangle, colours)`; a `Tile<N, Rgb565>`
 /// holds a 16-bit panel's colours already). examples/blackpill-st7789 draws on
-/// an ST7789 so, through `tessera::display::Drawing`.
+/// an ST7789 so, through `tessera_core::display::Drawing`.
 fn show(tile: &Tile<N>, out: &mut ppm::Ppm, checksum: &mut Fnv1a64) -> Result<(), Error> {
     let (x, y) = tile.origin();
     let mut bytes = [0u8; 3 * N];
@@ -146,14 +146,14 @@ impl Fnv1a64 {
 }
 
 enum Error {
-    Tessera(tessera::Error),
+    Tessera(tessera_core::Error),
     Io(ppm::IoError),
     Taken,
     StackOverflow,
 }
 
-impl From<tessera::Error> for Error {
-    fn from(e: tessera::Error) -> Self {
+impl From<tessera_core::Error> for Error {
+    fn from(e: tessera_core::Error) -> Self {
         Self::Tessera(e)
     }
 }
