@@ -91,9 +91,9 @@ run env RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 # the workspace build unifies the host's features (bvh, teapot) into it.
 run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera-core --no-deps
 # What the online documentation builds ([package.metadata.docs.rs]): every feature
-# of the core, for the Cortex-M4F; the host library with its command's features.
+# of the core, for the Cortex-M4F (the host library's, with its command's
+# features, is the workspace's above).
 run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera-core --no-deps --all-features --target thumbv7em-none-eabihf
-run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera-host --no-deps --features cli
 
 # The two crates users depend on, as the crate registry would take them: each
 # packaged from its own files and built from the package alone (the host against
@@ -140,10 +140,8 @@ run cargo clippy --manifest-path examples/blackpill-st7789/Cargo.toml --target t
 say "Pico 2 example (examples/pico2-st7789): format and clippy"
 run cargo fmt --manifest-path examples/pico2-st7789/Cargo.toml -- --check
 run cargo clippy --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
-# Its features (defmt, fps-label) off, and each alone.
+# Its features (defmt, fps-label) off: the code each leaves out.
 run cargo clippy --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf --no-default-features -- -D warnings
-run cargo clippy --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf --no-default-features --features defmt -- -D warnings
-run cargo clippy --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf --no-default-features --features fps-label -- -D warnings
 
 # The firmware to copy (a scene file on qemu's Cortex-M4F): its own workspace; the
 # tests `qemu_example::...` in `cargo test-all` build it in its folder, as a user
@@ -160,7 +158,6 @@ run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-non
 say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends; for the other targets"
 run cargo fw-core
 run cargo fw-core --features fast-math
-run cargo build -p tessera-core --release --target thumbv7em-none-eabihf --features defmt
 run cargo build -p tessera-core --release --target thumbv8m.main-none-eabihf
 run cargo build -p tessera-core --release --target riscv32imafc-unknown-none-elf
 run cargo build -p tessera-core --release --target thumbv6m-none-eabi --features teapot
