@@ -457,12 +457,38 @@ fn a_firmware_made_by_tessera_new_draws_the_hosts_picture() {
     let root = firmware::repo_root();
     let scratch = TempDir::new().unwrap();
     let project = scratch.path().join("my-firmware");
-    // The command, as a user of the checkout runs it.
+    // The command, as built for this test run: the `test` profile's `tessera`
+    // in this test binary's target folder (`cargo test --workspace` has built it
+    // for the host's tests, so this build finds it fresh; `cargo run` would build
+    // the whole command again in the dev profile).
+    let profile_dir = std::env::current_exe()
+        .unwrap()
+        .parent()
+        .and_then(Path::parent)
+        .unwrap()
+        .to_path_buf();
+    let target_dir = profile_dir.parent().unwrap();
+    let mut build = firmware::cargo();
+    build
+        .current_dir(&root)
+        .args([
+            "build",
+            "-q",
+            "-p",
+            "tessera-host",
+            "--bin",
+            "tessera",
+            "--profile",
+            "test",
+            "--target-dir",
+        ])
+        .arg(target_dir);
+    firmware::checked(&mut build, "cargo", "building the tessera command failed")
+        .unwrap_or_else(|e| panic!("{e}"));
+    let bin = profile_dir.join("tessera");
     let tessera = |args: &[&std::ffi::OsStr]| {
-        let mut cmd = firmware::cargo();
-        cmd.current_dir(&root)
-            .args(["run", "-q", "-p", "tessera-host", "--bin", "tessera", "--"])
-            .args(args);
+        let mut cmd = std::process::Command::new(&bin);
+        cmd.current_dir(&root).args(args);
         cmd
     };
     let out = firmware::checked(
