@@ -458,9 +458,11 @@ fn a_firmware_made_by_tessera_new_draws_the_hosts_picture() {
     let scratch = TempDir::new().unwrap();
     let project = scratch.path().join("my-firmware");
     // The command, as built for this test run: the `test` profile's `tessera`
-    // in this test binary's target folder (`cargo test --workspace` has built it
-    // for the host's tests, so this build finds it fresh; `cargo run` would build
-    // the whole command again in the dev profile).
+    // in this test binary's target folder, its features unified over the
+    // workspace (`cargo test --workspace` has built it so for the host's tests,
+    // and this build finds it fresh; `-p tessera-host` alone would resolve the
+    // core's features anew and build both again, `cargo run` the whole command
+    // in the dev profile).
     let profile_dir = std::env::current_exe()
         .unwrap()
         .parent()
@@ -474,8 +476,7 @@ fn a_firmware_made_by_tessera_new_draws_the_hosts_picture() {
         .args([
             "build",
             "-q",
-            "-p",
-            "tessera-host",
+            "--workspace",
             "--bin",
             "tessera",
             "--profile",
