@@ -48,20 +48,20 @@ fn new_writes_the_template_with_the_crate_s_name_and_its_source() {
     );
 
     // A checkout: path dependencies, relative to the new crate.
-    let out = bin()
-        .current_dir(&dir)
-        .args(["new", "sub/fw2", "--path"])
-        .arg(checkout())
-        .output()
-        .unwrap();
-    assert!(!out.status.success(), "the folder it goes in must exist");
+    let in_sub = || {
+        bin()
+            .current_dir(&dir)
+            .args(["new", "sub/fw2", "--path"])
+            .arg(checkout())
+            .output()
+            .unwrap()
+    };
+    assert!(
+        !in_sub().status.success(),
+        "the folder it goes in must exist"
+    );
     std::fs::create_dir(dir.join("sub")).unwrap();
-    let out = bin()
-        .current_dir(&dir)
-        .args(["new", "sub/fw2", "--path"])
-        .arg(checkout())
-        .output()
-        .unwrap();
+    let out = in_sub();
     assert!(out.status.success(), "{}", text(&out.stderr));
     let manifest: toml::Table = std::fs::read_to_string(dir.join("sub/fw2/Cargo.toml"))
         .unwrap()

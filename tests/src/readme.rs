@@ -31,6 +31,34 @@ pub fn table_row<'a>(readme: &'a str, key: &str) -> Option<Vec<&'a str>> {
     Some(inner.split('|').map(str::trim).collect())
 }
 
+/// The figures of the table row that starts with `start`: the number starting
+/// each cell after the first (a cell without one: `None` for the row).
+#[must_use]
+pub fn row_figures(readme: &str, start: &str) -> Option<Vec<u64>> {
+    let line = readme.lines().find(|l| l.starts_with(start))?;
+    let inner = line.trim().strip_prefix('|')?.strip_suffix('|')?;
+    inner.split('|').skip(1).map(number).collect()
+}
+
+/// The four figures of an llvm-size row (text, data, bss, flash) the README
+/// states for a build, against the truth, each as `(what, said, truth)`.
+#[must_use]
+pub fn llvm_size_row(
+    readme: &str,
+    start: &str,
+    truth: [u64; 4],
+) -> [(&'static str, Option<u64>, u64); 4] {
+    let row = row_figures(readme, start);
+    let what = ["text", "data", "bss", "flash"];
+    core::array::from_fn(|i| {
+        (
+            what[i],
+            row.as_ref().and_then(|r| r.get(i).copied()),
+            truth[i],
+        )
+    })
+}
+
 /// The figure right after `label`.
 #[must_use]
 pub fn figure_after(readme: &str, label: &str) -> Option<u64> {

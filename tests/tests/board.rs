@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 use tessera_tests::firmware::{self, Sizes};
-use tessera_tests::readme::{figure_after, number, table_figure, within};
+use tessera_tests::readme::{figure_after, llvm_size_row, table_figure, within};
 use tessera_tests::thousands;
 
 fn example() -> PathBuf {
@@ -77,14 +77,11 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
     );
     // The llvm-size row of the default build: Berkeley text (flash less
     // `.data`), data, bss (with `.uninit`) and flash.
-    let row = row_figures(&readme, "| default (`defmt`) |");
-    let truth = [s.flash() - s.data, s.data, s.bss + s.uninit, s.flash()];
-    for (i, (what, truth)) in ["text", "data", "bss", "flash"]
-        .iter()
-        .zip(truth)
-        .enumerate()
-    {
-        let said = row.as_ref().and_then(|r| r.get(i).copied());
+    for (what, said, truth) in llvm_size_row(
+        &readme,
+        "| default (`defmt`) |",
+        [s.flash() - s.data, s.data, s.bss + s.uninit, s.flash()],
+    ) {
         expect(&format!("llvm-size {what}"), said, truth);
     }
     // The README's flash figure in KiB and per cent is its bytes'.
@@ -104,12 +101,4 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
         "examples/blackpill-st7789/README.md is not the linked ELF ({}): {wrong:#?}",
         elf.display()
     );
-}
-
-/// The figures of the README's table row that starts with `start`: the number
-/// starting each cell after the first.
-fn row_figures(readme: &str, start: &str) -> Option<Vec<u64>> {
-    let line = readme.lines().find(|l| l.starts_with(start))?;
-    let inner = line.trim().strip_prefix('|')?.strip_suffix('|')?;
-    inner.split('|').skip(1).map(number).collect()
 }

@@ -9,6 +9,7 @@
 use embedded_graphics::mock_display::MockDisplay;
 use embedded_graphics::mono_font::MonoTextStyle;
 use embedded_graphics::mono_font::ascii::FONT_6X10;
+use embedded_graphics::pixelcolor::raw::{RawData, RawU16};
 use embedded_graphics::pixelcolor::{Gray8, Rgb555, Rgb565, Rgb888};
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::{
@@ -334,20 +335,37 @@ fn a_drawing_s_overlay_is_on_every_tile_it_sends() {
     .unwrap();
 }
 
-/// A drawn colour is stored as given, not dithered: the pixel of a flat label is
-/// the same wherever it lies (the render's dithering applies to the picture).
+/// A drawn colour is stored as given, not dithered: a flat fill over a tile
+/// rendered with Bayer dithering is the same pixel everywhere (its wire bytes
+/// the colour's, high byte first), while the renderer's own pixels of one
+/// colour differ by position.
 #[test]
 fn a_drawn_colour_is_stored_undithered() {
     let p = Rgb8::new(200, 100, 50);
-    let c = Rgb565::new(25, 25, 6);
-    assert_eq!(Rgb565::from_color(c), c);
-    assert_eq!(Rgb565Wire::from_color(c), Rgb565Wire::from(c));
-    assert_eq!(Rgb8::from_color(Rgb888::new(200, 100, 50)), p);
-    assert_eq!(p.to_color(), Rgb888::new(200, 100, 50));
-    assert_eq!(Rgb565Wire::from_color(c).to_color(), c);
-    // The tile pixel made by the renderer from `p` differs by position when
-    // dithered; the drawn one does not.
     let d = tessera_core::dither::Dither::Bayer4;
     let rendered: Vec<Rgb565> = (0..4).map(|x| Rgb565::from_rgb8(p, x, 0, d)).collect();
     assert!(rendered.windows(2).any(|w| w[0] != w[1]), "{rendered:?}");
+
+    let b = Builtin::ChapterDirect;
+    b.with_scene(|view, cam| {
+        let r = renderer(b, cam).with_dither(d);
+        let mut tile = Tile::<N, Rgb565Wire>::blank();
+        r.render_tile(view, TileCoord::new(1, 1), &mut tile, &mut ())
+            .unwrap();
+        let c = Rgb565::new(25, 25, 6);
+        tile.fill_solid(&Rectangle::new(Point::zero(), Size::new(W, H)), c)
+            .unwrap();
+        let want = RawU16::from(c).into_inner().to_be_bytes();
+        assert!(tile.as_slice().iter().all(|px| px.0 == want));
+        let mut rgb = Tile::<N>::blank();
+        r.render_tile(view, TileCoord::new(1, 1), &mut rgb, &mut ())
+            .unwrap();
+        rgb.fill_solid(
+            &Rectangle::new(Point::zero(), Size::new(W, H)),
+            Rgb888::new(200, 100, 50),
+        )
+        .unwrap();
+        assert!(rgb.as_slice().iter().all(|&px| px == p));
+    })
+    .unwrap();
 }

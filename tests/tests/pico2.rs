@@ -8,7 +8,7 @@
 use object::{Object, ObjectSection, ObjectSymbol};
 use std::path::PathBuf;
 use tessera_tests::firmware::{self, Sizes};
-use tessera_tests::readme::{figure_after, number, table_figure, within};
+use tessera_tests::readme::{figure_after, llvm_size_row, table_figure, within};
 use tessera_tests::thousands;
 
 /// Where the RP2350 maps the QSPI flash (XIP).
@@ -143,14 +143,11 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
     );
     // The llvm-size row of the default build: Berkeley text (every flash
     // section but `.data`), data, bss (with `.uninit`) and flash.
-    let row = row_figures(&readme, "| default (`defmt`, `fps-label`) |");
-    let truth = [flash - s.data, s.data, s.bss + s.uninit, flash];
-    for (i, (what, truth)) in ["text", "data", "bss", "flash"]
-        .iter()
-        .zip(truth)
-        .enumerate()
-    {
-        let said = row.as_ref().and_then(|r| r.get(i).copied());
+    for (what, said, truth) in llvm_size_row(
+        &readme,
+        "| default (`defmt`, `fps-label`) |",
+        [flash - s.data, s.data, s.bss + s.uninit, flash],
+    ) {
         expect(&format!("llvm-size {what}"), said, truth);
     }
     let said_ram = figure_after(&readme, "- **RAM with core 0's stack**: ");
@@ -192,14 +189,6 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
         "examples/pico2-st7789/README.md is not the linked ELF ({}): {wrong:#?}",
         elf.display()
     );
-}
-
-/// The figures of the README's table row that starts with `start`: the number
-/// starting each cell after the first.
-fn row_figures(readme: &str, start: &str) -> Option<Vec<u64>> {
-    let line = readme.lines().find(|l| l.starts_with(start))?;
-    let inner = line.trim().strip_prefix('|')?.strip_suffix('|')?;
-    inner.split('|').skip(1).map(number).collect()
 }
 
 /// What docs/chip-cost.md's "Frames per second" table estimates for `scene` on a
