@@ -64,6 +64,8 @@ pub mod error;
 mod extreme;
 pub mod geometry;
 mod hit;
+#[cfg(feature = "image")]
+pub mod image;
 pub mod kind;
 pub mod light;
 pub mod material;
