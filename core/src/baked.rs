@@ -15,7 +15,7 @@ use crate::color::Color;
 use crate::error::{Error, List};
 use crate::geometry::Kinded;
 use crate::kind::{Capacities, Geometry, Kind, LISTS, Primitives, each_kind};
-use crate::light::PointLight;
+use crate::light::Light;
 use crate::material::Material;
 use crate::tile::{RenderSettings, Renderer};
 use crate::vec::Vec3;
@@ -73,7 +73,7 @@ impl BakedCamera {
 ///
 /// ```
 /// use tessera_core::geometry::Sphere;
-/// use tessera_core::light::PointLight;
+/// use tessera_core::light::Light;
 /// use tessera_core::material::{Material, MaterialId};
 /// use tessera_core::{
 ///     capacities, BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives,
@@ -82,7 +82,7 @@ impl BakedCamera {
 ///
 /// const RED: MaterialId = MaterialId(0);
 /// static MATERIALS: [Material; 1] = [Material::matte(Color::new(0.9, 0.1, 0.1))];
-/// static LIGHTS: [PointLight; 1] = [PointLight::baked([2.0, 4.0, 3.0], Color::WHITE, 1.0)];
+/// static LIGHTS: [Light; 1] = [Light::baked_point([2.0, 4.0, 3.0], Color::WHITE, 1.0)];
 /// static SPHERES: [Primitive<Sphere>; 1] =
 ///     [Primitive { geometry: Sphere::baked([0.0, 0.0, 0.0], 1.0), material: RED }];
 /// static SCENE: BakedScene<'static, capacities!(spheres: 1)> = BakedScene::new(
@@ -116,7 +116,7 @@ pub struct BakedScene<'a, C: Capacities> {
     ambient: Color,
     background: Color,
     materials: &'a [Material],
-    lights: &'a [PointLight],
+    lights: &'a [Light],
     primitives: Primitives<'a>,
     #[cfg(feature = "bvh")]
     bvh: Option<crate::bvh::BakedBvh<'a>>,
@@ -163,7 +163,7 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
         ambient: Color,
         background: Color,
         materials: &'a [Material],
-        lights: &'a [PointLight],
+        lights: &'a [Light],
         primitives: Primitives<'a>,
     ) -> Self {
         Self {
@@ -289,12 +289,7 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
             }
         }
         for (i, l) in self.lights.iter().enumerate() {
-            same(
-                PointLight::try_new(l.position(), l.color(), l.intensity())?,
-                *l,
-                List::Lights,
-                i,
-            )?;
+            same(l.checked()?, *l, List::Lights, i)?;
         }
         let prims = &self.primitives;
         each_kind!(|G| {
@@ -401,7 +396,7 @@ mod tests {
     };
     const MATTE: Material = Material::matte(Color::new(0.5, 0.5, 0.5));
     static MATERIALS: [Material; 1] = [MATTE];
-    static LIGHTS: [PointLight; 1] = [PointLight::baked([0.0, 5.0, 0.0], Color::WHITE, 1.0)];
+    static LIGHTS: [Light; 1] = [Light::baked_point([0.0, 5.0, 0.0], Color::WHITE, 1.0)];
 
     fn sphere(center: [f32; 3], radius: f32, m: u16) -> [Primitive<Sphere>; 1] {
         [Primitive {

@@ -1147,8 +1147,7 @@ mod baked_tests {
         s.add_material(Material::matte(Color::new(0.1, 0.3, 0.9)))
             .unwrap();
         s.add_light(
-            crate::light::PointLight::try_new(Vec3::new(3.0, 2.0, 9.0), Color::WHITE, 40.0)
-                .unwrap(),
+            crate::light::Light::point(Vec3::new(3.0, 2.0, 9.0), Color::WHITE, 40.0).unwrap(),
         )
         .unwrap();
         s

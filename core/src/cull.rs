@@ -66,7 +66,7 @@
 use crate::camera::CameraBasis;
 use crate::geometry::{Extent, Kinded, Plane};
 use crate::kind::{Capacities, Geometry, KINDS, Kind, PerKind, Primitives, Uniform, each_kind};
-use crate::light::PointLight;
+use crate::light::{Light, LightKind};
 use crate::primitive::Primitive;
 use crate::vec::Vec3;
 use heapless::vec::VecView;
@@ -99,7 +99,7 @@ pub(crate) const MASKED_LIGHTS: usize = 8;
 /// view, module `view`, implements it).
 pub(crate) trait Source {
     fn primitives(&self) -> Primitives<'_>;
-    fn lights(&self) -> &[PointLight];
+    fn lights(&self) -> &[Light];
 }
 
 /// The first bit of a shadow list entry's light mask for hits on planes (bit
@@ -337,7 +337,7 @@ impl TileLists<'_> {
         let blocks = |c: Vec3, r: f32, b: Bounds| {
             let mut mask = 0u32;
             for (l, light) in lights.iter().enumerate() {
-                let at = light.position();
+                let at = light.kind();
                 let on_flats = if separate {
                     floors
                         .iter()
@@ -378,7 +378,7 @@ impl TileLists<'_> {
             };
             let mut mask = 0u32;
             for (l, light) in lights.iter().enumerate() {
-                let at = light.position();
+                let at = light.kind();
                 let across = |v: &Bounds| !v.is_empty() && !v.beyond_plane(&p.geometry, at);
                 mask |= u32::from(across(&other_flats)) << (PLANE_RECEIVERS + l);
                 mask |= u32::from(across(&solids)) << (SOLID_RECEIVERS + l);
@@ -453,7 +453,11 @@ fn ball(points: &[Vec3; 3]) -> (Vec3, f32) {
 /// light's level make the shadow unbounded (or the projection ill-conditioned: it
 /// magnifies by at most 64 otherwise, and the clearance [`MARGIN`] covers 64 times
 /// the rounding of the rays): then the blocker is kept.
-fn shadow_meets(plane: &Plane, light: Vec3, b: Bounds, region: Bounds) -> bool {
+fn shadow_meets(plane: &Plane, light: LightKind, b: Bounds, region: Bounds) -> bool {
+    let light = match light {
+        LightKind::Point(at) => at,
+        LightKind::Directional(toward) => return sun_shadow_meets(plane, toward, b, region),
+    };
     let (p0, n) = (plane.point(), plane.normal());
     let s_light = n.dot(light - p0);
     let (n, s_light) = if s_light < 0.0 {
@@ -486,6 +490,49 @@ fn shadow_meets(plane: &Plane, light: Vec3, b: Bounds, region: Bounds) -> bool {
             below = true;
         } else {
             shadow = shadow.with(light + (x - light) * (s_light / (s_light - s)));
+        }
+    }
+    if below {
+        shadow = shadow.union(b);
+    }
+    !shadow.grown(clearance).intersect(region).is_empty()
+}
+
+/// [`shadow_meets`] for a directional light, `toward` the unit direction to it:
+/// a ray from a point `p` of the plane towards the light meets a point `x` of
+/// the blocker above the plane (`s(x) > 0`, `s` the signed distance on the
+/// light's side) only if `p = x - toward s(x) / s(toward)`, the projection of
+/// `x` along the light's rays. That projection (parallel, so the box's corners'
+/// projections bound it) magnifies by `1 / s(toward)`: a light within 1/64 of
+/// grazing the plane (or a NaN) keeps the blocker, as a point light near the
+/// plane's level does. Where the box dips below the plane, its crossing with the
+/// plane is inside the box itself.
+fn sun_shadow_meets(plane: &Plane, toward: Vec3, b: Bounds, region: Bounds) -> bool {
+    let (p0, n) = (plane.point(), plane.normal());
+    let up = n.dot(toward);
+    let (n, up) = if up < 0.0 { (-n, -up) } else { (n, up) };
+    let steep = up > 1.0 / 64.0; // false for NaN
+    if !steep {
+        return true;
+    }
+    let clearance = MARGIN * (1.0 + b.magnitude() + region.magnitude() + mag(p0));
+    let mut shadow = Bounds::EMPTY;
+    let mut below = false;
+    for i in 0..8 {
+        let pick = |bit: usize, lo: f32, hi: f32| if i & bit == 0 { lo } else { hi };
+        let x = Vec3::new(
+            pick(1, b.min.x, b.max.x),
+            pick(2, b.min.y, b.max.y),
+            pick(4, b.min.z, b.max.z),
+        );
+        let s = n.dot(x - p0);
+        if s.is_nan() {
+            return true;
+        }
+        if s <= 0.0 {
+            below = true;
+        } else {
+            shadow = shadow.with(x - toward * (s / up));
         }
     }
     if below {
@@ -565,31 +612,46 @@ impl Bounds {
     }
 
     /// True when no segment from a point of the box to `light` can come within `r`
-    /// of `c` (see the module doc: the capsule around the hull).
-    fn capsule_misses(&self, light: Vec3, c: Vec3, r: f32) -> bool {
+    /// of `c` (see the module doc: the capsule around the hull). For a directional
+    /// light, the segments are half-lines towards it: the capsule runs from the
+    /// box's centre without end.
+    fn capsule_misses(&self, light: LightKind, c: Vec3, r: f32) -> bool {
         let m = (self.min + self.max) * 0.5;
         let rho = ((self.max - self.min) * 0.5).length();
-        let axis = m - light;
-        let len2 = axis.length_squared();
-        let s = if len2 > 0.0 {
-            ((c - light).dot(axis) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
+        let (closest, reach) = match light {
+            LightKind::Point(light) => {
+                let axis = m - light;
+                let len2 = axis.length_squared();
+                let s = if len2 > 0.0 {
+                    ((c - light).dot(axis) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (light + axis * s, mag(light))
+            }
+            LightKind::Directional(toward) => {
+                let s = crate::math::max((c - m).dot(toward), 0.0);
+                (m + toward * s, 1.0)
+            }
         };
-        let dist = (c - (light + axis * s)).length();
-        let clearance = MARGIN * (mag(c) + r + mag(light) + self.magnitude() + rho);
+        let dist = (c - closest).length();
+        let clearance = MARGIN * (mag(c) + r + reach + self.magnitude() + rho);
         // False for NaN: nothing is culled then.
         dist > rho + r + clearance
     }
 
     /// True when every point of the box lies strictly on the same side of `plane`
-    /// as `light`, so that no segment from the box to the light crosses it.
-    fn beyond_plane(&self, plane: &Plane, light: Vec3) -> bool {
+    /// as `light`, so that no segment from the box to the light crosses it (for a
+    /// directional light: no half-line towards it).
+    fn beyond_plane(&self, plane: &Plane, light: LightKind) -> bool {
         let (p0, n) = (plane.point(), plane.normal());
-        let side = n.dot(light - p0);
+        let (side, reach) = match light {
+            LightKind::Point(at) => (n.dot(at - p0), mag(at)),
+            LightKind::Directional(toward) => (n.dot(toward), 1.0),
+        };
         let c = (self.min + self.max) * 0.5;
         let h = (self.max - self.min) * 0.5;
-        let clearance = MARGIN * (mag(p0) + self.magnitude() + mag(light));
+        let clearance = MARGIN * (mag(p0) + self.magnitude() + reach);
         // The box's signed distances span n.(c - p0) +- |n|.h.
         let near = crate::math::abs(n.dot(c - p0)) - n.abs().dot(h);
         side.abs() > clearance && near > clearance && (n.dot(c - p0) > 0.0) == (side > 0.0)
@@ -774,6 +836,57 @@ mod tests {
     use core::mem::size_of;
     extern crate std;
     use std::vec::Vec as StdVec;
+
+    fn bounds(min: [f32; 3], max: [f32; 3]) -> Bounds {
+        Bounds {
+            min: Vec3::new(min[0], min[1], min[2]),
+            max: Vec3::new(max[0], max[1], max[2]),
+        }
+    }
+
+    /// A sun's capsule runs from the visible points towards it without end: a
+    /// ball beside that half-line is culled, one on it (however far) is kept,
+    /// and one behind the points (away from the sun) is culled.
+    #[test]
+    fn a_suns_capsule_is_a_half_line_towards_it() {
+        let seen = bounds([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]);
+        let up = LightKind::Directional(Vec3::Y);
+        assert!(seen.capsule_misses(up, Vec3::new(5.0, 0.0, 0.0), 0.5));
+        assert!(!seen.capsule_misses(up, Vec3::new(0.0, 1e6, 0.0), 0.5));
+        assert!(!seen.capsule_misses(up, Vec3::new(1.5, 40.0, 0.0), 0.5));
+        assert!(seen.capsule_misses(up, Vec3::new(0.0, -5.0, 0.0), 0.5));
+        // A point light at the same place as the far ball would not reach it.
+        let near = LightKind::Point(Vec3::new(0.0, 10.0, 0.0));
+        assert!(seen.capsule_misses(near, Vec3::new(0.0, 1e6, 0.0), 0.5));
+    }
+
+    /// A blocker's shadow along a sun's rays on the floor `y = 0`: the box
+    /// `[4, 5] x [1, 2]` (in x and y) projects to `x - y dx / dy`, where
+    /// `(dx, dy)` points to the sun: straight up, `[4, 5]`; from the upper
+    /// right at 45 degrees, `[2, 4]`; from `(3, 1)`, `[-2, 2]`, which meets the
+    /// visible floor `[-1, 1]`.
+    #[test]
+    fn a_suns_shadow_on_a_plane_is_the_parallel_projection() {
+        let floor = Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap();
+        let seen = bounds([-1.0, 0.0, -1.0], [1.0, 0.0, 1.0]);
+        let blocker = bounds([4.0, 1.0, -0.5], [5.0, 2.0, 0.5]);
+        let sun =
+            |x: f32, y: f32| LightKind::Directional(Vec3::new(x, y, 0.0).normalize_or(Vec3::Y));
+        assert!(!shadow_meets(&floor, sun(0.0, 1.0), blocker, seen));
+        assert!(!shadow_meets(&floor, sun(1.0, 1.0), blocker, seen));
+        assert!(shadow_meets(&floor, sun(3.0, 1.0), blocker, seen));
+        // Grazing the floor: anything may be in the way.
+        assert!(shadow_meets(&floor, sun(1.0, 0.001), blocker, seen));
+        // A sun below the floor lights its other side: the blocker above it
+        // casts no shadow there.
+        assert!(!shadow_meets(&floor, sun(3.0, -1.0), blocker, seen));
+        // A plane between the seen box and the sun shadows it; one beyond it,
+        // on the far side from the sun, does not.
+        let wall = Plane::try_new(Vec3::new(0.0, 5.0, 0.0), Vec3::Y).unwrap();
+        assert!(!seen.beyond_plane(&wall, sun(0.0, 1.0)));
+        let below = Plane::try_new(Vec3::new(0.0, -5.0, 0.0), Vec3::Y).unwrap();
+        assert!(seen.beyond_plane(&below, sun(0.0, 1.0)));
+    }
 
     /// Per tile of the chapter's scene at 64x64 (tiles of 16, row by row): the
     /// spheres of its camera list, and the spheres whose plane-receiver bit is set

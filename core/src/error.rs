@@ -450,8 +450,7 @@ mod tests {
     use super::*;
     use crate::{
         Camera, Color, Sampler, Scene, Vec3, geometry::Aabb, geometry::Plane, geometry::Sphere,
-        geometry::Triangle, light::PointLight, material::Material, sample::SubPixel,
-        texture::Texture,
+        geometry::Triangle, light::Light, material::Material, sample::SubPixel, texture::Texture,
     };
 
     /// The smallest subnormal, and the largest, of each sign.
@@ -506,9 +505,9 @@ mod tests {
             assert_eq!(cam(s), cam(z));
             // Colours, intensities, weights, texture numbers.
             let c = |a: f32| Color::new(0.5, a, 1.0);
-            let light = |a: f32| PointLight::try_new(v(a), c(a), 2.0);
+            let light = |a: f32| Light::point(v(a), c(a), 2.0);
             assert_eq!(light(s), light(z));
-            let dim = |a: f32| PointLight::try_new(Vec3::ZERO, Color::WHITE, a);
+            let dim = |a: f32| Light::point(Vec3::ZERO, Color::WHITE, a);
             assert_eq!(dim(s.abs()), dim(0.0));
             let material = |a: f32| {
                 let checker = Texture::Checker {

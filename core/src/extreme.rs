@@ -6,7 +6,7 @@
 use crate::error::Error;
 use crate::{
     Camera, Color, Scene, SceneView, Vec3, geometry::Aabb, geometry::Plane, geometry::Sphere,
-    geometry::Triangle, light::PointLight, material::Material, texture::Texture,
+    geometry::Triangle, light::Light, material::Material, texture::Texture,
 };
 
 /// A scene of the extremes battery, by name.
@@ -110,11 +110,7 @@ fn ground(s: f32, sphere: bool) -> Result<ExtremeScene, Error> {
     let ball = Material::matte(Color::new(0.9, 0.2, 0.1)).with_reflectivity(0.3)?;
     let ball = scene.add_material(ball)?;
     scene.add_sphere(Sphere::try_new(Vec3::new(0.0, 0.75, 0.0), 0.5)?, ball)?;
-    scene.add_light(PointLight::try_new(
-        Vec3::new(2.0, 6.0, 4.0),
-        Color::WHITE,
-        40.0,
-    )?)?;
+    scene.add_light(Light::point(Vec3::new(2.0, 6.0, 4.0), Color::WHITE, 40.0)?)?;
     if sphere {
         scene.add_sphere(Sphere::try_new(Vec3::new(0.0, -s, 0.0), s)?, ground)?;
     } else {
@@ -140,11 +136,7 @@ fn subnormal_camera(t: f32) -> Result<ExtremeScene, Error> {
     let ball = scene.add_material(Material::matte(Color::new(0.2, 0.4, 0.9)))?;
     scene.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y)?, floor)?;
     scene.add_sphere(Sphere::try_new(Vec3::new(0.3, 0.5, 0.2), 0.5)?, ball)?;
-    scene.add_light(PointLight::try_new(
-        Vec3::new(1.0, 4.0, 2.0),
-        Color::WHITE,
-        20.0,
-    )?)?;
+    scene.add_light(Light::point(Vec3::new(1.0, 4.0, 2.0), Color::WHITE, 20.0)?)?;
     Ok(scene)
 }
 
@@ -191,16 +183,12 @@ fn subnormal_inputs(t: f32) -> Result<ExtremeScene, Error> {
         Aabb::try_new(Vec3::new(-2.5, -t, -1.5), Vec3::new(-1.5, 1.0, t - 0.5))?,
         red,
     )?;
-    scene.add_light(PointLight::try_new(
+    scene.add_light(Light::point(
         Vec3::new(2.0, 5.0, t),
         Color::new(1.0, t, 1.0),
         30.0,
     )?)?;
-    scene.add_light(PointLight::try_new(
-        Vec3::new(-3.0, 4.0, 2.0),
-        Color::WHITE,
-        t,
-    )?)?;
+    scene.add_light(Light::point(Vec3::new(-3.0, 4.0, 2.0), Color::WHITE, t)?)?;
     Ok(scene)
 }
 

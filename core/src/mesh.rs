@@ -209,7 +209,7 @@ impl<'a> Mesh<'a> {
 mod tests {
     use super::*;
     use crate::{
-        Camera, Color, Renderer, Scene, SceneView, bvh::Bvh, bvh::BvhNode, light::PointLight,
+        Camera, Color, Renderer, Scene, SceneView, bvh::Bvh, bvh::BvhNode, light::Light,
         material::Material,
     };
     use crate::{RenderSettings, Tile, TileCoord, Viewport, geometry::Sphere};
@@ -287,7 +287,7 @@ mod tests {
                     .unwrap(),
             )
             .unwrap();
-        s.add_light(PointLight::try_new(Vec3::new(-2.0, 3.0, 4.0), Color::WHITE, 30.0).unwrap())
+        s.add_light(Light::point(Vec3::new(-2.0, 3.0, 4.0), Color::WHITE, 30.0).unwrap())
             .unwrap();
         if sphere {
             s.add_sphere(Sphere::try_new(Vec3::ZERO, 1.0).unwrap(), m)
@@ -422,10 +422,8 @@ mod tests {
             s.set_ambient(Color::splat(0.05)).unwrap();
             s.add_material(Material::matte(Color::new(0.9, 0.3, 0.2)))
                 .unwrap();
-            s.add_light(
-                PointLight::try_new(Vec3::new(-2.0, 3.0, 4.0), Color::WHITE, 30.0).unwrap(),
-            )
-            .unwrap();
+            s.add_light(Light::point(Vec3::new(-2.0, 3.0, 4.0), Color::WHITE, 30.0).unwrap())
+                .unwrap();
             s.add_sphere(ball, MaterialId(0)).unwrap();
             s.add_triangle(tri, MaterialId(0)).unwrap();
         }

@@ -13,7 +13,7 @@ use crate::color::Color;
 use crate::error::{Error, List};
 use crate::geometry::{Aabb, Plane, Sphere, Triangle};
 use crate::kind::{Capacities, Capacity, Geometry, ListStore, Store, each_kind, empty};
-use crate::light::PointLight;
+use crate::light::Light;
 use crate::material::{Material, MaterialId};
 use crate::primitive::Primitive;
 use crate::tile::{RenderSettings, Renderer};
@@ -42,7 +42,7 @@ pub struct Scene<C: Capacities> {
     background: Color,
     primitives: Store<C>,
     materials: <C::Materials as Capacity>::List<Material>,
-    lights: <C::Lights as Capacity>::List<PointLight>,
+    lights: <C::Lights as Capacity>::List<Light>,
     /// The bounds of the triangles, kept as they are added.
     triangle_bounds: (Vec3, Vec3),
 }
@@ -97,7 +97,7 @@ impl<C: Capacities> Scene<C> {
             background: Color::BLACK,
             primitives: Store::EMPTY,
             materials: empty::<C::Materials, Material>(),
-            lights: empty::<C::Lights, PointLight>(),
+            lights: empty::<C::Lights, Light>(),
             triangle_bounds: NO_BOUNDS,
         }
     }
@@ -179,7 +179,7 @@ impl<C: Capacities> Scene<C> {
     }
 
     /// Adds a point light.
-    pub fn add_light(&mut self, light: PointLight) -> Result<(), Error> {
+    pub fn add_light(&mut self, light: Light) -> Result<(), Error> {
         push(self.lights.view_mut(), light, List::Lights)
     }
 
@@ -281,11 +281,13 @@ impl<C: Capacities> Scene<C> {
             out.add_material(m)?;
         }
         for l in self.lights.view().iter() {
-            out.add_light(PointLight::try_new(
-                l.position() * f,
-                l.color(),
-                l.intensity() * f * f,
-            )?)?;
+            // A sun's light does not fall off: its direction and intensity stay.
+            out.add_light(match l.kind() {
+                crate::light::LightKind::Point(p) => {
+                    Light::point(p * f, l.color(), l.intensity() * f * f)?
+                }
+                crate::light::LightKind::Directional(_) => *l,
+            })?;
         }
         each_kind!(|G| {
             for p in G::of(&lists) {
@@ -347,7 +349,7 @@ mod tests {
         let pl = Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap();
         let tri = Triangle::try_new(Vec3::ZERO, Vec3::X, Vec3::Y).unwrap();
         let bx = Aabb::try_new(Vec3::ZERO, Vec3::splat(1.0)).unwrap();
-        let li = PointLight::try_new(Vec3::Y, Color::WHITE, 1.0).unwrap();
+        let li = Light::point(Vec3::Y, Color::WHITE, 1.0).unwrap();
         s.add_sphere(sph, m).unwrap();
         s.add_plane(pl, m).unwrap();
         s.add_triangle(tri, m).unwrap();
@@ -405,7 +407,7 @@ mod tests {
             m,
         )
         .unwrap();
-        s.add_light(PointLight::try_new(Vec3::new(0.0, 4.0, 2.0), Color::WHITE, 20.0).unwrap())
+        s.add_light(Light::point(Vec3::new(0.0, 4.0, 2.0), Color::WHITE, 20.0).unwrap())
             .unwrap();
         let copy: Scene<
             crate::capacities!(spheres: 2, planes: 1, triangles: 1, boxes: 1, materials: 2, lights: 1),

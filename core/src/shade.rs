@@ -448,25 +448,38 @@ fn local<const SMOOTH: bool, C: Observer>(
     #[cfg(not(feature = "bvh"))]
     let ns = n;
     for (i, light) in view.lights.iter().enumerate() {
-        let to_light = light.position() - hit.point;
-        let dist2 = to_light.length_squared();
-        // `fast-rsqrt`: one reciprocal square root (`math::rsqrt`) gives the
-        // distance, the direction and the irradiance, instead of a `vsqrt`, three
-        // `vdiv` here and one in `irradiance` (a zero or infinite `dist2` makes
-        // `dist` NaN: skipped, as the exact path skips or darkens it).
-        #[cfg(feature = "fast-rsqrt")]
-        let inv = math::rsqrt(dist2);
-        #[cfg(feature = "fast-rsqrt")]
-        let dist = dist2 * inv;
-        #[cfg(not(feature = "fast-rsqrt"))]
-        let dist = math::sqrt(dist2);
-        if dist.is_nan() || dist <= 0.0 {
-            continue;
-        }
-        #[cfg(feature = "fast-rsqrt")]
-        let l = to_light * inv;
-        #[cfg(not(feature = "fast-rsqrt"))]
-        let l = to_light / dist;
+        // The unit direction to the light, how far the shadow ray searches, and
+        // what the irradiance falls off by (`dist^2`; `1 / dist^2` with
+        // `fast-rsqrt`): a sun's irradiance is its intensity at any distance.
+        let (l, dist, fall) = if light.is_directional() {
+            (light.position(), f32::INFINITY, 1.0)
+        } else {
+            let to_light = light.position() - hit.point;
+            let dist2 = to_light.length_squared();
+            // `fast-rsqrt`: one reciprocal square root (`math::rsqrt`) gives the
+            // distance, the direction and the irradiance, instead of a `vsqrt`,
+            // three `vdiv` here and one in `irradiance` (a zero or infinite
+            // `dist2` makes `dist` NaN: skipped, as the exact path skips or
+            // darkens it).
+            #[cfg(feature = "fast-rsqrt")]
+            let inv = math::rsqrt(dist2);
+            #[cfg(feature = "fast-rsqrt")]
+            let dist = dist2 * inv;
+            #[cfg(not(feature = "fast-rsqrt"))]
+            let dist = math::sqrt(dist2);
+            if dist.is_nan() || dist <= 0.0 {
+                continue;
+            }
+            #[cfg(feature = "fast-rsqrt")]
+            let l = to_light * inv;
+            #[cfg(not(feature = "fast-rsqrt"))]
+            let l = to_light / dist;
+            #[cfg(feature = "fast-rsqrt")]
+            let fall = inv * inv;
+            #[cfg(not(feature = "fast-rsqrt"))]
+            let fall = dist2;
+            (l, dist, fall)
+        };
         let cos = ns.dot(l);
         if cos.is_nan() || cos <= 0.0 {
             continue; // light behind the surface as seen from the ray
@@ -502,12 +515,17 @@ fn local<const SMOOTH: bool, C: Observer>(
                 continue;
             }
         }
-        // `intensity / dist2` as `intensity inv^2` over 1, capped the same way (the
-        // division by 1 compiles to nothing).
-        #[cfg(feature = "fast-rsqrt")]
-        let e = light.color() * irradiance(light.intensity() * (inv * inv), 1.0);
-        #[cfg(not(feature = "fast-rsqrt"))]
-        let e = light.color() * irradiance(light.intensity(), dist2);
+        let e = if light.is_directional() {
+            light.color() * light.intensity()
+        } else {
+            // `intensity / dist2` as `intensity inv^2` over 1, capped the same way
+            // (the division by 1 compiles to nothing).
+            #[cfg(feature = "fast-rsqrt")]
+            let e = light.color() * irradiance(light.intensity() * fall, 1.0);
+            #[cfg(not(feature = "fast-rsqrt"))]
+            let e = light.color() * irradiance(light.intensity(), fall);
+            e
+        };
         let mut lit = hit.base * (m.diffuse() * cos);
         if m.specular() > 0.0 {
             // `fast-rsqrt`: `n.h` of the unnormalised half vector, scaled by its
@@ -644,7 +662,7 @@ mod tests {
     use super::*;
     use crate::camera::Camera;
     use crate::geometry::Plane;
-    use crate::light::PointLight;
+    use crate::light::Light;
     use crate::scene::Scene;
 
     /// A light almost on a black floor: `intensity / r^2` overflows to infinity,
@@ -663,7 +681,7 @@ mod tests {
             s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap(), m)
                 .unwrap();
             s.add_light(
-                PointLight::try_new(
+                Light::point(
                     Vec3::new(0.0, 1e-15, 0.0),
                     Color::splat(crate::error::MAX_COLOR),
                     1e30,

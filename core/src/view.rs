@@ -10,7 +10,7 @@ use crate::error::Error;
 use crate::error::List;
 use crate::geometry::{Aabb, Plane, Sphere, Triangle};
 use crate::kind::{KINDS, Primitives};
-use crate::light::PointLight;
+use crate::light::Light;
 use crate::material::{Material, MaterialId};
 #[cfg(feature = "bvh")]
 use crate::mesh::{MAX_MESHES, Mesh};
@@ -21,7 +21,7 @@ use crate::primitive::Primitive;
 pub(crate) struct Lists<'a> {
     pub(crate) primitives: Primitives<'a>,
     pub(crate) materials: &'a [Material],
-    pub(crate) lights: &'a [PointLight],
+    pub(crate) lights: &'a [Light],
 }
 
 impl<'a> Lists<'a> {
@@ -80,7 +80,7 @@ pub(crate) fn check_material(id: MaterialId, count: usize) -> Result<(), Error> 
 pub struct SceneView<'a> {
     pub(crate) primitives: Primitives<'a>,
     pub(crate) materials: &'a [Material],
-    pub(crate) lights: &'a [PointLight],
+    pub(crate) lights: &'a [Light],
     pub(crate) ambient: Color,
     pub(crate) background: Color,
     pub(crate) secondary: bool,
@@ -324,7 +324,7 @@ impl<'a> SceneView<'a> {
     }
     /// The lights.
     #[must_use]
-    pub fn lights(&self) -> &'a [PointLight] {
+    pub fn lights(&self) -> &'a [Light] {
         self.lights
     }
     /// The ambient light.
@@ -412,7 +412,7 @@ impl crate::cull::Source for SceneView<'_> {
         self.primitives
     }
     #[inline(always)]
-    fn lights(&self) -> &[PointLight] {
+    fn lights(&self) -> &[Light] {
         self.lights
     }
 }

@@ -18,6 +18,7 @@ use crate::kinds::{HostKind, each_kind, type_name, type_names};
 use std::fmt::Write as _;
 use tessera_core::Geometry;
 use tessera_core::bvh::BvhNode;
+use tessera_core::light::LightKind;
 use tessera_core::tile::TileLoop;
 
 /// `s` as a Rust string literal (with its quotes) that reads back to `s` and
@@ -227,7 +228,7 @@ fn api_path(name: &str) -> String {
         _ if type_names().contains(&name) => "geometry::",
         "Material" | "MaterialId" => "material::",
         "Texture" => "texture::",
-        "PointLight" => "light::",
+        "Light" => "light::",
         "BakedBvh" | "BvhNode" => "bvh::",
         "Mesh" => "mesh::",
         "Loops" | "TileLoop" => "tile::",
@@ -470,7 +471,7 @@ impl<'a> Writer<'a> {
                 "TileLoop",
                 "Material",
                 "MaterialId",
-                "PointLight",
+                "Light",
                 "Primitive",
                 "RenderSettings",
                 "Sampler",
@@ -550,18 +551,23 @@ impl<'a> Writer<'a> {
             .lights()
             .iter()
             .map(|l| {
+                let (kind, at) = match l.kind() {
+                    LightKind::Point(at) => ("point", at),
+                    LightKind::Directional(toward) => ("directional", toward),
+                };
                 format!(
-                    "PointLight::baked({}, {}, {})",
-                    v3(l.position()),
+                    "Light::baked_{kind}({}, {}, {})",
+                    v3(at),
                     color(l.color()),
                     lit(l.intensity())
                 )
             })
             .collect();
         self.table(
-            "The point lights: position, colour, intensity.",
+            "The lights: a point light's position (a sun's unit direction towards \
+             it), colour, intensity.",
             "LIGHTS",
-            "PointLight",
+            "Light",
             &lights,
             size_of_val(view.lights()),
         );

@@ -11,7 +11,7 @@ use std::fmt;
 use tessera_core::Geometry;
 use tessera_core::kind::{KINDS, Kind};
 use tessera_core::{
-    Camera, Color, Sampler, Scene, Vec3, geometry::Triangle, light::PointLight, material::Material,
+    Camera, Color, Sampler, Scene, Vec3, geometry::Triangle, light::Light, material::Material,
     material::MaterialId, texture::Texture,
 };
 use tessera_core::{error::Field, error::List};
@@ -536,17 +536,81 @@ pub enum TextureDesc {
     },
 }
 
-/// A point light.
+/// A light: a point light (`position`) or a directional light, a sun
+/// (`direction`: the way its rays travel); a scene file gives one of the two.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "LightFields")]
 pub struct LightDesc {
-    /// Position.
+    /// A point light's position (unused for a sun).
     pub position: [f64; 3],
+    /// A sun's direction, the way its rays travel (`None`: a point light).
+    pub direction: Option<[f64; 3]>,
     /// Colour.
-    #[serde(default = "white")]
     pub color: [f64; 3],
-    /// Intensity (irradiance at distance 1).
+    /// Intensity: a point light's irradiance at distance 1, a sun's everywhere.
     pub intensity: f64,
+}
+
+/// A `[[light]]` table as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightFields {
+    position: Option<[f64; 3]>,
+    direction: Option<[f64; 3]>,
+    #[serde(default = "white")]
+    color: [f64; 3],
+    intensity: f64,
+}
+
+impl TryFrom<LightFields> for LightDesc {
+    type Error = String;
+
+    fn try_from(l: LightFields) -> Result<Self, String> {
+        let (position, direction) = match (l.position, l.direction) {
+            (Some(p), None) => (p, None),
+            (None, Some(d)) => ([0.0; 3], Some(d)),
+            (Some(_), Some(_)) => {
+                return Err("a light has a position (a point light) or a direction \
+                            (a directional light, a sun), not both"
+                    .into());
+            }
+            (None, None) => {
+                return Err("a light needs a position (a point light) or a direction \
+                            (a directional light, a sun: the way its rays travel)"
+                    .into());
+            }
+        };
+        Ok(Self {
+            position,
+            direction,
+            color: l.color,
+            intensity: l.intensity,
+        })
+    }
+}
+
+impl LightDesc {
+    /// A point light.
+    #[must_use]
+    pub fn point(position: [f64; 3], color: [f64; 3], intensity: f64) -> Self {
+        Self {
+            position,
+            direction: None,
+            color,
+            intensity,
+        }
+    }
+
+    /// A directional light whose rays travel along `direction`.
+    #[must_use]
+    pub fn sun(direction: [f64; 3], color: [f64; 3], intensity: f64) -> Self {
+        Self {
+            position: [0.0; 3],
+            direction: Some(direction),
+            color,
+            intensity,
+        }
+    }
 }
 
 /// A triangle's three vertices.
@@ -785,7 +849,10 @@ impl SceneDesc {
         }
         for (i, l) in self.lights.iter_mut().enumerate() {
             let item = format!("light {}", i + 1);
-            at(&item, "position", &mut l.position);
+            match &mut l.direction {
+                Some(d) => at(&item, "direction", d),
+                None => at(&item, "position", &mut l.position),
+            }
             at(&item, "color", &mut l.color);
             at(&item, "intensity", std::slice::from_mut(&mut l.intensity));
         }
@@ -1107,15 +1174,29 @@ pub(crate) fn value_for(
     show(v)
 }
 
-fn core_light(item: &Item, l: &LightDesc) -> Result<PointLight, DescError> {
-    let position = item.v3(l.position, Field::LightPosition)?;
+fn core_light(item: &Item, l: &LightDesc) -> Result<Light, DescError> {
     let color = item.c3(l.color, Field::LightColor)?;
     let intensity = item.f1(l.intensity, Field::LightIntensity)?;
-    PointLight::try_new(position, color, intensity).map_err(|e| {
-        let fields = [
-            (Field::LightPosition, &l.position[..]),
-            (Field::LightColor, &l.color[..]),
-        ];
+    let (made, field, at) = match &l.direction {
+        Some(d) => {
+            let direction = item.v3(*d, Field::LightDirection)?;
+            (
+                Light::directional(direction, color, intensity),
+                Field::LightDirection,
+                &d[..],
+            )
+        }
+        None => {
+            let position = item.v3(l.position, Field::LightPosition)?;
+            (
+                Light::point(position, color, intensity),
+                Field::LightPosition,
+                &l.position[..],
+            )
+        }
+    };
+    made.map_err(|e| {
+        let fields = [(field, at), (Field::LightColor, &l.color[..])];
         item.core(e, value_for(e, &fields, &[l.intensity]))
     })
 }

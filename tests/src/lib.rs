@@ -44,7 +44,7 @@ pub mod random_scene;
 
 use std::path::PathBuf;
 use tessera_core::{
-    Camera, Color, Scene, Vec3, geometry::Sphere, light::PointLight, material::Material,
+    Camera, Color, Scene, Vec3, geometry::Sphere, light::Light, material::Material,
 };
 
 /// The analytic scene: the camera at the centre of a diffuse sphere of radius `r`,
@@ -91,7 +91,7 @@ pub fn inside_sphere_at(
     let mut s = Scene::new(cam);
     let m = s.add_material(Material::matte(color).with_diffuse(diffuse)?)?;
     s.add_sphere(Sphere::try_new(center, r)?, m)?;
-    s.add_light(PointLight::try_new(center, Color::WHITE, intensity)?)?;
+    s.add_light(Light::point(center, Color::WHITE, intensity)?)?;
     Ok(s)
 }
 

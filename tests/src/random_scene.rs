@@ -12,7 +12,7 @@ use tessera_core::Capacities;
 use tessera_core::{
     Camera, Color, Encoding, RenderSettings, Sampler, Scene, Vec3, error::MAX_COLOR,
     error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb, geometry::Cylinder, geometry::Disk,
-    geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material,
+    geometry::Plane, geometry::Sphere, geometry::Triangle, light::Light, material::Material,
     material::MaterialId, texture::Texture,
 };
 
@@ -120,6 +120,9 @@ pub struct LightRecipe {
     /// on the accepted spheres' surfaces, then the accepted planes' points), when
     /// there is one.
     pub on_surface: Option<usize>,
+    /// A directional light (a sun) whose rays travel along `position` instead
+    /// (`on_surface` unused).
+    pub directional: bool,
 }
 
 /// A number from the whole `f32` range that matters here: exact ends of the
@@ -294,13 +297,18 @@ impl Values {
                 Just(None).boxed(),
             ),
         };
-        (self.point(8.0), color, intensity, on_surface)
-            .prop_map(|(position, color, intensity, on_surface)| LightRecipe {
-                position,
-                color,
-                intensity,
-                on_surface,
-            })
+        // One light in four is a sun.
+        let directional = (0u8..4).prop_map(|k| k == 0);
+        (self.point(8.0), color, intensity, on_surface, directional)
+            .prop_map(
+                |(position, color, intensity, on_surface, directional)| LightRecipe {
+                    position,
+                    color,
+                    intensity,
+                    on_surface,
+                    directional,
+                },
+            )
             .boxed()
     }
 
@@ -522,7 +530,12 @@ impl<C: Capacities> Recipe<C> {
                 Some(&q) => q,
                 None => v(l.position),
             };
-            if let Ok(light) = PointLight::try_new(p, c(l.color), l.intensity) {
+            let light = if l.directional {
+                Light::directional(v(l.position), c(l.color), l.intensity)
+            } else {
+                Light::point(p, c(l.color), l.intensity)
+            };
+            if let Ok(light) = light {
                 s.add_light(light).ok()?;
             }
         }

@@ -12,7 +12,7 @@
 use image::RgbImage;
 use tessera_core::{
     Camera, Color, RenderSettings, Sampler, Scene, Tile, TileCoord, Vec3, Viewport,
-    geometry::Plane, geometry::Sphere, light::PointLight, material::Material, trace::RayCount,
+    geometry::Plane, geometry::Sphere, light::Light, material::Material, trace::RayCount,
 };
 use tessera_host::render_tiles;
 
@@ -56,7 +56,7 @@ pub(crate) fn scene()
         .unwrap();
     s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap(), green)
         .unwrap();
-    s.add_light(PointLight::try_new(Vec3::new(1.5, 5.0, 1.0), Color::WHITE, 30.0).unwrap())
+    s.add_light(Light::point(Vec3::new(1.5, 5.0, 1.0), Color::WHITE, 30.0).unwrap())
         .unwrap();
     s
 }

@@ -14,7 +14,7 @@ use tessera_core::builtin::Builtin;
 use tessera_core::testing::{BuiltinHooks as _, ViewHooks as _};
 use tessera_core::{
     Camera, Color, RenderSettings, Renderer, Sampler, Scene, SceneView, Vec3, Viewport, bvh::Bvh,
-    geometry::Plane, geometry::Triangle, light::PointLight, material::Material,
+    geometry::Plane, geometry::Triangle, light::Light, material::Material,
 };
 use tessera_host::render_tiles;
 use tessera_tests::random_scene::{Values, recipe};
@@ -233,7 +233,7 @@ fn coincident(copies: Copies, plane_point: Vec3, normal: Vec3) {
                 .unwrap(),
         )
         .unwrap();
-    s.add_light(PointLight::try_new(Vec3::new(2.0, 5.0, 10.0), Color::WHITE, 60.0).unwrap())
+    s.add_light(Light::point(Vec3::new(2.0, 5.0, 10.0), Color::WHITE, 60.0).unwrap())
         .unwrap();
     s.add_plane(Plane::try_new(plane_point, normal).unwrap(), mirror)
         .unwrap();

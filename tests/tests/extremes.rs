@@ -7,7 +7,7 @@
 use tessera_core::error::Field;
 use tessera_core::{
     Camera, Color, Error, Vec3, error::MAX_EXTENT, error::MIN_LENGTH, geometry::Aabb,
-    geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight,
+    geometry::Plane, geometry::Sphere, geometry::Triangle, light::Light,
 };
 use tessera_tests::extremes::*;
 
@@ -214,7 +214,7 @@ fn case11_validation_accepts_the_limits_and_rejects_one_step_beyond() {
     assert!(Plane::try_new(edge, Vec3::Y).is_ok());
     assert!(Triangle::try_new(edge, Vec3::ZERO, Vec3::splat(hi)).is_ok());
     assert!(Aabb::try_new(Vec3::splat(-hi), Vec3::splat(hi)).is_ok());
-    assert!(PointLight::try_new(edge, Color::WHITE, 1.0).is_ok());
+    assert!(Light::point(edge, Color::WHITE, 1.0).is_ok());
     assert!(Camera::try_new(edge, -Vec3::Z, Vec3::Y, 60.0, lo, hi).is_ok());
     // One step beyond.
     out_of_range(Sphere::try_new(beyond, 1.0), Field::SphereCenter);
@@ -228,7 +228,7 @@ fn case11_validation_accepts_the_limits_and_rejects_one_step_beyond() {
     out_of_range(Aabb::try_new(-beyond, Vec3::splat(hi)), Field::BoxMin);
     out_of_range(Aabb::try_new(Vec3::ZERO, beyond), Field::BoxMax);
     out_of_range(
-        PointLight::try_new(beyond, Color::WHITE, 1.0),
+        Light::point(beyond, Color::WHITE, 1.0),
         Field::LightPosition,
     );
     let cam = |p, n, f| Camera::try_new(p, -Vec3::Z, Vec3::Y, 60.0, n, f);

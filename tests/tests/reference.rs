@@ -152,3 +152,38 @@ fn the_cylinders_and_disks_agree_with_the_reference() {
     }
     println!("{report}");
 }
+
+/// A directional light (`scenes/examples/sun.toml`: a sun beside a point light,
+/// shadows of spheres and a box on a checkered floor, a mirror) against the
+/// reference, at its own settings and with the antialiasing, adaptive and sparse
+/// samplers: the same bar. The sun's shadow rays search without end, and its
+/// irradiance does not fall off.
+#[test]
+fn a_sun_agrees_with_the_reference() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/examples/sun.toml");
+    let desc = tessera_host::file::load(&path).unwrap();
+    assert!(desc.lights.iter().any(|l| l.direction.is_some()));
+    let scene = desc.to_core().unwrap();
+    let own = desc.settings().unwrap();
+    let mut report = String::new();
+    for (sampler, vp) in [
+        (own.sampler, Viewport::new(320, 240)),
+        (Sampler::Stratified(3), Viewport::new(160, 120)),
+        (Sampler::adaptive(3), Viewport::new(160, 120)),
+        (Sampler::sparse(), Viewport::new(160, 120)),
+    ] {
+        let settings = RenderSettings {
+            sampler,
+            seed: 3,
+            ..own
+        };
+        let core = scene.with_view(|view| render(view, scene.camera(), vp, settings));
+        let acc = against_reference(core, &desc, vp, settings);
+        report.push_str(&format!(
+            "== {sampler:?} {}x{}\n{acc}\n",
+            vp.width, vp.height
+        ));
+        assert!(acc.meets_bar(), "sun {sampler:?}:\n{acc}");
+    }
+    println!("{report}");
+}

@@ -845,6 +845,36 @@ color = [0.9, 0.1, 0.1]
         );
     }
 
+    /// A light is a point light or a sun: neither, both, or a sun without a
+    /// direction are refused where they are written.
+    #[test]
+    fn a_light_has_a_position_or_a_direction() {
+        let text = format!(
+            "{HEAD}\n[[light]]\nposition = [0, 1, 0]\ndirection = [0, -1, 0]\nintensity = 1\n"
+        );
+        assert_eq!(
+            msg(&text),
+            "t.toml:11:1: a light has a position (a point light) or a direction \
+             (a directional light, a sun), not both"
+        );
+        let text = format!("{HEAD}\n[[light]]\nintensity = 1\n");
+        assert!(msg(&text).contains("a light needs a position (a point light) or a direction"));
+        let text = format!("{HEAD}\n[[light]]\ndirection = [0, 0, 0]\nintensity = 1\n");
+        assert_eq!(
+            msg(&text),
+            "t.toml:11: light 1: light direction has zero length, got [0, 0, 0]"
+        );
+        let text = format!("{HEAD}\n[[light]]\ndirection = [0, -2, 0]\nintensity = 3\n");
+        let d = parse(&text, "t.toml").unwrap();
+        let core = d.to_core().unwrap();
+        let l = core.with_view(|v| v.lights()[0]);
+        assert_eq!(
+            l.kind(),
+            tessera_core::light::LightKind::Directional(tessera_core::Vec3::Y)
+        );
+        assert_eq!(l.intensity(), 3.0);
+    }
+
     #[test]
     fn items_are_located_in_any_order_and_form() {
         let text = format!(

@@ -155,13 +155,35 @@ pub struct Mat {
     pub ior: f64,
 }
 
-/// A point light.
+/// A light: a point light, or a directional light (a sun).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Light {
-    /// Position.
+    /// A point light's position, or a sun's unit direction towards it.
     pub position: V3,
     /// Colour times intensity.
     pub power: V3,
+    /// A sun: `position` is the unit direction towards it, and the irradiance
+    /// does not fall off.
+    pub directional: bool,
+}
+
+impl Light {
+    /// The unit direction from `p` to the light, the distance a shadow ray
+    /// searches, and the irradiance of a surface facing it; `None` at the light
+    /// itself.
+    #[must_use]
+    pub fn toward(&self, p: V3) -> Option<(V3, f64, V3)> {
+        if self.directional {
+            return Some((self.position, f64::INFINITY, self.power));
+        }
+        let to_light = self.position - p;
+        let dist = to_light.length();
+        if dist.is_nan() || dist <= 0.0 {
+            return None;
+        }
+        let e = self.power * (1.0 / (dist * dist));
+        Some((to_light * (1.0 / dist), dist, e))
+    }
 }
 
 /// The [`Object::kind`] of a mesh's face.
@@ -289,9 +311,18 @@ impl RefScene {
         let lights = desc
             .lights
             .iter()
-            .map(|l| Light {
-                position: v(l.position),
-                power: v(l.color) * l.intensity,
+            .map(|l| match l.direction {
+                // Towards the sun: against the way its rays travel.
+                Some(d) => Light {
+                    position: -v(d).normalize(),
+                    power: v(l.color) * l.intensity,
+                    directional: true,
+                },
+                None => Light {
+                    position: v(l.position),
+                    power: v(l.color) * l.intensity,
+                    directional: false,
+                },
             })
             .collect();
         let mut objects = Vec::new();

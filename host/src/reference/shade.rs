@@ -188,12 +188,9 @@ impl Tracer<'_> {
         let side = if n.dot(normal) < 0.0 { -1.0 } else { 1.0 };
         let from = p + obj.lift(p, hit, side);
         for (i, light) in self.scene.lights.iter().enumerate() {
-            let to_light = light.position - p;
-            let dist = to_light.length();
-            if dist.is_nan() || dist <= 0.0 {
+            let Some((l, dist, e)) = light.toward(p) else {
                 continue;
-            }
-            let l = to_light * (1.0 / dist);
+            };
             let cos = ns.dot(l);
             if cos.is_nan() || cos <= 0.0 {
                 continue;
@@ -207,7 +204,6 @@ impl Tracer<'_> {
             if blocked {
                 continue;
             }
-            let e = light.power * (1.0 / (dist * dist));
             let mut lit = base * (m.kd * cos);
             if m.ks > 0.0 {
                 let h = (l - ray.dir).normalize();
@@ -253,12 +249,9 @@ impl Tracer<'_> {
         let side = if n.dot(normal) < 0.0 { -1.0 } else { 1.0 };
         let from = p + obj.lift(p, &hit, side);
         for (i, light) in self.scene.lights.iter().enumerate() {
-            let to_light = light.position - p;
-            let dist = to_light.length();
-            if dist.is_nan() || dist <= 0.0 {
+            let Some((l, dist, _)) = light.toward(p) else {
                 continue;
-            }
-            let l = to_light * (1.0 / dist);
+            };
             let cos = ns.dot(l);
             if cos.is_nan() || cos <= 0.0 {
                 continue;

@@ -51,6 +51,7 @@ fn inside_a_lit_sphere_every_pixel_is_kd_color_i_over_r2() {
         d.materials.push(m);
         let intensity = 0.7 * r * r;
         d.lights.push(LightDesc {
+            direction: None,
             position: centre,
             color: [1.0, 0.5, 1.0],
             intensity,
@@ -214,11 +215,13 @@ fn test_scene() -> SceneDesc {
     d.materials = vec![red, mirror, glass, floor, fringes, young];
     d.lights = vec![
         LightDesc {
+            direction: None,
             position: [4.0, 6.0, 3.0],
             color: [1.0, 1.0, 1.0],
             intensity: 40.0,
         },
         LightDesc {
+            direction: None,
             position: [-5.0, 4.0, 5.0],
             color: [0.5, 0.5, 1.0],
             intensity: 20.0,
@@ -360,6 +363,7 @@ fn signatures_mark_silhouettes_and_shadows() {
     let mut d = empty(camera([0.0, 1.0, 5.0], [0.0, -0.2, -1.0]));
     d.materials.push(material("m", [0.8; 3]));
     d.lights.push(LightDesc {
+        direction: None,
         position: [0.0, 10.0, 0.0],
         color: [1.0; 3],
         intensity: 100.0,
@@ -431,6 +435,7 @@ fn signatures_change_where_a_primitives_shading_jumps() {
         let mut d = empty(camera([0.0, 0.0, 5.0], [0.0, 0.0, -1.0]));
         d.materials.push(material("m", [0.8; 3]));
         d.lights.push(LightDesc {
+            direction: None,
             position: [0.0, 0.0, 10.0],
             color: [1.0; 3],
             intensity: 100.0,

@@ -25,7 +25,7 @@ use std::time::Instant;
 use tessera_core::testing::ViewHooks as _;
 use tessera_core::{
     Camera, Color, RenderSettings, Renderer, Sampler, Scene, SceneView, Vec3, Viewport, bvh::Bvh,
-    geometry::Plane, geometry::Triangle, light::PointLight, material::Material,
+    geometry::Plane, geometry::Triangle, light::Light, material::Material,
 };
 use tessera_tests::extremes::icosphere;
 
@@ -75,7 +75,7 @@ fn scene(level: u32, faces: usize) -> Box<MeshScene> {
                 .expect("specular"),
         )
         .expect("material");
-    s.add_light(PointLight::try_new(Vec3::new(4.0, 6.0, 5.0), Color::WHITE, 60.0).expect("light"))
+    s.add_light(Light::point(Vec3::new(4.0, 6.0, 5.0), Color::WHITE, 60.0).expect("light"))
         .expect("light");
     s.add_plane(Plane::try_new(Vec3::ZERO, Vec3::Y).expect("plane"), floor)
         .expect("plane");
@@ -238,7 +238,7 @@ fn balls(n: usize) -> Box<BallScene> {
         let ball = tessera_core::geometry::Sphere::try_new(c, 0.4 * step).expect("sphere");
         s.add_sphere(ball, red).expect("sphere");
     }
-    s.add_light(PointLight::try_new(Vec3::new(2.0, 8.0, 4.0), Color::WHITE, 60.0).expect("light"))
+    s.add_light(Light::point(Vec3::new(2.0, 8.0, 4.0), Color::WHITE, 60.0).expect("light"))
         .expect("light");
     s
 }

@@ -49,8 +49,11 @@ pub fn scaled(desc: &SceneDesc, k: i32) -> SceneDesc {
         }
     }
     for x in &mut d.lights {
-        x.position = v(x.position);
-        x.intensity *= s * s;
+        // A sun's light does not fall off with distance: it stays as it is.
+        if x.direction.is_none() {
+            x.position = v(x.position);
+            x.intensity *= s * s;
+        }
     }
     for m in &mut d.materials {
         let on_planes = desc.planes.iter().any(|p| p.material == m.name);

@@ -1,8 +1,8 @@
 // Baked by `tessera bake` from "scenes/chapter-reflect.toml": generated, do not edit.
 //
-// 5 materials, 1 light, 4 spheres, 1 plane: 484 bytes of flash.
+// 5 materials, 1 light, 4 spheres, 1 plane: 488 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Plane, geometry::Sphere, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Plane, geometry::Sphere, light::Light, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 // The materials: each constant is a material's reference (its place in MATERIALS).
 /// The material "floor".
@@ -46,10 +46,10 @@ pub static MATERIALS: [Material; 5] = [
     ),
 ];
 
-/// The point lights: position, colour, intensity.
+/// The lights: a point light's position (a sun's unit direction towards it), colour, intensity.
 #[rustfmt::skip]
-pub static LIGHTS: [PointLight; 1] = [
-    PointLight::baked([0.0, 7.0, 1.0], Color::new(1.0, 1.0, 1.0), 40.0),
+pub static LIGHTS: [Light; 1] = [
+    Light::baked_point([0.0, 7.0, 1.0], Color::new(1.0, 1.0, 1.0), 40.0),
 ];
 
 /// The spheres: centre, radius.

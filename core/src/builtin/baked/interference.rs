@@ -2,7 +2,7 @@
 //
 // 1 material, 1 plane: 120 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Plane, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Plane, light::Light, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 // The materials: each constant is a material's reference (its place in MATERIALS).
 /// The material "screen".
@@ -18,9 +18,9 @@ pub static MATERIALS: [Material; 1] = [
     ),
 ];
 
-/// The point lights: position, colour, intensity.
+/// The lights: a point light's position (a sun's unit direction towards it), colour, intensity.
 #[rustfmt::skip]
-pub static LIGHTS: [PointLight; 0] = [
+pub static LIGHTS: [Light; 0] = [
 ];
 
 /// The planes: a point, the unit normal, the offset from the origin along it, the tangents of the texture's uv.

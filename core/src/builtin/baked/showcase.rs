@@ -1,8 +1,8 @@
 // Baked by `tessera bake` from "scenes/showcase.toml": generated, do not edit.
 //
-// 8 materials, 2 lights, 3 spheres, 2 planes, 2 boxes, 4 triangles: 956 bytes of flash.
+// 8 materials, 2 lights, 3 spheres, 2 planes, 2 boxes, 4 triangles: 964 bytes of flash.
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::PointLight, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::Light, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A triangle of material `m`.
 const fn t(p0: [f32; 3], p1: [f32; 3], p2: [f32; 3], m: MaterialId) -> Primitive<Triangle> {
@@ -75,11 +75,11 @@ pub static MATERIALS: [Material; 8] = [
     ),
 ];
 
-/// The point lights: position, colour, intensity.
+/// The lights: a point light's position (a sun's unit direction towards it), colour, intensity.
 #[rustfmt::skip]
-pub static LIGHTS: [PointLight; 2] = [
-    PointLight::baked([-3.0, 6.0, 4.0], Color::new(1.0, 0.95, 0.9), 30.0),
-    PointLight::baked([4.0, 4.0, 3.0], Color::new(0.5, 0.6, 0.8), 12.0),
+pub static LIGHTS: [Light; 2] = [
+    Light::baked_point([-3.0, 6.0, 4.0], Color::new(1.0, 0.95, 0.9), 30.0),
+    Light::baked_point([4.0, 4.0, 3.0], Color::new(0.5, 0.6, 0.8), 12.0),
 ];
 
 /// The spheres: centre, radius.

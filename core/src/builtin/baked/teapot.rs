@@ -1,9 +1,9 @@
 // Baked by `tessera bake` from "scenes/teapot.toml": generated, do not edit.
 //
-// 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 723 BVH nodes: 46000 bytes of flash.
+// 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 723 BVH nodes: 46008 bytes of flash.
 // Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml).
 
-use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, capacities, geometry::Plane, light::PointLight, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
+use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, capacities, geometry::Plane, light::Light, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};
 
 /// A node of a hierarchy.
 const fn n(min: [f32; 3], max: [f32; 3], first: u16, count: u16) -> BvhNode {
@@ -31,11 +31,11 @@ pub static MATERIALS: [Material; 2] = [
     ),
 ];
 
-/// The point lights: position, colour, intensity.
+/// The lights: a point light's position (a sun's unit direction towards it), colour, intensity.
 #[rustfmt::skip]
-pub static LIGHTS: [PointLight; 2] = [
-    PointLight::baked([-2.0, 5.0, 3.0], Color::new(1.0, 0.95, 0.9), 30.0),
-    PointLight::baked([4.0, 3.0, -1.0], Color::new(0.5, 0.6, 0.8), 10.0),
+pub static LIGHTS: [Light; 2] = [
+    Light::baked_point([-2.0, 5.0, 3.0], Color::new(1.0, 0.95, 0.9), 30.0),
+    Light::baked_point([4.0, 3.0, -1.0], Color::new(0.5, 0.6, 0.8), 10.0),
 ];
 
 /// The planes: a point, the unit normal, the offset from the origin along it, the tangents of the texture's uv.
