@@ -618,7 +618,8 @@ pub type Face = [[f64; 3]; 3];
 
 /// A triangle mesh from a Wavefront OBJ file: each face (a polygon is split into a
 /// fan of triangles) becomes a triangle of the scene with the mesh's material,
-/// its vertices scaled by `scale` about the origin, then moved by `translate`.
+/// its vertices scaled by `scale` about the origin, turned by `rotate` or
+/// `quaternion`, then moved by `translate`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MeshDesc {
@@ -630,7 +631,15 @@ pub struct MeshDesc {
     /// Uniform scale (finite, `> 0`).
     #[serde(default = "one")]
     pub scale: f64,
-    /// Translation, after the scale.
+    /// Rotation after the scale, before the translation: degrees about the
+    /// fixed X axis, then Y, then Z (`[0, 90, 0]` turns +X to -Z).
+    #[serde(default)]
+    pub rotate: Option<[f64; 3]>,
+    /// Rotation as a quaternion `[x, y, z, w]` (glTF's order; normalised), in
+    /// place of `rotate`.
+    #[serde(default)]
+    pub quaternion: Option<[f64; 4]>,
+    /// Translation, after the scale and the rotation.
     #[serde(default)]
     pub translate: [f64; 3],
     /// Smooth shading: the light is weighed with the vertex normals interpolated
@@ -866,6 +875,12 @@ impl SceneDesc {
             let item = format!("mesh {}", i + 1);
             at(&item, "scale", std::slice::from_mut(&mut m.scale));
             at(&item, "translate", &mut m.translate);
+            if let Some(r) = &mut m.rotate {
+                at(&item, "rotate", r);
+            }
+            if let Some(q) = &mut m.quaternion {
+                at(&item, "quaternion", q);
+            }
             for (j, f) in m.faces.iter_mut().enumerate() {
                 for v in f {
                     at(&item, &format!("face {} vertex", j + 1), v);
@@ -1415,6 +1430,8 @@ mod tests {
             obj: "f.obj".into(),
             material: "m".into(),
             scale: 1.0,
+            rotate: None,
+            quaternion: None,
             translate: [0.0; 3],
             smooth: true,
             faces: vec![[[0.0, 0.0, 0.0], [1000.0, 0.0, 0.0], [0.0, 2e-38, 1000.0]]],

@@ -1,5 +1,6 @@
 //! Triangle meshes from Wavefront OBJ files (`[[mesh]]` in a scene file): read with
-//! `tobj`, every face a triangle (polygons split into fans), scaled and moved.
+//! `tobj`, every face a triangle (polygons split into fans), scaled, turned and
+//! moved.
 //!
 //! Only positions and faces are read: normals, texture coordinates, groups and
 //! materials of the file are ignored (the mesh has the scene's material). Faces
@@ -65,6 +66,7 @@ pub fn read(
             mesh.translate.map(num).join(", ")
         ));
     }
+    let turn = rotation(mesh)?;
     let (shown, text) = if let Some(path) = obj_file(mesh, base) {
         let shown = path.display().to_string();
         // Said only of a file above the limit (not of one that cannot be read).
@@ -118,7 +120,10 @@ pub fn read(
         let vertex = |i: u32| -> Option<[f64; 3]> {
             let i = usize::try_from(i).ok()?.checked_mul(3)?;
             let p = m.positions.get(i..i + 3)?;
-            Some([0, 1, 2].map(|k| p[k] * mesh.scale + mesh.translate[k]))
+            let scaled = [p[0] * mesh.scale, p[1] * mesh.scale, p[2] * mesh.scale];
+            let turned =
+                turn.map(|row| row[0] * scaled[0] + row[1] * scaled[1] + row[2] * scaled[2]);
+            Some([0, 1, 2].map(|k| turned[k] + mesh.translate[k]))
         };
         for (j, f) in m.indices.chunks(3).enumerate() {
             let face = match f {
@@ -155,6 +160,98 @@ pub fn read(
         ));
     }
     Ok((faces, degenerate))
+}
+
+/// A 3x3 rotation matrix, rows first.
+pub type Rotation = [[f64; 3]; 3];
+
+/// The rotation of `mesh` (identity without `rotate` or `quaternion`): `rotate`
+/// is degrees about the fixed X axis, then Y, then Z, so the matrix is
+/// `Rz Ry Rx`; `quaternion` is `[x, y, z, w]`, normalised. Both at once, a
+/// number that is not finite, or a quaternion of length 0 is an error.
+pub fn rotation(mesh: &MeshDesc) -> Result<Rotation, String> {
+    match (mesh.rotate, mesh.quaternion) {
+        (Some(_), Some(_)) => {
+            Err("a mesh is rotated by `rotate` (degrees) or `quaternion`, not both".into())
+        }
+        (Some(r), None) => {
+            if !r.iter().all(|x| x.is_finite()) {
+                return Err(format!(
+                    "mesh rotate must be finite, got [{}]",
+                    r.map(num).join(", ")
+                ));
+            }
+            Ok(euler_xyz(r))
+        }
+        (None, Some(q)) => {
+            let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if !len.is_finite() || !q.iter().all(|x| x.is_finite()) {
+                return Err(format!(
+                    "mesh quaternion must be finite, got [{}]",
+                    q.map(num).join(", ")
+                ));
+            }
+            if len == 0.0 {
+                return Err("mesh quaternion has zero length, got [0, 0, 0, 0]".into());
+            }
+            Ok(quaternion_matrix(q.map(|x| x / len)))
+        }
+        (None, None) => Ok([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
+    }
+}
+
+/// `Rz(z) Ry(y) Rx(x)` for degrees `[x, y, z]`: about X first, then Y, then Z
+/// (the fixed axes). Quarter turns are exact (`sin` and `cos` of multiples of
+/// 90 degrees are taken as 0 and +-1), so `[0, 90, 0]` moves no vertex off its
+/// grid.
+#[must_use]
+pub fn euler_xyz(degrees: [f64; 3]) -> Rotation {
+    let sc = |d: f64| {
+        let q = d / 90.0;
+        if q == q.round() && q.abs() < 1e15 {
+            let k = (q.round() as i64).rem_euclid(4);
+            [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0), (-1.0, 0.0)][k as usize]
+        } else {
+            d.to_radians().sin_cos()
+        }
+    };
+    let [(sx, cx), (sy, cy), (sz, cz)] = degrees.map(sc);
+    let rx = [[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]];
+    let ry = [[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]];
+    let rz = [[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]];
+    mul(rz, mul(ry, rx))
+}
+
+/// The rotation of the unit quaternion `[x, y, z, w]`.
+#[must_use]
+pub fn quaternion_matrix([x, y, z, w]: [f64; 4]) -> Rotation {
+    [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - z * w),
+            2.0 * (x * z + y * w),
+        ],
+        [
+            2.0 * (x * y + z * w),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - x * w),
+        ],
+        [
+            2.0 * (x * z - y * w),
+            2.0 * (y * z + x * w),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ]
+}
+
+fn mul(a: Rotation, b: Rotation) -> Rotation {
+    let mut out = [[0.0; 3]; 3];
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    out
 }
 
 /// The most vertices of an OBJ face: its fan of `MAX_TRIANGLES` triangles fills
@@ -346,6 +443,7 @@ impl BufRead for Consumed<'_> {
 
 #[cfg(test)]
 mod tests {
+    use super::{Rotation, euler_xyz, quaternion_matrix};
     use crate::file::{self, FileError};
     #[cfg(feature = "cli")]
     use std::path::Path;
@@ -369,12 +467,53 @@ mod tests {
         file::load(&path)
     }
 
+    /// `rotate` turns about the fixed X, then Y, then Z axes: a vertex on +X
+    /// turned `[0, 90, 0]` goes to -Z; `[90, 0, 90]` takes +Y first to +Z (about
+    /// X), which Z leaves; +X goes to +Y. The quaternion of a half turn about
+    /// the diagonal `(1, 1, 0) / sqrt 2` swaps X and Y and flips Z. Each on the
+    /// vertices a scene file reads: scale, then rotation, then translation.
+    #[test]
+    fn rotations_turn_as_written() {
+        let apply =
+            |r: Rotation, p: [f64; 3]| r.map(|row| row[0] * p[0] + row[1] * p[1] + row[2] * p[2]);
+        assert_eq!(
+            apply(euler_xyz([0.0, 90.0, 0.0]), [1.0, 0.0, 0.0]),
+            [0.0, 0.0, -1.0]
+        );
+        let r = euler_xyz([90.0, 0.0, 90.0]);
+        assert_eq!(apply(r, [0.0, 1.0, 0.0]), [0.0, 0.0, 1.0]);
+        assert_eq!(apply(r, [1.0, 0.0, 0.0]), [0.0, 1.0, 0.0]);
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let q = quaternion_matrix([h, h, 0.0, 0.0]);
+        let p = apply(q, [1.0, 2.0, 3.0]);
+        for (a, b) in p.iter().zip([2.0, 1.0, -3.0]) {
+            assert!((a - b).abs() < 4.0 * f64::EPSILON * 3.0, "{p:?}");
+        }
+        // 30 degrees about Z by hand: (cos 30, sin 30, 0).
+        let p = apply(euler_xyz([0.0, 0.0, 30.0]), [1.0, 0.0, 0.0]);
+        assert!((p[0] - 0.75f64.sqrt()).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15);
+        // In a scene file, on a triangle: scale 2, turn +X to -Z, move up 1.
+        let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let mesh = "[[mesh]]\nobj = \"t.obj\"\nmaterial = \"m\"\nscale = 2\nrotate = [0, 90, 0]\ntranslate = [0, 1, 0]\n";
+        let d = load(&scene(mesh), &[("t.obj", obj)]).unwrap();
+        assert_eq!(
+            d.meshes[0].faces,
+            [[[0.0, 1.0, 0.0], [0.0, 1.0, -2.0], [0.0, 3.0, 0.0]]]
+        );
+        let mesh = "[[mesh]]\nobj = \"t.obj\"\nmaterial = \"m\"\nquaternion = [0, 0.7071067811865476, 0, 0.7071067811865476]\n";
+        let d = load(&scene(mesh), &[("t.obj", obj)]).unwrap();
+        let [_, b, _] = d.meshes[0].faces[0];
+        assert!((b[2] + 1.0).abs() < 1e-15 && b[0].abs() < 1e-15, "{b:?}");
+    }
+
     /// A mesh of `obj` as the file gives it: material `m`, no scale, no move.
     fn unplaced(obj: &str) -> crate::desc::MeshDesc {
         crate::desc::MeshDesc {
             obj: obj.into(),
             material: "m".into(),
             scale: 1.0,
+            rotate: None,
+            quaternion: None,
             translate: [0.0; 3],
             smooth: false,
             faces: Vec::new(),
@@ -475,7 +614,7 @@ mod tests {
         };
         let line = mesh("").lines().position(|l| l == "[[mesh]]").unwrap() + 1;
         type Case<'a> = (String, &'a [(&'a str, &'a str)], &'a str);
-        let cases: [Case; 7] = [
+        let cases: [Case; 10] = [
             (mesh(""), &[], "x.obj: cannot read the OBJ file"),
             (
                 mesh(""),
@@ -502,6 +641,21 @@ mod tests {
                 mesh("translate = [0, nan, 0]\n"),
                 &[("x.obj", "v 0 0 0\n")],
                 "mesh translate must be finite, got [0, NaN, 0]",
+            ),
+            (
+                mesh("rotate = [0, 90, 0]\nquaternion = [0, 0, 0, 1]\n"),
+                &[("x.obj", "v 0 0 0\n")],
+                "a mesh is rotated by `rotate` (degrees) or `quaternion`, not both",
+            ),
+            (
+                mesh("quaternion = [0, 0, 0, 0]\n"),
+                &[("x.obj", "v 0 0 0\n")],
+                "mesh quaternion has zero length",
+            ),
+            (
+                mesh("rotate = [0, inf, 0]\n"),
+                &[("x.obj", "v 0 0 0\n")],
+                "mesh rotate must be finite, got [0, inf, 0]",
             ),
             (
                 mesh("scale = 1e39\n"),

@@ -704,6 +704,8 @@ mod tests {
             obj: "m.obj".into(),
             material: "a".into(),
             scale: 1.0,
+            rotate: None,
+            quaternion: None,
             translate: [0.0; 3],
             smooth: false,
             faces,

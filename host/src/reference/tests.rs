@@ -482,6 +482,8 @@ fn signatures_change_where_a_primitives_shading_jumps() {
                 obj: "fold.obj".into(),
                 material: "m".into(),
                 scale: 1.0,
+                rotate: None,
+                quaternion: None,
                 translate: [0.0; 3],
                 smooth,
                 faces: faces.clone(),
