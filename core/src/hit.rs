@@ -161,7 +161,7 @@ fn resolve_in<'a, G: Locate + AsGeom>(
             error: Vec3::ZERO,
         };
         let uv = prim.geometry.uv(&surface, &n.hit);
-        match footprint.and_then(|f| uv_box(&prim.geometry, f, uv)) {
+        match footprint.and_then(|f| uv_box(&prim.geometry, f, uv, own_uv)) {
             Some((lo, hi)) => texture.eval_box(lo, hi),
             None => texture.eval(uv),
         }
@@ -179,6 +179,13 @@ fn resolve_in<'a, G: Locate + AsGeom>(
         base,
         error: core::cell::Cell::new(None),
     })
+}
+
+/// A shape's own uv as the texture's (one function, so that a triangle's and a
+/// flat-mapped mesh face's footprints share one copy of `uv_box`).
+#[inline(always)]
+fn own_uv(uv: [f32; 2]) -> [f32; 2] {
+    uv
 }
 
 /// [`resolve`] for a face of a mesh (`n.index` names a [`MeshFace`]): the
@@ -206,8 +213,16 @@ fn resolve_mesh<'a>(
             normal,
             error: Vec3::ZERO,
         };
-        let uv = tri.uv(&surface, &n.hit);
-        match footprint.and_then(|f| uv_box(&tri, f, uv)) {
+        // The face's own uv (its barycentrics) through the mesh's vertex uvs.
+        let own = tri.uv(&surface, &n.hit);
+        let at = usize::from(face);
+        let uv = mesh.uv(at, own);
+        let footprint = match footprint {
+            Some(f) if mesh.uvs().is_empty() => uv_box(&tri, f, uv, own_uv),
+            Some(f) => uv_box(&tri, f, uv, |b| mesh.uv(at, b)),
+            None => None,
+        };
+        match footprint {
             Some((lo, hi)) => texture.eval_box(lo, hi),
             None => texture.eval(uv),
         }

@@ -32,6 +32,7 @@ pub struct Mesh<'a> {
     vertices: &'a [[f32; 3]],
     faces: &'a [[u16; 3]],
     normals: &'a [[f32; 3]],
+    uvs: &'a [[f32; 2]],
     material: MaterialId,
     bvh: BakedBvh<'a>,
 }
@@ -60,9 +61,44 @@ impl<'a> Mesh<'a> {
             vertices,
             faces,
             normals,
+            uvs: &[],
             material,
             bvh,
         }
+    }
+
+    /// The mesh with texture coordinates `uvs`, one per vertex (a 3D tool's,
+    /// glTF's convention: `v` down from the image's top), interpolated across
+    /// each face by the hit's barycentrics. Without them (or empty) a face's uv
+    /// is the hit's barycentrics `(b1, b2)`, as for a lone triangle. Checked
+    /// when a view takes the mesh: one per vertex, each finite.
+    #[must_use]
+    pub const fn with_uvs(mut self, uvs: &'a [[f32; 2]]) -> Self {
+        self.uvs = uvs;
+        self
+    }
+
+    /// The texture coordinates (empty: the faces' barycentrics).
+    #[must_use]
+    pub fn uvs(&self) -> &'a [[f32; 2]] {
+        self.uvs
+    }
+
+    /// The uv of face `f` at barycentrics `(b1, b2)` of its second and third
+    /// vertices: its vertices' uvs interpolated, or `(b1, b2)` itself when the
+    /// mesh has none.
+    #[inline(always)]
+    pub(crate) fn uv(&self, f: usize, [b1, b2]: [f32; 2]) -> [f32; 2] {
+        let at = |i: u16| self.uvs.get(usize::from(i)).copied();
+        let Some(&[i, j, k]) = self.faces.get(f) else {
+            return [b1, b2];
+        };
+        let (Some(a), Some(b), Some(c)) = (at(i), at(j), at(k)) else {
+            return [b1, b2];
+        };
+        let b0 = 1.0 - b1 - b2;
+        let ([au, av], [bu, bv], [cu, cv]) = (a, b, c);
+        [au * b0 + bu * b1 + cu * b2, av * b0 + bv * b1 + cv * b2]
     }
 
     /// The vertices.
@@ -174,7 +210,8 @@ impl<'a> Mesh<'a> {
     /// Checks the mesh for a scene of `materials` materials: its faces (each
     /// vertex index in range, each triangle as [`Triangle::try_new`] makes it), its
     /// normals (none, or one per vertex, each of unit length to
-    /// [`NORMAL_LENGTH_ULPS`] ulps with no subnormal component), its material and
+    /// [`NORMAL_LENGTH_ULPS`] ulps with no subnormal component), its uvs (none,
+    /// or one per vertex, each finite), its material and
     /// its hierarchy (as for baked triangles).
     pub(crate) fn check(&self, materials: usize) -> Result<(), Error> {
         if self.faces.len() >= 1 << 16 {
@@ -195,6 +232,15 @@ impl<'a> Mesh<'a> {
                     return Err(Error::BadMesh);
                 }
             }
+        }
+        if !self.uvs.is_empty()
+            && (self.uvs.len() != self.vertices.len()
+                || self
+                    .uvs
+                    .iter()
+                    .any(|&[u, v]| !(u.is_finite() && v.is_finite())))
+        {
+            return Err(Error::BadMesh);
         }
         crate::bvh::check_faces(
             self.faces.len(),

@@ -38,18 +38,21 @@ impl<'a> Footprint<'a> {
 /// The uv bounding box of a pixel's footprint on `shape`: where the rays through the
 /// pixel's four corners meet the same shape. `None` (point sampling instead) when a
 /// corner ray misses it, or when the box spans more than half the uv range of a
-/// wrapping parametrisation (a sphere's seam). Out of line: only the prefiltered
-/// sampler comes here, and its four rays would weigh on every caller's frame.
+/// wrapping parametrisation (a sphere's seam). `map` takes the shape's own uv to
+/// the texture's (a mesh's vertex uvs, interpolated; `centre` is already mapped).
+/// Out of line: only the prefiltered sampler comes here, and its four rays would
+/// weigh on every caller's frame.
 #[inline(never)]
 pub(crate) fn uv_box<G: Shape>(
     shape: &G,
     footprint: &Footprint<'_>,
     centre: [f32; 2],
+    map: impl Fn([f32; 2]) -> [f32; 2],
 ) -> Option<([f32; 2], [f32; 2])> {
     let (mut lo, mut hi) = (centre, centre);
     for r in &footprint.corners() {
         let c = shape.intersect(r, f32::INFINITY)?;
-        let [u, v] = shape.uv(&shape.surface(r, &c), &c);
+        let [u, v] = map(shape.uv(&shape.surface(r, &c), &c));
         lo = [math::min(lo[0], u), math::min(lo[1], v)];
         hi = [math::max(hi[0], u), math::max(hi[1], v)];
     }

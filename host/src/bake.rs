@@ -661,13 +661,13 @@ impl<'a> Writer<'a> {
         with_bvh
     }
 
-    /// Each mesh's `MESH{i}_VERTICES`, `_FACES`, `_NORMALS`, `_NODES`, `_ORDER`,
-    /// and `MESHES`.
+    /// Each mesh's `MESH{i}_VERTICES`, `_FACES`, `_NORMALS`, `_UVS` (when it has
+    /// texture coordinates), `_NODES`, `_ORDER`, and `MESHES`.
     fn meshes(&mut self) {
         let mut meshes = Vec::new();
         for (i, m) in self.b.scene.mesh_parts().enumerate() {
-            let (vertices, faces, normals, material, bvh) =
-                (m.vertices, m.faces, m.normals, m.material, m.bvh);
+            let (vertices, faces, normals, uvs, material, bvh) =
+                (m.vertices, m.faces, m.normals, m.uvs, m.material, m.bvh);
             let name = format!("MESH{i}_");
             self.bytes += points(
                 &mut self.body,
@@ -695,11 +695,27 @@ impl<'a> Writer<'a> {
                 &format!("{name}NORMALS"),
                 normals,
             );
+            let with_uvs = if uvs.is_empty() {
+                String::new()
+            } else {
+                let _ = writeln!(
+                    self.body,
+                    "/// The vertex texture coordinates.\n#[rustfmt::skip]\npub static \
+                     {name}UVS: [[f32; 2]; {}] = [",
+                    uvs.len()
+                );
+                for [u, v] in uvs {
+                    let _ = writeln!(self.body, "    [{}, {}],", lit(*u), lit(*v));
+                }
+                let _ = writeln!(self.body, "];\n");
+                self.bytes += size_of_val(uvs);
+                format!(".with_uvs(&{name}UVS)")
+            };
             self.bytes += hierarchy(&mut self.body, &name, bvh.nodes(), bvh.order());
             meshes.push(format!(
                 "    Mesh::new(\n        &{name}VERTICES,\n        &{name}FACES,\n        \
                  &{name}NORMALS,\n        {},\n        \
-                 BakedBvh::new(&{name}NODES, &{name}ORDER, {}),\n    ),",
+                 BakedBvh::new(&{name}NODES, &{name}ORDER, {}),\n    ){with_uvs},",
                 self.mat(material),
                 lit(bvh.reach())
             ));

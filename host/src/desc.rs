@@ -68,6 +68,8 @@ pub struct MeshParts<'a> {
     pub faces: &'a [[u16; 3]],
     /// The vertex normals (empty: flat).
     pub normals: &'a [[f32; 3]],
+    /// The vertex texture coordinates (empty: the faces' barycentrics).
+    pub uvs: &'a [[f32; 2]],
     /// The material.
     pub material: MaterialId,
     /// The BVH over the faces.
@@ -81,6 +83,7 @@ impl<'a> MeshParts<'a> {
         let bvh =
             tessera_core::bvh::BakedBvh::new(self.bvh.nodes(), self.bvh.order(), self.bvh.reach());
         tessera_core::mesh::Mesh::new(self.vertices, self.faces, self.normals, self.material, bvh)
+            .with_uvs(self.uvs)
     }
 }
 
@@ -89,6 +92,7 @@ struct HostMesh {
     vertices: Vec<[f32; 3]>,
     faces: Vec<[u16; 3]>,
     normals: Vec<[f32; 3]>,
+    uvs: Vec<[f32; 2]>,
     material: MaterialId,
     bvh: Box<HostBvh>,
 }
@@ -128,6 +132,7 @@ impl HostScene {
             vertices: &m.vertices,
             faces: &m.faces,
             normals: &m.normals,
+            uvs: &m.uvs,
             material: m.material,
             bvh: &m.bvh,
         })
@@ -176,8 +181,12 @@ impl HostScene {
 }
 
 /// A mesh welded: its distinct vertices (in the order they first appear), its
-/// faces as indices into them, and, for a smooth mesh, each vertex's normal (the
-/// normalised sum of its faces' `(p1 - p0) x (p2 - p0)`, so weighted by area).
+/// faces as indices into them, each vertex's normal when the mesh is shaded
+/// smooth (the file's, or else the normalised sum of its faces' `(p1 - p0) x
+/// (p2 - p0)`, so weighted by area) and each vertex's texture coordinate when
+/// the file gives them. A vertex is one where its position, normal and uv are
+/// the same numbers: a hard edge of the file (two normals at one position) or
+/// a uv seam stays two vertices.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Welded {
     /// The distinct vertices.
@@ -186,6 +195,8 @@ pub struct Welded {
     pub faces: Vec<[usize; 3]>,
     /// One unit normal per vertex (smooth), or none (flat).
     pub normals: Vec<[f64; 3]>,
+    /// One texture coordinate per vertex, or none.
+    pub uvs: Vec<[f64; 2]>,
 }
 
 impl MeshDesc {
@@ -195,25 +206,33 @@ impl MeshDesc {
     pub fn welded(&self) -> Welded {
         // Welded by the f32 numbers the core gets (-0 as 0): vertices that differ
         // in f64 but not once rounded are one vertex, so a smooth mesh has no seam.
-        let mut index: std::collections::HashMap<[u32; 3], usize> = Default::default();
-        let mut positions = Vec::new();
         let same = |x: f64| {
             let y = x as f32;
             if y == 0.0 { 0 } else { y.to_bits() }
         };
-        let faces: Vec<[usize; 3]> = self
-            .faces
-            .iter()
-            .map(|f| {
-                f.map(|p| {
-                    *index.entry(p.map(same)).or_insert_with(|| {
-                        positions.push(p);
-                        positions.len() - 1
-                    })
-                })
-            })
-            .collect();
-        let normals = if self.smooth {
+        let given = self.given_normals();
+        let uvs_given = self.uvs.len() == self.faces.len() && !self.uvs.is_empty();
+        let mut index: std::collections::HashMap<[u32; 8], usize> = Default::default();
+        let (mut positions, mut normals, mut uvs) = (Vec::new(), Vec::new(), Vec::new());
+        let mut faces = Vec::with_capacity(self.faces.len());
+        for (j, f) in self.faces.iter().enumerate() {
+            let mut face = [0; 3];
+            for (k, (slot, p)) in face.iter_mut().zip(f).enumerate() {
+                let n = given.then(|| unit(self.normals[j][k]));
+                let uv = uvs_given.then(|| self.uvs[j][k]);
+                let [x, y, z] = p.map(same);
+                let [nx, ny, nz] = n.map_or([0; 3], |n| n.map(same));
+                let [u, v] = uv.map_or([0; 2], |uv| uv.map(same));
+                *slot = *index.entry([x, y, z, nx, ny, nz, u, v]).or_insert_with(|| {
+                    positions.push(*p);
+                    normals.extend(n);
+                    uvs.extend(uv);
+                    positions.len() - 1
+                });
+            }
+            faces.push(face);
+        }
+        if !given && self.smooth == Some(true) {
             let mut sum = vec![[0.0f64; 3]; positions.len()];
             for (f, p) in faces.iter().zip(&self.faces) {
                 let (a, b) = (sub(p[1], p[0]), sub(p[2], p[0]));
@@ -226,34 +245,43 @@ impl MeshDesc {
                     sum[i] = [sum[i][0] + n[0], sum[i][1] + n[1], sum[i][2] + n[2]];
                 }
             }
-            sum.into_iter()
-                .map(|n| {
-                    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                    // Faces cancelling out at a vertex (never on a closed surface
-                    // seen from outside): the vertex keeps an up normal, which the
-                    // shading turns to the face's side.
-                    if len > 0.0 && len.is_finite() {
-                        // A component subnormal in f32 is read as zero, as every
-                        // number of a scene is (the core refuses a baked normal
-                        // that is not).
-                        n.map(|x| flush(x / len))
-                    } else {
-                        [0.0, 1.0, 0.0]
-                    }
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
+            normals = sum.into_iter().map(unit).collect();
+        }
         Welded {
             positions,
             faces,
             normals,
+            uvs,
         }
+    }
+
+    /// True when the mesh is shaded with the file's own vertex normals: it has
+    /// one for every corner of every face, and `smooth` is not `false`.
+    #[must_use]
+    pub fn given_normals(&self) -> bool {
+        self.smooth != Some(false)
+            && !self.normals.is_empty()
+            && self.normals.len() == self.faces.len()
     }
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+/// `n` normalised, each component subnormal in `f32` read as zero (as every
+/// number of a scene is: the core refuses a baked normal that is not); a normal
+/// that does not normalise (faces cancelling out at a vertex, never on a closed
+/// surface seen from outside; a file's zero normal) is an up normal, which the
+/// shading turns to the face's side.
+fn unit(n: [f64; 3]) -> [f64; 3] {
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if len > 0.0 && len.is_finite() {
+        n.map(|x| flush(x / len))
+    } else {
+        [0.0, 1.0, 0.0]
+    }
+}
+
+/// `a - b`.
+#[must_use]
+pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
@@ -642,11 +670,12 @@ pub struct MeshDesc {
     /// Translation, after the scale and the rotation.
     #[serde(default)]
     pub translate: [f64; 3],
-    /// Smooth shading: the light is weighed with the vertex normals interpolated
-    /// across each face (computed from the faces, weighted by area); flat
-    /// otherwise.
+    /// Shading normals. Unset: the file's vertex normals when it has them (a
+    /// hard edge stays hard: its faces' normals differ), else flat. `true`: the
+    /// file's, or else computed from the faces (weighted by area). `false`: flat,
+    /// whatever the file says.
     #[serde(default)]
-    pub smooth: bool,
+    pub smooth: Option<bool>,
     /// The faces read from the file, scaled and moved: filled when the scene file
     /// is loaded ([`crate::file`]), never written in it.
     #[serde(skip)]
@@ -655,6 +684,18 @@ pub struct MeshDesc {
     /// `f32` (zero area: no ray can hit them).
     #[serde(skip)]
     pub degenerate: usize,
+    /// The file's normal at each corner of each face (turned as the vertices
+    /// are), or none: filled when the scene file is loaded.
+    #[serde(skip)]
+    pub normals: Vec<[[f64; 3]; 3]>,
+    /// The file's texture coordinate at each corner of each face (glTF's
+    /// convention: `v` down from the image's top), or none.
+    #[serde(skip)]
+    pub uvs: Vec<[[f64; 2]; 3]>,
+    /// What the file has that the mesh does not use, each a sentence naming it
+    /// (shown as warnings when the scene is read).
+    #[serde(skip)]
+    pub warnings: Vec<String>,
 }
 
 /// What is wrong with a description: the item (`sphere 3`, `camera`, `render`) and
@@ -1097,6 +1138,14 @@ impl SceneDesc {
         let f32s = |p: &[f64; 3]| p.map(|x| to_f32(x).unwrap_or(f32::NAN));
         let vertices: Vec<[f32; 3]> = w.positions.iter().map(f32s).collect();
         let normals: Vec<[f32; 3]> = w.normals.iter().map(f32s).collect();
+        let uvs: Vec<[f32; 2]> = w
+            .uvs
+            .iter()
+            .map(|p| p.map(|x| to_f32(x).unwrap_or(f32::NAN)))
+            .collect();
+        if uvs.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(item.fail("a texture coordinate is beyond the range of f32".into()));
+        }
         let too_many = || item.fail(format!("more than {} vertices", 1 << 16));
         let mut faces = Vec::with_capacity(w.faces.len());
         let mut triangles = Vec::with_capacity(w.faces.len());
@@ -1118,6 +1167,7 @@ impl SceneDesc {
             vertices,
             faces,
             normals,
+            uvs,
             material,
             bvh,
         })
@@ -1433,9 +1483,12 @@ mod tests {
             rotate: None,
             quaternion: None,
             translate: [0.0; 3],
-            smooth: true,
+            smooth: Some(true),
             faces: vec![[[0.0, 0.0, 0.0], [1000.0, 0.0, 0.0], [0.0, 2e-38, 1000.0]]],
             degenerate: 0,
+            normals: Vec::new(),
+            uvs: Vec::new(),
+            warnings: Vec::new(),
         };
         let n = mesh.welded().normals;
         assert!(

@@ -45,6 +45,7 @@ pub mod compare;
 pub mod desc;
 mod error;
 pub mod file;
+pub mod gltf;
 #[cfg(feature = "cli")]
 mod images;
 pub mod kinds;
@@ -62,6 +63,7 @@ pub mod simulate;
 pub mod teapot;
 pub mod template;
 mod text;
+pub mod texture_image;
 #[cfg(feature = "cli")]
 pub mod trade;
 

@@ -52,7 +52,7 @@ pub fn read(
     base: &Path,
     budget: &mut usize,
     room: usize,
-) -> Result<(Vec<Face>, usize), String> {
+) -> Result<ObjMesh, String> {
     let finite = mesh.translate.iter().all(|x| x.is_finite());
     if !(mesh.scale.is_finite() && mesh.scale > 0.0) {
         return Err(format!(
@@ -89,7 +89,7 @@ pub fn read(
     // A UTF-8 byte-order mark (Windows tools write one) is no part of the text:
     // read as a word it would hide the first line's statement.
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
-    check_lines(text).map_err(|(line, why)| format!("{shown}:{line}: {why}"))?;
+    let corners = check_lines(text).map_err(|(line, why)| format!("{shown}:{line}: {why}"))?;
     let mut reader = Consumed {
         text,
         at: 0,
@@ -114,16 +114,54 @@ pub fn read(
         let line = done.iter().filter(|&&b| b == b'\n').count() + 1;
         format!("{shown}:{line}: not a valid OBJ file: {e}")
     })?;
-    let (mut faces, mut degenerate) = (Vec::new(), 0);
+    let mut out = ObjMesh::default();
+    // Normals or uvs for some corners only: none is used (tobj makes up the
+    // missing ones from their neighbours'; a face without would be shaded or
+    // textured unlike the others), and the warning says so.
+    let mut usable = [true; 2];
+    for (k, (what, [without, with])) in [
+        ("vertex normals", corners.normals),
+        ("texture coordinates", corners.uvs),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        if with > 0 && without > 0 {
+            usable[k] = false;
+            out.warnings.push(format!(
+                "{shown}: {with} of its {} face corners have {what}, not all: none are used",
+                with + without
+            ));
+        }
+    }
     for model in &models {
         let m = &model.mesh;
         let vertex = |i: u32| -> Option<[f64; 3]> {
             let i = usize::try_from(i).ok()?.checked_mul(3)?;
             let p = m.positions.get(i..i + 3)?;
             let scaled = [p[0] * mesh.scale, p[1] * mesh.scale, p[2] * mesh.scale];
-            let turned =
-                turn.map(|row| row[0] * scaled[0] + row[1] * scaled[1] + row[2] * scaled[2]);
+            let turned = apply(&turn, scaled);
             Some([0, 1, 2].map(|k| turned[k] + mesh.translate[k]))
+        };
+        // The file's normals and texture coordinates, when every corner of the
+        // file has one (tobj leaves an object's index list empty when none has).
+        let has = |idx: &[u32], data: &[f64]| !data.is_empty() && idx.len() == m.indices.len();
+        let (with_normals, with_uvs) = (
+            usable[0] && has(&m.normal_indices, &m.normals),
+            usable[1] && has(&m.texcoord_indices, &m.texcoords),
+        );
+        let normal = |i: u32| -> Option<[f64; 3]> {
+            let i = usize::try_from(i).ok()?.checked_mul(3)?;
+            let n = m.normals.get(i..i + 3)?;
+            // A uniform scale keeps directions: the rotation alone turns them.
+            Some(apply(&turn, [n[0], n[1], n[2]]))
+        };
+        // OBJ's `v` runs up from the image's bottom; tessera's (glTF's) down
+        // from its top.
+        let uv = |i: u32| -> Option<[f64; 2]> {
+            let i = usize::try_from(i).ok()?.checked_mul(2)?;
+            let t = m.texcoords.get(i..i + 2)?;
+            Some([t[0], 1.0 - t[1]])
         };
         for (j, f) in m.indices.chunks(3).enumerate() {
             let face = match f {
@@ -139,10 +177,44 @@ pub fn read(
                     m.positions.len() / 3
                 ));
             };
+            let corners = |idx: &[u32]| -> Option<[u32; 3]> {
+                let c = idx.get(3 * j..3 * j + 3)?;
+                Some([c[0], c[1], c[2]])
+            };
+            let normals = if with_normals {
+                let [na, nb, nc] = corners(&m.normal_indices).map_or([None; 3], |c| c.map(normal));
+                let (Some(na), Some(nb), Some(nc)) = (na, nb, nc) else {
+                    return Err(format!(
+                        "{shown}: object {:?}, triangle {}: a normal index beyond the \
+                         object's {} normals",
+                        model.name,
+                        j + 1,
+                        m.normals.len() / 3
+                    ));
+                };
+                Some([na, nb, nc])
+            } else {
+                None
+            };
+            let uvs = if with_uvs {
+                let [ta, tb, tc] = corners(&m.texcoord_indices).map_or([None; 3], |c| c.map(uv));
+                let (Some(ta), Some(tb), Some(tc)) = (ta, tb, tc) else {
+                    return Err(format!(
+                        "{shown}: object {:?}, triangle {}: a texture coordinate index \
+                         beyond the object's {} texture coordinates",
+                        model.name,
+                        j + 1,
+                        m.texcoords.len() / 2
+                    ));
+                };
+                Some([ta, tb, tc])
+            } else {
+                None
+            };
             let face = [a, b, c];
             if core_triangle_of(&face) == Err(tessera_core::Error::DegenerateTriangle) {
-                degenerate += 1;
-            } else if faces.len() == room {
+                out.degenerate += 1;
+            } else if out.faces.len() == room {
                 return Err(format!(
                     "{}: the faces of {} come after {} triangles",
                     too_many(List::Triangles, MAX_TRIANGLES),
@@ -150,16 +222,65 @@ pub fn read(
                     MAX_TRIANGLES.saturating_sub(room)
                 ));
             } else {
-                faces.push(face);
+                out.faces.push(face);
+                out.normals.push(normals);
+                out.uvs.push(uvs);
             }
         }
     }
-    if faces.is_empty() {
+    if out.faces.is_empty() {
         return Err(format!(
-            "{shown}: no face to render ({degenerate} degenerate faces left out)"
+            "{shown}: no face to render ({} degenerate faces left out)",
+            out.degenerate
         ));
     }
-    Ok((faces, degenerate))
+    Ok(out)
+}
+
+/// What [`read`] makes of a mesh's OBJ file: its faces (scaled, turned and
+/// moved), the normal and texture coordinate at each corner when the file gives
+/// them, the faces left out and what was dropped, by name.
+#[derive(Debug, Default)]
+pub struct ObjMesh {
+    /// The faces.
+    pub faces: Vec<Face>,
+    /// Each face's corner normals, when its object gives them.
+    pub normals: Vec<Option<[[f64; 3]; 3]>>,
+    /// Each face's corner texture coordinates (`v` down from the image's top),
+    /// when its object gives them.
+    pub uvs: Vec<Option<[[f64; 2]; 3]>>,
+    /// Faces left out because their vertices are collinear once in `f32`.
+    pub degenerate: usize,
+    /// What the file has that is not used, each a sentence naming it.
+    pub warnings: Vec<String>,
+}
+
+impl ObjMesh {
+    /// The corner normals of every face, or none when some face has none.
+    #[must_use]
+    pub fn all_normals(&self) -> Vec<[[f64; 3]; 3]> {
+        self.normals
+            .iter()
+            .copied()
+            .collect::<Option<Vec<_>>>()
+            .unwrap_or_default()
+    }
+
+    /// The corner texture coordinates of every face, or none when some face has
+    /// none.
+    #[must_use]
+    pub fn all_uvs(&self) -> Vec<[[f64; 2]; 3]> {
+        self.uvs
+            .iter()
+            .copied()
+            .collect::<Option<Vec<_>>>()
+            .unwrap_or_default()
+    }
+}
+
+/// `r p`.
+fn apply(r: &Rotation, p: [f64; 3]) -> [f64; 3] {
+    r.map(|row| row[0] * p[0] + row[1] * p[1] + row[2] * p[2])
 }
 
 /// A 3x3 rotation matrix, rows first.
@@ -281,7 +402,8 @@ pub const MAX_OBJ_TRIANGLES: usize = 2 * MAX_TRIANGLES;
 /// - A byte-order mark (U+FEFF) past the start of the text (two files joined) is
 ///   refused, but in a comment or on a line of nothing else: read as a word, it
 ///   would hide the statement of its line.
-fn check_lines(text: &str) -> Result<(), (usize, String)> {
+fn check_lines(text: &str) -> Result<Corners, (usize, String)> {
+    let mut corners = Corners::default();
     let mut triangles = 0;
     // The vertices, texture coordinates and normals so far.
     let mut defined = [0i64; 3];
@@ -329,6 +451,12 @@ fn check_lines(text: &str) -> Result<(), (usize, String)> {
                     ));
                 }
                 for (corner, word) in words.enumerate() {
+                    let mut parts = word.split('/');
+                    let _ = parts.next();
+                    let vt = parts.next().is_some_and(|p| !p.is_empty());
+                    let vn = parts.next().is_some_and(|p| !p.is_empty());
+                    corners.uvs[usize::from(vt)] += 1;
+                    corners.normals[usize::from(vn)] += 1;
                     bad_corner(word, defined).map_err(|why| {
                         (
                             n + 1,
@@ -343,7 +471,15 @@ fn check_lines(text: &str) -> Result<(), (usize, String)> {
             _ => {}
         }
     }
-    Ok(())
+    Ok(corners)
+}
+
+/// How many face corners of an OBJ file lack (`[0]`) or have (`[1]`) a texture
+/// coordinate index, and a normal index.
+#[derive(Debug, Default)]
+struct Corners {
+    uvs: [usize; 2],
+    normals: [usize; 2],
 }
 
 /// Checks one corner of a face (`v`, `v/vt`, `v//vn` or `v/vt/vn`) against the
@@ -444,6 +580,7 @@ impl BufRead for Consumed<'_> {
 #[cfg(test)]
 mod tests {
     use super::{Rotation, euler_xyz, quaternion_matrix};
+    use crate::desc::sub;
     use crate::file::{self, FileError};
     #[cfg(feature = "cli")]
     use std::path::Path;
@@ -465,6 +602,98 @@ mod tests {
         let path = dir.path().join("scene.toml");
         std::fs::write(&path, toml).unwrap();
         file::load(&path)
+    }
+
+    /// A unit cube as 3D tools write it: quads, one `vn` per face (hard edges),
+    /// `vt` per corner (each face the whole texture).
+    const CUBE: &str = "o Cube\n\
+        v 1 1 -1\nv 1 -1 -1\nv 1 1 1\nv 1 -1 1\nv -1 1 -1\nv -1 -1 -1\nv -1 1 1\nv -1 -1 1\n\
+        vn 0 1 0\nvn 0 0 1\nvn -1 0 0\nvn 0 -1 0\nvn 1 0 0\nvn 0 0 -1\n\
+        vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+        s 0\n\
+        f 1/1/1 5/2/1 7/3/1 3/4/1\nf 4/1/2 3/2/2 7/3/2 8/4/2\nf 8/1/3 7/2/3 5/3/3 6/4/3\n\
+        f 6/1/4 2/2/4 4/3/4 8/4/4\nf 2/1/5 1/2/5 3/3/5 4/4/5\nf 6/1/6 5/2/6 1/3/6 2/4/6\n";
+
+    /// The file's normals are used as given: a cube's hard edges stay hard (24
+    /// vertices, 4 a face, each with its face's normal), and its `vt`s give
+    /// each face's corners their uvs (`v` flipped: OBJ's runs up, tessera's
+    /// down), so a quad's two triangles share one mapping. Turned with the mesh.
+    #[test]
+    fn a_tools_cube_keeps_its_normals_and_uvs() {
+        let mesh = "[[mesh]]\nobj = \"cube.obj\"\nmaterial = \"m\"\nrotate = [0, 90, 0]\n";
+        let d = load(&scene(mesh), &[("cube.obj", CUBE)]).unwrap();
+        let m = &d.meshes[0];
+        assert_eq!((m.faces.len(), m.normals.len(), m.uvs.len()), (12, 12, 12));
+        let w = m.welded();
+        assert_eq!(
+            (w.positions.len(), w.normals.len(), w.uvs.len()),
+            (24, 24, 24)
+        );
+        // Each vertex's normal is its face's: the face's own normal, turned.
+        for f in &w.faces {
+            let [a, b, c] = f.map(|i| w.positions[i]);
+            let (u, v) = (sub(b, a), sub(c, a));
+            let g = [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ];
+            let len = g.iter().map(|x| x * x).sum::<f64>().sqrt();
+            for &i in f {
+                let n = w.normals[i];
+                let cos = (0..3).map(|k| n[k] * g[k] / len).sum::<f64>();
+                assert!((cos - 1.0).abs() < 1e-12, "{n:?} against {g:?}");
+            }
+        }
+        // The first quad (the top, +y: the rotation leaves it the top) has its
+        // corners' uvs, flipped: (0, 1), (1, 1), (1, 0), (0, 0).
+        assert_eq!(m.uvs[0], [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]);
+        assert_eq!(m.uvs[1], [[0.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
+        assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+        // `smooth = false`: flat, whatever the file says; the uvs stay.
+        let flat = "[[mesh]]\nobj = \"cube.obj\"\nmaterial = \"m\"\nsmooth = false\n";
+        let d = load(&scene(flat), &[("cube.obj", CUBE)]).unwrap();
+        let w = d.meshes[0].welded();
+        // Corners welded where position and uv agree.
+        assert_eq!((w.normals.len(), w.uvs.len()), (0, w.positions.len()));
+        assert!(
+            w.positions.len() > 8 && w.positions.len() < 24,
+            "{}",
+            w.positions.len()
+        );
+        // A file without normals: flat unless `smooth = true` averages them (8
+        // vertices then, as uvs are none either).
+        let bare: String = CUBE
+            .lines()
+            .filter(|l| !l.starts_with("vn") && !l.starts_with("vt"))
+            .map(|l| {
+                let l = if l.starts_with("f ") {
+                    l.split(' ')
+                        .map(|w| w.split('/').next().unwrap())
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                } else {
+                    l.to_string()
+                };
+                l + "\n"
+            })
+            .collect();
+        let smooth = "[[mesh]]\nobj = \"cube.obj\"\nmaterial = \"m\"\nsmooth = true\n";
+        let d = load(&scene(smooth), &[("cube.obj", &bare)]).unwrap();
+        let w = d.meshes[0].welded();
+        assert_eq!((w.positions.len(), w.normals.len(), w.uvs.len()), (8, 8, 0));
+    }
+
+    /// Normals for some faces only are not used, and the warning says so.
+    #[test]
+    fn normals_for_some_faces_only_are_warned_about() {
+        let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf 2 4 3\n";
+        let mesh = "[[mesh]]\nobj = \"p.obj\"\nmaterial = \"m\"\n";
+        let d = load(&scene(mesh), &[("p.obj", obj)]).unwrap();
+        let m = &d.meshes[0];
+        assert!(m.normals.is_empty());
+        let shown = crate::file::warnings(&d).join("\n");
+        assert!(shown.contains("normals"), "{shown}");
     }
 
     /// `rotate` turns about the fixed X, then Y, then Z axes: a vertex on +X
@@ -515,9 +744,12 @@ mod tests {
             rotate: None,
             quaternion: None,
             translate: [0.0; 3],
-            smooth: false,
+            smooth: None,
             faces: Vec::new(),
             degenerate: 0,
+            normals: Vec::new(),
+            uvs: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 
@@ -748,7 +980,7 @@ mod tests {
         let two = unplaced("two.obj");
         let mut budget = super::MAX_OBJ_BYTES;
         assert_eq!(
-            super::read(&two, dir.path(), &mut budget, 2).map(|f| f.0.len()),
+            super::read(&two, dir.path(), &mut budget, 2).map(|f| f.faces.len()),
             Ok(2)
         );
         assert_eq!(
@@ -807,6 +1039,7 @@ mod tests {
         std::fs::write(dir.path().join("x.obj"), text).unwrap();
         let mut budget = super::MAX_OBJ_BYTES;
         super::read(&unplaced("x.obj"), dir.path(), &mut budget, 100)
+            .map(|m| (m.faces, m.degenerate))
     }
 
     /// The fixture `name` of `host/tests/fixtures`.
@@ -889,7 +1122,8 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         std::fs::copy(fixture("bom-crlf.obj"), dir.path().join("x.obj")).unwrap();
         let mut budget = super::MAX_OBJ_BYTES;
-        let read = super::read(&unplaced("x.obj"), dir.path(), &mut budget, 100);
+        let read = super::read(&unplaced("x.obj"), dir.path(), &mut budget, 100)
+            .map(|m| (m.faces, m.degenerate));
         assert_eq!(read, Ok((want, 0)));
         // The mark is OBJ text read: it counts against the budget.
         assert_eq!(budget, super::MAX_OBJ_BYTES - text.len());

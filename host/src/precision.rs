@@ -707,9 +707,12 @@ mod tests {
             rotate: None,
             quaternion: None,
             translate: [0.0; 3],
-            smooth: false,
+            smooth: None,
             faces,
             degenerate: 0,
+            normals: Vec::new(),
+            uvs: Vec::new(),
+            warnings: Vec::new(),
         });
         let w = edge_warnings(&d);
         assert_eq!(w.len(), MAX_WARNINGS + 1, "{w:?}");

@@ -119,15 +119,15 @@ fn srgb_renders_agree_with_the_reference() {
     }
 }
 
-/// The scene of the cylinders and disks (`scenes/pillars.toml`: capped and open
-/// cylinders, a tilted one, a coin, a ring, disks, glass and mirrors) against the
-/// reference, at its own settings and with the antialiasing, adaptive and sparse
-/// samplers: the same bar.
-#[test]
-fn the_cylinders_and_disks_agree_with_the_reference() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/pillars.toml");
+/// The scene file at `path` (from the workspace's root) against the reference,
+/// at its own settings and with the antialiasing, adaptive, sparse and
+/// prefiltered samplers: the same bar. Returns the report.
+fn scene_file_agrees(path: &str, check: impl Fn(&tessera_host::desc::SceneDesc)) -> String {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(path);
     let desc = tessera_host::file::load(&path).unwrap();
-    assert!(!desc.cylinders.is_empty() && !desc.disks.is_empty());
+    check(&desc);
     let scene = desc.to_core().unwrap();
     let own = desc.settings().unwrap();
     let mut report = String::new();
@@ -136,6 +136,7 @@ fn the_cylinders_and_disks_agree_with_the_reference() {
         (Sampler::Stratified(3), Viewport::new(160, 120)),
         (Sampler::adaptive(3), Viewport::new(160, 120)),
         (Sampler::sparse(), Viewport::new(160, 120)),
+        (Sampler::Prefiltered, Viewport::new(160, 120)),
     ] {
         let settings = RenderSettings {
             sampler,
@@ -148,42 +149,41 @@ fn the_cylinders_and_disks_agree_with_the_reference() {
             "== {sampler:?} {}x{}\n{acc}\n",
             vp.width, vp.height
         ));
-        assert!(acc.meets_bar(), "pillars {sampler:?}:\n{acc}");
+        assert!(acc.meets_bar(), "{} {sampler:?}:\n{acc}", path.display());
     }
+    report
+}
+
+/// The scene of the cylinders and disks (`scenes/pillars.toml`: capped and open
+/// cylinders, a tilted one, a coin, a ring, disks, glass and mirrors).
+#[test]
+fn the_cylinders_and_disks_agree_with_the_reference() {
+    let report = scene_file_agrees("scenes/pillars.toml", |d| {
+        assert!(!d.cylinders.is_empty() && !d.disks.is_empty());
+    });
     println!("{report}");
 }
 
 /// A directional light (`scenes/examples/sun.toml`: a sun beside a point light,
-/// shadows of spheres and a box on a checkered floor, a mirror) against the
-/// reference, at its own settings and with the antialiasing, adaptive and sparse
-/// samplers: the same bar. The sun's shadow rays search without end, and its
-/// irradiance does not fall off.
+/// shadows of spheres and a box on a checkered floor, a mirror). The sun's
+/// shadow rays search without end, and its irradiance does not fall off.
 #[test]
 fn a_sun_agrees_with_the_reference() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/examples/sun.toml");
-    let desc = tessera_host::file::load(&path).unwrap();
-    assert!(desc.lights.iter().any(|l| l.direction.is_some()));
-    let scene = desc.to_core().unwrap();
-    let own = desc.settings().unwrap();
-    let mut report = String::new();
-    for (sampler, vp) in [
-        (own.sampler, Viewport::new(320, 240)),
-        (Sampler::Stratified(3), Viewport::new(160, 120)),
-        (Sampler::adaptive(3), Viewport::new(160, 120)),
-        (Sampler::sparse(), Viewport::new(160, 120)),
-    ] {
-        let settings = RenderSettings {
-            sampler,
-            seed: 3,
-            ..own
-        };
-        let core = scene.with_view(|view| render(view, scene.camera(), vp, settings));
-        let acc = against_reference(core, &desc, vp, settings);
-        report.push_str(&format!(
-            "== {sampler:?} {}x{}\n{acc}\n",
-            vp.width, vp.height
-        ));
-        assert!(acc.meets_bar(), "sun {sampler:?}:\n{acc}");
-    }
+    let report = scene_file_agrees("scenes/examples/sun.toml", |d| {
+        assert!(d.lights.iter().any(|l| l.direction.is_some()));
+    });
+    println!("{report}");
+}
+
+/// Blender's OBJ files (`tests/data/blender/scene.toml`): the file's own vertex
+/// normals (a smooth sphere, a bevelled cube, boxes with hard edges), its
+/// texture coordinates under a checker (point-sampled and averaged over each
+/// pixel's footprint through the mesh's uvs), turned meshes.
+#[test]
+fn blenders_obj_files_agree_with_the_reference() {
+    let report = scene_file_agrees("tests/data/blender/scene.toml", |d| {
+        assert!(d.meshes.iter().all(|m| !m.normals.is_empty()));
+        assert!(d.meshes.iter().filter(|m| !m.uvs.is_empty()).count() >= 2);
+    });
     println!("{report}");
 }

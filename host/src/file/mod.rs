@@ -303,11 +303,13 @@ fn parse_limited(
             let line = places.start(&item).map(|b| line_col(text, b).0);
             fail(ErrorKind::Invalid, line, None, Some(item), message)
         };
-        let (faces, degenerate) =
-            crate::mesh::read(mesh, base, &mut budget, room).map_err(refuse)?;
-        room -= faces.len();
-        mesh.faces = faces;
-        mesh.degenerate = degenerate;
+        let read = crate::mesh::read(mesh, base, &mut budget, room).map_err(refuse)?;
+        room -= read.faces.len();
+        mesh.normals = read.all_normals();
+        mesh.uvs = read.all_uvs();
+        mesh.faces = read.faces;
+        mesh.degenerate = read.degenerate;
+        mesh.warnings = read.warnings;
     }
     desc.flush_subnormals();
     check(&desc).map_err(|e| {
@@ -433,6 +435,9 @@ pub fn warnings(desc: &SceneDesc) -> Vec<String> {
         ));
     }
     for (i, m) in desc.meshes.iter().enumerate() {
+        for w in &m.warnings {
+            out.push(format!("mesh {} ({:?}): {w}", i + 1, m.obj));
+        }
         if m.degenerate > 0 {
             out.push(format!(
                 "mesh {} ({:?}): {} of its faces left out: their vertices are collinear \

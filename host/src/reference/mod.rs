@@ -22,6 +22,7 @@
 
 pub mod exact;
 pub mod geometry;
+pub mod image_texture;
 pub mod scene;
 pub mod shade;
 pub mod vec;

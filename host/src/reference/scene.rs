@@ -206,9 +206,24 @@ pub struct Object {
     pub material: usize,
     /// A face of a smooth mesh: its vertices' unit normals.
     pub normals: Option<[V3; 3]>,
+    /// A face of a mesh with texture coordinates: its vertices' uvs.
+    pub uvs: Option<[[f64; 2]; 3]>,
 }
 
 impl Object {
+    /// The texture coordinate at a hit of the shape: a mesh face's vertex uvs
+    /// weighted by the hit's barycentrics, or the shape's own uv.
+    #[must_use]
+    pub fn uv(&self, p: V3, n: V3, hit: &Hit) -> [f64; 2] {
+        match self.uvs {
+            Some([a, b, c]) => {
+                let b0 = 1.0 - hit.b1 - hit.b2;
+                [0, 1].map(|d| a[d] * b0 + b[d] * hit.b1 + c[d] * hit.b2)
+            }
+            None => self.shape.uv(p, n, hit),
+        }
+    }
+
     /// Where a smooth mesh's shadow rays leave, as a move from the hit `p`: the
     /// point lifted above each vertex's tangent plane, weighted by the
     /// barycentrics (Hanika, "Hacking the shadow terminator", Ray Tracing Gems II
@@ -338,6 +353,7 @@ impl RefScene {
                 face: 0,
                 material,
                 normals: None,
+                uvs: None,
             });
             Ok::<(), DescError>(())
         };
@@ -364,6 +380,7 @@ impl RefScene {
                     face: face as u64,
                     material,
                     normals: (!w.normals.is_empty()).then(|| f.map(|k| v(w.normals[k]))),
+                    uvs: (!w.uvs.is_empty()).then(|| f.map(|k| w.uvs[k])),
                 });
             }
         }

@@ -93,14 +93,14 @@ impl Tracer<'_> {
         let m = &self.scene.materials[obj.material];
         let p = ray.at(hit.t);
         let normal = obj.shape.normal(p, &hit);
-        let uv = obj.shape.uv(p, normal, &hit);
+        let uv = obj.uv(p, normal, &hit);
         Self::part(obj, &hit, m, (ray.dir, uv), sig);
         let footprint = corners.and_then(|cs| {
             let (mut lo, mut hi) = (uv, uv);
             for c in cs {
                 let h = obj.shape.intersect(c, f64::INFINITY)?;
                 let q = c.at(h.t);
-                let [u, v] = obj.shape.uv(q, obj.shape.normal(q, &h), &h);
+                let [u, v] = obj.uv(q, obj.shape.normal(q, &h), &h);
                 lo = [lo[0].min(u), lo[1].min(v)];
                 hi = [hi[0].max(u), hi[1].max(v)];
             }

@@ -485,9 +485,12 @@ fn signatures_change_where_a_primitives_shading_jumps() {
                 rotate: None,
                 quaternion: None,
                 translate: [0.0; 3],
-                smooth,
+                smooth: Some(smooth),
                 faces: faces.clone(),
                 degenerate: 0,
+                normals: Vec::new(),
+                uvs: Vec::new(),
+                warnings: Vec::new(),
             });
         }
     };
