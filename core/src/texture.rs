@@ -2,6 +2,8 @@
 
 use crate::color::Color;
 use crate::error::{Error, Field, finite, flush};
+#[cfg(feature = "image")]
+use crate::image::Image;
 use crate::math;
 
 /// What colours a surface: one colour, or a procedural uv texture.
@@ -31,6 +33,11 @@ pub enum Texture {
         /// Fringe spacing `i = lambda L / d`, in uv units.
         spacing: f32,
     },
+    /// An image (texels in flash on a chip), sampled at the uv by its filter and
+    /// wrap modes, in linear colour (see [`crate::image`]); averaged over a
+    /// pixel's footprint by the prefiltered sampler ([`Image::average`]).
+    #[cfg(feature = "image")]
+    Image(Image),
 }
 
 impl Texture {
@@ -80,6 +87,8 @@ impl Texture {
                 if cell == 0 { a } else { b }
             }
             Self::Fringes { color, spacing } => color * fringe_intensity(uv[0] / spacing),
+            #[cfg(feature = "image")]
+            Self::Image(ref image) => image.sample(uv),
         }
     }
 
@@ -91,6 +100,8 @@ impl Texture {
     /// fringe, see `math::cos_turns`).
     pub fn validate(&self) -> Result<(), Error> {
         let (colors, scale, field) = match *self {
+            #[cfg(feature = "image")]
+            Self::Image(ref image) => return image.validate(),
             Self::Solid(c) => ([c, c], 1.0, Field::TextureScale),
             Self::Checker { a, b, scale } => ([a, b], scale, Field::TextureScale),
             Self::Fringes { color, spacing } => ([color, color], spacing, Field::FringeSpacing),
@@ -128,6 +139,9 @@ impl Texture {
                 color: c(color),
                 spacing: flush(spacing),
             },
+            // Texels are bytes: nothing to flush.
+            #[cfg(feature = "image")]
+            Self::Image(image) => Self::Image(image),
         }
     }
 
@@ -164,6 +178,8 @@ impl Texture {
                         / (core::f32::consts::TAU * w);
                 color * m.clamp(0.0, 1.0)
             }
+            #[cfg(feature = "image")]
+            Self::Image(ref image) => image.average(lo, hi),
         }
     }
 }

@@ -228,6 +228,7 @@ fn api_path(name: &str) -> String {
         _ if type_names().contains(&name) => "geometry::",
         "Material" | "MaterialId" => "material::",
         "Texture" => "texture::",
+        "Image" | "TexelFormat" | "Filter" | "Wrap" => "image::",
         "Light" => "light::",
         "BakedBvh" | "BvhNode" => "bvh::",
         "Mesh" => "mesh::",
@@ -319,9 +320,37 @@ fn unknown(item: &str, what: &str) -> DescError {
     }
 }
 
-/// The `Texture` expression of `t`, in `item`.
-fn texture(t: &tessera_core::texture::Texture, item: &str) -> Result<String, DescError> {
+/// The `Texture` expression of `t`, in `item`; an image's texels are written
+/// by [`Writer::image`], which names their table.
+fn texture(
+    t: &tessera_core::texture::Texture,
+    item: &str,
+    image: &mut impl FnMut(&tessera_core::image::Image) -> String,
+) -> Result<String, DescError> {
     Ok(match *t {
+        tessera_core::texture::Texture::Image(ref i) => {
+            use tessera_core::image::{Filter, TexelFormat, Wrap};
+            let wrap = |w: Wrap| match w {
+                Wrap::Repeat => "Wrap::Repeat",
+                Wrap::MirroredRepeat => "Wrap::MirroredRepeat",
+                _ => "Wrap::ClampToEdge",
+            };
+            let [wu, wv] = i.wrap().map(wrap);
+            format!(
+                "Texture::Image(Image::new({}, {}, TexelFormat::{}, Filter::{}, [{wu}, {wv}], &{}))",
+                i.width(),
+                i.height(),
+                match i.format() {
+                    TexelFormat::Rgb565 => "Rgb565",
+                    _ => "Srgb8",
+                },
+                match i.filter() {
+                    Filter::Nearest => "Nearest",
+                    _ => "Bilinear",
+                },
+                image(i)
+            )
+        }
         tessera_core::texture::Texture::Solid(c) => format!("Texture::Solid({})", color(c)),
         tessera_core::texture::Texture::Checker { a, b, scale } => format!(
             "Texture::Checker {{ a: {}, b: {}, scale: {} }}",
@@ -336,6 +365,29 @@ fn texture(t: &tessera_core::texture::Texture, item: &str) -> Result<String, Des
         ),
         _ => return Err(unknown(item, "texture")),
     })
+}
+
+/// The distinct texel tables of a scene's image textures, in the order the
+/// materials name them (one table for materials that share an image).
+#[derive(Default)]
+struct Images(Vec<tessera_core::image::Image>);
+
+impl Images {
+    /// The table name of `img`'s texels (`IMAGE0`, ...), added if new.
+    fn name(&mut self, img: &tessera_core::image::Image) -> String {
+        let same = |o: &tessera_core::image::Image| {
+            core::ptr::eq(o.texels(), img.texels())
+                && (o.width(), o.height(), o.format()) == (img.width(), img.height(), img.format())
+        };
+        let k = match self.0.iter().position(same) {
+            Some(k) => k,
+            None => {
+                self.0.push(*img);
+                self.0.len() - 1
+            }
+        };
+        format!("IMAGE{k}")
+    }
 }
 
 /// The name of `e`'s variant of `Encoding`.
@@ -512,18 +564,21 @@ impl<'a> Writer<'a> {
             );
         }
         let _ = writeln!(self.body);
+        let mut images = Images::default();
         let materials = view
             .materials()
             .iter()
             .zip(&self.consts)
             .enumerate()
             .map(|(i, (m, c))| {
+                let t = texture(
+                    m.texture(),
+                    &format!("material {} ({:?})", i + 1, self.b.names[i]),
+                    &mut |img| images.name(img),
+                )?;
                 Ok(format!(
                     "Material::baked( // {c}\n        {},\n        {}, {}, {}, {}, {}, {}, {},\n    )",
-                    texture(
-                        m.texture(),
-                        &format!("material {} ({:?})", i + 1, self.b.names[i])
-                    )?,
+                    t,
                     lit(m.ambient()),
                     lit(m.diffuse()),
                     lit(m.specular()),
@@ -534,6 +589,37 @@ impl<'a> Writer<'a> {
                 ))
             })
             .collect::<Result<Vec<_>, DescError>>()?;
+        if !images.0.is_empty() {
+            self.names
+                .extend(["Image", "TexelFormat", "Filter", "Wrap"]);
+            self.features.push("image");
+        }
+        for (k, img) in images.0.iter().enumerate() {
+            let texels = img.texels();
+            let _ = writeln!(
+                self.body,
+                "/// Image {k}: {} x {} texels, {} ({} bytes), row 0 at the top.\n\
+                 #[rustfmt::skip]\npub static IMAGE{k}: [u8; {}] = [",
+                img.width(),
+                img.height(),
+                img.format().name(),
+                texels.len(),
+                texels.len()
+            );
+            for row in texels.chunks(24) {
+                let bytes: Vec<String> = row.iter().map(|b| format!("{b}")).collect();
+                let _ = writeln!(self.body, "    {},", bytes.join(","));
+            }
+            let _ = writeln!(self.body, "];\n");
+            self.bytes += texels.len();
+            self.parts.push(format!(
+                "image {k}: {} x {} texels, {}, {} bytes",
+                img.width(),
+                img.height(),
+                img.format().name(),
+                texels.len()
+            ));
+        }
         self.table(
             "The materials: texture, ambient, diffuse, specular, shininess, \
              reflectivity, transparency, index of refraction.",
@@ -862,7 +948,7 @@ impl<'a> Writer<'a> {
         all.extend(
             self.parts
                 .iter()
-                .filter(|p| p.starts_with("mesh "))
+                .filter(|p| p.starts_with("mesh ") || p.starts_with("image "))
                 .cloned(),
         );
         let _ = writeln!(
@@ -935,9 +1021,9 @@ impl<'a> Writer<'a> {
     }
 }
 
-/// The core's features that a scene's kinds need (`cylinder`, `disk`: the
-/// kinds the core compiles only with them), in the core's order: a firmware
-/// that bakes the scene enables them.
+/// The core's optional features that a scene needs (`cylinder`, `disk`: the
+/// kinds the core compiles only with them, in the core's order; then `image`
+/// for image textures): a firmware that bakes the scene enables them.
 #[must_use]
 pub fn kind_features(desc: &SceneDesc) -> Vec<&'static str> {
     let mut out = Vec::new();
@@ -948,6 +1034,13 @@ pub fn kind_features(desc: &SceneDesc) -> Vec<&'static str> {
             out.push(feature);
         }
     });
+    if desc
+        .materials
+        .iter()
+        .any(|m| matches!(m.texture, Some(crate::desc::TextureDesc::Image { .. })))
+    {
+        out.push("image");
+    }
     out
 }
 

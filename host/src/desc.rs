@@ -347,6 +347,15 @@ macro_rules! scene_desc {
             /// How many numbers [`SceneDesc::flush_subnormals`] read as zero in all.
             #[serde(skip)]
             pub flushed_count: usize,
+            /// What reading the scene's files (images, glTF, MTL) left out or
+            /// changed, each a sentence naming it: never written in a file.
+            #[serde(skip)]
+            pub warnings: Vec<String>,
+            /// Encoded images (PNG, JPEG) that files of the scene carry inside
+            /// them (a `.glb`'s), by the name an image texture's `file` gives
+            /// them (`model.glb#image0`): read as files are.
+            #[serde(skip)]
+            pub embedded: Vec<(String, Vec<u8>)>,
         }
 
         impl SceneDesc {
@@ -365,6 +374,8 @@ macro_rules! scene_desc {
                     meshes: Vec::new(),
                     flushed: Vec::new(),
                     flushed_count: 0,
+                    warnings: Vec::new(),
+                    embedded: Vec::new(),
                 }
             }
         }
@@ -473,7 +484,16 @@ pub struct RenderDesc {
     pub tile: usize,
     /// How the pixels become 8 bits: `srgb` (the default) or `linear`.
     pub encoding: String,
+    /// The texel format of image textures: `srgb8` (3 bytes a texel, the
+    /// default) or `rgb565` (2 bytes).
+    pub texture_format: String,
+    /// The bytes all image textures may take together (in flash, once baked):
+    /// each image is resized to its share, in proportion to its own texels.
+    pub texture_budget: usize,
 }
+
+/// The default [`RenderDesc::texture_budget`]: 64 KiB.
+pub const TEXTURE_BUDGET: usize = 64 << 10;
 
 impl Default for RenderDesc {
     fn default() -> Self {
@@ -485,6 +505,8 @@ impl Default for RenderDesc {
             seed: 0,
             tile: 16,
             encoding: "srgb".into(),
+            texture_format: "srgb8".into(),
+            texture_budget: TEXTURE_BUDGET,
         }
     }
 }
@@ -530,7 +552,7 @@ fn one() -> f64 {
     1.0
 }
 
-/// A procedural texture.
+/// A texture: procedural, or an image file.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum TextureDesc {
@@ -562,6 +584,73 @@ pub enum TextureDesc {
         /// Spacing between bright fringes, uv units.
         spacing: f64,
     },
+    /// An image file (PNG or JPEG), sampled at the surface's uv (`v` down from
+    /// the image's top, as glTF has it; OBJ's `vt` are turned so when read).
+    Image {
+        /// The file, relative to the scene file's folder.
+        file: String,
+        /// `bilinear` (the default) or `nearest`.
+        #[serde(default)]
+        filter: FilterDesc,
+        /// How `u` and `v` beyond `[0, 1]` wrap: `repeat` (the default),
+        /// `mirror` or `clamp`, each axis its own.
+        #[serde(default)]
+        wrap: [WrapDesc; 2],
+        /// Multiplies the image's linear colour (a glTF base colour factor, an
+        /// MTL file's `Kd`): applied to the texels when they are read.
+        #[serde(default = "white")]
+        tint: [f64; 3],
+        /// The texels, read when the scene file is loaded (never written in it).
+        #[serde(skip)]
+        image: Option<tessera_core::image::Image>,
+    },
+}
+
+/// An image texture's filter.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq)]
+#[serde(rename_all = "lowercase")]
+pub enum FilterDesc {
+    /// The four texels around the point, weighted.
+    #[default]
+    Bilinear,
+    /// The texel under the point.
+    Nearest,
+}
+
+/// An image texture's wrap mode along one axis.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq)]
+#[serde(rename_all = "lowercase")]
+pub enum WrapDesc {
+    /// The image again.
+    #[default]
+    Repeat,
+    /// The image mirrored every other time.
+    Mirror,
+    /// The edge texels.
+    Clamp,
+}
+
+impl FilterDesc {
+    /// The core's filter.
+    #[must_use]
+    pub fn core(self) -> tessera_core::image::Filter {
+        match self {
+            Self::Bilinear => tessera_core::image::Filter::Bilinear,
+            Self::Nearest => tessera_core::image::Filter::Nearest,
+        }
+    }
+}
+
+impl WrapDesc {
+    /// The core's wrap mode.
+    #[must_use]
+    pub fn core(self) -> tessera_core::image::Wrap {
+        match self {
+            Self::Repeat => tessera_core::image::Wrap::Repeat,
+            Self::Mirror => tessera_core::image::Wrap::MirroredRepeat,
+            Self::Clamp => tessera_core::image::Wrap::ClampToEdge,
+        }
+    }
 }
 
 /// A light: a point light (`position`) or a directional light, a sun
@@ -651,10 +740,13 @@ pub type Face = [[f64; 3]; 3];
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MeshDesc {
-    /// The OBJ file, relative to the scene file's folder (to the current folder for
-    /// a scene given as text).
+    /// The mesh's file (OBJ, glTF `.gltf` or `.glb`), relative to the scene
+    /// file's folder (to the current folder for a scene given as text).
+    #[serde(alias = "file")]
     pub obj: String,
-    /// Material name.
+    /// Material name; empty (the key left out): the file's own materials (an
+    /// OBJ's MTL file, a glTF file's), the mesh split into one a material.
+    #[serde(default)]
     pub material: String,
     /// Uniform scale (finite, `> 0`).
     #[serde(default = "one")]
@@ -895,6 +987,7 @@ impl SceneDesc {
                     );
                     at(&item, "texture distance", std::slice::from_mut(distance));
                 }
+                Some(TextureDesc::Image { tint, .. }) => at(&item, "texture tint", tint),
             }
         }
         for (i, l) in self.lights.iter_mut().enumerate() {
@@ -1320,6 +1413,9 @@ fn core_texture(m: &MaterialDesc) -> Result<Texture, String> {
             );
             Texture::young(c, fd, fw, fl).map_err(|e| describe(e, Some(texture_value(m, e))))?
         }
+        Some(TextureDesc::Image { image, file, .. }) => {
+            Texture::Image(image.ok_or_else(|| format!("texture image {file:?} was not read"))?)
+        }
     })
 }
 
@@ -1338,6 +1434,7 @@ fn texture_value(m: &MaterialDesc, e: tessera_core::Error) -> String {
             format!("color {}", show(color))
         }
         Some(TextureDesc::Fringes { spacing, .. }) => format!("spacing {}", num(*spacing)),
+        Some(TextureDesc::Image { file, .. }) => format!("file {file:?}"),
         Some(TextureDesc::Young {
             d,
             wavelength,

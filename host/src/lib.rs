@@ -50,6 +50,7 @@ pub mod gltf;
 mod images;
 pub mod kinds;
 pub mod limits;
+pub mod material_rule;
 pub mod mesh;
 #[cfg(feature = "cli")]
 pub mod output;

@@ -1,16 +1,19 @@
-//! Triangle meshes from Wavefront OBJ files (`[[mesh]]` in a scene file): read with
-//! `tobj`, every face a triangle (polygons split into fans), scaled, turned and
-//! moved.
+//! Triangle meshes from files (`[[mesh]]` in a scene file): Wavefront OBJ read
+//! with `tobj` (glTF through [`crate::gltf`]), every face a triangle (polygons
+//! split into fans), scaled, turned and moved ([`Placement`]).
 //!
-//! Only positions and faces are read: normals, texture coordinates, groups and
-//! materials of the file are ignored (the mesh has the scene's material). Faces
-//! whose vertices are collinear once in `f32` are left out and counted (no ray can
-//! hit a triangle of zero area, and the core refuses one); every other face is
-//! kept, so that a vertex out of range is refused with the face it belongs to.
-//! A face's texture coordinate and normal indices are checked as its vertex
-//! indices are, though neither is read: one out of range is a broken file.
-//! A UTF-8 byte-order mark at the start of the file is skipped; one further on
-//! is refused (outside comments).
+//! Positions, faces, vertex normals (`vn`, turned with the mesh) and texture
+//! coordinates (`vt`, `v` turned to run down from the image's top) are read;
+//! normals or uvs for some corners only are not used, with a warning. The MTL
+//! file (`mtllib`) is read when the mesh names no material of the scene: its
+//! materials are mapped by [`crate::material_rule`] and the mesh split by them
+//! ([`by_material`]). Groups are not read. Faces whose vertices are collinear
+//! once in `f32` are left out and counted (no ray can hit a triangle of zero
+//! area, and the core refuses one); every other face is kept, so that a vertex
+//! out of range is refused with the face it belongs to. A face's texture
+//! coordinate and normal indices are checked as its vertex indices are: one out
+//! of range is a broken file. A UTF-8 byte-order mark at the start of the file
+//! is skipped; one further on is refused (outside comments).
 
 use crate::desc::{Face, MAX_TRIANGLES, MeshDesc, core_triangle_of, num, too_many};
 use std::io::{BufRead, Read};
@@ -52,21 +55,8 @@ pub fn read(
     base: &Path,
     budget: &mut usize,
     room: usize,
-) -> Result<ObjMesh, String> {
-    let finite = mesh.translate.iter().all(|x| x.is_finite());
-    if !(mesh.scale.is_finite() && mesh.scale > 0.0) {
-        return Err(format!(
-            "mesh scale must be finite and > 0, got {}",
-            num(mesh.scale)
-        ));
-    }
-    if !finite {
-        return Err(format!(
-            "mesh translate must be finite, got [{}]",
-            mesh.translate.map(num).join(", ")
-        ));
-    }
-    let turn = rotation(mesh)?;
+) -> Result<MeshFile, String> {
+    let place = Placement::of(mesh)?;
     let (shown, text) = if let Some(path) = obj_file(mesh, base) {
         let shown = path.display().to_string();
         // Said only of a file above the limit (not of one that cannot be read).
@@ -99,11 +89,38 @@ pub fn read(
         triangulate: true,
         ..Default::default()
     };
-    // Materials (`mtllib`) are not read: the mesh takes the scene's.
-    let loaded = tobj::load_obj_buf(&mut reader, &options, |_| {
-        Err(tobj::LoadError::OpenFileFailed)
+    // The file's materials (`mtllib`), read when the mesh names none of the
+    // scene's; an MTL file that cannot be read is an error then, named.
+    let folder = Path::new(&mesh.obj)
+        .parent()
+        .map(|p| p.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let own = mesh.material.is_empty();
+    let mtl_error: std::cell::RefCell<Option<String>> = Default::default();
+    let mtl_files: std::cell::RefCell<Vec<String>> = Default::default();
+    let loaded = tobj::load_obj_buf(&mut reader, &options, |mtl| {
+        mtl_files.borrow_mut().push(mtl.display().to_string());
+        if !own {
+            return Err(tobj::LoadError::OpenFileFailed);
+        }
+        let path = base.join(&folder).join(mtl);
+        match crate::file::read_limited(&path, MAX_MTL_BYTES, "MTL file", "") {
+            Ok(text) => tobj::load_mtl_buf(&mut text.as_bytes()).map_err(|e| {
+                *mtl_error.borrow_mut() =
+                    Some(format!("{}: not a valid MTL file: {e}", path.display()));
+                tobj::LoadError::MaterialParseError
+            }),
+            Err(e) => {
+                *mtl_error.borrow_mut() = Some(format!("{}: {e}", path.display()));
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+        }
     });
-    let (models, _) = loaded.map_err(|e| {
+    if let Some(e) = mtl_error.into_inner() {
+        return Err(e);
+    }
+    let mtl_files = mtl_files.into_inner();
+    let (models, materials) = loaded.map_err(|e| {
         // The line being parsed when tobj stopped, the last one consumed. (Face
         // indices, which tobj checks only when an object ends, are checked line by
         // line before: see `check_lines`.)
@@ -114,7 +131,22 @@ pub fn read(
         let line = done.iter().filter(|&&b| b == b'\n').count() + 1;
         format!("{shown}:{line}: not a valid OBJ file: {e}")
     })?;
-    let mut out = ObjMesh::default();
+    let mut out = MeshFile::default();
+    if own {
+        for m in materials.unwrap_or_default() {
+            let (d, notes) =
+                crate::material_rule::from_mtl(&format!("{}/{}", mesh.obj, m.name), &m, &folder);
+            out.materials.push(d);
+            out.warnings.extend(notes);
+        }
+    } else if !mtl_files.is_empty() {
+        out.warnings.push(format!(
+            "{shown}: its materials ({}) are not used: the mesh is of the scene's material \
+             {:?} (leave `material` out to use the file's)",
+            mtl_files.join(", "),
+            mesh.material
+        ));
+    }
     // Normals or uvs for some corners only: none is used (tobj makes up the
     // missing ones from their neighbours'; a face without would be shaded or
     // textured unlike the others), and the warning says so.
@@ -136,12 +168,11 @@ pub fn read(
     }
     for model in &models {
         let m = &model.mesh;
+        let material = m.material_id.filter(|&k| k < out.materials.len());
         let vertex = |i: u32| -> Option<[f64; 3]> {
             let i = usize::try_from(i).ok()?.checked_mul(3)?;
             let p = m.positions.get(i..i + 3)?;
-            let scaled = [p[0] * mesh.scale, p[1] * mesh.scale, p[2] * mesh.scale];
-            let turned = apply(&turn, scaled);
-            Some([0, 1, 2].map(|k| turned[k] + mesh.translate[k]))
+            Some(place.point([p[0], p[1], p[2]]))
         };
         // The file's normals and texture coordinates, when every corner of the
         // file has one (tobj leaves an object's index list empty when none has).
@@ -153,8 +184,7 @@ pub fn read(
         let normal = |i: u32| -> Option<[f64; 3]> {
             let i = usize::try_from(i).ok()?.checked_mul(3)?;
             let n = m.normals.get(i..i + 3)?;
-            // A uniform scale keeps directions: the rotation alone turns them.
-            Some(apply(&turn, [n[0], n[1], n[2]]))
+            Some(place.normal([n[0], n[1], n[2]]))
         };
         // OBJ's `v` runs up from the image's bottom; tessera's (glTF's) down
         // from its top.
@@ -225,6 +255,7 @@ pub fn read(
                 out.faces.push(face);
                 out.normals.push(normals);
                 out.uvs.push(uvs);
+                out.face_materials.push(material);
             }
         }
     }
@@ -241,7 +272,7 @@ pub fn read(
 /// moved), the normal and texture coordinate at each corner when the file gives
 /// them, the faces left out and what was dropped, by name.
 #[derive(Debug, Default)]
-pub struct ObjMesh {
+pub struct MeshFile {
     /// The faces.
     pub faces: Vec<Face>,
     /// Each face's corner normals, when its object gives them.
@@ -253,9 +284,19 @@ pub struct ObjMesh {
     pub degenerate: usize,
     /// What the file has that is not used, each a sentence naming it.
     pub warnings: Vec<String>,
+    /// Each face's material in the file: an index into `materials`, or `None`
+    /// (the mesh's `material` then, which must be given).
+    pub face_materials: Vec<Option<usize>>,
+    /// The file's materials, mapped onto tessera's by the rule of
+    /// [`crate::material_rule`], named `FILE/NAME` (the mesh's file as the scene
+    /// names it, the material's name in the file).
+    pub materials: Vec<crate::desc::MaterialDesc>,
+    /// Encoded images the file carries inside it, by the name its materials'
+    /// image textures give them (see [`crate::desc::SceneDesc::embedded`]).
+    pub embedded: Vec<(String, Vec<u8>)>,
 }
 
-impl ObjMesh {
+impl MeshFile {
     /// The corner normals of every face, or none when some face has none.
     #[must_use]
     pub fn all_normals(&self) -> Vec<[[f64; 3]; 3]> {
@@ -278,9 +319,153 @@ impl ObjMesh {
     }
 }
 
+/// Where a `[[mesh]]` puts its file's vertices: scaled by `scale` about the
+/// origin, turned by `rotate` or `quaternion`, moved by `translate`.
+#[derive(Clone, Copy, Debug)]
+pub struct Placement {
+    scale: f64,
+    turn: Rotation,
+    translate: [f64; 3],
+}
+
+impl Placement {
+    /// The placement of `mesh`, its numbers checked (finite; a scale `> 0`; a
+    /// rotation by one of `rotate` and `quaternion`).
+    ///
+    /// # Errors
+    /// The message naming the key.
+    pub fn of(mesh: &MeshDesc) -> Result<Self, String> {
+        if !(mesh.scale.is_finite() && mesh.scale > 0.0) {
+            return Err(format!(
+                "mesh scale must be finite and > 0, got {}",
+                num(mesh.scale)
+            ));
+        }
+        if !mesh.translate.iter().all(|x| x.is_finite()) {
+            return Err(format!(
+                "mesh translate must be finite, got [{}]",
+                mesh.translate.map(num).join(", ")
+            ));
+        }
+        Ok(Self {
+            scale: mesh.scale,
+            turn: rotation(mesh)?,
+            translate: mesh.translate,
+        })
+    }
+
+    /// A vertex of the file, placed.
+    #[must_use]
+    pub fn point(&self, p: [f64; 3]) -> [f64; 3] {
+        let turned = apply(&self.turn, p.map(|x| x * self.scale));
+        [0, 1, 2].map(|k| turned[k] + self.translate[k])
+    }
+
+    /// A normal of the file, turned (a uniform scale keeps directions).
+    #[must_use]
+    pub fn normal(&self, n: [f64; 3]) -> [f64; 3] {
+        apply(&self.turn, n)
+    }
+}
+
 /// `r p`.
 fn apply(r: &Rotation, p: [f64; 3]) -> [f64; 3] {
     r.map(|row| row[0] * p[0] + row[1] * p[1] + row[2] * p[2])
+}
+
+/// The faces of `mesh`'s file, by its kind: a glTF file (`.gltf`, `.glb`) or
+/// an OBJ file (any other name; see [`read`]).
+///
+/// # Errors
+/// The file's, naming it.
+pub fn read_file(
+    mesh: &MeshDesc,
+    base: &Path,
+    budget: &mut usize,
+    room: usize,
+) -> Result<MeshFile, String> {
+    let lower = mesh.obj.to_ascii_lowercase();
+    if lower.ends_with(".gltf") || lower.ends_with(".glb") {
+        let _place = Placement::of(mesh)?;
+        Err(format!("{}: GLTF-MESH-HOOK", mesh.obj))
+    } else {
+        read(mesh, base, budget, room)
+    }
+}
+
+/// `mesh` (whose `material` is left out) split into one mesh a material of its
+/// file (`read`), those materials added to `materials` (a name already there is
+/// that material: the same file named twice), the file's images to
+/// `embedded`. Faces of no material take a matte grey one, `FILE/(none)`, with
+/// a warning.
+///
+/// # Errors
+/// A file without materials, naming it.
+pub fn by_material(
+    mesh: MeshDesc,
+    mut read: MeshFile,
+    materials: &mut Vec<crate::desc::MaterialDesc>,
+    embedded: &mut Vec<(String, Vec<u8>)>,
+) -> Result<Vec<MeshDesc>, String> {
+    if read.materials.is_empty() {
+        return Err(format!(
+            "{}: the file has no materials and the mesh names none of the scene's: give \
+             it `material = \"...\"`",
+            mesh.obj
+        ));
+    }
+    if read.face_materials.iter().any(Option::is_none) {
+        let none = read.face_materials.iter().filter(|m| m.is_none()).count();
+        read.warnings.push(format!(
+            "{}: {none} faces have no material in the file: a matte grey one is used",
+            mesh.obj
+        ));
+        let k = read.materials.len();
+        read.materials.push(crate::desc::MaterialDesc {
+            name: format!("{}/(none)", mesh.obj),
+            color: [0.8; 3],
+            texture: None,
+            ambient: 1.0,
+            diffuse: 1.0,
+            specular: 0.0,
+            shininess: 1.0,
+            reflectivity: 0.0,
+            transparency: 0.0,
+            ior: 1.0,
+        });
+        for m in &mut read.face_materials {
+            m.get_or_insert(k);
+        }
+    }
+    embedded.extend(std::mem::take(&mut read.embedded));
+    let mut parts = Vec::new();
+    for (k, material) in read.materials.iter().enumerate() {
+        let faces: Vec<usize> = (0..read.faces.len())
+            .filter(|&j| read.face_materials.get(j).copied().flatten() == Some(k))
+            .collect();
+        if faces.is_empty() {
+            continue;
+        }
+        if !materials.iter().any(|m| m.name == material.name) {
+            materials.push(material.clone());
+        }
+        let normals: Option<Vec<_>> = faces.iter().map(|&j| read.normals[j]).collect();
+        let uvs: Option<Vec<_>> = faces.iter().map(|&j| read.uvs[j]).collect();
+        parts.push(MeshDesc {
+            material: material.name.clone(),
+            faces: faces.iter().map(|&j| read.faces[j]).collect(),
+            normals: normals.unwrap_or_default(),
+            uvs: uvs.unwrap_or_default(),
+            degenerate: if parts.is_empty() { read.degenerate } else { 0 },
+            warnings: if parts.is_empty() {
+                std::mem::take(&mut read.warnings)
+            } else {
+                Vec::new()
+            },
+            ..mesh.clone()
+        });
+    }
+    Ok(parts)
 }
 
 /// A 3x3 rotation matrix, rows first.
@@ -374,6 +559,10 @@ fn mul(a: Rotation, b: Rotation) -> Rotation {
     }
     out
 }
+
+/// The most bytes an OBJ file's MTL file may have: 1 MiB (Blender writes about
+/// 250 bytes a material).
+pub const MAX_MTL_BYTES: usize = 1 << 20;
 
 /// The most vertices of an OBJ face: its fan of `MAX_TRIANGLES` triangles fills
 /// the scene's triangle list.
@@ -682,6 +871,85 @@ mod tests {
         let d = load(&scene(smooth), &[("cube.obj", &bare)]).unwrap();
         let w = d.meshes[0].welded();
         assert_eq!((w.positions.len(), w.normals.len(), w.uvs.len()), (8, 8, 0));
+    }
+
+    /// Blender's files with their MTL materials (`material` left out): the
+    /// three boxes become three meshes of `box_stack.obj/mat_bot` ... with the
+    /// MTL's terms by the rule (Kd 0.64, Ks 0.5, Ns 96.078431, Ni 1, d 1,
+    /// illum 2); the cube's map_Kd becomes an image texture tinted by its Kd of
+    /// 0.8, read in the scene's format; the face counts add up to the files'.
+    #[test]
+    fn mtl_materials_split_the_mesh_by_the_rule() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/blender/mtl.toml");
+        let d = file::load(&path).unwrap();
+        let names: Vec<&str> = d.meshes.iter().map(|m| m.material.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "happy-cube.obj/Material",
+                "box_stack.obj/mat_bot",
+                "box_stack.obj/mat_mid",
+                "box_stack.obj/mat_top"
+            ]
+        );
+        // 26 faces (18 quads, 8 triangles) and 18 quads, as triangles.
+        assert_eq!(d.meshes[0].faces.len(), 18 * 2 + 8);
+        assert_eq!(
+            d.meshes[1..].iter().map(|m| m.faces.len()).sum::<usize>(),
+            36
+        );
+        let m = |name: &str| d.materials.iter().find(|m| m.name == name).unwrap();
+        let top = m("box_stack.obj/mat_top");
+        assert_eq!(
+            (
+                top.color,
+                top.specular,
+                top.shininess,
+                top.reflectivity,
+                top.transparency,
+                top.ior
+            ),
+            ([0.64; 3], 0.5, 96.078431, 0.0, 0.0, 1.0)
+        );
+        let cube = m("happy-cube.obj/Material");
+        let Some(crate::desc::TextureDesc::Image {
+            file,
+            tint,
+            image: Some(img),
+            ..
+        }) = &cube.texture
+        else {
+            panic!("{:?}", cube.texture)
+        };
+        assert_eq!((file.as_str(), *tint), ("happy-tree.png", [0.8; 3]));
+        assert_eq!(img.format(), tessera_core::image::TexelFormat::Rgb565);
+        assert!(img.bytes() <= 16384, "{}", img.bytes());
+        // The scene renders, with the file's materials.
+        d.to_core().unwrap();
+    }
+
+    /// A file without materials and no `material`: refused, naming the fix.
+    #[test]
+    fn a_mesh_needs_a_material_from_somewhere() {
+        let mesh = "[[mesh]]\nobj = \"t.obj\"\n";
+        let e = load(
+            &scene(mesh),
+            &[("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")],
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("the file has no materials"), "{e}");
+        // A missing MTL file is an error naming it.
+        let obj = "mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n";
+        let e = load(&scene(mesh), &[("t.obj", obj)]).unwrap_err();
+        assert!(e.to_string().contains("gone.mtl"), "{e}");
+        // With the scene's material, the MTL file is not read, and a warning says so.
+        let named = "[[mesh]]\nobj = \"t.obj\"\nmaterial = \"m\"\n";
+        let d = load(&scene(named), &[("t.obj", obj)]).unwrap();
+        let shown = crate::file::warnings(&d).join("\n");
+        assert!(
+            shown.contains("its materials (gone.mtl) are not used"),
+            "{shown}"
+        );
     }
 
     /// Normals for some faces only are not used, and the warning says so.

@@ -93,9 +93,24 @@ pub fn load(
     budget_bytes: usize,
     format: TexelFormat,
 ) -> Result<TextureImage, String> {
+    load_tinted(path, max_file_bytes, budget_bytes, format, [1.0; 3])
+}
+
+/// [`load`], each texel's linear colour multiplied by `tint` (a glTF base colour
+/// factor, an MTL file's `Kd`) before it is encoded.
+///
+/// # Errors
+/// As [`load`].
+pub fn load_tinted(
+    path: &Path,
+    max_file_bytes: usize,
+    budget_bytes: usize,
+    format: TexelFormat,
+    tint: [f64; 3],
+) -> Result<TextureImage, String> {
     let shown = path.display().to_string();
     let bytes = read_bytes(path, max_file_bytes).map_err(|e| format!("{shown}: {e}"))?;
-    decode(&bytes, &shown, budget_bytes, format)
+    decode_tinted(&bytes, &shown, budget_bytes, format, tint)
 }
 
 /// The bytes of the regular file at `path`, at most `limit` of them (opened with
@@ -139,6 +154,27 @@ pub fn decode(
     budget_bytes: usize,
     format: TexelFormat,
 ) -> Result<TextureImage, String> {
+    decode_tinted(bytes, name, budget_bytes, format, [1.0; 3])
+}
+
+/// [`decode`], each texel's linear colour multiplied by `tint` (components in
+/// `[0, 1]`; a tint of 1 leaves the texels as they are) before it is encoded.
+///
+/// # Errors
+/// As [`decode`], and a tint component that is not finite or outside `[0, 1]`.
+pub fn decode_tinted(
+    bytes: &[u8],
+    name: &str,
+    budget_bytes: usize,
+    format: TexelFormat,
+    tint: [f64; 3],
+) -> Result<TextureImage, String> {
+    if !tint.iter().all(|t| (0.0..=1.0).contains(t)) {
+        return Err(format!(
+            "{name}: an image's tint multiplies its colours by [0, 1], got [{}, {}, {}]",
+            tint[0], tint[1], tint[2]
+        ));
+    }
     let reader = ImageReader::new(Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| format!("{name}: cannot read the image: {e}"))?;
@@ -203,11 +239,19 @@ pub fn decode(
     }
     // 16-bit channels rounded to 8 bits, grey made RGB, alpha dropped.
     let rgb = decoded.into_rgb8();
-    let (srgb, resized_from) = if (tw, th) == (w, h) {
+    let (mut srgb, resized_from) = if (tw, th) == (w, h) {
         (rgb, None)
     } else {
         (resample(&rgb, tw, th), Some((w, h)))
     };
+    if tint != [1.0; 3] {
+        let linear = linear_table();
+        for p in srgb.pixels_mut() {
+            for (c, t) in p.0.iter_mut().zip(tint) {
+                *c = srgb_code((f64::from(linear[usize::from(*c)]) * t) as f32);
+            }
+        }
+    }
     Ok(TextureImage {
         width: u16::try_from(tw).map_err(|_| format!("{name}: width {tw} above 4096"))?,
         height: u16::try_from(th).map_err(|_| format!("{name}: height {th} above 4096"))?,

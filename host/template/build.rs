@@ -52,8 +52,8 @@ fn bake(out: &Path) -> Result<(), String> {
              (on by default; build without --no-default-features)"
         ));
     }
-    // The kinds the core compiles only with a feature of its own (the example
-    // forwards each: `--features cylinder,disk`).
+    // The kinds (and image textures) the core compiles only with a feature of
+    // its own (the example forwards each: `--features cylinder,disk,image`).
     let missing: Vec<&str> = tessera_host::bake::kind_features(&desc)
         .into_iter()
         .filter(|f| {
@@ -64,7 +64,7 @@ fn bake(out: &Path) -> Result<(), String> {
         .collect();
     if !missing.is_empty() {
         return Err(format!(
-            "{scene} has kinds of the core's optional features: it needs `{}` \
+            "{scene} needs the core's optional features `{}` \
              (build with --features {})",
             missing.join("`, `"),
             missing.join(",")

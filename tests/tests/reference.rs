@@ -187,3 +187,29 @@ fn blenders_obj_files_agree_with_the_reference() {
     });
     println!("{report}");
 }
+
+/// Image textures (`tests/data/blender/textured.toml`: Blender's cube with its
+/// PNG, bilinear; a plane tiling the same image, nearest, mirrored along `v`,
+/// tinted), the texels resized to the scene's budget: the reference samples the
+/// same texels in `f64`, point-sampled and averaged over each pixel's footprint.
+#[test]
+fn image_textures_agree_with_the_reference() {
+    let report = scene_file_agrees("tests/data/blender/textured.toml", |d| {
+        assert!(d.materials.iter().all(|m| matches!(
+            m.texture,
+            Some(tessera_host::desc::TextureDesc::Image { image: Some(_), .. })
+        )));
+    });
+    println!("{report}");
+}
+
+/// Blender's OBJ files with their own MTL materials (`tests/data/blender/mtl.toml`:
+/// a map_Kd image in RGB565, resized to the scene's budget and tinted by its Kd;
+/// three materials of the file by the rule).
+#[test]
+fn mtl_materials_agree_with_the_reference() {
+    let report = scene_file_agrees("tests/data/blender/mtl.toml", |d| {
+        assert_eq!(d.meshes.len(), 4);
+    });
+    println!("{report}");
+}

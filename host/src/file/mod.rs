@@ -31,6 +31,7 @@ use tessera_core::builtin::Builtin;
 use toml::de::{DeTable, DeValue};
 
 mod prescan;
+pub mod textures;
 use prescan::prescan;
 
 /// What kind of problem a [`FileError`] reports.
@@ -297,20 +298,37 @@ fn parse_limited(
     // than fits (and than `MAX_OBJ_BYTES`) is ever read.
     let mut room = MAX_TRIANGLES.saturating_sub(desc.triangles.len());
     let mut budget = crate::mesh::MAX_OBJ_BYTES;
-    for (i, mesh) in desc.meshes.iter_mut().enumerate() {
+    let mut meshes = Vec::with_capacity(desc.meshes.len());
+    for (i, mut mesh) in std::mem::take(&mut desc.meshes).into_iter().enumerate() {
         let refuse = |message| {
             let item = format!("mesh {}", i + 1);
             let line = places.start(&item).map(|b| line_col(text, b).0);
             fail(ErrorKind::Invalid, line, None, Some(item), message)
         };
-        let read = crate::mesh::read(mesh, base, &mut budget, room).map_err(refuse)?;
+        let read = crate::mesh::read_file(&mesh, base, &mut budget, room).map_err(refuse)?;
         room -= read.faces.len();
-        mesh.normals = read.all_normals();
-        mesh.uvs = read.all_uvs();
-        mesh.faces = read.faces;
-        mesh.degenerate = read.degenerate;
-        mesh.warnings = read.warnings;
+        if mesh.material.is_empty() {
+            let parts =
+                crate::mesh::by_material(mesh, read, &mut desc.materials, &mut desc.embedded)
+                    .map_err(refuse)?;
+            meshes.extend(parts);
+        } else {
+            mesh.normals = read.all_normals();
+            mesh.uvs = read.all_uvs();
+            mesh.faces = read.faces;
+            mesh.degenerate = read.degenerate;
+            mesh.warnings = read.warnings;
+            desc.embedded.extend(read.embedded);
+            meshes.push(mesh);
+        }
     }
+    desc.meshes = meshes;
+    let images = textures::read_images(&mut desc, base).map_err(|(i, message)| {
+        let item = format!("material {}", i + 1);
+        let line = places.start(&item).map(|b| line_col(text, b).0);
+        fail(ErrorKind::Invalid, line, None, Some(item), message)
+    })?;
+    desc.warnings.extend(images);
     desc.flush_subnormals();
     check(&desc).map_err(|e| {
         let line = places.start(&e.item).map(|b| line_col(text, b).0);
@@ -434,6 +452,7 @@ pub fn warnings(desc: &SceneDesc) -> Vec<String> {
             fovy.to_degrees()
         ));
     }
+    out.extend(desc.warnings.iter().cloned());
     for (i, m) in desc.meshes.iter().enumerate() {
         for w in &m.warnings {
             out.push(format!("mesh {} ({:?}): {w}", i + 1, m.obj));

@@ -126,6 +126,7 @@
 use std::collections::HashSet;
 use std::path::Path;
 
+pub mod desc;
 mod material;
 mod primitive;
 mod scene;

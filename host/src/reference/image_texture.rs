@@ -86,6 +86,22 @@ fn wrapped(k: i64, n: usize, wrap: Wrap) -> usize {
     t as usize
 }
 
+/// The texel a nearest-filtered `image` shows at `uv` (its column and row), or
+/// `None` for a bilinear one (continuous: no edge between texels).
+#[must_use]
+pub fn nearest_texel(image: &Image, uv: [f64; 2]) -> Option<(usize, usize)> {
+    if image.filter() != Filter::Nearest {
+        return None;
+    }
+    let (w, h) = (usize::from(image.width()), usize::from(image.height()));
+    let [wu, wv] = image.wrap();
+    let (pu, pv) = (position(uv[0], w, wu), position(uv[1], h, wv));
+    Some((
+        wrapped(pu.floor() as i64, w, wu),
+        wrapped(pv.floor() as i64, h, wv),
+    ))
+}
+
 /// The linear colour of `image` at `uv` (glTF's convention: `u` rightwards from
 /// the left edge, `v` downwards from the top), by its filter and wrap modes:
 /// nearest, the texel containing the wrapped point; bilinear, the texels of

@@ -31,6 +31,8 @@ pub enum Tex {
         /// Fringe spacing, uv units.
         spacing: f64,
     },
+    /// The core's texels, sampled in `f64` ([`super::image_texture`]).
+    Image(tessera_core::image::Image),
 }
 
 impl Tex {
@@ -41,6 +43,19 @@ impl Tex {
         match *self {
             Self::Checker { scale, .. } => Some(cell_parity(u * scale) ^ cell_parity(v * scale)),
             _ => None,
+        }
+    }
+
+    /// Which piece of a texture with edges the point at `uv` is on: a checker's
+    /// cell parity, a nearest-filtered image's texel (its index); `None` for
+    /// textures without edges. Neighbouring samples on different pieces meet a
+    /// discontinuity, which rounding may put either side of.
+    #[must_use]
+    pub fn edge_piece(&self, uv: [f64; 2]) -> Option<u64> {
+        match *self {
+            Self::Image(ref image) => super::image_texture::nearest_texel(image, uv)
+                .map(|(x, y)| (x as u64) << 16 | y as u64),
+            _ => self.checker_parity(uv),
         }
     }
 
@@ -76,6 +91,7 @@ impl Tex {
                 let s = |x: f64| (2.0 * PI * x).sin();
                 color * (0.5 + 0.5 * (s(x1) - s(x0)) / (2.0 * PI * (x1 - x0)))
             }
+            Self::Image(ref image) => V3::from_array(super::image_texture::average(image, lo, hi)),
         }
     }
 
@@ -94,6 +110,7 @@ impl Tex {
             Self::Fringes { color, spacing } => {
                 color * (0.5 + 0.5 * (2.0 * PI * u / spacing).cos())
             }
+            Self::Image(ref image) => V3::from_array(super::image_texture::sample(image, [u, v])),
         }
     }
 }
@@ -292,37 +309,45 @@ impl RefScene {
         let materials = desc
             .materials
             .iter()
-            .map(|m| Mat {
-                texture: match &m.texture {
-                    None => Tex::Solid(v(m.color)),
-                    Some(TextureDesc::Checker { a, b, scale }) => Tex::Checker {
-                        a: v(*a),
-                        b: v(*b),
-                        scale: *scale,
+            .map(|m| -> Result<Mat, DescError> {
+                Ok(Mat {
+                    texture: match &m.texture {
+                        None => Tex::Solid(v(m.color)),
+                        Some(TextureDesc::Checker { a, b, scale }) => Tex::Checker {
+                            a: v(*a),
+                            b: v(*b),
+                            scale: *scale,
+                        },
+                        Some(TextureDesc::Young {
+                            color,
+                            d,
+                            wavelength,
+                            distance,
+                        }) => Tex::Fringes {
+                            color: v(*color),
+                            spacing: wavelength * distance / d,
+                        },
+                        Some(TextureDesc::Fringes { color, spacing }) => Tex::Fringes {
+                            color: v(*color),
+                            spacing: *spacing,
+                        },
+                        Some(TextureDesc::Image { image, file, .. }) => {
+                            Tex::Image(image.ok_or_else(|| DescError {
+                                item: format!("material {:?}", m.name),
+                                message: format!("texture image {file:?} was not read"),
+                            })?)
+                        }
                     },
-                    Some(TextureDesc::Young {
-                        color,
-                        d,
-                        wavelength,
-                        distance,
-                    }) => Tex::Fringes {
-                        color: v(*color),
-                        spacing: wavelength * distance / d,
-                    },
-                    Some(TextureDesc::Fringes { color, spacing }) => Tex::Fringes {
-                        color: v(*color),
-                        spacing: *spacing,
-                    },
-                },
-                ka: m.ambient,
-                kd: m.diffuse,
-                ks: m.specular,
-                shininess: m.shininess,
-                kr: m.reflectivity,
-                kt: m.transparency,
-                ior: m.ior,
+                    ka: m.ambient,
+                    kd: m.diffuse,
+                    ks: m.specular,
+                    shininess: m.shininess,
+                    kr: m.reflectivity,
+                    kt: m.transparency,
+                    ior: m.ior,
+                })
             })
-            .collect();
+            .collect::<Result<Vec<_>, _>>()?;
         let lights = desc
             .lights
             .iter()

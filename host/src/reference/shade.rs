@@ -111,10 +111,11 @@ impl Tracer<'_> {
             Some((lo, hi)) => m.texture.eval_box(lo, hi),
             None => m.texture.eval(uv),
         };
-        // A checker's cell edges are discontinuities too: rounding may put a
-        // sample on either side, so they belong in the silhouette band.
-        if let Some(parity) = m.texture.checker_parity(uv) {
-            sig.push(TEXEL | parity);
+        // A checker's cell edges and a nearest-filtered image's texel edges are
+        // discontinuities too: rounding may put a sample on either side, so they
+        // belong in the silhouette band.
+        if let Some(piece) = m.texture.edge_piece(uv) {
+            sig.push(TEXEL | piece);
         }
         let mut c = self.local(m, base, p, (normal, obj, &hit), ray, sig);
         if depth < self.max_depth {

@@ -74,6 +74,9 @@ pub fn scaled(desc: &SceneDesc, k: i32) -> SceneDesc {
                 TextureDesc::Checker { scale, .. } => *scale /= s,
                 TextureDesc::Fringes { spacing, .. } => *spacing *= s,
                 TextureDesc::Young { wavelength, .. } => *wavelength *= s,
+                // An image on a plane is in world units too: not scaled here (the
+                // scaled scenes have none).
+                TextureDesc::Image { file, .. } => panic!("image {file} on a plane"),
             }
         }
     }
