@@ -941,7 +941,7 @@ impl<'a> Writer<'a> {
         kinds.extend(
             self.parts
                 .iter()
-                .filter(|p| !p.starts_with("mesh "))
+                .filter(|p| !p.starts_with("mesh ") && !p.starts_with("image "))
                 .cloned(),
         );
         let mut all = vec![kinds.join(", ")];
@@ -1538,6 +1538,44 @@ mod tests {
             assert!(check_crate_path(k).is_err(), "{k}");
             assert!(check_crate_path(&format!("a::{k}")).is_err(), "{k}");
         }
+    }
+
+    /// Image textures bake as byte tables named by their materials' textures,
+    /// each listed once in the header with its size and bytes, and the core's
+    /// `image` feature asked for: Blender's cube (two tints of one image, two
+    /// tables) and its MTL scene (RGB565).
+    #[test]
+    fn image_textures_bake_as_texel_tables() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/blender");
+        let desc = crate::file::load(&dir.join("textured.toml")).unwrap();
+        let src = scene_source(&desc, "textured.toml", "tessera_core").unwrap();
+        let header: String = src.lines().take_while(|l| l.starts_with("//")).collect();
+        assert_eq!(
+            header
+                .matches("image 0: 73 x 73 texels, srgb8, 15987 bytes")
+                .count(),
+            1,
+            "{header}"
+        );
+        assert_eq!(header.matches("image 1: ").count(), 1, "{header}");
+        assert!(
+            header.contains("Needs the core's feature `image`"),
+            "{header}"
+        );
+        assert!(
+            src.contains("pub static IMAGE0: [u8; 15987] = ["),
+            "{header}"
+        );
+        assert!(src.contains(
+            "Texture::Image(Image::new(73, 73, TexelFormat::Srgb8, Filter::Bilinear, \
+             [Wrap::Repeat, Wrap::Repeat], &IMAGE0))"
+        ));
+        assert!(src.contains("Filter::Nearest, [Wrap::Repeat, Wrap::MirroredRepeat], &IMAGE1)"));
+        assert_eq!(kind_features(&desc), ["image"]);
+        let desc = crate::file::load(&dir.join("mtl.toml")).unwrap();
+        let src = scene_source(&desc, "mtl.toml", "tessera_core").unwrap();
+        assert!(src.contains("pub static IMAGE0: [u8; 16200] = ["));
+        assert!(src.contains("TexelFormat::Rgb565"));
     }
 
     #[test]

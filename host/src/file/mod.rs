@@ -869,6 +869,28 @@ color = [0.9, 0.1, 0.1]
         );
     }
 
+    /// An image texture whose file is missing, or not an image, or of an
+    /// unknown texel format: refused, naming the material, its line and the file.
+    #[test]
+    fn a_bad_image_texture_is_refused_by_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = |extra: &str| {
+            format!(
+                "{HEAD}\n{extra}[[material]]\nname = \"logo\"\ntexture = {{ kind = \"image\", file = \"logo.png\" }}\n"
+            )
+        };
+        let path = dir.path().join("s.toml");
+        std::fs::write(&path, scene("")).unwrap();
+        let e = load(&path).unwrap_err().to_string();
+        assert!(e.contains("material 2") && e.contains("logo.png"), "{e}");
+        std::fs::write(dir.path().join("logo.png"), "not a picture").unwrap();
+        let e = load(&path).unwrap_err().to_string();
+        assert!(e.contains("logo.png") && e.contains("PNG and JPEG"), "{e}");
+        std::fs::write(&path, scene("[render]\ntexture_format = \"rgb888\"\n")).unwrap();
+        let e = load(&path).unwrap_err().to_string();
+        assert!(e.contains("texture_format") && e.contains("rgb888"), "{e}");
+    }
+
     /// A light is a point light or a sun: neither, both, or a sun without a
     /// direction are refused where they are written.
     #[test]
