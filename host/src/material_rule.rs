@@ -7,7 +7,7 @@
 //! |---|---|---|
 //! | colour | `baseColorFactor` (its alpha: a warning below 1) | `Kd` |
 //! | texture | `baseColorTexture`, tinted by the factor | `map_Kd`, tinted by `Kd` |
-//! | diffuse | `1 - metallic` | 1 |
+//! | diffuse | `1 - metallic (1 - roughness)^2` (a rough metal's broad lobe is drawn as diffuse light, a polished one's as a mirror) | 1 |
 //! | specular | `0.04 + 0.96 metallic` (the reflectance at normal incidence of a dielectric and a metal), times `(1 - roughness)^2` | the largest component of `Ks` |
 //! | shininess | `2 / a^2 - 2`, `a = roughness^2` (the Blinn-Phong exponent of the same highlight width), within `[1, 10000]` | `Ns`, within `[1, 10000]` |
 //! | reflectivity | `metallic (1 - roughness)^2` | the largest component of `Ks` when `illum` is 3, 5, 6 or 7 (ray-traced reflection), else 0 |
@@ -77,7 +77,7 @@ pub fn from_pbr(name: &str, p: &Pbr) -> (MaterialDesc, Vec<String>) {
         Terms {
             color: [r, g, b],
             texture: p.texture.clone(),
-            diffuse: 1.0 - metallic,
+            diffuse: 1.0 - metallic * smooth,
             specular: (0.04 + 0.96 * metallic) * smooth,
             shininess,
             reflectivity: metallic * smooth,
@@ -253,8 +253,9 @@ mod tests {
 
     /// The rule's corners, by hand: a rough dielectric is matte (diffuse 1,
     /// specular 0, shininess 1, no mirror); a polished metal is a mirror with no
-    /// diffuse term; roughness 0.5 gives a = 0.25, shininess 2 / 0.0625 - 2 =
-    /// 30, and (1 - 0.5)^2 = 0.25 of the reflectance.
+    /// diffuse term; a rough metal (glTF's default material) is diffuse;
+    /// roughness 0.5 gives a = 0.25, shininess 2 / 0.0625 - 2 = 30, and
+    /// (1 - 0.5)^2 = 0.25 of the reflectance.
     #[test]
     fn metallic_and_roughness_map_by_the_rule() {
         let (m, notes) = from_pbr("rough", &pbr(0.0, 1.0));
@@ -268,6 +269,8 @@ mod tests {
             (m.diffuse, m.specular, m.shininess, m.reflectivity),
             (0.0, 1.0, 10_000.0, 1.0)
         );
+        let (m, _) = from_pbr("default", &pbr(1.0, 1.0));
+        assert_eq!((m.diffuse, m.specular, m.reflectivity), (1.0, 0.0, 0.0));
         let (m, _) = from_pbr("half", &pbr(0.0, 0.5));
         assert_eq!(m.shininess, 30.0);
         assert!((m.specular - 0.04 * 0.25).abs() < 1e-15);

@@ -386,8 +386,8 @@ pub fn read_file(
 ) -> Result<MeshFile, String> {
     let lower = mesh.obj.to_ascii_lowercase();
     if lower.ends_with(".gltf") || lower.ends_with(".glb") {
-        let _place = Placement::of(mesh)?;
-        Err(format!("{}: GLTF-MESH-HOOK", mesh.obj))
+        let place = Placement::of(mesh)?;
+        crate::gltf::desc::mesh_file(&base.join(&mesh.obj), &mesh.obj, &place, room)
     } else {
         read(mesh, base, budget, room)
     }
@@ -466,6 +466,75 @@ pub fn by_material(
         });
     }
     Ok(parts)
+}
+
+/// A turned `[[box]]` (`rotate` or `quaternion`) as the mesh of its 12
+/// triangles, turned about the box's centre, each face's corners with the uv a
+/// box gives its faces (0 to 1 along the face's first other axis, x on the y
+/// and z faces and y on the x faces, then along its second), flat; `None` for
+/// a box that is not turned. `index` is the box's (from 0), for the mesh's name.
+///
+/// # Errors
+/// The rotation's message (both keys, a zero quaternion, a number not finite).
+pub fn turned_box(b: &crate::kinds::BoxDesc, index: usize) -> Result<Option<MeshDesc>, String> {
+    if b.rotate.is_none() && b.quaternion.is_none() {
+        return Ok(None);
+    }
+    let mut m = MeshDesc {
+        obj: format!("(box {}, turned)", index + 1),
+        material: b.material.clone(),
+        scale: 1.0,
+        rotate: b.rotate,
+        quaternion: b.quaternion,
+        translate: [0.0; 3],
+        smooth: Some(false),
+        faces: Vec::new(),
+        degenerate: 0,
+        normals: Vec::new(),
+        uvs: Vec::new(),
+        warnings: Vec::new(),
+    };
+    let turn = rotation(&m).map_err(|e| e.replace("mesh ", "box "))?;
+    m.rotate = None;
+    m.quaternion = None;
+    let centre: [f64; 3] = std::array::from_fn(|k| 0.5 * (b.min[k] + b.max[k]));
+    let at = |p: [f64; 3]| {
+        let t = apply(&turn, std::array::from_fn(|k| p[k] - centre[k]));
+        std::array::from_fn(|k| t[k] + centre[k])
+    };
+    // Per face: the axis it is across, then the axes of its u and v.
+    for (axis, u, v) in [(0, 1, 2), (1, 0, 2), (2, 0, 1)] {
+        for side in [b.min[axis], b.max[axis]] {
+            let corner = |cu: usize, cv: usize| {
+                let mut p = [0.0; 3];
+                p[axis] = side;
+                p[u] = if cu == 0 { b.min[u] } else { b.max[u] };
+                p[v] = if cv == 0 { b.min[v] } else { b.max[v] };
+                (p, [cu as f64, cv as f64])
+            };
+            let quad = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
+            // Wound so that the face's normal points out of the box.
+            let (a, bb, c) = (quad[0].0, quad[1].0, quad[2].0);
+            let n = crate::desc::sub(bb, a);
+            let w = crate::desc::sub(c, a);
+            let normal_axis = [
+                n[1] * w[2] - n[2] * w[1],
+                n[2] * w[0] - n[0] * w[2],
+                n[0] * w[1] - n[1] * w[0],
+            ][axis];
+            let outward = if side == b.max[axis] { 1.0 } else { -1.0 };
+            let order: [[usize; 3]; 2] = if normal_axis * outward > 0.0 {
+                [[0, 1, 2], [0, 2, 3]]
+            } else {
+                [[0, 2, 1], [0, 3, 2]]
+            };
+            for tri in order {
+                m.faces.push(tri.map(|k| at(quad[k].0)));
+                m.uvs.push(tri.map(|k| quad[k].1));
+            }
+        }
+    }
+    Ok(Some(m))
 }
 
 /// A 3x3 rotation matrix, rows first.
@@ -771,7 +840,6 @@ mod tests {
     use super::{Rotation, euler_xyz, quaternion_matrix};
     use crate::desc::sub;
     use crate::file::{self, FileError};
-    #[cfg(feature = "cli")]
     use std::path::Path;
 
     /// A scene with one material and `items` after it.
@@ -949,6 +1017,53 @@ mod tests {
         assert!(
             shown.contains("its materials (gone.mtl) are not used"),
             "{shown}"
+        );
+    }
+
+    /// A turned box is the mesh of its 12 triangles, turned about its centre:
+    /// the cube `[-1, 1]^3` turned 45 degrees about y has its corner `(1, 1, 1)`
+    /// at `(sqrt 2, 1, 0)`; each face keeps the box's uv (corners at 0 and 1);
+    /// an unturned box stays a box.
+    #[test]
+    fn a_turned_box_is_a_mesh_of_its_faces() {
+        let boxes = "[[box]]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\nmaterial = \"m\"\nrotate = [0, 45, 0]\n\n\
+                     [[box]]\nmin = [2, 0, 0]\nmax = [3, 1, 1]\nmaterial = \"m\"\n";
+        let d = load(&scene(boxes), &[]).unwrap();
+        assert_eq!((d.boxes.len(), d.meshes.len()), (1, 1));
+        let m = &d.meshes[0];
+        assert_eq!((m.faces.len(), m.uvs.len()), (12, 12));
+        let corners: Vec<[f64; 3]> = m.faces.iter().flatten().copied().collect();
+        let want = [2f64.sqrt(), 1.0, 0.0];
+        assert!(
+            corners
+                .iter()
+                .any(|p| (0..3).all(|k| (p[k] - want[k]).abs() < 1e-12)),
+            "{corners:?}"
+        );
+        assert!(
+            m.uvs
+                .iter()
+                .flatten()
+                .flatten()
+                .all(|&x| x == 0.0 || x == 1.0)
+        );
+        // Every face's normal points away from the centre.
+        for f in &m.faces {
+            let (a, b) = (sub(f[1], f[0]), sub(f[2], f[0]));
+            let n = [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ];
+            let c: Vec<f64> = (0..3)
+                .map(|k| (f[0][k] + f[1][k] + f[2][k]) / 3.0)
+                .collect();
+            assert!((0..3).map(|k| n[k] * c[k]).sum::<f64>() > 0.0, "{f:?}");
+        }
+        let e = load(&scene("[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nmaterial = \"m\"\nquaternion = [0, 0, 0, 0]\n"), &[]).unwrap_err();
+        assert!(
+            e.to_string().contains("box 1") && e.to_string().contains("quaternion has zero length"),
+            "{e}"
         );
     }
 

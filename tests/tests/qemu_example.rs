@@ -22,14 +22,15 @@ const DEFAULT: &str = "scene.toml";
 /// The scene files built, as `TESSERA_SCENE` names them (relative to the
 /// example's folder): the teapot (1,000 triangles in a mesh), the showcase (no
 /// mesh, no BVH), the cylinders and disks (the core's optional kinds, built with
-/// their features), Blender's textured cube (an OBJ file's normals and uvs, an
-/// image texture in flash, a sun) and the default last, so that the ELF left in
-/// the example's target folder is the one a user builds there.
+/// their features), files from 3D tools (Blender's OBJ with its MTL material
+/// and PNG, Khronos glTF samples with an embedded PNG: normals, uvs, image
+/// textures in flash in RGB565, a sun) and the default last, so that the ELF
+/// left in the example's target folder is the one a user builds there.
 const SCENES: [&str; 5] = [
     "../../scenes/teapot.toml",
     "../../scenes/showcase.toml",
     "../../scenes/pillars.toml",
-    "../../tests/data/blender/textured.toml",
+    "../../tests/data/tools.toml",
     DEFAULT,
 ];
 

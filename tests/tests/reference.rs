@@ -213,3 +213,27 @@ fn mtl_materials_agree_with_the_reference() {
     });
     println!("{report}");
 }
+
+/// Files from 3D tools in one scene (`tests/data/tools.toml`): Blender's OBJ
+/// with its MTL material and PNG, the Khronos BoxTextured glTF (embedded PNG)
+/// and Box glTF, placed by scale, rotation (degrees and a quaternion) and
+/// translation, images in RGB565.
+#[test]
+fn files_from_3d_tools_agree_with_the_reference() {
+    let report = scene_file_agrees("tests/data/tools.toml", |d| {
+        assert!(d.meshes.iter().any(|m| m.obj.ends_with(".gltf")));
+        assert!(d.meshes.iter().any(|m| m.obj.ends_with(".obj")));
+    });
+    println!("{report}");
+}
+
+/// A glTF file as a scene of its own (`tests/data/gltf/BoxTextured`): its
+/// mesh, material and embedded texture, a default camera and sun made for it.
+#[test]
+fn a_gltf_scene_agrees_with_the_reference() {
+    let report = scene_file_agrees("tests/data/gltf/BoxTextured/BoxTextured.gltf", |d| {
+        assert_eq!(d.meshes.len(), 1);
+        assert!(!d.meshes[0].uvs.is_empty());
+    });
+    println!("{report}");
+}

@@ -124,9 +124,49 @@ pub const MAX_KEY_PARTS: usize = 16;
 
 /// Reads the scene file at `path` and parses it with [`parse`]; messages name the
 /// file by `path` as given. At most [`MAX_FILE_BYTES`] + 1 bytes are read: a
-/// larger file is refused before any parsing, with its size.
+/// larger file is refused before any parsing, with its size. A glTF file
+/// (`.gltf`, `.glb`) is a scene of its own ([`load_gltf`], its first camera).
 pub fn load(path: &Path) -> Result<SceneDesc, FileError> {
+    if is_gltf(path) {
+        return load_gltf(path, None);
+    }
     load_limited(path, MAX_FILE_BYTES)
+}
+
+/// True when `path` names a glTF file (`.gltf`, `.glb`, any case).
+#[must_use]
+pub fn is_gltf(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
+}
+
+/// A glTF file as a whole scene ([`crate::gltf::desc::scene`]: its meshes,
+/// materials, lights and the camera named `camera` or its first), its images
+/// read as a scene file's are, checked as a scene file is.
+pub fn load_gltf(path: &Path, camera: Option<&str>) -> Result<SceneDesc, FileError> {
+    let file = path.display().to_string();
+    let fail = |message: String| FileError {
+        kind: ErrorKind::Invalid,
+        file: file.clone(),
+        line: None,
+        column: None,
+        item: None,
+        message,
+    };
+    let mut desc = crate::gltf::desc::scene(path, camera).map_err(fail)?;
+    let base = path.parent().unwrap_or(Path::new(""));
+    let images = textures::read_images(&mut desc, base).map_err(|(i, message)| FileError {
+        item: Some(format!("material {}", i + 1)),
+        ..fail(message)
+    })?;
+    desc.warnings.extend(images);
+    desc.flush_subnormals();
+    check(&desc).map_err(|e| FileError {
+        item: Some(e.item.clone()),
+        ..fail(e.message.clone())
+    })?;
+    Ok(desc)
 }
 
 /// [`load`] with a size limit of `limit` bytes.
@@ -298,6 +338,29 @@ fn parse_limited(
     // than fits (and than `MAX_OBJ_BYTES`) is ever read.
     let mut room = MAX_TRIANGLES.saturating_sub(desc.triangles.len());
     let mut budget = crate::mesh::MAX_OBJ_BYTES;
+    // Turned boxes become meshes of their triangles, after the file's meshes.
+    let mut turned = Vec::new();
+    let mut kept = Vec::with_capacity(desc.boxes.len());
+    for (i, b) in std::mem::take(&mut desc.boxes).into_iter().enumerate() {
+        let refuse = |message| {
+            let item = format!("box {}", i + 1);
+            let line = places.start(&item).map(|b| line_col(text, b).0);
+            fail(ErrorKind::Invalid, line, None, Some(item.clone()), message)
+        };
+        match crate::mesh::turned_box(&b, i).map_err(refuse)? {
+            Some(m) => {
+                // The box's own checks (min below max) before it is turned.
+                tessera_core::geometry::Aabb::try_new(
+                    tessera_core::Vec3::new(b.min[0] as f32, b.min[1] as f32, b.min[2] as f32),
+                    tessera_core::Vec3::new(b.max[0] as f32, b.max[1] as f32, b.max[2] as f32),
+                )
+                .map_err(|e| refuse(format!("{e}, got min {:?} max {:?}", b.min, b.max)))?;
+                turned.push(m);
+            }
+            None => kept.push(b),
+        }
+    }
+    desc.boxes = kept;
     let mut meshes = Vec::with_capacity(desc.meshes.len());
     for (i, mut mesh) in std::mem::take(&mut desc.meshes).into_iter().enumerate() {
         let refuse = |message| {
@@ -322,6 +385,7 @@ fn parse_limited(
             meshes.push(mesh);
         }
     }
+    meshes.extend(turned);
     desc.meshes = meshes;
     let images = textures::read_images(&mut desc, base).map_err(|(i, message)| {
         let item = format!("material {}", i + 1);

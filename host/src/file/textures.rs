@@ -68,8 +68,12 @@ pub(super) fn read_images(
         let texels = match read.iter().find(|(k, _)| *k == key) {
             Some((_, img)) => *img,
             None => {
-                let path = base.join(&*file);
-                let loaded = match embedded.iter().find(|(name, _)| name == file) {
+                let inside = embedded.iter().find(|(name, _)| name == file);
+                let path = match inside {
+                    Some(_) => std::path::PathBuf::from(&*file),
+                    None => base.join(&*file),
+                };
+                let loaded = match inside {
                     Some((name, bytes)) => {
                         crate::texture_image::decode_tinted(bytes, name, share, format, *tint)
                     }

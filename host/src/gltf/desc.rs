@@ -134,7 +134,12 @@ pub fn mesh_file(
 /// [`tessera_core::mesh::MAX_MESHES`] meshes; no perspective camera named
 /// `camera` (the message lists the file's).
 pub fn scene(path: &Path, camera: Option<&str>) -> Result<SceneDesc, String> {
-    let obj = path.display().to_string();
+    // Named by its file name: its meshes' files are relative to its folder,
+    // and messages about the scene name its path already.
+    let obj = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
     let shown = crate::escape(&obj);
     let mut imported = super::read(path, &Limits::default())?;
     let cameras = std::mem::take(&mut imported.cameras);
@@ -871,7 +876,8 @@ mod tests {
         let d = &m.materials[0];
         assert_eq!(d.name, "Cameras.gltf/default material");
         assert_eq!(d.color, [1.0; 3]);
-        assert_eq!((d.diffuse, d.specular, d.reflectivity), (0.0, 0.0, 0.0));
+        // glTF's default (metallic 1, roughness 1): a rough metal, drawn diffuse.
+        assert_eq!((d.diffuse, d.specular, d.reflectivity), (1.0, 0.0, 0.0));
         assert_eq!(m.face_materials, vec![Some(0); 2]);
         // The reader's warning about the orthographic camera names the file once.
         let ortho: Vec<&String> = m
@@ -1082,10 +1088,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let d = scene(&triangles(dir.path(), 16, &[], ""), None).unwrap();
         assert_eq!(d.meshes.len(), 16);
-        assert_eq!(
-            d.meshes[15].material,
-            format!("{}/m15", dir.path().join("t16.gltf").display())
-        );
+        assert_eq!(d.meshes[15].material, "t16.gltf/m15");
         d.to_core().unwrap();
         let e = scene(&triangles(dir.path(), 17, &[], ""), None).unwrap_err();
         assert!(

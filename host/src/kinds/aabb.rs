@@ -16,6 +16,14 @@ pub struct BoxDesc {
     pub max: [f64; 3],
     /// Material name.
     pub material: String,
+    /// Turned about its centre: degrees about the fixed X, then Y, then Z axes
+    /// (as a mesh's `rotate`). A turned box is no longer axis-aligned: it is
+    /// read as a mesh of its 12 triangles (with the box's uv on each face).
+    #[serde(default)]
+    pub rotate: Option<[f64; 3]>,
+    /// Turned by a quaternion `[x, y, z, w]` instead (normalised).
+    #[serde(default)]
+    pub quaternion: Option<[f64; 4]>,
 }
 
 impl HostKind for Aabb {

@@ -247,6 +247,8 @@ fn test_scene() -> SceneDesc {
         material: "fringes".into(),
     }];
     d.boxes = vec![BoxDesc {
+        rotate: None,
+        quaternion: None,
         min: [1.9, 0.0, 1.0],
         max: [2.7, 0.8, 1.8],
         material: "young".into(),
@@ -454,6 +456,8 @@ fn signatures_change_where_a_primitives_shading_jumps() {
         // Lighting both faces.
         d.lights[0].position = [0.0, 10.0, 10.0];
         d.boxes.push(BoxDesc {
+            rotate: None,
+            quaternion: None,
             min: [-9.0, -9.0, -9.0],
             max: [9.0, 0.0, 1.0],
             material: "m".into(),
