@@ -38,8 +38,9 @@ impl Source {
     }
 
     /// The files the scene was read from, which no output may replace: the scene
-    /// file and the OBJ files of its meshes (relative to the scene file's folder,
-    /// as [`tessera_host::file::load`] reads them).
+    /// file, the files of its meshes (OBJ, glTF) and its image textures' files
+    /// (relative to the scene file's folder, as [`tessera_host::file::load`]
+    /// reads them).
     fn inputs(&self) -> Vec<Input> {
         let Self::File(name, desc) = self else {
             return Vec::new();
@@ -55,7 +56,17 @@ impl Source {
             );
             Some(Input { path, what })
         });
-        std::iter::once(Input::scene(scene)).chain(meshes).collect()
+        let images = desc.materials.iter().filter_map(|m| match &m.texture {
+            Some(tessera_host::desc::TextureDesc::Image { file, .. }) => Some(Input {
+                path: base.join(file),
+                what: format!("the image file {file} of material {:?} (scene {name})", m.name),
+            }),
+            _ => None,
+        });
+        std::iter::once(Input::scene(scene))
+            .chain(meshes)
+            .chain(images)
+            .collect()
     }
 
     /// Checks an output path against the inputs (see [`Target::check`]).
