@@ -59,7 +59,10 @@ impl Source {
         let images = desc.materials.iter().filter_map(|m| match &m.texture {
             Some(tessera_host::desc::TextureDesc::Image { file, .. }) => Some(Input {
                 path: base.join(file),
-                what: format!("the image file {file} of material {:?} (scene {name})", m.name),
+                what: format!(
+                    "the image file {file} of material {:?} (scene {name})",
+                    m.name
+                ),
             }),
             _ => None,
         });
