@@ -744,10 +744,11 @@ pub struct MeshDesc {
     /// file's folder (to the current folder for a scene given as text).
     #[serde(alias = "file")]
     pub obj: String,
-    /// Material name; empty (the key left out): the file's own materials (an
-    /// OBJ's MTL file, a glTF file's), the mesh split into one a material.
+    /// Material name; `None` (the key left out): the file's own materials (an
+    /// OBJ's MTL file, a glTF file's), the mesh split into one a material when
+    /// the scene file is read.
     #[serde(default)]
-    pub material: String,
+    pub material: Option<String>,
     /// Uniform scale (finite, `> 0`).
     #[serde(default = "one")]
     pub scale: f64,
@@ -1225,7 +1226,10 @@ impl SceneDesc {
 
     /// The core data of mesh `m`: welded, in `f32`, with its BVH.
     fn core_mesh(&self, item: &Item, m: &MeshDesc) -> Result<HostMesh, DescError> {
-        let material = self.material_id(item, &m.material)?;
+        let Some(name) = &m.material else {
+            return Err(item.fail("no material: the mesh's file was not read".into()));
+        };
+        let material = self.material_id(item, name)?;
         let w = m.welded();
         // As `core_triangle` rounds them (a vertex it refuses fails its face).
         let f32s = |p: &[f64; 3]| p.map(|x| to_f32(x).unwrap_or(f32::NAN));
@@ -1575,7 +1579,7 @@ mod tests {
     fn computed_normals_follow_the_subnormal_rule() {
         let mesh = MeshDesc {
             obj: "f.obj".into(),
-            material: "m".into(),
+            material: Some("m".into()),
             scale: 1.0,
             rotate: None,
             quaternion: None,

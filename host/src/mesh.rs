@@ -95,7 +95,7 @@ pub fn read(
         .parent()
         .map(|p| p.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let own = mesh.material.is_empty();
+    let own = mesh.material.is_none();
     let mtl_error: std::cell::RefCell<Option<String>> = Default::default();
     let mtl_files: std::cell::RefCell<Vec<String>> = Default::default();
     let loaded = tobj::load_obj_buf(&mut reader, &options, |mtl| {
@@ -144,7 +144,7 @@ pub fn read(
             "{shown}: its materials ({}) are not used: the mesh is of the scene's material \
              {:?} (leave `material` out to use the file's)",
             mtl_files.join(", "),
-            mesh.material
+            mesh.material.as_deref().unwrap_or_default()
         ));
     }
     // Normals or uvs for some corners only: none is used (tobj makes up the
@@ -452,7 +452,7 @@ pub fn by_material(
         let normals: Option<Vec<_>> = faces.iter().map(|&j| read.normals[j]).collect();
         let uvs: Option<Vec<_>> = faces.iter().map(|&j| read.uvs[j]).collect();
         parts.push(MeshDesc {
-            material: material.name.clone(),
+            material: Some(material.name.clone()),
             faces: faces.iter().map(|&j| read.faces[j]).collect(),
             normals: normals.unwrap_or_default(),
             uvs: uvs.unwrap_or_default(),
@@ -482,7 +482,7 @@ pub fn turned_box(b: &crate::kinds::BoxDesc, index: usize) -> Result<Option<Mesh
     }
     let mut m = MeshDesc {
         obj: format!("(box {}, turned)", index + 1),
-        material: b.material.clone(),
+        material: Some(b.material.clone()),
         scale: 1.0,
         rotate: b.rotate,
         quaternion: b.quaternion,
@@ -950,7 +950,11 @@ mod tests {
     fn mtl_materials_split_the_mesh_by_the_rule() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/blender/mtl.toml");
         let d = file::load(&path).unwrap();
-        let names: Vec<&str> = d.meshes.iter().map(|m| m.material.as_str()).collect();
+        let names: Vec<&str> = d
+            .meshes
+            .iter()
+            .map(|m| m.material.as_deref().unwrap())
+            .collect();
         assert_eq!(
             names,
             [
@@ -1122,7 +1126,7 @@ mod tests {
     fn unplaced(obj: &str) -> crate::desc::MeshDesc {
         crate::desc::MeshDesc {
             obj: obj.into(),
-            material: "m".into(),
+            material: Some("m".into()),
             scale: 1.0,
             rotate: None,
             quaternion: None,

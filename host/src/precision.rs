@@ -497,7 +497,7 @@ pub fn edge_warnings(desc: &SceneDesc) -> Vec<String> {
     for (i, m) in desc.meshes.iter().enumerate() {
         tris.extend(m.faces.iter().enumerate().map(|(j, f)| Tri {
             face: *f,
-            material: &m.material,
+            material: m.material.as_deref().unwrap_or_default(),
             name: format!("mesh {} ({:?}), face {}", i + 1, m.obj, j + 1),
         }));
     }
@@ -702,7 +702,7 @@ mod tests {
             .collect();
         d.meshes.push(crate::desc::MeshDesc {
             obj: "m.obj".into(),
-            material: "a".into(),
+            material: Some("a".into()),
             scale: 1.0,
             rotate: None,
             quaternion: None,

@@ -476,3 +476,44 @@ fn values_clap_quotes_back_are_escaped() {
     assert_eq!(out.status.code(), Some(0));
     assert!(text(&out.stdout).contains("--sampler"));
 }
+
+/// A glTF file renders as a scene: with its camera chosen by name, the same
+/// bytes as with its first (the file has one); a name it does not have, or
+/// `--camera` with a scene that is not glTF, is refused by name and writes
+/// nothing.
+#[test]
+fn a_gltf_file_renders_with_its_camera_by_name() {
+    let dir = scratch("gltf");
+    let file = scenes()
+        .join("../tests/data/gltf/Cameras/Cameras.gltf")
+        .display()
+        .to_string();
+    let render = |camera: Option<&str>, out: &str| {
+        let mut cmd = bin();
+        cmd.current_dir(&dir)
+            .args(["render", &file, "--size", "32x32", "-o", out]);
+        if let Some(c) = camera {
+            cmd.args(["--camera", c]);
+        }
+        cmd.output().unwrap()
+    };
+    let first = render(None, "first.png");
+    assert!(first.status.success(), "stderr: {}", text(&first.stderr));
+    let named = render(Some("camera 0"), "named.png");
+    assert!(named.status.success(), "stderr: {}", text(&named.stderr));
+    assert_eq!(
+        std::fs::read(dir.join("first.png")).unwrap(),
+        std::fs::read(dir.join("named.png")).unwrap()
+    );
+    let e = fails(&dir, &["render", &file, "--camera", "nope", "-o", "x.png"]);
+    assert!(
+        e.contains("no perspective camera named 'nope'") && e.contains("'camera 0'"),
+        "{e}"
+    );
+    let e = fails(
+        &dir,
+        &["render", "showcase", "--camera", "x", "-o", "x.png"],
+    );
+    assert!(e.contains("names a glTF file's camera"), "{e}");
+    assert!(!dir.join("x.png").exists());
+}

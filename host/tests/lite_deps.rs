@@ -1,17 +1,15 @@
 //! The library without its `cli` feature (`default-features = false`, what a
 //! firmware's `build.rs` takes to read and bake scene files) keeps none of the
-//! command's dependencies: `cargo tree` of that build lists none of them. Runs
-//! with and without `cli` (it only asks cargo).
+//! command's dependencies: `cargo tree` of that build lists none of them. (It
+//! reads PNG and JPEG files for image textures, so `image` with those two
+//! codecs is the library's.) Runs with and without `cli` (it only asks cargo).
 
 use std::path::Path;
 use std::process::Command;
 
 /// The crates only the command needs (and with them their own crates:
 /// `rayon-core`, `clap_builder`, `signal-hook-registry`, ...).
-const CLI_ONLY: [&str; 10] = [
-    "image",
-    "fdeflate",
-    "crc32fast",
+const CLI_ONLY: [&str; 7] = [
     "gif",
     "rayon",
     "clap",

@@ -27,7 +27,7 @@ fn parse_path(s: &str) -> Result<String, String> {
 }
 
 pub fn run(args: &BakeArgs) -> Result<(), Error> {
-    let source = Source::open(Some(&args.scene))?;
+    let source = Source::open(Some(&args.scene), None)?;
     let target = source.target(&args.output)?;
     let text = tessera_host::bake::scene_source(&source.desc(), source.name(), &args.krate)
         .map_err(|e| source.error(e))?;

@@ -19,7 +19,7 @@ pub struct CompareArgs {
 }
 
 pub fn run(args: &CompareArgs) -> Result<(), Error> {
-    let source = Source::open(args.common.scene.as_deref())?;
+    let source = Source::open(args.common.scene.as_deref(), None)?;
     let (settings, vp, tile) = source.settings(&args.common)?;
     limits::measured("compare", vp)?;
     let threads = threads(args.common.threads);

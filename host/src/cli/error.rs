@@ -24,6 +24,8 @@ pub enum Error {
     },
     /// A scene argument that is neither a built-in name nor an existing file.
     NoSuchScene(String),
+    /// `--camera` (a glTF file's camera) with a scene that is not a glTF file.
+    CameraOfNoGltf(String),
     /// `trade --scenes` names a scene that is not built in.
     UnknownBuiltin(String),
     /// `compare`'s accuracy bar is not met.
@@ -86,6 +88,12 @@ impl fmt::Display for Error {
             Self::Host(e) => write!(f, "{e}"),
             Self::File(e) => write!(f, "{e}"),
             Self::Scene { name, source } => write!(f, "{}: {source}", escape(name)),
+            Self::CameraOfNoGltf(camera) => write!(
+                f,
+                "--camera {:?} names a glTF file's camera, and the scene is not a glTF file \
+                 (.gltf, .glb); a scene file's camera is its [camera] table",
+                escape(camera)
+            ),
             Self::NoSuchScene(name) => {
                 let names: Vec<&str> = tessera_core::builtin::Builtin::ALL
                     .iter()

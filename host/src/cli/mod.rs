@@ -248,8 +248,8 @@ impl Cli {
 /// The scene and the render settings, common to `render`, `compare` and `simulate`.
 #[derive(Args, Default)]
 struct Common {
-    /// A built-in scene name (see `tessera scenes`) or a .toml scene file
-    /// [default: the chapter's second picture, chapter-reflect]
+    /// A built-in scene name (see `tessera scenes`), a .toml scene file or a glTF
+    /// file (.gltf, .glb) [default: the chapter's second picture, chapter-reflect]
     scene: Option<String>,
     /// Image size in pixels, WxH [default: the scene file's, or 320x240]
     #[arg(long, value_parser = parse_size)]

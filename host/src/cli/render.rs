@@ -18,6 +18,9 @@ pub struct RenderArgs {
     /// Output PNG (a symbolic link is followed)
     #[arg(short, long, default_value = DEFAULT_OUTPUT, value_hint = ValueHint::FilePath)]
     output: PathBuf,
+    /// A glTF scene's camera, by its name [default: the file's first]
+    #[arg(long)]
+    camera: Option<String>,
 }
 
 /// What `tessera` alone does: `tessera render` with its defaults.
@@ -26,12 +29,13 @@ impl Default for RenderArgs {
         Self {
             common: Common::default(),
             output: PathBuf::from(DEFAULT_OUTPUT),
+            camera: None,
         }
     }
 }
 
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
-    let source = Source::open(args.common.scene.as_deref())?;
+    let source = Source::open(args.common.scene.as_deref(), args.camera.as_deref())?;
     let (settings, vp, tile) = source.settings(&args.common)?;
     let target = source.target(&args.output)?;
     let threads = threads(args.common.threads);

@@ -158,7 +158,7 @@ impl Outputs {
 }
 
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {
-    let source = Source::open(args.common.scene.as_deref())?;
+    let source = Source::open(args.common.scene.as_deref(), None)?;
     let (settings, mut vp, tile) = source.settings(&args.common)?;
     if args.common.size.is_none() {
         vp = Viewport::new(240, 240);

@@ -14,9 +14,14 @@ pub enum Source {
 }
 
 impl Source {
-    /// The scene named on the command line (`None`: the default built-in). A file's
-    /// warnings (accepted values that look like mistakes) go to stderr.
-    pub fn open(name: Option<&str>) -> Result<Self, Error> {
+    /// The scene named on the command line (`None`: the default built-in), and
+    /// a glTF file's camera by name. A file's warnings (accepted values that
+    /// look like mistakes, what a glTF file has that is not read) go to stderr.
+    pub fn open(name: Option<&str>, camera: Option<&str>) -> Result<Self, Error> {
+        let gltf = name.is_some_and(|n| tessera_host::file::is_gltf(Path::new(n)));
+        if let (Some(c), false) = (camera, gltf) {
+            return Err(Error::CameraOfNoGltf(c.to_string()));
+        }
         let Some(name) = name else {
             return Ok(Self::Builtin(Builtin::DEFAULT));
         };
@@ -24,10 +29,14 @@ impl Source {
             return Ok(Self::Builtin(b));
         }
         let path = Path::new(name);
-        if !path.exists() && !name.ends_with(".toml") {
+        if !path.exists() && !name.ends_with(".toml") && !gltf {
             return Err(Error::NoSuchScene(name.to_string()));
         }
-        let desc = tessera_host::file::load(path)?;
+        let desc = if gltf {
+            tessera_host::file::load_gltf(path, camera)?
+        } else {
+            tessera_host::file::load(path)?
+        };
         for w in tessera_host::file::warnings(&desc) {
             eprintln!(
                 "tessera: warning: {}",

@@ -370,7 +370,7 @@ fn parse_limited(
         };
         let read = crate::mesh::read_file(&mesh, base, &mut budget, room).map_err(refuse)?;
         room -= read.faces.len();
-        if mesh.material.is_empty() {
+        if mesh.material.is_none() {
             let parts =
                 crate::mesh::by_material(mesh, read, &mut desc.materials, &mut desc.embedded)
                     .map_err(refuse)?;

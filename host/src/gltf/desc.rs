@@ -467,7 +467,7 @@ fn default_material(shown: &str, taken: &[MaterialDesc]) -> (MaterialDesc, Vec<S
 fn mesh_desc(obj: String, material: String) -> MeshDesc {
     MeshDesc {
         obj,
-        material,
+        material: Some(material),
         scale: 1.0,
         rotate: None,
         quaternion: None,
@@ -912,7 +912,11 @@ mod tests {
         let d = scene(&data("Box/Box.gltf"), None).unwrap();
         assert_eq!(d.meshes.len(), 1);
         let mesh = &d.meshes[0];
-        assert!(mesh.material.ends_with("Box.gltf/Red"), "{}", mesh.material);
+        assert!(
+            mesh.material.as_deref().unwrap().ends_with("Box.gltf/Red"),
+            "{:?}",
+            mesh.material
+        );
         assert_eq!((mesh.faces.len(), mesh.normals.len()), (12, 12));
         assert!(mesh.uvs.is_empty());
         assert_eq!((mesh.scale, mesh.rotate, mesh.smooth), (1.0, None, None));
@@ -1008,7 +1012,11 @@ mod tests {
             )),
             "{all}"
         );
-        let mut materials: Vec<&str> = d.meshes.iter().map(|m| m.material.as_str()).collect();
+        let mut materials: Vec<&str> = d
+            .meshes
+            .iter()
+            .map(|m| m.material.as_deref().unwrap())
+            .collect();
         materials.sort_unstable();
         assert_eq!(materials.len(), 2);
         assert!(materials[0].ends_with("/inner") && materials[1].ends_with("/outer"));
@@ -1088,7 +1096,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let d = scene(&triangles(dir.path(), 16, &[], ""), None).unwrap();
         assert_eq!(d.meshes.len(), 16);
-        assert_eq!(d.meshes[15].material, "t16.gltf/m15");
+        assert_eq!(d.meshes[15].material.as_deref(), Some("t16.gltf/m15"));
         d.to_core().unwrap();
         let e = scene(&triangles(dir.path(), 17, &[], ""), None).unwrap_err();
         assert!(

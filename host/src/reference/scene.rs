@@ -391,9 +391,10 @@ impl RefScene {
         // time; a smooth one's normals welded as the host welds them.
         for (i, m) in desc.meshes.iter().enumerate() {
             let w = m.welded();
-            let material = desc.material_index(&m.material).ok_or_else(|| DescError {
+            let name = m.material.as_deref().unwrap_or_default();
+            let material = desc.material_index(name).ok_or_else(|| DescError {
                 item: format!("mesh {}", i + 1),
-                message: format!("unknown material {:?}", m.material),
+                message: format!("unknown material {name:?}"),
             })?;
             for (face, f) in w.faces.iter().enumerate() {
                 objects.push(Object {

@@ -484,7 +484,7 @@ fn signatures_change_where_a_primitives_shading_jumps() {
             }
             d.meshes.push(crate::desc::MeshDesc {
                 obj: "fold.obj".into(),
-                material: "m".into(),
+                material: Some("m".into()),
                 scale: 1.0,
                 rotate: None,
                 quaternion: None,

@@ -57,7 +57,10 @@ pub fn scaled(desc: &SceneDesc, k: i32) -> SceneDesc {
     }
     for m in &mut d.materials {
         let on_planes = desc.planes.iter().any(|p| p.material == m.name);
-        let mut elsewhere = desc.meshes.iter().any(|p| p.material == m.name);
+        let mut elsewhere = desc
+            .meshes
+            .iter()
+            .any(|p| p.material.as_ref() == Some(&m.name));
         each_kind!(|G| {
             if G::KIND != Kind::Plane {
                 elsewhere |= G::descs(desc).iter().any(|p| G::material(p) == m.name);
