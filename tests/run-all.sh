@@ -99,6 +99,13 @@ run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera-core --no-deps --all-fea
 # the packaged core), then the upload skipped. --allow-dirty: the steps before
 # may have refreshed a lock file.
 say "packages: cargo publish --dry-run (tessera-core, tessera-host)"
+# Cargo unpacks the packaged crates into its registry folder (one folder per
+# local overlay, named by a hash) and reuses a folder of the same name and
+# version: an earlier run's tessera-core 0.1.0 would be verified against instead
+# of this one's. Neither crate comes from the crate registry, so those folders
+# are only ever this check's.
+rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/tessera-core-* \
+  "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/tessera-host-*
 run cargo publish --dry-run --allow-dirty -p tessera-core -p tessera-host --target-dir target/package-check
 
 # rust-version is what the dependencies need (flip-rs 1.88, criterion 1.86): the
