@@ -516,7 +516,15 @@ fn local<const SMOOTH: bool, C: Observer>(
             }
         }
         let e = if light.is_directional() {
-            light.color() * light.intensity()
+            // Capped as a point light's `intensity / dist2` is: a colour of up
+            // to 2^16 times an intensity near f32's largest would overflow.
+            let i = light.intensity();
+            light.color()
+                * if i > MAX_IRRADIANCE {
+                    MAX_IRRADIANCE
+                } else {
+                    i
+                }
         } else {
             // `intensity / dist2` as `intensity inv^2` over 1, capped the same way
             // (the division by 1 compiles to nothing).
