@@ -472,6 +472,24 @@ fn shadow_meets(plane: &Plane, light: LightKind, b: Bounds, region: Bounds) -> b
         return true;
     }
     let limit = s_light * (1.0 - 1.0 / 64.0);
+    let project = |x: Vec3, s: f32| light + (x - light) * (s_light / (s_light - s));
+    projection_meets(b, (p0, n), limit, project, (region, clearance))
+}
+
+/// Whether the shadow of the box `b` on the plane `(p0, n)` (`n` turned to the
+/// light's side), `project` taking a corner `x` at signed distance `s > 0` to
+/// its shadow, comes within `clearance` of `region`: the hull of the corners'
+/// shadows, and the box itself where it dips below the plane. A corner at `limit` or beyond (up to
+/// the light's level; or a NaN) makes the shadow unbounded: the blocker is
+/// kept.
+#[inline(always)]
+fn projection_meets(
+    b: Bounds,
+    (p0, n): (Vec3, Vec3),
+    limit: f32,
+    project: impl Fn(Vec3, f32) -> Vec3,
+    (region, clearance): (Bounds, f32),
+) -> bool {
     let mut shadow = Bounds::EMPTY;
     let mut below = false;
     for i in 0..8 {
@@ -482,14 +500,14 @@ fn shadow_meets(plane: &Plane, light: LightKind, b: Bounds, region: Bounds) -> b
             pick(4, b.min.z, b.max.z),
         );
         let s = n.dot(x - p0);
-        let below_light = s < limit; // false for NaN
-        if !below_light {
-            return true; // up to the light's level (or NaN)
+        let below_limit = s < limit; // false for NaN
+        if !below_limit {
+            return true;
         }
         if s <= 0.0 {
             below = true;
         } else {
-            shadow = shadow.with(light + (x - light) * (s_light / (s_light - s)));
+            shadow = shadow.with(project(x, s));
         }
     }
     if below {
@@ -516,29 +534,9 @@ fn sun_shadow_meets(plane: &Plane, toward: Vec3, b: Bounds, region: Bounds) -> b
         return true;
     }
     let clearance = MARGIN * (1.0 + b.magnitude() + region.magnitude() + mag(p0));
-    let mut shadow = Bounds::EMPTY;
-    let mut below = false;
-    for i in 0..8 {
-        let pick = |bit: usize, lo: f32, hi: f32| if i & bit == 0 { lo } else { hi };
-        let x = Vec3::new(
-            pick(1, b.min.x, b.max.x),
-            pick(2, b.min.y, b.max.y),
-            pick(4, b.min.z, b.max.z),
-        );
-        let s = n.dot(x - p0);
-        if s.is_nan() {
-            return true;
-        }
-        if s <= 0.0 {
-            below = true;
-        } else {
-            shadow = shadow.with(x - toward * (s / up));
-        }
-    }
-    if below {
-        shadow = shadow.union(b);
-    }
-    !shadow.grown(clearance).intersect(region).is_empty()
+    // No level to stay below: any finite corner projects.
+    let project = |x: Vec3, s: f32| x - toward * (s / up);
+    projection_meets(b, (p0, n), f32::INFINITY, project, (region, clearance))
 }
 
 /// The largest absolute component.

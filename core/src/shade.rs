@@ -515,25 +515,14 @@ fn local<const SMOOTH: bool, C: Observer>(
                 continue;
             }
         }
-        let e = if light.is_directional() {
-            // Capped as a point light's `intensity / dist2` is: a colour of up
-            // to 2^16 times an intensity near f32's largest would overflow.
-            let i = light.intensity();
-            light.color()
-                * if i > MAX_IRRADIANCE {
-                    MAX_IRRADIANCE
-                } else {
-                    i
-                }
-        } else {
-            // `intensity / dist2` as `intensity inv^2` over 1, capped the same way
-            // (the division by 1 compiles to nothing).
-            #[cfg(feature = "fast-rsqrt")]
-            let e = light.color() * irradiance(light.intensity() * fall, 1.0);
-            #[cfg(not(feature = "fast-rsqrt"))]
-            let e = light.color() * irradiance(light.intensity(), fall);
-            e
-        };
+        // `intensity / dist2` (`intensity inv^2` over 1 with `fast-rsqrt`: the
+        // division by 1 compiles to nothing), capped: a sun's `fall` of 1
+        // leaves its intensity, capped the same way (a colour of up to 2^16
+        // times an intensity near f32's largest would overflow).
+        #[cfg(feature = "fast-rsqrt")]
+        let e = light.color() * irradiance(light.intensity() * fall, 1.0);
+        #[cfg(not(feature = "fast-rsqrt"))]
+        let e = light.color() * irradiance(light.intensity(), fall);
         let mut lit = hit.base * (m.diffuse() * cos);
         if m.specular() > 0.0 {
             // `fast-rsqrt`: `n.h` of the unnormalised half vector, scaled by its

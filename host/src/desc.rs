@@ -4,6 +4,7 @@
 //! Both renderers are built from this one description, so a comparison measures
 //! what `f32`, the math backend and the core's shortcuts cost, nothing else.
 
+use crate::arr3::{add, cross, sub};
 pub use crate::kinds::{BoxDesc, PlaneDesc, SphereDesc, TriangleDesc};
 use crate::kinds::{HostKind, Listed, each_kind};
 use serde::Deserialize;
@@ -200,6 +201,27 @@ pub struct Welded {
 }
 
 impl MeshDesc {
+    /// A mesh of the file `obj` and `material` (`None`: the file's own) as the
+    /// file gives it: no scale, turn or move, shaded as the file says, its
+    /// faces not read yet.
+    #[must_use]
+    pub fn unplaced(obj: impl Into<String>, material: Option<String>) -> Self {
+        Self {
+            obj: obj.into(),
+            material,
+            scale: 1.0,
+            rotate: None,
+            quaternion: None,
+            translate: [0.0; 3],
+            smooth: None,
+            faces: Vec::new(),
+            degenerate: 0,
+            normals: Vec::new(),
+            uvs: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
     /// The faces welded where their vertices are the same numbers (see
     /// [`Welded`]).
     #[must_use]
@@ -235,14 +257,9 @@ impl MeshDesc {
         if !given && self.smooth == Some(true) {
             let mut sum = vec![[0.0f64; 3]; positions.len()];
             for (f, p) in faces.iter().zip(&self.faces) {
-                let (a, b) = (sub(p[1], p[0]), sub(p[2], p[0]));
-                let n = [
-                    a[1] * b[2] - a[2] * b[1],
-                    a[2] * b[0] - a[0] * b[2],
-                    a[0] * b[1] - a[1] * b[0],
-                ];
+                let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
                 for &i in f {
-                    sum[i] = [sum[i][0] + n[0], sum[i][1] + n[1], sum[i][2] + n[2]];
+                    sum[i] = add(sum[i], n);
                 }
             }
             normals = sum.into_iter().map(unit).collect();
@@ -277,12 +294,6 @@ fn unit(n: [f64; 3]) -> [f64; 3] {
     } else {
         [0.0, 1.0, 0.0]
     }
-}
-
-/// `a - b`.
-#[must_use]
-pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 /// The lists of a scene file, by the name of their `[[...]]` sections, with their
@@ -543,6 +554,26 @@ pub struct MaterialDesc {
     /// Index of refraction.
     #[serde(default = "one")]
     pub ior: f64,
+}
+
+impl MaterialDesc {
+    /// A matte material of `color` named `name`: every weight at the default a
+    /// scene file gives it ([`Material::matte`]'s).
+    #[must_use]
+    pub fn matte(name: impl Into<String>, color: [f64; 3]) -> Self {
+        Self {
+            name: name.into(),
+            color,
+            texture: None,
+            ambient: 1.0,
+            diffuse: 1.0,
+            specular: 0.0,
+            shininess: 1.0,
+            reflectivity: 0.0,
+            transparency: 0.0,
+            ior: 1.0,
+        }
+    }
 }
 
 fn white() -> [f64; 3] {
@@ -1578,18 +1609,9 @@ mod tests {
     #[test]
     fn computed_normals_follow_the_subnormal_rule() {
         let mesh = MeshDesc {
-            obj: "f.obj".into(),
-            material: Some("m".into()),
-            scale: 1.0,
-            rotate: None,
-            quaternion: None,
-            translate: [0.0; 3],
             smooth: Some(true),
             faces: vec![[[0.0, 0.0, 0.0], [1000.0, 0.0, 0.0], [0.0, 2e-38, 1000.0]]],
-            degenerate: 0,
-            normals: Vec::new(),
-            uvs: Vec::new(),
-            warnings: Vec::new(),
+            ..MeshDesc::unplaced("f.obj", Some("m".into()))
         };
         let n = mesh.welded().normals;
         assert!(

@@ -21,6 +21,15 @@
 
 use crate::desc::{FilterDesc, MaterialDesc, TextureDesc, WrapDesc};
 
+/// `x` within `[0, 1]`; 0 when it is not finite.
+fn unit(x: f64) -> f64 {
+    if x.is_finite() {
+        x.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
 /// A glTF material's terms (see the module doc).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pbr {
@@ -46,13 +55,6 @@ pub struct Pbr {
 #[must_use]
 pub fn from_pbr(name: &str, p: &Pbr) -> (MaterialDesc, Vec<String>) {
     let mut notes = Vec::new();
-    let unit = |x: f64| {
-        if x.is_finite() {
-            x.clamp(0.0, 1.0)
-        } else {
-            0.0
-        }
-    };
     let (metallic, roughness) = (unit(p.metallic), unit(p.roughness));
     let smooth = (1.0 - roughness) * (1.0 - roughness);
     let a = roughness * roughness;
@@ -95,13 +97,6 @@ pub fn from_pbr(name: &str, p: &Pbr) -> (MaterialDesc, Vec<String>) {
 #[must_use]
 pub fn from_mtl(name: &str, m: &tobj::Material, folder: &str) -> (MaterialDesc, Vec<String>) {
     let mut notes = Vec::new();
-    let unit = |x: f64| {
-        if x.is_finite() {
-            x.clamp(0.0, 1.0)
-        } else {
-            0.0
-        }
-    };
     let kd = m.diffuse.unwrap_or([0.8; 3]).map(unit);
     let ks = m.specular.unwrap_or([0.0; 3]).map(unit);
     let ks_max = ks.iter().copied().fold(0.0, f64::max);

@@ -15,6 +15,7 @@
 //! of range is a broken file. A UTF-8 byte-order mark at the start of the file
 //! is skipped; one further on is refused (outside comments).
 
+use crate::arr3::{cross, sub};
 use crate::desc::{Face, MAX_TRIANGLES, MeshDesc, core_triangle_of, num, too_many};
 use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
@@ -421,18 +422,10 @@ pub fn by_material(
             mesh.obj
         ));
         let k = read.materials.len();
-        read.materials.push(crate::desc::MaterialDesc {
-            name: format!("{}/(none)", mesh.obj),
-            color: [0.8; 3],
-            texture: None,
-            ambient: 1.0,
-            diffuse: 1.0,
-            specular: 0.0,
-            shininess: 1.0,
-            reflectivity: 0.0,
-            transparency: 0.0,
-            ior: 1.0,
-        });
+        read.materials.push(crate::desc::MaterialDesc::matte(
+            format!("{}/(none)", mesh.obj),
+            [0.8; 3],
+        ));
         for m in &mut read.face_materials {
             m.get_or_insert(k);
         }
@@ -481,18 +474,13 @@ pub fn turned_box(b: &crate::kinds::BoxDesc, index: usize) -> Result<Option<Mesh
         return Ok(None);
     }
     let mut m = MeshDesc {
-        obj: format!("(box {}, turned)", index + 1),
-        material: Some(b.material.clone()),
-        scale: 1.0,
         rotate: b.rotate,
         quaternion: b.quaternion,
-        translate: [0.0; 3],
         smooth: Some(false),
-        faces: Vec::new(),
-        degenerate: 0,
-        normals: Vec::new(),
-        uvs: Vec::new(),
-        warnings: Vec::new(),
+        ..MeshDesc::unplaced(
+            format!("(box {}, turned)", index + 1),
+            Some(b.material.clone()),
+        )
     };
     let turn = rotation(&m).map_err(|e| e.replace("mesh ", "box "))?;
     m.rotate = None;
@@ -515,13 +503,7 @@ pub fn turned_box(b: &crate::kinds::BoxDesc, index: usize) -> Result<Option<Mesh
             let quad = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
             // Wound so that the face's normal points out of the box.
             let (a, bb, c) = (quad[0].0, quad[1].0, quad[2].0);
-            let n = crate::desc::sub(bb, a);
-            let w = crate::desc::sub(c, a);
-            let normal_axis = [
-                n[1] * w[2] - n[2] * w[1],
-                n[2] * w[0] - n[0] * w[2],
-                n[0] * w[1] - n[1] * w[0],
-            ][axis];
+            let normal_axis = cross(sub(bb, a), sub(c, a))[axis];
             let outward = if side == b.max[axis] { 1.0 } else { -1.0 };
             let order: [[usize; 3]; 2] = if normal_axis * outward > 0.0 {
                 [[0, 1, 2], [0, 2, 3]]
@@ -838,7 +820,7 @@ impl BufRead for Consumed<'_> {
 #[cfg(test)]
 mod tests {
     use super::{Rotation, euler_xyz, quaternion_matrix};
-    use crate::desc::sub;
+    use crate::arr3::{cross, sub};
     use crate::file::{self, FileError};
     use std::path::Path;
 
@@ -889,12 +871,7 @@ mod tests {
         // Each vertex's normal is its face's: the face's own normal, turned.
         for f in &w.faces {
             let [a, b, c] = f.map(|i| w.positions[i]);
-            let (u, v) = (sub(b, a), sub(c, a));
-            let g = [
-                u[1] * v[2] - u[2] * v[1],
-                u[2] * v[0] - u[0] * v[2],
-                u[0] * v[1] - u[1] * v[0],
-            ];
+            let g = cross(sub(b, a), sub(c, a));
             let len = g.iter().map(|x| x * x).sum::<f64>().sqrt();
             for &i in f {
                 let n = w.normals[i];
@@ -1053,12 +1030,7 @@ mod tests {
         );
         // Every face's normal points away from the centre.
         for f in &m.faces {
-            let (a, b) = (sub(f[1], f[0]), sub(f[2], f[0]));
-            let n = [
-                a[1] * b[2] - a[2] * b[1],
-                a[2] * b[0] - a[0] * b[2],
-                a[0] * b[1] - a[1] * b[0],
-            ];
+            let n = cross(sub(f[1], f[0]), sub(f[2], f[0]));
             let c: Vec<f64> = (0..3)
                 .map(|k| (f[0][k] + f[1][k] + f[2][k]) / 3.0)
                 .collect();
@@ -1067,6 +1039,14 @@ mod tests {
         let e = load(&scene("[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nmaterial = \"m\"\nquaternion = [0, 0, 0, 0]\n"), &[]).unwrap_err();
         assert!(
             e.to_string().contains("box 1") && e.to_string().contains("quaternion has zero length"),
+            "{e}"
+        );
+        // A turned box is checked as a box first: min above max is refused.
+        let inverted =
+            "[[box]]\nmin = [1, 0, 0]\nmax = [0, 1, 1]\nmaterial = \"m\"\nrotate = [0, 10, 0]\n";
+        let e = load(&scene(inverted), &[]).unwrap_err().to_string();
+        assert!(
+            e.contains("box 1") && e.contains("box min corner must be <= max corner"),
             "{e}"
         );
     }
@@ -1124,20 +1104,7 @@ mod tests {
 
     /// A mesh of `obj` as the file gives it: material `m`, no scale, no move.
     fn unplaced(obj: &str) -> crate::desc::MeshDesc {
-        crate::desc::MeshDesc {
-            obj: obj.into(),
-            material: Some("m".into()),
-            scale: 1.0,
-            rotate: None,
-            quaternion: None,
-            translate: [0.0; 3],
-            smooth: None,
-            faces: Vec::new(),
-            degenerate: 0,
-            normals: Vec::new(),
-            uvs: Vec::new(),
-            warnings: Vec::new(),
-        }
+        crate::desc::MeshDesc::unplaced(obj, Some("m".into()))
     }
 
     #[cfg(feature = "cli")]

@@ -31,6 +31,7 @@
 //! triangles shows no seam), and an edge beyond the camera's far distance is not
 //! seen: neither is warned about.
 
+use crate::arr3::{cross, dot, length, sub};
 use crate::desc::{Face, SceneDesc, num};
 use std::collections::HashMap;
 
@@ -63,26 +64,6 @@ fn key(p: [f64; 3]) -> [u32; 3] {
         let y = x as f32;
         if y == 0.0 { 0 } else { y.to_bits() }
     })
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn length(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// The point of the segment `a b` nearest to `p`, as the fraction of the way from
@@ -701,18 +682,8 @@ mod tests {
             })
             .collect();
         d.meshes.push(crate::desc::MeshDesc {
-            obj: "m.obj".into(),
-            material: Some("a".into()),
-            scale: 1.0,
-            rotate: None,
-            quaternion: None,
-            translate: [0.0; 3],
-            smooth: None,
             faces,
-            degenerate: 0,
-            normals: Vec::new(),
-            uvs: Vec::new(),
-            warnings: Vec::new(),
+            ..crate::desc::MeshDesc::unplaced("m.obj", Some("a".into()))
         });
         let w = edge_warnings(&d);
         assert_eq!(w.len(), MAX_WARNINGS + 1, "{w:?}");

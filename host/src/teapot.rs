@@ -28,6 +28,7 @@
 //! share; normals are the patches' own (the cross product of the partial
 //! derivatives), summed over the patches that share a vertex.
 
+use crate::arr3::{add, cross, length, scale, sub};
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 
@@ -160,34 +161,6 @@ impl TriMesh {
             .iter()
             .map(|f| f.map(|i| self.positions[i as usize]))
     }
-}
-
-fn add(a: V3, b: V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn scale(a: V3, s: f64) -> V3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn length(a: V3) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// The four quadrants' circle control points in a plane, counter-clockwise
@@ -451,6 +424,7 @@ fn area2(positions: &[V3], f: [u32; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::arr3::dot;
 
     /// The patches revolved from the body's or the lid's profile, welded.
     fn part(profile: &[Segment], n: u32) -> TriMesh {

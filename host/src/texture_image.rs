@@ -20,7 +20,7 @@
 //! - the table: RGB565 (each sRGB channel rounded to the nearest 5- or 6-bit code
 //!   that the core reads back) or 8-bit sRGB as is.
 
-use std::io::{Cursor, Read};
+use std::io::Cursor;
 use std::path::Path;
 
 use image::{DynamicImage, ImageFormat, ImageReader, Limits, Rgb32FImage, RgbImage};
@@ -109,35 +109,9 @@ pub fn load_tinted(
     tint: [f64; 3],
 ) -> Result<TextureImage, String> {
     let shown = path.display().to_string();
-    let bytes = read_bytes(path, max_file_bytes).map_err(|e| format!("{shown}: {e}"))?;
+    let bytes = crate::file::read_bytes(path, max_file_bytes, "image file")
+        .map_err(|e| format!("{shown}: {e}"))?;
     decode_tinted(&bytes, &shown, budget_bytes, format, tint)
-}
-
-/// The bytes of the regular file at `path`, at most `limit` of them (opened with
-/// `file::open_regular`: nothing waits on a FIFO or a device).
-fn read_bytes(path: &Path, limit: usize) -> Result<Vec<u8>, String> {
-    const WHAT: &str = "image file";
-    let too_big = |size: Option<u64>| {
-        let limit = format!("the limit of {limit} bytes");
-        match size {
-            Some(n) => format!("the {WHAT} is {n} bytes, more than {limit}"),
-            None => format!("the {WHAT} is larger than {limit}"),
-        }
-    };
-    let file = crate::file::open_regular(path, WHAT)?;
-    let size = file.metadata().ok().map(|m| m.len());
-    if let Some(n) = size.filter(|&n| n > limit as u64) {
-        return Err(too_big(Some(n)));
-    }
-    let mut bytes = Vec::new();
-    file.take(limit as u64 + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read the {WHAT}: {e}"))?;
-    if bytes.len() > limit {
-        // Grown since: the size is not known.
-        return Err(too_big(None));
-    }
-    Ok(bytes)
 }
 
 /// Decodes the PNG or JPEG image `bytes` (`name`: what messages call it, e.g.

@@ -197,30 +197,44 @@ pub(crate) fn read_limited(
     what: &str,
     budget: &str,
 ) -> Result<String, String> {
-    let cannot = |e: std::io::Error| format!("cannot read the {what}: {e}");
-    let file = open_regular(path, what)?;
-    let size = file
-        .metadata()
-        .ok()
-        .filter(|m| m.is_file())
-        .map(|m| m.len());
-    if let Some(n) = size.filter(|&n| n > limit as u64) {
-        return Err(too_big(Some(n), limit, what) + budget);
-    }
-    let mut bytes = Vec::new();
-    file.take(limit as u64 + 1)
-        .read_to_end(&mut bytes)
-        .map_err(cannot)?;
-    if bytes.len() > limit {
-        // Grown since: the size is not known.
-        return Err(too_big(size.filter(|&n| n > limit as u64), limit, what) + budget);
-    }
+    let bytes =
+        read_bounded(path, limit, what)?.map_err(|size| too_big(size, limit, what) + budget)?;
     String::from_utf8(bytes).map_err(|e| {
         let at = e.utf8_error().valid_up_to();
         let text = std::str::from_utf8(&e.as_bytes()[..at]).unwrap_or_default();
         let (line, column) = line_col(text, at);
         format!("cannot read the {what}: it is not UTF-8 text (invalid byte at {line}:{column})")
     })
+}
+
+/// The bytes of the regular file at `path` (opened with [`open_regular`]), or
+/// `Err(size)` if it has more than `limit` (`None`: grown while read, the size
+/// not known); the outer error is the message of a file that cannot be read.
+/// The size is checked from the metadata before reading, and the read stops one
+/// byte past the limit.
+pub(crate) fn read_bounded(
+    path: &Path,
+    limit: usize,
+    what: &str,
+) -> Result<Result<Vec<u8>, Option<u64>>, String> {
+    let file = open_regular(path, what)?;
+    let size = file.metadata().ok().map(|m| m.len());
+    if let Some(n) = size.filter(|&n| n > limit as u64) {
+        return Ok(Err(Some(n)));
+    }
+    let mut bytes = Vec::new();
+    file.take(limit as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read the {what}: {e}"))?;
+    if bytes.len() > limit {
+        return Ok(Err(None));
+    }
+    Ok(Ok(bytes))
+}
+
+/// [`read_bounded`], a file above the limit refused with [`too_big`]'s message.
+pub(crate) fn read_bytes(path: &Path, limit: usize, what: &str) -> Result<Vec<u8>, String> {
+    read_bounded(path, limit, what)?.map_err(|size| too_big(size, limit, what))
 }
 
 /// The file at `path` opened for reading if it is a regular file (following
@@ -276,7 +290,7 @@ fn open_nonblocking(path: &Path) -> std::io::Result<std::fs::File> {
 }
 
 /// The message for a file (`what`: `scene file`, `OBJ file`) above the limit.
-fn too_big(size: Option<u64>, limit: usize, what: &str) -> String {
+pub(crate) fn too_big(size: Option<u64>, limit: usize, what: &str) -> String {
     let limit = format!(
         "the limit of {limit} bytes ({} MiB)",
         num(limit as f64 / 1_048_576.0)
@@ -349,12 +363,11 @@ fn parse_limited(
         };
         match crate::mesh::turned_box(&b, i).map_err(refuse)? {
             Some(m) => {
-                // The box's own checks (min below max) before it is turned.
-                tessera_core::geometry::Aabb::try_new(
-                    tessera_core::Vec3::new(b.min[0] as f32, b.min[1] as f32, b.min[2] as f32),
-                    tessera_core::Vec3::new(b.max[0] as f32, b.max[1] as f32, b.max[2] as f32),
-                )
-                .map_err(|e| refuse(format!("{e}, got min {:?} max {:?}", b.min, b.max)))?;
+                // The box's own checks (its corners, min below max) before it
+                // is turned, as an axis-aligned box's.
+                let item = crate::desc::Item::new(&format!("box {}", i + 1));
+                <tessera_core::geometry::Aabb as crate::kinds::HostKind>::core(&item, &b)
+                    .map_err(|e| refuse(e.message))?;
                 turned.push(m);
             }
             None => kept.push(b),

@@ -28,7 +28,7 @@ pub fn texel_format(name: &str) -> Result<TexelFormat, String> {
 /// applied; an image named by several materials with one tint is read once.
 /// Returns what was changed (images resized, alpha dropped), each a sentence;
 /// or the index of the material whose image cannot be read, and why.
-pub(super) fn read_images(
+pub(crate) fn read_images(
     desc: &mut SceneDesc,
     base: &Path,
 ) -> Result<Vec<String>, (usize, String)> {

@@ -85,6 +85,7 @@
 
 use super::{Imported, ImportedCamera, ImportedLightKind, ImportedMaterial, ImportedMesh, Limits};
 use super::{ImportedImage, Wrap};
+use crate::arr3::{cross, dot, length, sub};
 use crate::desc::{
     CameraDesc, FilterDesc, LightDesc, MAX_TRIANGLES, MaterialDesc, MeshDesc, SceneDesc, WrapDesc,
     core_triangle_of, num, too_many,
@@ -144,7 +145,7 @@ pub fn scene(path: &Path, camera: Option<&str>) -> Result<SceneDesc, String> {
     let mut imported = super::read(path, &Limits::default())?;
     let cameras = std::mem::take(&mut imported.cameras);
     let lights = std::mem::take(&mut imported.lights);
-    let identity = Placement::of(&mesh_desc(obj.clone(), String::new()))?;
+    let identity = Placement::of(&MeshDesc::unplaced(obj.clone(), None))?;
     let Converted { file, degenerate } = convert(imported, &obj, &identity, MAX_TRIANGLES)?;
     let meshes = split(&file, &degenerate, &obj)?;
     let (lo, hi) = bounds(&file.faces);
@@ -462,25 +463,6 @@ fn default_material(shown: &str, taken: &[MaterialDesc]) -> (MaterialDesc, Vec<S
     )
 }
 
-/// A mesh of file `obj` and material `material`, unscaled, unturned, unmoved,
-/// shaded as the file says, with no faces yet.
-fn mesh_desc(obj: String, material: String) -> MeshDesc {
-    MeshDesc {
-        obj,
-        material: Some(material),
-        scale: 1.0,
-        rotate: None,
-        quaternion: None,
-        translate: [0.0; 3],
-        smooth: None,
-        faces: Vec::new(),
-        degenerate: 0,
-        normals: Vec::new(),
-        uvs: Vec::new(),
-        warnings: Vec::new(),
-    }
-}
-
 /// The meshes of `file` (the file `obj`), one per material with faces, with
 /// `degenerate[k]` degenerate faces of material `k`.
 fn split(file: &MeshFile, degenerate: &[usize], obj: &str) -> Result<Vec<MeshDesc>, String> {
@@ -489,7 +471,7 @@ fn split(file: &MeshFile, degenerate: &[usize], obj: &str) -> Result<Vec<MeshDes
         .iter()
         .zip(degenerate)
         .map(|(m, &lost)| {
-            let mut d = mesh_desc(obj.to_string(), m.name.clone());
+            let mut d = MeshDesc::unplaced(obj, Some(m.name.clone()));
             d.degenerate = lost;
             d
         })
@@ -639,30 +621,6 @@ fn mid(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     std::array::from_fn(|k| (a[k] + b[k]) / 2.0)
 }
 
-/// `a - b`.
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    std::array::from_fn(|k| a[k] - b[k])
-}
-
-/// `a · b`.
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// `a × b`.
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-/// `|a|`.
-fn length(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
 /// `a / |a|` (`a` itself when it has no length).
 fn unit(a: [f64; 3]) -> [f64; 3] {
     let l = length(a);
@@ -679,7 +637,7 @@ mod tests {
     //! hand-written files; expectations from the files' own JSON or by hand.
 
     use super::*;
-    use crate::desc::{TEXTURE_BUDGET, TextureDesc};
+    use crate::desc::TextureDesc;
     use base64::Engine as _;
     use gltf::json::Value;
     use std::path::PathBuf;
@@ -704,30 +662,10 @@ mod tests {
         Placement::of(&mesh).unwrap()
     }
 
-    /// Decodes the embedded images of `d`'s image textures, as the scene loader
+    /// Decodes the embedded images of `d`'s image textures as the scene loader
     /// does, so that `to_core` has their texels.
     fn decode_images(d: &mut SceneDesc) {
-        for m in &mut d.materials {
-            if let Some(TextureDesc::Image {
-                file,
-                filter,
-                wrap,
-                tint,
-                image,
-            }) = &mut m.texture
-            {
-                let (_, bytes) = d.embedded.iter().find(|(n, _)| n == file).unwrap();
-                let t = crate::texture_image::decode_tinted(
-                    bytes,
-                    file,
-                    TEXTURE_BUDGET,
-                    tessera_core::image::TexelFormat::Srgb8,
-                    *tint,
-                )
-                .unwrap();
-                *image = Some(t.leak(filter.core(), wrap.map(WrapDesc::core)).unwrap());
-            }
-        }
+        crate::file::textures::read_images(d, Path::new("")).unwrap();
     }
 
     /// `a` and `b` within `eps`, component by component.

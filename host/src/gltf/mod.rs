@@ -328,7 +328,7 @@ impl Default for Limits {
 /// at fault.
 pub fn read(path: &Path, limits: &Limits) -> Result<Imported, String> {
     let shown = crate::escape_path(path);
-    let bytes = source::read_file(path, limits.max_file_bytes, "glTF file")
+    let bytes = crate::file::read_bytes(path, limits.max_file_bytes, "glTF file")
         .map_err(|e| format!("{shown}: {e}"))?;
     let base = path.parent().unwrap_or(Path::new(""));
     let mut cx = Cx {

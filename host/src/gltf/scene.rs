@@ -2,6 +2,7 @@
 //! column-major), and the cameras and lights they carry.
 
 use super::{Cx, ImportedCamera, ImportedLight, ImportedLightKind, named};
+use crate::arr3::dot;
 use gltf::json;
 use json::validation::Checked;
 
@@ -137,25 +138,8 @@ fn local(node: &json::Node) -> Result<Mat4, String> {
         if len == 0.0 {
             return Err("its rotation is the zero quaternion".to_string());
         }
-        let [x, y, z, w] = q.map(|v| v / len);
-        // Rows of the rotation matrix, times the scale of each column.
-        let r = [
-            [
-                1.0 - 2.0 * (y * y + z * z),
-                2.0 * (x * y - z * w),
-                2.0 * (x * z + y * w),
-            ],
-            [
-                2.0 * (x * y + z * w),
-                1.0 - 2.0 * (x * x + z * z),
-                2.0 * (y * z - x * w),
-            ],
-            [
-                2.0 * (x * z - y * w),
-                2.0 * (y * z + x * w),
-                1.0 - 2.0 * (x * x + y * y),
-            ],
-        ];
+        // Rows of the rotation matrix (times the scale of each column below).
+        let r = crate::mesh::quaternion_matrix(q.map(|v| v / len));
         let mut m = IDENTITY;
         for c in 0..3 {
             for row in 0..3 {
@@ -312,11 +296,6 @@ pub(super) fn cameras(
         });
     }
     Ok(out)
-}
-
-/// `a · b`.
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// The `KHR_lights_punctual` lights of the visited nodes, in world space; spot

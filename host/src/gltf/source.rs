@@ -34,49 +34,6 @@ pub(super) const MESHOPT: &str = "EXT_meshopt_compression";
 /// KTX2 textures' extension name.
 pub(super) const BASISU: &str = "KHR_texture_basisu";
 
-/// The bytes of the regular file at `path` if there are at most `limit` of them,
-/// else the message (`what`: `glTF file`, ...).
-pub(super) fn read_file(path: &Path, limit: usize, what: &str) -> Result<Vec<u8>, String> {
-    read_bounded(path, limit, what)?.map_err(|size| too_big(size, limit, what))
-}
-
-/// The bytes of the regular file at `path`, or `Err(size)` if it has more than
-/// `limit` (`None`: grown while read); the outer error is the message of a file
-/// that cannot be read. The size is checked from the metadata before reading,
-/// and the read stops one byte past the limit.
-fn read_bounded(
-    path: &Path,
-    limit: usize,
-    what: &str,
-) -> Result<Result<Vec<u8>, Option<u64>>, String> {
-    let file = crate::file::open_regular(path, what)?;
-    let size = file.metadata().ok().map(|m| m.len());
-    if let Some(n) = size.filter(|&n| n > limit as u64) {
-        return Ok(Err(Some(n)));
-    }
-    let mut bytes = Vec::new();
-    file.take(limit as u64 + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read the {what}: {e}"))?;
-    if bytes.len() > limit {
-        return Ok(Err(None));
-    }
-    Ok(Ok(bytes))
-}
-
-/// The message for a `what` of `size` bytes (`None`: unknown, grown while read)
-/// above `limit`.
-fn too_big(size: Option<u64>, limit: usize, what: &str) -> String {
-    let limit = format!(
-        "the limit of {limit} bytes ({} MiB)",
-        crate::desc::num(limit as f64 / 1_048_576.0)
-    );
-    match size {
-        Some(n) => format!("the {what} is {n} bytes, more than {limit}"),
-        None => format!("the {what} is larger than {limit}"),
-    }
-}
-
 /// The `.glb` signature.
 const GLB_MAGIC: &[u8; 4] = b"glTF";
 
@@ -673,7 +630,7 @@ fn image_bytes(
         }
         Uri::File(rel) => {
             let shown = crate::escape_path(&rel);
-            let bytes = read_bounded(&cx.base.join(&rel), left, "image file")
+            let bytes = crate::file::read_bounded(&cx.base.join(&rel), left, "image file")
                 .map_err(|e| format!("'{shown}': {e}"))?
                 .map_err(|size| format!("'{shown}': {}", over(size.map(|n| n as usize))))?;
             let name = rel.file_name().map(|f| f.to_string_lossy().into_owned());

@@ -140,13 +140,7 @@ fn triangle_doc() -> Doc {
 /// `(b - a) × (c - a)`.
 fn face_normal(p: &[[f64; 3]], t: [u32; 3]) -> [f64; 3] {
     let [a, b, c] = t.map(|i| p[i as usize]);
-    let u: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
-    let v: [f64; 3] = std::array::from_fn(|k| c[k] - a[k]);
-    [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ]
+    crate::arr3::cross(crate::arr3::sub(b, a), crate::arr3::sub(c, a))
 }
 
 /// Asserts `a` and `b` agree to 1e-12.

@@ -7,18 +7,7 @@ use crate::desc::{
 use tessera_core::{RenderSettings, Sampler, Viewport};
 
 fn material(name: &str, color: [f64; 3]) -> MaterialDesc {
-    MaterialDesc {
-        name: name.into(),
-        color,
-        texture: None,
-        ambient: 1.0,
-        diffuse: 1.0,
-        specular: 0.0,
-        shininess: 1.0,
-        reflectivity: 0.0,
-        transparency: 0.0,
-        ior: 1.0,
-    }
+    MaterialDesc::matte(name, color)
 }
 
 fn camera(position: [f64; 3], forward: [f64; 3]) -> CameraDesc {
@@ -483,18 +472,9 @@ fn signatures_change_where_a_primitives_shading_jumps() {
                 });
             }
             d.meshes.push(crate::desc::MeshDesc {
-                obj: "fold.obj".into(),
-                material: Some("m".into()),
-                scale: 1.0,
-                rotate: None,
-                quaternion: None,
-                translate: [0.0; 3],
                 smooth: Some(smooth),
                 faces: faces.clone(),
-                degenerate: 0,
-                normals: Vec::new(),
-                uvs: Vec::new(),
-                warnings: Vec::new(),
+                ..crate::desc::MeshDesc::unplaced("fold.obj", Some("m".into()))
             });
         }
     };
