@@ -106,7 +106,9 @@ say "packages: cargo publish --dry-run (tessera-core, tessera-host)"
 # are only ever this check's.
 rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/tessera-core-* \
   "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/tessera-host-*
-run cargo publish --dry-run --allow-dirty -p tessera-core -p tessera-host --target-dir target/package-check
+# Without debug info (CARGO_PROFILE_DEV_DEBUG): the check is that the packages
+# build, and the build writes and links less.
+run env CARGO_PROFILE_DEV_DEBUG=0 cargo publish --dry-run --allow-dirty -p tessera-core -p tessera-host --target-dir target/package-check
 
 # rust-version is what the dependencies need (flip-rs 1.88, criterion 1.86): the
 # two published crates, every target (their tests and benchmark), type-check with
@@ -132,26 +134,31 @@ say "dual-core firmware image (tests/dualcore): format and clippy"
 run cargo fmt --manifest-path tests/dualcore/Cargo.toml -- --check
 run cargo clippy --manifest-path tests/dualcore/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
 
+# The three examples are linted in the release profile, the one their tests
+# build them in (in their own target folders): the build scripts and their
+# build-dependencies (the qemu example's scene baker, tessera-host) are then
+# compiled once, for both.
+#
 # The board example (an STM32F411 Black Pill and an ST7789 panel): its own
-# workspace; the test `board::...` in `cargo test-all` links it and checks the
+# workspace; the test `examples::board::...` in `cargo test-all` links it and checks the
 # sizes its README states.
 say "board example (examples/blackpill-st7789): format and clippy"
 run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
-run cargo clippy --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+run cargo clippy --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
 
 # The Raspberry Pi Pico 2 example (an RP2350, both cores, and a Waveshare
 # Pico-LCD-1.3 fed by DMA): its own workspace, for the Cortex-M33; the test
-# `pico2::...` in `cargo test-all` links it and checks the sizes its README states.
+# `examples::pico2::...` in `cargo test-all` links it and checks the sizes its README states.
 say "Pico 2 example (examples/pico2-st7789): format and clippy"
 run cargo fmt --manifest-path examples/pico2-st7789/Cargo.toml -- --check
-run cargo clippy --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
+run cargo clippy --release --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
 
 # The firmware to copy (a scene file on qemu's Cortex-M4F): its own workspace; the
-# tests `qemu_example::...` in `cargo test-all` build it in its folder, as a user
+# tests `examples::qemu::...` in `cargo test-all` build it in its folder, as a user
 # does, and run it.
 say "qemu example (examples/qemu-m4f): format and clippy"
 run cargo fmt --manifest-path examples/qemu-m4f/Cargo.toml -- --check
-run cargo clippy --manifest-path examples/qemu-m4f/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+run cargo clippy --release --manifest-path examples/qemu-m4f/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
 
 say "no-panic proof (tests/nopanic): format and clippy, both backends"
 run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check
@@ -170,11 +177,11 @@ run cargo build -p tessera-core --release --target riscv32imc-unknown-none-elf -
 # calls an undefined symbol: the link fails ("undefined symbol:
 # tessera_nopanic__a_panic_is_reachable_from_the_render_path") if any panic is
 # reachable from the render path. Then one run under qemu: every render returned Ok.
-say "no panic reachable on the Cortex-M4F (tests/nopanic links): exact, fast-math, and with the BVH search, the optional kinds and image textures linked"
+say "no panic reachable on the Cortex-M4F (tests/nopanic links): exact, fast-math, and with the BVH search, the optional kinds, image textures and the sun linked"
 for backend in exact fast-math bvh; do
   features=()
   [ "$backend" = fast-math ] && features=(--features fast-math)
-  [ "$backend" = bvh ] && features=(--features bvh,all-kinds,image)
+  [ "$backend" = bvh ] && features=(--features bvh,all-kinds,image,sun)
   run cargo build --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
   run cargo run -q --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
 done

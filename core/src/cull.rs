@@ -454,8 +454,11 @@ fn ball(points: &[Vec3; 3]) -> (Vec3, f32) {
 /// magnifies by at most 64 otherwise, and the clearance [`MARGIN`] covers 64 times
 /// the rounding of the rays): then the blocker is kept.
 fn shadow_meets(plane: &Plane, light: LightKind, b: Bounds, region: Bounds) -> bool {
+    // Without the feature `sun`, the match has one arm.
+    #[cfg_attr(not(feature = "sun"), allow(clippy::infallible_destructuring_match))]
     let light = match light {
         LightKind::Point(at) => at,
+        #[cfg(feature = "sun")]
         LightKind::Directional(toward) => return sun_shadow_meets(plane, toward, b, region),
     };
     let (p0, n) = (plane.point(), plane.normal());
@@ -525,6 +528,7 @@ fn projection_meets(
 /// grazing the plane (or a NaN) keeps the blocker, as a point light near the
 /// plane's level does. Where the box dips below the plane, its crossing with the
 /// plane is inside the box itself.
+#[cfg(feature = "sun")]
 fn sun_shadow_meets(plane: &Plane, toward: Vec3, b: Bounds, region: Bounds) -> bool {
     let (p0, n) = (plane.point(), plane.normal());
     let up = n.dot(toward);
@@ -627,6 +631,7 @@ impl Bounds {
                 };
                 (light + axis * s, mag(light))
             }
+            #[cfg(feature = "sun")]
             LightKind::Directional(toward) => {
                 let s = crate::math::max((c - m).dot(toward), 0.0);
                 (m + toward * s, 1.0)
@@ -645,6 +650,7 @@ impl Bounds {
         let (p0, n) = (plane.point(), plane.normal());
         let (side, reach) = match light {
             LightKind::Point(at) => (n.dot(at - p0), mag(at)),
+            #[cfg(feature = "sun")]
             LightKind::Directional(toward) => (n.dot(toward), 1.0),
         };
         let c = (self.min + self.max) * 0.5;
@@ -835,6 +841,7 @@ mod tests {
     extern crate std;
     use std::vec::Vec as StdVec;
 
+    #[cfg(feature = "sun")]
     fn bounds(min: [f32; 3], max: [f32; 3]) -> Bounds {
         Bounds {
             min: Vec3::new(min[0], min[1], min[2]),
@@ -845,6 +852,7 @@ mod tests {
     /// A sun's capsule runs from the visible points towards it without end: a
     /// ball beside that half-line is culled, one on it (however far) is kept,
     /// and one behind the points (away from the sun) is culled.
+    #[cfg(feature = "sun")]
     #[test]
     fn a_suns_capsule_is_a_half_line_towards_it() {
         let seen = bounds([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]);
@@ -863,6 +871,7 @@ mod tests {
     /// `(dx, dy)` points to the sun: straight up, `[4, 5]`; from the upper
     /// right at 45 degrees, `[2, 4]`; from `(3, 1)`, `[-2, 2]`, which meets the
     /// visible floor `[-1, 1]`.
+    #[cfg(feature = "sun")]
     #[test]
     fn a_suns_shadow_on_a_plane_is_the_parallel_projection() {
         let floor = Plane::try_new(Vec3::ZERO, Vec3::Y).unwrap();

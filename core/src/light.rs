@@ -1,12 +1,17 @@
-//! Light sources: point lights and directional lights (a sun), each with a colour
-//! and an intensity.
+//! Light sources: point lights and, with the feature `sun`, directional lights
+//! (a sun), each with a colour and an intensity.
+//!
+//! Without `sun`, a light is a point light only: its type holds no kind, and
+//! the light loop, the shadow culling and the scene's scaling have no branch for
+//! a sun (a firmware whose scene has none pays nothing for it).
 
 use crate::color::Color;
 use crate::error::{Error, Field, finite};
 use crate::vec::Vec3;
 
-/// A light. Two kinds ([`Light::point`], [`Light::directional`]), one type: a
-/// scene's light list holds both, and the light loop branches once a light.
+/// A light. Two kinds ([`Light::point`] and, with the feature `sun`,
+/// `Light::directional`), one type: a scene's light list holds both, and the
+/// light loop branches once a light.
 ///
 /// - A **point light** at `position`: at a distance `r`, a surface facing it
 ///   receives `color * intensity / r^2`.
@@ -24,6 +29,7 @@ pub struct Light {
     at: Vec3,
     color: Color,
     intensity: f32,
+    #[cfg(feature = "sun")]
     directional: bool,
 }
 
@@ -35,8 +41,18 @@ pub enum LightKind {
     Point(Vec3),
     /// A directional light: the unit direction towards it (the opposite of the
     /// way its rays travel).
+    #[cfg(feature = "sun")]
     Directional(Vec3),
 }
+
+/// The bytes of a [`Light`] in a core built without the feature `sun` (its
+/// position, colour and intensity: no kind): a baked scene without a sun states
+/// its light table's size for such a firmware, whatever the baker's build has.
+pub const POINT_LIGHT_BYTES: usize =
+    core::mem::size_of::<Vec3>() + core::mem::size_of::<Color>() + core::mem::size_of::<f32>();
+
+#[cfg(not(feature = "sun"))]
+const _: () = assert!(core::mem::size_of::<Light>() == POINT_LIGHT_BYTES);
 
 /// The range of a light's intensity.
 const INTENSITY_RANGE: &str = "[0, inf)";
@@ -61,6 +77,7 @@ impl Light {
             at: crate::error::position(position, Field::LightPosition)?,
             color: crate::error::color(color, Field::LightColor)?,
             intensity: self::intensity(intensity)?,
+            #[cfg(feature = "sun")]
             directional: false,
         })
     }
@@ -68,7 +85,8 @@ impl Light {
     /// A directional light whose rays travel along `direction` (any finite,
     /// non-zero length: normalised here; a sun overhead is `-Y`); colour and
     /// intensity as for [`Light::point`], the intensity being the irradiance of a
-    /// surface facing the light.
+    /// surface facing the light. With the feature `sun`.
+    #[cfg(feature = "sun")]
     pub fn directional(direction: Vec3, color: Color, intensity: f32) -> Result<Self, Error> {
         let toward = -crate::error::unit(direction, Field::LightDirection)?;
         Ok(Self {
@@ -88,6 +106,7 @@ impl Light {
             at: Vec3::new(position[0], position[1], position[2]),
             color,
             intensity,
+            #[cfg(feature = "sun")]
             directional: false,
         }
     }
@@ -95,7 +114,9 @@ impl Light {
     /// A directional light of baked data: `toward` is the unit direction towards
     /// the light, as [`Light::directional`] stores it (the bake writes that
     /// light's own numbers). Not checked here: [`crate::BakedScene::view`] checks
-    /// that [`Light::directional`] of its opposite gives the same light.
+    /// that [`Light::directional`] of its opposite gives the same light. With
+    /// the feature `sun`.
+    #[cfg(feature = "sun")]
     #[must_use]
     pub const fn baked_directional(toward: [f32; 3], color: Color, intensity: f32) -> Self {
         Self {
@@ -107,43 +128,46 @@ impl Light {
     }
 
     /// The light checked again from its own numbers, as [`Light::point`] or
-    /// [`Light::directional`] would make it: a baked light is this light when the
+    /// `Light::directional` would make it: a baked light is this light when the
     /// two are equal. A directional light's direction is taken as it is when its
     /// squared length is within 8 ulps of 1 (what normalising in `f32` leaves,
     /// as for a mesh's vertex normals; a normalised vector need not normalise to
     /// itself again).
     pub fn checked(&self) -> Result<Self, Error> {
+        #[cfg(feature = "sun")]
         if self.directional {
             let made = Self::directional(-self.at, self.color, self.intensity)?;
             let off = crate::math::abs(self.at.length_squared() - 1.0);
-            if off <= 8.0 * f32::EPSILON {
+            return if off <= 8.0 * f32::EPSILON {
                 Ok(Self {
                     at: self.at,
                     ..made
                 })
             } else {
                 Err(Error::ZeroLength(Field::LightDirection))
-            }
-        } else {
-            Self::point(self.at, self.color, self.intensity)
+            };
         }
+        Self::point(self.at, self.color, self.intensity)
     }
 
     /// Where the light is: its position, or the direction towards it.
     #[must_use]
     pub fn kind(&self) -> LightKind {
+        #[cfg(feature = "sun")]
         if self.directional {
-            LightKind::Directional(self.at)
-        } else {
-            LightKind::Point(self.at)
+            return LightKind::Directional(self.at);
         }
+        LightKind::Point(self.at)
     }
 
-    /// True for a directional light.
+    /// True for a directional light (always false without the feature `sun`).
     #[must_use]
     #[inline(always)]
     pub fn is_directional(&self) -> bool {
-        self.directional
+        #[cfg(feature = "sun")]
+        return self.directional;
+        #[cfg(not(feature = "sun"))]
+        false
     }
 
     /// A point light's position; a directional light's unit direction towards it
@@ -189,6 +213,7 @@ mod tests {
         assert!(Light::point(p, Color::WHITE, 0.0).is_ok());
     }
 
+    #[cfg(feature = "sun")]
     #[test]
     fn a_directional_light_keeps_the_unit_direction_towards_it() {
         let sun = Light::directional(Vec3::new(0.0, -2.0, 0.0), Color::WHITE, 3.0).unwrap();

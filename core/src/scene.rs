@@ -286,6 +286,7 @@ impl<C: Capacities> Scene<C> {
                 crate::light::LightKind::Point(p) => {
                     Light::point(p * f, l.color(), l.intensity() * f * f)?
                 }
+                #[cfg(feature = "sun")]
                 crate::light::LightKind::Directional(_) => *l,
             })?;
         }

@@ -631,8 +631,16 @@ impl<'a> Writer<'a> {
         Ok(())
     }
 
-    /// `LIGHTS`.
+    /// `LIGHTS`; with a sun, the core's feature `sun`. Without one, the table's
+    /// size is the firmware's: its lights have no kind to store.
     fn lights(&mut self, view: &tessera_core::SceneView<'_>) {
+        let sun = view
+            .lights()
+            .iter()
+            .any(tessera_core::light::Light::is_directional);
+        if sun {
+            self.features.push("sun");
+        }
         let lights: Vec<String> = view
             .lights()
             .iter()
@@ -655,7 +663,11 @@ impl<'a> Writer<'a> {
             "LIGHTS",
             "Light",
             &lights,
-            size_of_val(view.lights()),
+            if sun {
+                size_of_val(view.lights())
+            } else {
+                view.lights().len() * tessera_core::light::POINT_LIGHT_BYTES
+            },
         );
     }
 
@@ -1023,7 +1035,8 @@ impl<'a> Writer<'a> {
 
 /// The core's optional features that a scene needs (`cylinder`, `disk`: the
 /// kinds the core compiles only with them, in the core's order; then `image`
-/// for image textures): a firmware that bakes the scene enables them.
+/// for image textures, `sun` for a directional light): a firmware that bakes
+/// the scene enables them.
 #[must_use]
 pub fn kind_features(desc: &SceneDesc) -> Vec<&'static str> {
     let mut out = Vec::new();
@@ -1040,6 +1053,9 @@ pub fn kind_features(desc: &SceneDesc) -> Vec<&'static str> {
         .any(|m| matches!(m.texture, Some(crate::desc::TextureDesc::Image { .. })))
     {
         out.push("image");
+    }
+    if desc.lights.iter().any(|l| l.direction.is_some()) {
+        out.push("sun");
     }
     out
 }
@@ -1571,11 +1587,58 @@ mod tests {
              [Wrap::Repeat, Wrap::Repeat], &IMAGE0))"
         ));
         assert!(src.contains("Filter::Nearest, [Wrap::Repeat, Wrap::MirroredRepeat], &IMAGE1)"));
-        assert_eq!(kind_features(&desc), ["image"]);
+        // The scene's sun asks for the core's `sun` too.
+        assert_eq!(kind_features(&desc), ["image", "sun"]);
         let desc = crate::file::load(&dir.join("mtl.toml")).unwrap();
         let src = scene_source(&desc, "mtl.toml", "tessera_core").unwrap();
         assert!(src.contains("pub static IMAGE0: [u8; 16200] = ["));
         assert!(src.contains("TexelFormat::Rgb565"));
+    }
+
+    /// A sun asks for the core's feature `sun` (in the header and in
+    /// [`kind_features`]) and bakes as `Light::baked_directional`; point lights
+    /// alone ask for nothing, and their table's bytes are those of a core
+    /// without `sun` (a position, a colour, an intensity: 28 bytes a light),
+    /// whatever the baker's own build holds.
+    #[test]
+    fn a_sun_asks_for_its_feature_and_point_lights_take_their_own_bytes() {
+        let scene = |lights: &str| {
+            format!(
+                "[camera]\nposition = [0, 1, 5]\nlook_at = [0, 0, 0]\nfovy = 60\nnear = 0.1\nfar = 100\n\
+                 [[material]]\nname = \"m\"\ncolor = [1, 1, 1]\n\
+                 [[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\n{lights}"
+            )
+        };
+        let point = "[[light]]\nposition = [0, 5, 0]\nintensity = 10\n";
+        let sun = "[[light]]\ndirection = [0, -1, 0]\nintensity = 1\n";
+        let header = |text: &str| {
+            let desc = crate::file::parse(text, "s.toml").unwrap();
+            let src = scene_source(&desc, "s.toml", "tessera_core").unwrap();
+            (kind_features(&desc), src)
+        };
+        let (features, src) = header(&scene(&format!("{point}{point}")));
+        assert!(features.is_empty(), "{features:?}");
+        assert!(!src.contains("feature `sun`"), "{src}");
+        assert!(src.contains("2 lights"), "{src}");
+        assert_eq!(tessera_core::light::POINT_LIGHT_BYTES, 28);
+        let bytes = |src: &str| {
+            let line = src.lines().find(|l| l.contains("bytes of flash")).unwrap();
+            let n = line.rsplit(": ").next().unwrap().split(' ').next().unwrap();
+            n.parse::<usize>().unwrap()
+        };
+        let (features, with_sun) = header(&scene(&format!("{point}{sun}")));
+        assert_eq!(features, ["sun"]);
+        assert!(
+            with_sun.contains("// Needs the core's feature `sun`"),
+            "{with_sun}"
+        );
+        assert!(
+            with_sun.contains("Light::baked_directional([-0.0, 1.0, -0.0], "),
+            "{with_sun}"
+        );
+        // The same two lights' table, with the kind each light then holds.
+        let tessera = size_of::<tessera_core::light::Light>();
+        assert_eq!(bytes(&with_sun) - bytes(&src), 2 * (tessera - 28));
     }
 
     #[test]

@@ -52,8 +52,9 @@ fn bake(out: &Path) -> Result<(), String> {
              (on by default; build without --no-default-features)"
         ));
     }
-    // The kinds (and image textures) the core compiles only with a feature of
-    // its own (the example forwards each: `--features cylinder,disk,image`).
+    // The kinds (and image textures, and the sun) the core compiles only with
+    // a feature of its own (the example forwards each: `--features
+    // cylinder,disk,image,sun`).
     let missing: Vec<&str> = tessera_host::bake::kind_features(&desc)
         .into_iter()
         .filter(|f| {

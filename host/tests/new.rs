@@ -1,6 +1,6 @@
 //! `tessera new`: the crate it writes, and what it refuses without writing
 //! anything. (Building and running the crate under qemu:
-//! tests/tests/qemu_example.rs in the workspace's test crate.)
+//! tests/tests/examples/qemu.rs in the workspace's test crate.)
 
 use crate::common::{bin, entries, scratch, text};
 use std::path::Path;

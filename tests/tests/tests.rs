@@ -2,13 +2,21 @@
 
 mod adaptive;
 mod analytic;
-mod board;
 mod builtin_images;
 mod convergence;
 mod cores;
 mod culling;
 mod docs;
 mod dualcore;
+/// The examples users copy (`examples/`), each built as its README says. Their
+/// module sorts before the firmware and reference tests, so that the longest
+/// chain of builds (the qemu example's scenes, one after the other in its one
+/// target folder) starts early and the other test thread has work beside it.
+mod examples {
+    mod board;
+    mod pico2;
+    mod qemu;
+}
 mod extremes;
 mod finite;
 mod firmware;
@@ -18,8 +26,6 @@ mod install;
 mod interference;
 mod nofpu;
 mod overlay;
-mod pico2;
-mod qemu_example;
 mod reference;
 mod sparse;
 mod tiles;

@@ -1,6 +1,6 @@
 // Baked by `tessera bake` from "scenes/chapter-reflect.toml": generated, do not edit.
 //
-// 5 materials, 1 light, 4 spheres, 1 plane: 488 bytes of flash.
+// 5 materials, 1 light, 4 spheres, 1 plane: 484 bytes of flash.
 
 use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Plane, geometry::Sphere, light::Light, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 

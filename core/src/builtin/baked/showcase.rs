@@ -1,6 +1,6 @@
 // Baked by `tessera bake` from "scenes/showcase.toml": generated, do not edit.
 //
-// 8 materials, 2 lights, 3 spheres, 2 planes, 2 boxes, 4 triangles: 964 bytes of flash.
+// 8 materials, 2 lights, 3 spheres, 2 planes, 2 boxes, 4 triangles: 956 bytes of flash.
 
 use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, capacities, geometry::Aabb, geometry::Plane, geometry::Sphere, geometry::Triangle, light::Light, material::Material, material::MaterialId, texture::Texture, tile::Loops, tile::TileLoop};
 

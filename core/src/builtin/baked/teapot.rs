@@ -1,6 +1,6 @@
 // Baked by `tessera bake` from "scenes/teapot.toml": generated, do not edit.
 //
-// 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 723 BVH nodes: 46008 bytes of flash.
+// 2 materials, 2 lights, 1 plane; mesh 0: 580 vertices, 1088 faces, 723 BVH nodes: 46000 bytes of flash.
 // Needs the core's feature `bvh` (its features list in the firmware's Cargo.toml).
 
 use crate::{BakedCamera, BakedScene, Color, Encoding, Primitive, Primitives, RenderSettings, Sampler, Viewport, bvh::BakedBvh, bvh::BvhNode, capacities, geometry::Plane, light::Light, material::Material, material::MaterialId, mesh::Mesh, texture::Texture, tile::Loops, tile::TileLoop};

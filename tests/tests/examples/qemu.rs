@@ -185,8 +185,36 @@ fn number(stdout: &str, key: &str) -> u64 {
         .unwrap_or_else(|_| panic!("{key}= is not a number in {stdout:?}"))
 }
 
+/// Every scene file of [`SCENES`] built and run once, then checked three ways,
+/// each check's failures reported (one test: the builds are one chain in one
+/// target folder, and tests waiting on it would hold the test threads).
 #[test]
-fn the_qemu_example_writes_the_hosts_picture_of_each_scene_file() {
+fn each_scene_file_builds_runs_and_is_what_the_host_and_readme_say() {
+    let checks: [(&str, fn()); 3] = [
+        (
+            "the host's picture",
+            writes_the_hosts_picture_of_each_scene_file,
+        ),
+        (
+            "scenes in flash, tile in RAM",
+            keeps_its_scenes_in_flash_and_its_tile_in_ram,
+        ),
+        ("the README's figures", readme_has_its_figures),
+    ];
+    let failed: Vec<&str> = checks
+        .into_iter()
+        .filter(|(_, check)| std::panic::catch_unwind(check).is_err())
+        .map(|(what, _)| what)
+        .collect();
+    assert!(
+        failed.is_empty(),
+        "failed (their messages above): {failed:?}"
+    );
+}
+
+/// The firmware's picture of each scene is the host's, byte for byte, with the
+/// printed checksum, size and counts.
+fn writes_the_hosts_picture_of_each_scene_file() {
     let dir = example();
     let mut bad = Vec::new();
     for run in runs() {
@@ -237,8 +265,8 @@ fn the_qemu_example_writes_the_hosts_picture_of_each_scene_file() {
     );
 }
 
-#[test]
-fn the_qemu_example_keeps_its_scenes_in_flash_and_its_tile_in_ram() {
+/// The scene's tables lie in flash; the RAM holds the tile and a few words.
+fn keeps_its_scenes_in_flash_and_its_tile_in_ram() {
     let (flash, ram) = firmware::memory_regions(&example().join("memory.x")).unwrap();
     let tile = size_of::<tessera_core::Tile<16>>() as u64;
     for run in runs() {
@@ -311,8 +339,7 @@ fn tables(run: &Run) -> Vec<&Symbol> {
 /// (2 % for the instructions): the same sources built in another folder link a
 /// little differently (the crates' paths enter their symbol hashes, which moves
 /// code alignment); a stale figure is further off.
-#[test]
-fn the_qemu_example_readme_has_its_figures() {
+fn readme_has_its_figures() {
     let readme = std::fs::read_to_string(example().join("README.md")).unwrap();
     let mut wrong = Vec::new();
     for run in runs() {
