@@ -68,6 +68,93 @@ if ! rustup toolchain list | grep -q "^$msrv-"; then
   rustup toolchain install "$msrv" --profile minimal
 fi
 
+# The firmware images' and examples' steps (their own workspaces and target
+# folders) run in the background beside the workspace's format, lint, rustdoc,
+# package and minimum-Rust steps: many of both are single-threaded for long
+# stretches (a crate's own compile, a fat-LTO link, qemu), so the two cores are
+# busier together. Their output is held in a file and shown when they end, and
+# their failures join the list.
+own_workspaces() {
+  say "firmware test image (tests/firmware): format and clippy, both backends, every core's target and board"
+  run cargo fmt --manifest-path tests/firmware/Cargo.toml -- --check
+  run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+  run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
+  run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf --features mps2-an500 -- -D warnings
+  run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
+  run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv8m.main-none-eabihf --features mps3-an547 -- -D warnings
+  run cargo clippy --manifest-path tests/firmware/Cargo.toml --target riscv32imafc-unknown-none-elf -- -D warnings
+  run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv6m-none-eabi -- -D warnings
+  run cargo clippy --manifest-path tests/firmware/Cargo.toml --target riscv32imc-unknown-none-elf -- -D warnings
+
+  # Both Cortex-M33 of qemu's mps2-an521 sharing a frame's tiles: its own workspace;
+  # the tests `dualcore::...` in `cargo test-all` build it and run it under qemu.
+  say "dual-core firmware image (tests/dualcore): format and clippy"
+  run cargo fmt --manifest-path tests/dualcore/Cargo.toml -- --check
+  run cargo clippy --manifest-path tests/dualcore/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
+
+  # The three examples are linted in the release profile, the one their tests
+  # build them in (in their own target folders): the build scripts and their
+  # build-dependencies (the qemu example's scene baker, tessera-host) are then
+  # compiled once, for both.
+  #
+  # The board example (an STM32F411 Black Pill and an ST7789 panel): its own
+  # workspace; the test `examples::board::...` in `cargo test-all` links it and checks the
+  # sizes its README states.
+  say "board example (examples/blackpill-st7789): format and clippy"
+  run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
+  run cargo clippy --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+
+  # The Raspberry Pi Pico 2 example (an RP2350, both cores, and a Waveshare
+  # Pico-LCD-1.3 fed by DMA): its own workspace, for the Cortex-M33; the test
+  # `examples::pico2::...` in `cargo test-all` links it and checks the sizes its README states.
+  say "Pico 2 example (examples/pico2-st7789): format and clippy"
+  run cargo fmt --manifest-path examples/pico2-st7789/Cargo.toml -- --check
+  run cargo clippy --release --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
+
+  # The firmware to copy (a scene file on qemu's Cortex-M4F): its own workspace; the
+  # tests `examples::qemu::...` in `cargo test-all` build it in its folder, as a user
+  # does, and run it.
+  say "qemu example (examples/qemu-m4f): format and clippy"
+  run cargo fmt --manifest-path examples/qemu-m4f/Cargo.toml -- --check
+  run cargo clippy --release --manifest-path examples/qemu-m4f/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+
+  say "no-panic proof (tests/nopanic): format and clippy, both backends"
+  run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check
+  run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+  run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
+
+  say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends; for the other targets"
+  run cargo fw-core
+  run cargo fw-core --features fast-math
+  run cargo build -p tessera-core --release --target thumbv8m.main-none-eabihf
+  run cargo build -p tessera-core --release --target riscv32imafc-unknown-none-elf
+  run cargo build -p tessera-core --release --target thumbv6m-none-eabi --features teapot
+  run cargo build -p tessera-core --release --target riscv32imc-unknown-none-elf --features teapot
+
+  # The image renders every built-in scene through the tile API and its panic handler
+  # calls an undefined symbol: the link fails ("undefined symbol:
+  # tessera_nopanic__a_panic_is_reachable_from_the_render_path") if any panic is
+  # reachable from the render path. Then one run under qemu: every render returned Ok.
+  say "no panic reachable on the Cortex-M4F (tests/nopanic links): exact, fast-math, and with the BVH search, the optional kinds, image textures and the sun linked"
+  for backend in exact fast-math bvh; do
+    features=()
+    [ "$backend" = fast-math ] && features=(--features fast-math)
+    [ "$backend" = bvh ] && features=(--features bvh,all-kinds,image,sun)
+    run cargo build --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
+    run cargo run -q --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
+  done
+}
+own_log=$(mktemp)
+own_failed=$(mktemp)
+(
+  # This subshell's own `run` and `say`: output to the held file, a failure
+  # to the list file (the parent's list is not this process's).
+  run() { "$@" >>"$own_log" 2>&1 || printf '%s\n' "$*" >>"$own_failed"; }
+  say() { printf '\n== %s (at %d s)\n' "$*" "$SECONDS" >>"$own_log"; }
+  own_workspaces
+) &
+own_pid=$!
+
 say "format"
 run cargo fmt --all -- --check
 
@@ -117,74 +204,12 @@ run env CARGO_PROFILE_DEV_DEBUG=0 cargo publish --dry-run --allow-dirty -p tesse
 say "minimum supported Rust: cargo +$msrv check (Cargo.toml's rust-version)"
 run cargo "+$msrv" check -p tessera-core -p tessera-host --all-targets
 
-say "firmware test image (tests/firmware): format and clippy, both backends, every core's target and board"
-run cargo fmt --manifest-path tests/firmware/Cargo.toml -- --check
-run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
-run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
-run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv7em-none-eabihf --features mps2-an500 -- -D warnings
-run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
-run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv8m.main-none-eabihf --features mps3-an547 -- -D warnings
-run cargo clippy --manifest-path tests/firmware/Cargo.toml --target riscv32imafc-unknown-none-elf -- -D warnings
-run cargo clippy --manifest-path tests/firmware/Cargo.toml --target thumbv6m-none-eabi -- -D warnings
-run cargo clippy --manifest-path tests/firmware/Cargo.toml --target riscv32imc-unknown-none-elf -- -D warnings
-
-# Both Cortex-M33 of qemu's mps2-an521 sharing a frame's tiles: its own workspace;
-# the tests `dualcore::...` in `cargo test-all` build it and run it under qemu.
-say "dual-core firmware image (tests/dualcore): format and clippy"
-run cargo fmt --manifest-path tests/dualcore/Cargo.toml -- --check
-run cargo clippy --manifest-path tests/dualcore/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
-
-# The three examples are linted in the release profile, the one their tests
-# build them in (in their own target folders): the build scripts and their
-# build-dependencies (the qemu example's scene baker, tessera-host) are then
-# compiled once, for both.
-#
-# The board example (an STM32F411 Black Pill and an ST7789 panel): its own
-# workspace; the test `examples::board::...` in `cargo test-all` links it and checks the
-# sizes its README states.
-say "board example (examples/blackpill-st7789): format and clippy"
-run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
-run cargo clippy --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
-
-# The Raspberry Pi Pico 2 example (an RP2350, both cores, and a Waveshare
-# Pico-LCD-1.3 fed by DMA): its own workspace, for the Cortex-M33; the test
-# `examples::pico2::...` in `cargo test-all` links it and checks the sizes its README states.
-say "Pico 2 example (examples/pico2-st7789): format and clippy"
-run cargo fmt --manifest-path examples/pico2-st7789/Cargo.toml -- --check
-run cargo clippy --release --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
-
-# The firmware to copy (a scene file on qemu's Cortex-M4F): its own workspace; the
-# tests `examples::qemu::...` in `cargo test-all` build it in its folder, as a user
-# does, and run it.
-say "qemu example (examples/qemu-m4f): format and clippy"
-run cargo fmt --manifest-path examples/qemu-m4f/Cargo.toml -- --check
-run cargo clippy --release --manifest-path examples/qemu-m4f/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
-
-say "no-panic proof (tests/nopanic): format and clippy, both backends"
-run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check
-run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
-run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
-
-say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends; for the other targets"
-run cargo fw-core
-run cargo fw-core --features fast-math
-run cargo build -p tessera-core --release --target thumbv8m.main-none-eabihf
-run cargo build -p tessera-core --release --target riscv32imafc-unknown-none-elf
-run cargo build -p tessera-core --release --target thumbv6m-none-eabi --features teapot
-run cargo build -p tessera-core --release --target riscv32imc-unknown-none-elf --features teapot
-
-# The image renders every built-in scene through the tile API and its panic handler
-# calls an undefined symbol: the link fails ("undefined symbol:
-# tessera_nopanic__a_panic_is_reachable_from_the_render_path") if any panic is
-# reachable from the render path. Then one run under qemu: every render returned Ok.
-say "no panic reachable on the Cortex-M4F (tests/nopanic links): exact, fast-math, and with the BVH search, the optional kinds, image textures and the sun linked"
-for backend in exact fast-math bvh; do
-  features=()
-  [ "$backend" = fast-math ] && features=(--features fast-math)
-  [ "$backend" = bvh ] && features=(--features bvh,all-kinds,image,sun)
-  run cargo build --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
-  run cargo run -q --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
-done
+wait "$own_pid" || true
+say "the firmware images' and examples' steps, run beside the steps above:"
+cat "$own_log"
+cat "$own_log" >>"$log"
+while IFS= read -r step; do failed+=("$step"); done <"$own_failed"
+rm -f "$own_log" "$own_failed"
 
 say "tests"
 run cargo test-all
