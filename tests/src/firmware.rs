@@ -1007,6 +1007,25 @@ pub fn memory_regions(path: &Path) -> Result<(u64, u64), String> {
     Ok((length("FLASH")?, length("RAM")?))
 }
 
+/// Panics unless the cargo configuration `config` (read from `path`, named in
+/// the message) has a `runner = "..."` line that is [`QEMU`] and [`QEMU_ARGS`],
+/// word for word: `cargo run` then starts qemu as this harness does.
+pub fn assert_runner_is_qemu(config: &str, path: &Path) {
+    let runner = config
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("runner = "))
+        .expect("a runner line")
+        .trim_matches('"');
+    let words: Vec<&str> = runner.split_whitespace().collect();
+    let ours: Vec<&str> = std::iter::once(QEMU).chain(QEMU_ARGS).collect();
+    assert_eq!(
+        words,
+        ours,
+        "{} and firmware::QEMU_ARGS differ",
+        path.display()
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1120,18 +1139,6 @@ mod tests {
     fn qemu_args_are_the_cargo_runners() {
         let path = repo_root().join(".cargo").join("config.toml");
         let config = std::fs::read_to_string(&path).expect("the root .cargo/config.toml");
-        let runner = config
-            .lines()
-            .find_map(|l| l.trim().strip_prefix("runner = "))
-            .expect("a runner line")
-            .trim_matches('"');
-        let words: Vec<&str> = runner.split_whitespace().collect();
-        let ours: Vec<&str> = std::iter::once(QEMU).chain(QEMU_ARGS).collect();
-        assert_eq!(
-            words,
-            ours,
-            "{} and firmware::QEMU_ARGS differ",
-            path.display()
-        );
+        assert_runner_is_qemu(&config, &path);
     }
 }

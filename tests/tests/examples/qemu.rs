@@ -420,21 +420,7 @@ fn readme_has_its_figures() {
 fn the_qemu_examples_runner_is_the_tests_qemu() {
     let path = example().join(".cargo").join("config.toml");
     let config = std::fs::read_to_string(&path).unwrap();
-    let runner = config
-        .lines()
-        .find_map(|l| l.trim().strip_prefix("runner = "))
-        .expect("a runner line")
-        .trim_matches('"');
-    let words: Vec<&str> = runner.split_whitespace().collect();
-    let ours: Vec<&str> = std::iter::once(firmware::QEMU)
-        .chain(firmware::QEMU_ARGS)
-        .collect();
-    assert_eq!(
-        words,
-        ours,
-        "{} and firmware::QEMU_ARGS differ",
-        path.display()
-    );
+    firmware::assert_runner_is_qemu(&config, &path);
     assert!(
         config.contains(&format!("target = \"{}\"", firmware::TARGET)),
         "{}",
