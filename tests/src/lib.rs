@@ -7,7 +7,8 @@
 //! ([`callgrind`]), the sections of the profile document ([`profile_doc`]), the
 //! speed/accuracy trade report ([`trade_report`]), the profile of the chips
 //! without an FPU by routine ([`nofpu`]), the random scenes of the property
-//! tests ([`random_scene`]) and the dual-core firmware image ([`dualcore`]).
+//! tests ([`random_scene`]), the dual-core firmware image ([`dualcore`]) and the
+//! firmware a user copies, built for a scene file and run ([`qemu_example`]).
 
 /// The Rust examples of the repository's README.md, compiled and run by `cargo
 /// test -p tessera-tests --doc` (here, not in the core: the core's package reads
@@ -41,6 +42,8 @@ pub mod trade_report;
 pub mod nofpu;
 
 pub mod random_scene;
+
+pub mod qemu_example;
 
 use std::path::PathBuf;
 use tessera_core::{

@@ -39,7 +39,9 @@ use tessera_core::testing::Extreme;
 use tessera_core::{Encoding, Viewport};
 use tessera_core::{Sampler, Sampler::*};
 use tessera_tests::firmware::{self, Core, Output, Run, SceneRef, Sizes, repo_relative};
-use tessera_tests::{baseline, cycles, dualcore, profile, thousands, thousands_rounded};
+use tessera_tests::{
+    baseline, cycles, dualcore, profile, qemu_example, thousands, thousands_rounded,
+};
 
 const COMMAND: &str = "cargo run -p tessera-tests --release --bin chip-report";
 const SAMPLERS: [Sampler; 6] = [
@@ -357,6 +359,8 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     guard_cores(&cores, bless.cores, &qemu)?;
     println!("both Cortex-M33 of mps2-an521...");
     let dual = dual_core()?;
+    println!("the qemu example's scene files...");
+    let files = scene_files()?;
     let m4f_sqrt = firmware::check_sqrt(&firmware::CORTEX_M4F, &exact.elf)?;
     if m4f_sqrt != firmware::SqrtReport::host() {
         return Err(format!("Cortex-M4F: sqrt {m4f_sqrt:?}"));
@@ -372,6 +376,7 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
         est,
         cores,
         dual,
+        files,
     };
     let mut d = String::new();
     m.setup(&mut d);
@@ -381,6 +386,7 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     m.extremes(&mut d);
     m.image_size(&mut d);
     m.stack(&mut d);
+    m.scene_files(&mut d);
     m.cores(&mut d);
     m.both_cores(&mut d);
     m.frames(&mut d);
@@ -411,6 +417,47 @@ fn dual_core() -> Result<Vec<dualcore::SceneCounts>, String> {
         }
     }
     Ok(out.counts)
+}
+
+/// The scene files of the table of scenes from files, as the qemu example's
+/// `TESSERA_SCENE` names them, and what each shows; its default scene last, so
+/// that the ELF left in the example's folder is the one a user builds there.
+const SCENE_FILES: [(&str, &str); 4] = [
+    (
+        "../../scenes/teapot.toml",
+        "the built-in teapot's scene file: a mesh of about 1,000 triangles with its normals, no texture",
+    ),
+    (
+        "../../tests/data/tools.toml",
+        "files from 3D tools: Blender's OBJ and MTL with a PNG, Khronos BoxTextured and Box (glTF), \
+         turned; two RGB565 images; a sun and a point light",
+    ),
+    (
+        "../../tests/data/blender/textured.toml",
+        "two meshes with 8-bit sRGB images, nearest and mirrored, tinted",
+    ),
+    (
+        qemu_example::DEFAULT,
+        "the example's default: the showcase's primitives and an OBJ icosahedron",
+    ),
+];
+
+/// Builds and runs the qemu example for each of [`SCENE_FILES`] and checks each
+/// picture against the host's of the same file, byte for byte (as the example's
+/// test does).
+fn scene_files() -> Result<Vec<qemu_example::Run>, String> {
+    let dir = qemu_example::example();
+    let mut out = Vec::new();
+    for (scene, _) in SCENE_FILES {
+        let run = qemu_example::build_and_run(scene)?;
+        if run.picture.as_raw() != qemu_example::host(&dir.join(scene)).as_raw() {
+            return Err(format!(
+                "the qemu example's picture of {scene} differs from the host's"
+            ));
+        }
+        out.push(run);
+    }
+    Ok(out)
 }
 
 /// Builds both firmware images and measures them on three threads: each backend
@@ -513,6 +560,8 @@ struct Measured {
     cores: Vec<CoreMeasure>,
     /// Each built-in scene on one and on both Cortex-M33 of `mps2-an521`.
     dual: Vec<dualcore::SceneCounts>,
+    /// The qemu example built and run for each of [`SCENE_FILES`].
+    files: Vec<qemu_example::Run>,
 }
 
 impl Measured {
@@ -1239,6 +1288,61 @@ impl Measured {
         if let Some(c) = chapter {
             let _ = writeln!(w, "{c}");
         }
+    }
+
+    /// Whole scene files on the chip, through the qemu example: instructions a
+    /// pixel, stack, flash, the scene's tables and its images.
+    fn scene_files(&self, w: &mut String) {
+        let _ = writeln!(w, "\n## Scenes from files, textured models\n");
+        let _ = writeln!(
+            w,
+            "The firmware a user starts from (`examples/qemu-m4f`, the same Cortex-M4F \
+             board) built for each scene file as a user builds it (`TESSERA_SCENE=<file> \
+             cargo build --release` with the core's features the scene needs: its build.rs \
+             bakes the file into flash), run under qemu at the file's own size and \
+             settings. Instructions are counted around each `render_tile_in` call as \
+             above, over the whole frame. The stack is the firmware's peak from the top of \
+             RAM over the run (`render_tile_in`, its scene view and renderer, `main`). \
+             Flash is the whole firmware (vector table, `.text`, `.rodata`, `.data`); the \
+             scene's tables are its baked statics (`SCENE`, materials, lights, meshes \
+             with their BVH, images), in `.rodata`, of which the images are the \
+             `IMAGE<k>` texel tables. Every picture is byte-identical to the host's \
+             render of the same file.\n"
+        );
+        let _ = writeln!(
+            w,
+            "| scene file | what it holds | size | instructions | instr/px | stack | flash | scene tables | of which images |"
+        );
+        let _ = writeln!(w, "|---|---|---|---|---|---|---|---|---|");
+        for (run, (_, what)) in self.files.iter().zip(SCENE_FILES) {
+            let (width, height) = (run.picture.width(), run.picture.height());
+            let pixels = u64::from(width) * u64::from(height);
+            let instructions = run.number("instructions");
+            let tables: u64 = run.tables().iter().map(|t| t.size).sum();
+            // Named from the repository's root.
+            let scene = run.scene.strip_prefix("../../").map_or_else(
+                || format!("examples/qemu-m4f/{}", run.scene),
+                str::to_string,
+            );
+            let _ = writeln!(
+                w,
+                "| `{scene}` | {what} | {width}x{height} | {} | {} | {} | {} | {} | {} |",
+                thousands(instructions),
+                thousands(instructions / pixels.max(1)),
+                thousands(run.number("stack")),
+                thousands(run.sizes.flash()),
+                thousands(tables),
+                thousands(run.image_bytes()),
+            );
+        }
+        let _ = writeln!(
+            w,
+            "\nThe images are resized at bake time to the scene's `texture_budget` and \
+             stored in its `texture_format` (scenes/README.md). These figures are the \
+             chip's instructions, not an estimate of a board's cycles: the cycle model \
+             above runs on the test firmware's profile, which renders the built-in \
+             scenes only."
+        );
     }
 
     /// How to regenerate the document.

@@ -12,20 +12,20 @@
 use image::RgbImage;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
-use tessera_tests::firmware::{self, Sizes, Symbol, TempDir};
+use tessera_tests::firmware::{self, TempDir};
+use tessera_tests::qemu_example::{
+    DEFAULT, PICTURE, Run, build_and_run, example, field, host, number, ppm,
+};
 use tessera_tests::readme::{figure_after, table_row, within};
-
-/// The default scene file, built without `TESSERA_SCENE`: the showcase with an
-/// OBJ mesh.
-const DEFAULT: &str = "scene.toml";
 
 /// The scene files built, as `TESSERA_SCENE` names them (relative to the
 /// example's folder): the teapot (1,000 triangles in a mesh), the showcase (no
 /// mesh, no BVH), the cylinders and disks (the core's optional kinds, built with
 /// their features), files from 3D tools (Blender's OBJ with its MTL material
 /// and PNG, Khronos glTF samples with an embedded PNG: normals, uvs, image
-/// textures in flash in RGB565, a sun) and the default last, so that the ELF
-/// left in the example's target folder is the one a user builds there.
+/// textures in flash in RGB565, a sun) and the default (the showcase with an OBJ
+/// mesh) last, so that the ELF left in the example's target folder is the one a
+/// user builds there.
 const SCENES: [&str; 5] = [
     "../../scenes/teapot.toml",
     "../../scenes/showcase.toml",
@@ -33,30 +33,6 @@ const SCENES: [&str; 5] = [
     "../../tests/data/tools.toml",
     DEFAULT,
 ];
-
-/// The picture's file, in qemu's working folder.
-const PICTURE: &str = "tessera.ppm";
-
-/// The ELF, in the example's own target folder.
-const ELF: &str = "target/thumbv7em-none-eabihf/release/qemu-m4f";
-
-fn example() -> PathBuf {
-    firmware::repo_root().join("examples").join("qemu-m4f")
-}
-
-/// One scene file built and run.
-struct Run {
-    /// The scene file as `TESSERA_SCENE` names it.
-    scene: &'static str,
-    /// The firmware's output.
-    stdout: String,
-    /// The picture it wrote.
-    picture: RgbImage,
-    /// Its sections.
-    sizes: Sizes,
-    /// Its symbols.
-    symbols: Vec<Symbol>,
-}
 
 /// Every scene of [`SCENES`] built and run, one after the other (they share the
 /// example's target folder and so its ELF), once for every test of this binary.
@@ -68,88 +44,6 @@ fn runs() -> &'static [Run] {
     })
     .as_deref()
     .unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Builds the example for `scene` as a user does (`cargo build --release` in its
-/// folder, no flags: its `.cargo/config.toml` names the target) and runs it under
-/// qemu in a scratch folder.
-fn build_and_run(scene: &'static str) -> Result<Run, String> {
-    let dir = example();
-    let mut cmd = firmware::cargo();
-    cmd.current_dir(&dir).args(["build", "--release"]);
-    // The core's features the scene's kinds need, as the example's build.rs
-    // asks for them.
-    let desc = tessera_host::file::load(&dir.join(scene)).map_err(|e| e.to_string())?;
-    let features = tessera_host::bake::kind_features(&desc);
-    if !features.is_empty() {
-        cmd.args(["--features", &features.join(",")]);
-    }
-    if scene == DEFAULT {
-        cmd.env_remove("TESSERA_SCENE");
-    } else {
-        cmd.env("TESSERA_SCENE", scene);
-    }
-    firmware::checked(
-        &mut cmd,
-        "cargo to build examples/qemu-m4f",
-        &format!(
-            "building examples/qemu-m4f for {scene} failed; is the {} target installed? ({})",
-            firmware::TARGET,
-            firmware::INSTALL_HINT
-        ),
-    )?;
-    let elf = dir.join(ELF);
-    let scratch = TempDir::new()?;
-    let stdout = firmware::run_in(scratch.path(), &elf)?;
-    let path = scratch.path().join(PICTURE);
-    let bytes = std::fs::read(&path).map_err(|e| format!("{scene}: no {PICTURE}: {e}"))?;
-    let picture = ppm(&bytes).map_err(|e| format!("{scene}: {PICTURE}: {e}"))?;
-    Ok(Run {
-        scene,
-        stdout,
-        picture,
-        sizes: firmware::sections(&elf)?,
-        symbols: firmware::symbols(&elf)?,
-    })
-}
-
-/// The pixels of a binary PPM as the firmware writes it: the header `P6`, the
-/// size, 255, each followed by one line break, then the RGB bytes.
-fn ppm(bytes: &[u8]) -> Result<RgbImage, String> {
-    let mut lines = bytes.splitn(4, |&b| b == b'\n');
-    let mut next = || std::str::from_utf8(lines.next().unwrap_or_default()).unwrap_or("");
-    let (magic, size, max) = (next(), next(), next());
-    let (w, h) = size.split_once(' ').unwrap_or_default();
-    let (w, h) = (w.parse().unwrap_or(0), h.parse().unwrap_or(0));
-    if magic != "P6" || max != "255" || w == 0 || h == 0 {
-        return Err(format!(
-            "not the header of a picture: {magic:?} {size:?} {max:?}"
-        ));
-    }
-    let pixels = lines.next().unwrap_or_default().to_vec();
-    let n = pixels.len();
-    RgbImage::from_raw(w, h, pixels)
-        .filter(|_| n == (w * h * 3) as usize)
-        .ok_or_else(|| format!("{n} bytes of pixels for {w}x{h}"))
-}
-
-/// The host's picture of the scene file `path` (its size, settings and tile
-/// size), as `tessera render` makes it.
-fn host(path: &Path) -> RgbImage {
-    let desc = tessera_host::file::load(path).unwrap_or_else(|e| panic!("{e}"));
-    let scene = desc.to_core().unwrap();
-    let settings = desc.settings().unwrap();
-    scene
-        .with_view(|view| {
-            tessera_host::render(
-                view,
-                scene.camera(),
-                desc.viewport(),
-                settings,
-                desc.render.tile,
-            )
-        })
-        .unwrap()
 }
 
 /// The FNV-1a 64 hash of the picture's RGB bytes in the order the firmware
@@ -169,20 +63,6 @@ fn tile_order_fnv1a64(img: &RgbImage, tile: u32) -> u64 {
         }
     }
     hash
-}
-
-/// The value of `key=` in the firmware's output.
-fn field<'a>(stdout: &'a str, key: &str) -> &'a str {
-    stdout
-        .split_whitespace()
-        .find_map(|w| w.strip_prefix(key)?.strip_prefix('='))
-        .unwrap_or_else(|| panic!("no {key}= in {stdout:?}"))
-}
-
-fn number(stdout: &str, key: &str) -> u64 {
-    field(stdout, key)
-        .parse()
-        .unwrap_or_else(|_| panic!("{key}= is not a number in {stdout:?}"))
 }
 
 /// Every scene file of [`SCENES`] built and run once, then checked three ways,
@@ -272,7 +152,7 @@ fn keeps_its_scenes_in_flash_and_its_tile_in_ram() {
     for run in runs() {
         let s = &run.sizes;
         assert!(s.flash() <= flash && s.ram() <= ram, "{}: {s:?}", run.scene);
-        let tables = tables(run);
+        let tables = run.tables();
         let mut need = vec!["SCENE", "MATERIALS", "LIGHTS"];
         if run.scene.ends_with("showcase.toml") {
             need.extend(["SPHERES", "PLANES", "TRIANGLES", "BOXES"]);
@@ -326,14 +206,6 @@ fn default_run() -> &'static Run {
         .expect("the default scene is built")
 }
 
-/// The scene's tables: the statics of the firmware's module `scene`.
-fn tables(run: &Run) -> Vec<&Symbol> {
-    run.symbols
-        .iter()
-        .filter(|s| s.name.starts_with("qemu_m4f::scene::"))
-        .collect()
-}
-
 /// The README's table of each scene (flash, RAM, stack, instructions, the
 /// scene's tables), its default scene's output and its `llvm-nm` excerpt are the build's. Within 1 %
 /// (2 % for the instructions): the same sources built in another folder link a
@@ -351,7 +223,7 @@ fn readme_has_its_figures() {
             ("RAM", 2, run.sizes.ram(), 1),
             ("stack", 3, number(out, "stack"), 1),
             ("instructions", 4, number(out, "instructions"), 2),
-            ("tables", 5, tables(run).iter().map(|t| t.size).sum(), 1),
+            ("tables", 5, run.tables().iter().map(|t| t.size).sum(), 1),
         ] {
             if !within(cell(i), truth, percent) {
                 wrong.push(format!(
