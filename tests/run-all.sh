@@ -98,8 +98,9 @@ own_workspaces() {
   # compiled once, for both.
   #
   # The board example (an STM32F411 Black Pill and an ST7789 panel): its own
-  # workspace; the test `examples::board::...` in `cargo test-all` links it and checks the
-  # sizes its README states.
+  # workspace; the test `examples::board::...` in `cargo test-all` links it for a
+  # textured scene file and for its default (the teapot), and checks the sizes its
+  # README states.
   say "board example (examples/blackpill-st7789): format and clippy"
   run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
   run cargo clippy --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings

@@ -373,6 +373,25 @@ mod tests {
     use super::*;
     use crate::texture::Texture;
 
+    /// The baked teapot's named items are its scene file's: the constants
+    /// index the tables at the items the file names.
+    #[cfg(feature = "teapot")]
+    #[test]
+    fn the_baked_teapots_names_index_its_tables() {
+        use baked::teapot as t;
+        assert_eq!(
+            t::LIGHTS[t::LIGHT_KEY].position(),
+            crate::Vec3::new(-2.0, 5.0, 3.0)
+        );
+        assert_eq!(
+            t::LIGHTS[t::LIGHT_FILL].position(),
+            crate::Vec3::new(4.0, 3.0, -1.0)
+        );
+        assert_eq!(t::PLANES[t::PLANE_FLOOR].material, t::MAT_FLOOR);
+        assert_eq!(t::MESHES.len(), 1);
+        assert_eq!(t::MESH_TEAPOT, 0);
+    }
+
     #[test]
     fn every_builtin_builds_and_is_named() {
         for &b in Builtin::ALL {

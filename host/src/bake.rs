@@ -13,7 +13,7 @@
 //! scene renders the host's image byte for byte (a test renders every scene
 //! file both ways).
 
-use crate::desc::{DescError, HostBvh, HostScene, SceneDesc};
+use crate::desc::{DescError, HostBvh, HostScene, Object, SceneDesc};
 use crate::kinds::{HostKind, each_kind, type_name, type_names};
 use std::fmt::Write as _;
 use tessera_core::Geometry;
@@ -209,6 +209,9 @@ pub struct Baking<'a> {
     pub tile: usize,
     /// Each material's name, in the scene's order.
     pub names: Vec<String>,
+    /// The scene's named objects and lights ([`SceneDesc::named`]), each
+    /// written as a constant of its place in its table.
+    pub objects: Vec<(String, Object)>,
 }
 
 /// `c` as a Rust expression of a [`tessera_core::Color`].
@@ -290,25 +293,68 @@ fn own_constant(name: &str) -> Option<String> {
 /// Rust identifier in upper case.
 #[must_use]
 pub fn material_constants(names: &[String]) -> Vec<String> {
-    let stems: Vec<Option<String>> = names.iter().map(|n| stem(n)).collect();
+    constants("MAT", names.iter().map(String::as_str).enumerate())
+}
+
+/// The constant names of a list's items by [`material_constants`]' rule with
+/// `prefix` for `MAT`: `items` are each item's place in its table and its name
+/// (those of a list that have one), and `<PREFIX>__<place>` stands for a name
+/// without an ASCII letter or digit.
+fn constants<'n>(prefix: &str, items: impl Iterator<Item = (usize, &'n str)>) -> Vec<String> {
+    let items: Vec<(usize, Option<String>)> = items.map(|(i, n)| (i, stem(n))).collect();
     let mut sharing = std::collections::HashMap::<&str, usize>::new();
-    for s in stems.iter().flatten() {
-        *sharing.entry(s.as_str()).or_default() += 1;
+    for s in items.iter().filter_map(|(_, s)| s.as_deref()) {
+        *sharing.entry(s).or_default() += 1;
     }
     let mut seen = std::collections::HashMap::<&str, usize>::new();
-    stems
+    items
         .iter()
-        .enumerate()
         .map(|(i, s)| match s.as_deref() {
-            None => format!("MAT__{i}"),
-            Some(s) if sharing[s] == 1 => format!("MAT_{s}"),
+            None => format!("{prefix}__{i}"),
+            Some(s) if sharing[s] == 1 => format!("{prefix}_{s}"),
             Some(s) => {
                 let k = seen.entry(s).or_default();
                 *k += 1;
-                format!("MAT_{s}__{k}")
+                format!("{prefix}_{s}__{k}")
             }
         })
         .collect()
+}
+
+/// The constants of the scene's named objects and lights, each with its
+/// line: `(constant, "The sphere \"red ball\"", "SPHERES", place)`, the lights
+/// first, then each kind's items in the core's order, then the meshes.
+fn object_constants(named: &[(String, Object)]) -> Vec<(String, String, String, usize)> {
+    let list = |o: &Object| match *o {
+        Object::Primitive(kind, _) => (kind.name().to_string(), kind.list().name().to_uppercase()),
+        Object::Mesh(_) => ("mesh".into(), "MESHES".into()),
+        Object::Light(_) => ("light".into(), "LIGHTS".into()),
+    };
+    let place = |o: &Object| match *o {
+        Object::Primitive(_, i) | Object::Mesh(i) | Object::Light(i) => i,
+    };
+    let mut out = Vec::new();
+    let mut lists: Vec<(String, String)> = Vec::new();
+    for (_, o) in named {
+        if !lists.contains(&list(o)) {
+            lists.push(list(o));
+        }
+    }
+    for (kind, table) in lists {
+        let items: Vec<&(String, Object)> =
+            named.iter().filter(|(_, o)| list(o).0 == kind).collect();
+        let prefix = kind.to_uppercase();
+        let consts = constants(&prefix, items.iter().map(|(n, o)| (place(o), n.as_str())));
+        for (c, (n, o)) in consts.into_iter().zip(items) {
+            out.push((
+                c,
+                format!("The {kind} {}", rust_string(n)),
+                table.clone(),
+                place(o),
+            ));
+        }
+    }
+    out
 }
 
 /// What the baker cannot spell: a kind the core has and this baker does not
@@ -457,6 +503,7 @@ pub fn source(b: &Baking<'_>, krate: &str, header: &[String]) -> Result<String, 
     w.lights(&view);
     let lists = w.primitives(&view);
     w.meshes();
+    w.objects();
     w.frame(&view, &lists)?;
     Ok(w.preamble(&view, krate, header) + w.body.trim_end() + "\n")
 }
@@ -548,6 +595,27 @@ impl<'a> Writer<'a> {
     fn table(&mut self, doc: &str, name: &str, ty: &str, items: &[String], bytes: usize) {
         table(&mut self.body, doc, name, ty, items);
         self.bytes += bytes;
+    }
+
+    /// A constant for each named object and light: its place in its table
+    /// (`SPHERE_RED_BALL` for the sphere "red ball", `MESH_TEAPOT`,
+    /// `LIGHT_SUN`), by [`material_constants`]' rule within each list.
+    fn objects(&mut self) {
+        let consts = object_constants(&self.b.objects);
+        if consts.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            self.body,
+            "// The named objects and lights: each constant is the item's place in its table."
+        );
+        for (c, what, table, place) in consts {
+            let _ = writeln!(
+                self.body,
+                "/// {what} (its place in `{table}`).\n#[allow(dead_code)]\npub const {c}: usize = {place};"
+            );
+        }
+        let _ = writeln!(self.body);
     }
 
     /// The material constants, by name, and `MATERIALS`.
@@ -1072,6 +1140,11 @@ pub fn scene_source(desc: &SceneDesc, name: &str, krate: &str) -> Result<String,
         viewport: desc.viewport(),
         tile: desc.render.tile,
         names: desc.materials.iter().map(|m| m.name.clone()).collect(),
+        objects: desc
+            .named()
+            .into_iter()
+            .map(|(n, o)| (n.to_string(), o))
+            .collect(),
     };
     // The scene's path is written as a Rust string literal: a line break or a
     // bidirectional-text control in it cannot end the comment or reorder the
@@ -1467,6 +1540,7 @@ mod tests {
             viewport: desc.viewport(),
             tile: desc.render.tile,
             names: vec!["a\nb".into(), "c".into()],
+            objects: Vec::new(),
         };
         let text = source(&baking, "crate", &["one\npub static X: u8 = 0;".into()]).unwrap();
         assert!(
@@ -1554,6 +1628,100 @@ mod tests {
             assert!(check_crate_path(k).is_err(), "{k}");
             assert!(check_crate_path(&format!("a::{k}")).is_err(), "{k}");
         }
+    }
+
+    /// Each named object and light bakes as a constant of its place in its
+    /// table, by the material constants' rule within its list (two names of
+    /// one stem numbered, neither taking the plain constant); unnamed items
+    /// have none.
+    #[test]
+    fn named_items_bake_as_constants_of_their_places() {
+        let text = r#"
+            [camera]
+            position = [0, 0, 5]
+            look_at = [0, 0, 0]
+            near = 0.1
+            far = 100
+            [[material]]
+            name = "m"
+            color = [1, 1, 1]
+            [[light]]
+            position = [0, 4, 4]
+            intensity = 10
+            [[light]]
+            direction = [0, -1, 0]
+            intensity = 1
+            name = "sun"
+            [[sphere]]
+            center = [0, 0, 0]
+            radius = 1
+            material = "m"
+            [[sphere]]
+            center = [2, 0, 0]
+            radius = 1
+            material = "m"
+            name = "red ball"
+            [[sphere]]
+            center = [4, 0, 0]
+            radius = 1
+            material = "m"
+            name = "Red-Ball"
+            [[sphere]]
+            center = [6, 0, 0]
+            radius = 1
+            material = "m"
+            name = "!"
+            [[box]]
+            min = [-1, -1, -1]
+            max = [1, 1, 1]
+            material = "m"
+            name = "crate"
+            [[box]]
+            min = [-1, -1, -1]
+            max = [1, 1, 1]
+            material = "m"
+            rotate = [0, 45, 0]
+            name = "turned crate"
+        "#;
+        let desc = crate::file::parse(text, "named.toml").unwrap();
+        let src = scene_source(&desc, "named.toml", "tessera_core").unwrap();
+        for (doc, line) in [
+            (
+                "The light \"sun\" (its place in `LIGHTS`)",
+                "LIGHT_SUN: usize = 1;",
+            ),
+            (
+                "The sphere \"red ball\" (its place in `SPHERES`)",
+                "SPHERE_RED_BALL__1: usize = 1;",
+            ),
+            ("The sphere \"Red-Ball\"", "SPHERE_RED_BALL__2: usize = 2;"),
+            ("The sphere \"!\"", "SPHERE__3: usize = 3;"),
+            (
+                "The box \"crate\" (its place in `BOXES`)",
+                "BOX_CRATE: usize = 0;",
+            ),
+            (
+                "The mesh \"turned crate\" (its place in `MESHES`)",
+                "MESH_TURNED_CRATE: usize = 0;",
+            ),
+        ] {
+            let want = format!("/// {doc}");
+            let at = src
+                .find(&want)
+                .unwrap_or_else(|| panic!("no {want:?} in {src}"));
+            let rest = &src[at..];
+            let next = rest.lines().nth(2).unwrap_or_default();
+            assert_eq!(next, format!("pub const {line}"), "{rest:.200}");
+        }
+        assert!(!src.contains("SPHERE_RED_BALL:"), "{src}");
+        assert_eq!(src.matches("pub const SPHERE_").count(), 3, "{src}");
+        assert_eq!(src.matches("pub const LIGHT_").count(), 1, "{src}");
+        // An unnamed scene has no such section.
+        let plain = text.replace("name = \"", "# name = \"");
+        let plain = plain.replace("# name = \"m\"", "name = \"m\"");
+        let desc = crate::file::parse(&plain, "plain.toml").unwrap();
+        let src = scene_source(&desc, "plain.toml", "tessera_core").unwrap();
+        assert!(!src.contains("named objects"), "{src}");
     }
 
     /// Image textures bake as byte tables named by their materials' textures,

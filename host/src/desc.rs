@@ -214,6 +214,7 @@ impl MeshDesc {
             quaternion: None,
             translate: [0.0; 3],
             smooth: None,
+            name: None,
             faces: Vec::new(),
             degenerate: 0,
             normals: Vec::new(),
@@ -697,6 +698,9 @@ pub struct LightDesc {
     pub color: [f64; 3],
     /// Intensity: a point light's irradiance at distance 1, a sun's everywhere.
     pub intensity: f64,
+    /// Its name, unique among the scene's objects and lights: the baker's
+    /// constant for it, the host's lookup ([`SceneDesc::find`]).
+    pub name: Option<String>,
 }
 
 /// A `[[light]]` table as written.
@@ -708,6 +712,8 @@ struct LightFields {
     #[serde(default = "white")]
     color: [f64; 3],
     intensity: f64,
+    #[serde(default)]
+    name: Option<String>,
 }
 
 impl TryFrom<LightFields> for LightDesc {
@@ -733,6 +739,7 @@ impl TryFrom<LightFields> for LightDesc {
             direction,
             color: l.color,
             intensity: l.intensity,
+            name: l.name,
         })
     }
 }
@@ -746,6 +753,7 @@ impl LightDesc {
             direction: None,
             color,
             intensity,
+            name: None,
         }
     }
 
@@ -757,6 +765,32 @@ impl LightDesc {
             direction: Some(direction),
             color,
             intensity,
+            name: None,
+        }
+    }
+}
+
+/// A named item of a scene ([`SceneDesc::find`]): its list and its place in
+/// it (from 0), which is its place in that list's table in a baked scene
+/// (`SPHERES`, `MESHES`, `LIGHTS`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Object {
+    /// A primitive of a geometry kind (`[[sphere]]`, `[[box]]`, ...).
+    Primitive(Kind, usize),
+    /// A mesh (`[[mesh]]`, a turned box, a part of a mesh split by its
+    /// file's materials).
+    Mesh(usize),
+    /// A light.
+    Light(usize),
+}
+
+impl fmt::Display for Object {
+    /// As messages name the item: `sphere 2`, `mesh 1`, `light 3` (from 1).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::Primitive(kind, i) => write!(f, "{} {}", kind.name(), i + 1),
+            Self::Mesh(i) => write!(f, "mesh {}", i + 1),
+            Self::Light(i) => write!(f, "light {}", i + 1),
         }
     }
 }
@@ -800,6 +834,12 @@ pub struct MeshDesc {
     /// whatever the file says.
     #[serde(default)]
     pub smooth: Option<bool>,
+    /// Its name (`name = "teapot"`), unique among the scene's objects and
+    /// lights: the baker's constant for it, the host's lookup
+    /// ([`SceneDesc::find`]). A mesh split by its file's materials names each
+    /// part `<name>/<material>`.
+    #[serde(default)]
+    pub name: Option<String>,
     /// The faces read from the file, scaled and moved: filled when the scene file
     /// is loaded ([`crate::file`]), never written in it.
     #[serde(skip)]
@@ -1148,6 +1188,68 @@ impl SceneDesc {
         })
     }
 
+    /// Every named item of the scene, with its name: the lights, then each
+    /// geometry kind's items in the core's order, then the meshes (each in its
+    /// list's order, which is its table's in a baked scene).
+    #[must_use]
+    pub fn named(&self) -> Vec<(&str, Object)> {
+        let mut out: Vec<(&str, Object)> = self
+            .lights
+            .iter()
+            .enumerate()
+            .filter_map(|(i, l)| Some((l.name.as_deref()?, Object::Light(i))))
+            .collect();
+        each_kind!(|G| {
+            for (i, d) in G::descs(self).iter().enumerate() {
+                if let Some(name) = G::name(d) {
+                    out.push((name, Object::Primitive(G::KIND, i)));
+                }
+            }
+        });
+        for (i, m) in self.meshes.iter().enumerate() {
+            if let Some(name) = m.name.as_deref() {
+                out.push((name, Object::Mesh(i)));
+            }
+        }
+        out
+    }
+
+    /// The item named `name` (names are unique among a scene's objects and
+    /// lights: [`SceneDesc::to_core`] refuses two alike).
+    #[must_use]
+    pub fn find(&self, name: &str) -> Option<Object> {
+        self.named()
+            .into_iter()
+            .find_map(|(n, o)| (n == name).then_some(o))
+    }
+
+    /// Refuses an empty name, a name with a control character, and a name
+    /// that an earlier item has, naming both items.
+    fn check_names(&self) -> Result<(), DescError> {
+        let named = self.named();
+        for (i, &(name, object)) in named.iter().enumerate() {
+            let fail = |message: String| DescError {
+                item: object.to_string(),
+                message,
+            };
+            if name.trim().is_empty() {
+                return Err(fail(
+                    "its name is empty: give it one, or leave the key out".into(),
+                ));
+            }
+            if name.chars().any(char::is_control) {
+                return Err(fail(format!("its name {name:?} holds a control character")));
+            }
+            if let Some(&(_, first)) = named[..i].iter().find(|(n, _)| *n == name) {
+                return Err(fail(format!(
+                    "{first} has the name {name:?} too: a name is unique among the \
+                     scene's objects and lights"
+                )));
+            }
+        }
+        Ok(())
+    }
+
     /// Refuses a list longer than the host scene holds, before any item is
     /// converted; the item named is the first one too many (`sphere 1025`).
     fn check_counts(&self) -> Result<(), DescError> {
@@ -1203,6 +1305,7 @@ impl SceneDesc {
     /// The core scene (every value checked, capacities enforced).
     pub fn to_core(&self) -> Result<HostScene, DescError> {
         self.check_counts()?;
+        self.check_names()?;
         let mut s = Box::new(CoreScene::new(self.core_camera()?));
         let item = Item::new("ambient");
         s.set_ambient(item.c3(self.ambient, Field::AmbientLight)?)
@@ -1542,6 +1645,119 @@ fn core_material(m: &MaterialDesc) -> Result<Material, String> {
 mod tests {
     use super::*;
 
+    /// A scene of named items: two spheres (one unnamed), a box, a light and
+    /// a mesh of one triangle given as an OBJ text beside it.
+    const NAMED: &str = r#"
+        [camera]
+        position = [0, 0, 5]
+        look_at = [0, 0, 0]
+        near = 0.1
+        far = 100
+        [[material]]
+        name = "m"
+        color = [1, 1, 1]
+        [[light]]
+        position = [0, 4, 4]
+        intensity = 10
+        [[light]]
+        direction = [0, -1, 0]
+        intensity = 1
+        name = "sun"
+        [[sphere]]
+        center = [0, 0, 0]
+        radius = 1
+        material = "m"
+        [[sphere]]
+        center = [2, 0, 0]
+        radius = 1
+        material = "m"
+        name = "red ball"
+        [[box]]
+        min = [-1, -1, -1]
+        max = [1, 1, 1]
+        material = "m"
+        name = "crate"
+        [[box]]
+        min = [-1, -1, -1]
+        max = [1, 1, 1]
+        material = "m"
+        rotate = [0, 45, 0]
+        name = "turned crate"
+    "#;
+
+    /// Each named item is found by its name in its list, at its place there
+    /// (a turned box among the meshes); an unknown name is none.
+    #[test]
+    fn named_items_are_found_in_their_lists() {
+        let d = crate::file::parse(NAMED, "named.toml").unwrap();
+        assert_eq!(d.find("sun"), Some(Object::Light(1)));
+        assert_eq!(d.find("red ball"), Some(Object::Primitive(Kind::Sphere, 1)));
+        assert_eq!(d.find("crate"), Some(Object::Primitive(Kind::Box, 0)));
+        assert_eq!(d.find("turned crate"), Some(Object::Mesh(0)));
+        assert_eq!(d.find("Red ball"), None);
+        assert_eq!(d.named().len(), 4);
+        assert_eq!(Object::Primitive(Kind::Sphere, 1).to_string(), "sphere 2");
+        assert_eq!(Object::Mesh(0).to_string(), "mesh 1");
+        d.to_core().unwrap();
+    }
+
+    /// A name used twice (across lists too), an empty name and one with a
+    /// control character are refused, naming the item and the earlier one.
+    #[test]
+    fn names_are_unique_and_not_empty() {
+        let refused = |from: &str, to: &str| {
+            let text = NAMED.replacen(from, to, 1);
+            let d = crate::file::parse(&text, "named.toml");
+            let e = match d {
+                Ok(d) => d.to_core().map(|_| ()).unwrap_err(),
+                Err(e) => return e.to_string(),
+            };
+            e.to_string()
+        };
+        let e = refused("name = \"crate\"", "name = \"sun\"");
+        assert!(
+            e.contains("box 1") && e.contains("light 2 has the name \"sun\" too"),
+            "{e}"
+        );
+        let e = refused("name = \"crate\"", "name = \" \"");
+        assert!(
+            e.contains("box 1") && e.contains("its name is empty"),
+            "{e}"
+        );
+        let e = refused("name = \"crate\"", "name = \"a\\nb\"");
+        assert!(e.contains("control character"), "{e}");
+    }
+
+    /// A named mesh that its file's materials split names each part by its
+    /// material; a turned box keeps its name as a mesh.
+    #[test]
+    fn a_named_mesh_split_by_material_names_its_parts() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/blender");
+        // The OBJ files named by absolute paths: the text is parsed from here.
+        let at = |f: &str| format!("file = {:?}", dir.join(f).to_str().unwrap());
+        let text = std::fs::read_to_string(dir.join("mtl.toml"))
+            .unwrap()
+            .replace("file = \"happy-cube.obj\"", &at("happy-cube.obj"))
+            .replace(
+                "file = \"box_stack.obj\"",
+                &format!("{}\nname = \"stack\"", at("box_stack.obj")),
+            );
+        let d = crate::file::parse(&text, "named-stack.toml").unwrap();
+        let parts: Vec<&str> = d.named().into_iter().map(|(n, _)| n).collect();
+        assert!(parts.len() > 1, "{parts:?}");
+        for (p, m) in parts
+            .iter()
+            .zip(d.meshes.iter().filter(|m| m.name.is_some()))
+        {
+            assert_eq!(
+                *p,
+                format!("stack/{}", m.material.as_deref().unwrap()),
+                "{parts:?}"
+            );
+        }
+        d.to_core().unwrap();
+    }
+
     #[test]
     fn the_subnormal_rule_reads_f32_subnormals_as_signed_zeros() {
         for x in [1e-45, -1e-45, 1e-40, 1.1e-38, -1e-300, 1e-50] {
@@ -1689,6 +1905,7 @@ mod tests {
     fn lists_beyond_capacity_are_refused_before_conversion() {
         let mut d = small_scene();
         let sphere = SphereDesc {
+            name: None,
             center: [0.0; 3],
             radius: -1.0,
             material: "red".into(),

@@ -446,6 +446,7 @@ pub fn by_material(
         let uvs: Option<Vec<_>> = faces.iter().map(|&j| read.uvs[j]).collect();
         parts.push(MeshDesc {
             material: Some(material.name.clone()),
+            name: mesh.name.clone(),
             faces: faces.iter().map(|&j| read.faces[j]).collect(),
             normals: normals.unwrap_or_default(),
             uvs: uvs.unwrap_or_default(),
@@ -457,6 +458,14 @@ pub fn by_material(
             },
             ..mesh.clone()
         });
+    }
+    // A named mesh split in parts: each part is named by its material.
+    if parts.len() > 1 {
+        for p in &mut parts {
+            if let (Some(name), Some(material)) = (&mut p.name, &p.material) {
+                *name = format!("{name}/{material}");
+            }
+        }
     }
     Ok(parts)
 }
@@ -477,6 +486,7 @@ pub fn turned_box(b: &crate::kinds::BoxDesc, index: usize) -> Result<Option<Mesh
         rotate: b.rotate,
         quaternion: b.quaternion,
         smooth: Some(false),
+        name: b.name.clone(),
         ..MeshDesc::unplaced(
             format!("(box {}, turned)", index + 1),
             Some(b.material.clone()),

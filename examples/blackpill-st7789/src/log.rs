@@ -52,13 +52,15 @@ pub fn now() -> u32 {
     }
 }
 
-/// Logs what is about to be drawn: the scene, the frame's and the tiles' sizes,
+/// Logs what is about to be drawn: the scene file's name (as `TESSERA_SCENE`
+/// gave it), the frame's and the tiles' sizes,
 /// the preview's block, the settings (`RenderSettings`' `defmt::Format`).
 #[cfg_attr(not(feature = "defmt"), allow(unused_variables))]
 pub fn drawing(renderer: &Renderer, tile: usize, block: u32) {
     #[cfg(feature = "defmt")]
     defmt::info!(
-        "blackpill-st7789: the teapot at {=u16}x{=u16}, {=usize}x{=usize} tiles after a preview of {=u32}x{=u32} blocks, {=u32} MHz; {}",
+        "blackpill-st7789: {=str} at {=u16}x{=u16}, {=usize}x{=usize} tiles after a preview of {=u32}x{=u32} blocks, {=u32} MHz; {}",
+        env!("TESSERA_SCENE_NAME"),
         crate::PICTURE.0,
         crate::PICTURE.1,
         tile,
@@ -70,15 +72,16 @@ pub fn drawing(renderer: &Renderer, tile: usize, block: u32) {
     );
 }
 
-/// Logs the time from `started` ([`now`]) to now: the whole picture, preview,
-/// tiles and their SPI transfers.
+/// Logs the scene file's name and the time from `started` ([`now`]) to now: the
+/// whole picture, preview, tiles and their SPI transfers.
 #[cfg_attr(not(feature = "defmt"), allow(unused_variables))]
 pub fn drawn(started: u32) {
     #[cfg(feature = "defmt")]
     {
         let cycles = now().wrapping_sub(started);
         defmt::info!(
-            "teapot drawn in {=u32} ms ({=u32} cycles)",
+            "{=str} drawn in {=u32} ms ({=u32} cycles)",
+            env!("TESSERA_SCENE_NAME"),
             cycles / (crate::SYSCLK_MHZ * 1000),
             cycles
         );

@@ -1,4 +1,5 @@
-//! tessera on a board: an STM32F411CEU6 "Black Pill" ray traces the built-in teapot
+//! tessera on a board: an STM32F411CEU6 "Black Pill" ray traces a scene file,
+//! baked into flash by build.rs (the teapot unless `TESSERA_SCENE` names another),
 //! straight onto an ST7789 240x240 SPI panel, with no framebuffer.
 //!
 //! The chip runs at 100 MHz from its 25 MHz crystal. SPI1 (SCK PA5, MOSI PA7) talks
@@ -12,8 +13,9 @@
 //! [`ROTATION`].
 //!
 //! The picture is drawn progressively (`Drawing::progressive`): first one
-//! ray per 4x4 block, each block one `fill_solid`, so a rough teapot appears in a
-//! small part of the render time; then tile after tile of 16x16 pixels, each
+//! ray per 4x4 block, each block one `fill_solid`, so a rough picture appears in a
+//! small part of the render time; then tile after tile of 16x16 pixels (the
+//! scene file's `tile`), each
 //! rendered into one `Rgb565` buffer on the stack with 4x4 Bayer dithering and sent
 //! in one address window. The on-board LED (PC13, active low) is lit while
 //! rendering and off when the picture is complete; on an error it blinks a code
@@ -40,17 +42,23 @@ use mipidsi::interface::SpiInterface;
 use mipidsi::models::ST7789;
 use mipidsi::options::{ColorInversion, Orientation, Rotation};
 use mipidsi::{Builder, Display};
+use scene::{SCENE, SceneLoops};
 use stm32f4xx_hal::gpio::{self, Output, PinState, Speed};
 use stm32f4xx_hal::pac;
 use stm32f4xx_hal::prelude::*;
 use stm32f4xx_hal::rcc::{Config, Rcc};
 use stm32f4xx_hal::spi::Spi;
 use stm32f4xx_hal::timer::SysDelay;
-use tessera_core::builtin::baked::teapot::{SCENE, SceneLoops};
 use tessera_core::display::Drawing;
 use tessera_core::{Viewport, dither::Dither};
 
 mod log;
+
+/// The scene: its tables (`SCENE`, `MATERIALS`, the meshes...) are statics in
+/// flash, written by build.rs from the scene file.
+mod scene {
+    include!(concat!(env!("OUT_DIR"), "/scene.rs"));
+}
 
 /// The crystal of the Black Pill, in MHz.
 const HSE_MHZ: u32 = 25;
@@ -78,12 +86,15 @@ const PICTURE: (u16, u16) = if ROTATION.is_horizontal() {
 } else {
     (PANEL_SIZE.1, PANEL_SIZE.0)
 };
-/// The tile size: 16x16 pixels, 512 bytes of `Rgb565` a tile.
-const TILE: usize = 16;
+/// The tile size: the scene file's `tile` (8, 16 or 32; 16 for the teapot:
+/// 16x16 pixels, 512 bytes of `Rgb565` a tile). Only the buffers depend on it
+/// (the tile on the stack, [`SPI_BUFFER`]), not the picture, whose size is the
+/// panel's, [`PICTURE`], whatever the scene file's `width` and `height`.
+const TILE: usize = scene::TILE;
 /// The preview's block: one ray per 4x4 pixels.
 const PREVIEW_BLOCK: u32 = 4;
-/// mipidsi's SPI buffer: one 16x16 tile of `Rgb565`, so a tile's pixels go out
-/// in one 512-byte SPI write (mipidsi then flushes an empty rest).
+/// mipidsi's SPI buffer: one tile of `Rgb565` (512 bytes for 16x16), so a
+/// tile's pixels go out in one SPI write (mipidsi then flushes an empty rest).
 const SPI_BUFFER: usize = 2 * TILE * TILE;
 /// How long the LED is on and off in a blink of an error code, in ms.
 const BLINK_MS: u32 = 200;
@@ -162,7 +173,7 @@ struct PanelPins {
     blk: gpio::PB10<Output>,
 }
 
-/// Sets up the clocks and pins, draws the teapot, then shows the outcome on the
+/// Sets up the clocks and pins, draws the scene, then shows the outcome on the
 /// LED forever.
 #[entry]
 fn main() -> ! {
@@ -194,7 +205,7 @@ fn main() -> ! {
     };
     let mut buffer = [0u8; SPI_BUFFER];
     led.set_low();
-    match show_teapot(bus, pins, &mut buffer, &mut delay) {
+    match show_scene(bus, pins, &mut buffer, &mut delay) {
         Ok(()) => {
             led.set_high();
             halt()
@@ -220,8 +231,8 @@ fn panel_bus(spi1: pac::SPI1, sck: gpio::PA5, mosi: gpio::PA7, rcc: &mut Rcc) ->
 }
 
 /// Initialises the panel, clears it to black, turns the backlight on and draws
-/// the teapot on it.
-fn show_teapot(
+/// the scene on it.
+fn show_scene(
     bus: PanelBus,
     mut pins: PanelPins,
     buffer: &mut [u8],
@@ -233,7 +244,7 @@ fn show_teapot(
         .clear(Rgb565::BLACK)
         .map_err(|e| log::panel_error(Failure::PanelWrite, &e))?;
     pins.blk.set_high();
-    draw_teapot(&mut panel)
+    draw_scene(&mut panel)
 }
 
 /// The ST7789 panel of [`PANEL_SIZE`] at [`PANEL_OFFSET`] on `bus` (selected by
@@ -258,18 +269,19 @@ fn init_panel<'b>(
         .map_err(|e| log::panel_error(Failure::PanelInit, &e))
 }
 
-/// Ray traces the built-in teapot onto `display` with the README's API: the
-/// whole scene baked in flash (`tessera_core::builtin::baked::teapot`, what `tessera
-/// bake scenes/teapot.toml` writes: no byte of it in RAM), its frame of
-/// [`PICTURE`] (240x240) with the scene's own settings (centre sampling, depth
-/// 0, sRGB: what `tessera render teapot` uses), drawn progressively (a preview
-/// of one ray per 4x4 block, then the 16x16 tiles, Bayer 4x4 dithered).
+/// Ray traces the scene onto `display` with the README's API: the whole scene
+/// baked in flash by build.rs (what `tessera bake` writes of the scene file: no
+/// byte of it in RAM), its frame of [`PICTURE`] (240x240) with the scene file's
+/// own settings (for the teapot centre sampling, depth 0, sRGB: what `tessera
+/// render teapot` uses), drawn progressively (a preview of one ray per 4x4
+/// block, then the [`TILE`]-sized tiles, Bayer 4x4 dithered).
 ///
 /// It links only the tile loops the scene needs (`SceneLoops`, which the baker
-/// writes: direct light, sRGB, no adaptive or sparse sampler); the others are left out
-/// of the image (`tessera_core::tile::Loops`; the README gives the flash this saves), and
-/// settings that needed one would be refused by `linking`, not drawn wrong.
-fn draw_teapot<D>(display: &mut D) -> Result<(), Failure>
+/// writes: for the teapot direct light, sRGB, no adaptive or sparse sampler); the
+/// others are left out of the image (`tessera_core::tile::Loops`; the README gives
+/// the flash this saves), and settings that needed one would be refused by
+/// `linking`, not drawn wrong.
+fn draw_scene<D>(display: &mut D) -> Result<(), Failure>
 where
     D: DrawTarget<Color = Rgb565>,
     D::Error: log::Value,

@@ -193,7 +193,7 @@ pub fn scene(path: &Path, camera: Option<&str>) -> Result<SceneDesc, String> {
     }
     desc.background = BACKGROUND;
     for l in &lights {
-        desc.lights.push(match l.kind {
+        let mut light = match l.kind {
             ImportedLightKind::Directional { direction } => {
                 LightDesc::sun(direction, l.color, l.intensity)
             }
@@ -208,7 +208,22 @@ pub fn scene(path: &Path, camera: Option<&str>) -> Result<SceneDesc, String> {
                 }
                 LightDesc::point(position, l.color, l.intensity)
             }
-        });
+        };
+        // Its name (the light's, else its node's) when no earlier light has it:
+        // names are unique in a scene.
+        if desc
+            .lights
+            .iter()
+            .any(|o| o.name.as_deref() == Some(l.name.as_str()))
+        {
+            warnings.push(format!(
+                "{shown}: light '{}': an earlier light has its name: it is left unnamed",
+                crate::escape(&l.name)
+            ));
+        } else if !l.name.trim().is_empty() && !l.name.chars().any(char::is_control) {
+            light.name = Some(l.name.clone());
+        }
+        desc.lights.push(light);
     }
     if lights.is_empty() {
         desc.lights
@@ -1082,6 +1097,21 @@ mod tests {
             "{all}"
         );
         assert!(!all.contains("no light"), "{all}");
+        // Each light keeps its name, for the scene's lookup and the baker.
+        assert_eq!(d.find("lamp"), Some(crate::desc::Object::Light(0)));
+        assert_eq!(d.find("day"), Some(crate::desc::Object::Light(1)));
+        d.to_core().unwrap();
+
+        // Two lights of one name: the second is left unnamed, with a warning.
+        let same = lights.replace("\"day\"", "\"lamp\"");
+        let d = scene(&triangles(dir.path(), 1, &nodes, &same), None).unwrap();
+        assert_eq!(d.lights[0].name.as_deref(), Some("lamp"));
+        assert_eq!(d.lights[1].name, None);
+        let all = d.warnings.join("\n");
+        assert!(
+            all.contains("light 'lamp': an earlier light has its name: it is left unnamed"),
+            "{all}"
+        );
         d.to_core().unwrap();
     }
 }

@@ -16,6 +16,10 @@ pub struct BoxDesc {
     pub max: [f64; 3],
     /// Material name.
     pub material: String,
+    /// Its name (`name = "red ball"`), unique among the scene's objects and
+    /// lights: the baker's constant for it, the host's lookup (`SceneDesc::find`).
+    #[serde(default)]
+    pub name: Option<String>,
     /// Turned about its centre: degrees about the fixed X, then Y, then Z axes
     /// (as a mesh's `rotate`). A turned box is no longer axis-aligned: it is
     /// read as a mesh of its 12 triangles (with the box's uv on each face).
@@ -32,6 +36,10 @@ impl HostKind for Aabb {
 
     fn material(d: &BoxDesc) -> &str {
         &d.material
+    }
+
+    fn name(d: &BoxDesc) -> Option<&str> {
+        d.name.as_deref()
     }
 
     fn numbers(d: &mut BoxDesc, f: &mut dyn FnMut(&'static str, Number, &mut [f64])) {

@@ -22,6 +22,10 @@ pub struct CylinderDesc {
     pub capped: bool,
     /// Material name.
     pub material: String,
+    /// Its name (`name = "red ball"`), unique among the scene's objects and
+    /// lights: the baker's constant for it, the host's lookup (`SceneDesc::find`).
+    #[serde(default)]
+    pub name: Option<String>,
 }
 
 fn yes() -> bool {
@@ -36,6 +40,10 @@ impl HostKind for Cylinder {
 
     fn material(d: &CylinderDesc) -> &str {
         &d.material
+    }
+
+    fn name(d: &CylinderDesc) -> Option<&str> {
+        d.name.as_deref()
     }
 
     fn numbers(d: &mut CylinderDesc, f: &mut dyn FnMut(&'static str, Number, &mut [f64])) {

@@ -22,6 +22,10 @@ pub struct DiskDesc {
     pub inner: f64,
     /// Material name.
     pub material: String,
+    /// Its name (`name = "red ball"`), unique among the scene's objects and
+    /// lights: the baker's constant for it, the host's lookup (`SceneDesc::find`).
+    #[serde(default)]
+    pub name: Option<String>,
 }
 
 impl HostKind for Disk {
@@ -33,6 +37,10 @@ impl HostKind for Disk {
 
     fn material(d: &DiskDesc) -> &str {
         &d.material
+    }
+
+    fn name(d: &DiskDesc) -> Option<&str> {
+        d.name.as_deref()
     }
 
     fn numbers(d: &mut DiskDesc, f: &mut dyn FnMut(&'static str, Number, &mut [f64])) {

@@ -54,6 +54,9 @@ pub trait HostKind: tessera_core::Geometry {
     /// The item's material name.
     fn material(d: &Self::Desc) -> &str;
 
+    /// The item's name, if the scene file gives it one.
+    fn name(d: &Self::Desc) -> Option<&str>;
+
     /// Each of the item's numbers, by key (as messages name them) and what it
     /// is: `f(key, what, numbers)`, in the order of the item's fields.
     fn numbers(d: &mut Self::Desc, f: &mut dyn FnMut(&'static str, Number, &mut [f64]));

@@ -16,6 +16,10 @@ pub struct PlaneDesc {
     pub normal: [f64; 3],
     /// Material name.
     pub material: String,
+    /// Its name (`name = "red ball"`), unique among the scene's objects and
+    /// lights: the baker's constant for it, the host's lookup (`SceneDesc::find`).
+    #[serde(default)]
+    pub name: Option<String>,
 }
 
 impl HostKind for Plane {
@@ -25,6 +29,10 @@ impl HostKind for Plane {
 
     fn material(d: &PlaneDesc) -> &str {
         &d.material
+    }
+
+    fn name(d: &PlaneDesc) -> Option<&str> {
+        d.name.as_deref()
     }
 
     fn numbers(d: &mut PlaneDesc, f: &mut dyn FnMut(&'static str, Number, &mut [f64])) {

@@ -16,6 +16,10 @@ pub struct SphereDesc {
     pub radius: f64,
     /// Material name.
     pub material: String,
+    /// Its name (`name = "red ball"`), unique among the scene's objects and
+    /// lights: the baker's constant for it, the host's lookup (`SceneDesc::find`).
+    #[serde(default)]
+    pub name: Option<String>,
 }
 
 impl HostKind for Sphere {
@@ -24,6 +28,10 @@ impl HostKind for Sphere {
 
     fn material(d: &SphereDesc) -> &str {
         &d.material
+    }
+
+    fn name(d: &SphereDesc) -> Option<&str> {
+        d.name.as_deref()
     }
 
     fn numbers(d: &mut SphereDesc, f: &mut dyn FnMut(&'static str, Number, &mut [f64])) {

@@ -14,6 +14,10 @@ pub struct TriangleDesc {
     pub vertices: [[f64; 3]; 3],
     /// Material name.
     pub material: String,
+    /// Its name (`name = "red ball"`), unique among the scene's objects and
+    /// lights: the baker's constant for it, the host's lookup (`SceneDesc::find`).
+    #[serde(default)]
+    pub name: Option<String>,
 }
 
 impl HostKind for Triangle {
@@ -22,6 +26,10 @@ impl HostKind for Triangle {
 
     fn material(d: &TriangleDesc) -> &str {
         &d.material
+    }
+
+    fn name(d: &TriangleDesc) -> Option<&str> {
+        d.name.as_deref()
     }
 
     fn numbers(d: &mut TriangleDesc, f: &mut dyn FnMut(&'static str, Number, &mut [f64])) {

@@ -40,12 +40,14 @@ fn inside_a_lit_sphere_every_pixel_is_kd_color_i_over_r2() {
         d.materials.push(m);
         let intensity = 0.7 * r * r;
         d.lights.push(LightDesc {
+            name: None,
             direction: None,
             position: centre,
             color: [1.0, 0.5, 1.0],
             intensity,
         });
         d.spheres.push(SphereDesc {
+            name: None,
             center: centre,
             radius: r,
             material: "wall".into(),
@@ -138,6 +140,7 @@ fn invalid_scenes_are_rejected_like_the_core() {
     let mut d = empty(camera([0.0; 3], [0.0, 0.0, -1.0]));
     d.materials.push(material("m", [1.0; 3]));
     d.spheres.push(SphereDesc {
+        name: None,
         center: [0.0, 0.0, -3.0],
         radius: -1.0,
         material: "m".into(),
@@ -204,12 +207,14 @@ fn test_scene() -> SceneDesc {
     d.materials = vec![red, mirror, glass, floor, fringes, young];
     d.lights = vec![
         LightDesc {
+            name: None,
             direction: None,
             position: [4.0, 6.0, 3.0],
             color: [1.0, 1.0, 1.0],
             intensity: 40.0,
         },
         LightDesc {
+            name: None,
             direction: None,
             position: [-5.0, 4.0, 5.0],
             color: [0.5, 0.5, 1.0],
@@ -217,6 +222,7 @@ fn test_scene() -> SceneDesc {
         },
     ];
     let sphere = |center, radius, m: &str| SphereDesc {
+        name: None,
         center,
         radius,
         material: m.into(),
@@ -227,15 +233,18 @@ fn test_scene() -> SceneDesc {
         sphere([0.2, 0.6, 2.0], 0.6, "glass"),
     ];
     d.planes = vec![PlaneDesc {
+        name: None,
         point: [0.0, 0.0, 0.0],
         normal: [0.0, 2.0, 0.0],
         material: "floor".into(),
     }];
     d.triangles = vec![TriangleDesc {
+        name: None,
         vertices: [[-3.5, 0.0, -3.0], [2.5, 0.0, -3.0], [-0.5, 3.5, -4.0]],
         material: "fringes".into(),
     }];
     d.boxes = vec![BoxDesc {
+        name: None,
         rotate: None,
         quaternion: None,
         min: [1.9, 0.0, 1.0],
@@ -354,17 +363,20 @@ fn signatures_mark_silhouettes_and_shadows() {
     let mut d = empty(camera([0.0, 1.0, 5.0], [0.0, -0.2, -1.0]));
     d.materials.push(material("m", [0.8; 3]));
     d.lights.push(LightDesc {
+        name: None,
         direction: None,
         position: [0.0, 10.0, 0.0],
         color: [1.0; 3],
         intensity: 100.0,
     });
     d.spheres.push(SphereDesc {
+        name: None,
         center: [0.0, 1.0, 0.0],
         radius: 0.5,
         material: "m".into(),
     });
     d.planes.push(PlaneDesc {
+        name: None,
         point: [0.0; 3],
         normal: [0.0, 1.0, 0.0],
         material: "m".into(),
@@ -426,6 +438,7 @@ fn signatures_change_where_a_primitives_shading_jumps() {
         let mut d = empty(camera([0.0, 0.0, 5.0], [0.0, 0.0, -1.0]));
         d.materials.push(material("m", [0.8; 3]));
         d.lights.push(LightDesc {
+            name: None,
             direction: None,
             position: [0.0, 0.0, 10.0],
             color: [1.0; 3],
@@ -445,6 +458,7 @@ fn signatures_change_where_a_primitives_shading_jumps() {
         // Lighting both faces.
         d.lights[0].position = [0.0, 10.0, 10.0];
         d.boxes.push(BoxDesc {
+            name: None,
             rotate: None,
             quaternion: None,
             min: [-9.0, -9.0, -9.0],
@@ -494,6 +508,7 @@ fn signatures_change_where_a_primitives_shading_jumps() {
     let (upper, lower) = scene(&|d| {
         for p in fold(0.0) {
             d.triangles.push(TriangleDesc {
+                name: None,
                 vertices: p,
                 material: "m".into(),
             });

@@ -2213,6 +2213,20 @@ pub static MESHES: [Mesh<'static>; 1] = [
     ),
 ];
 
+// The named objects and lights: each constant is the item's place in its table.
+/// The light "key" (its place in `LIGHTS`).
+#[allow(dead_code)]
+pub const LIGHT_KEY: usize = 0;
+/// The light "fill" (its place in `LIGHTS`).
+#[allow(dead_code)]
+pub const LIGHT_FILL: usize = 1;
+/// The plane "floor" (its place in `PLANES`).
+#[allow(dead_code)]
+pub const PLANE_FLOOR: usize = 0;
+/// The mesh "teapot" (its place in `MESHES`).
+#[allow(dead_code)]
+pub const MESH_TEAPOT: usize = 0;
+
 /// The width the scene is meant to be rendered at, in pixels.
 #[allow(dead_code)]
 pub const WIDTH: u16 = 320;
@@ -2313,20 +2327,24 @@ shininess = 40.0
 point = [0.0, 0.0, 0.0]
 normal = [0.0, 1.0, 0.0]
 material = "floor"
+name = "floor"
 
 [[mesh]]
 obj = "builtin:teapot"
 smooth = true
 material = "glaze"
+name = "teapot"
 
 # A warm key light, up and to the left, and a cool fill light behind on the right.
 [[light]]
 position = [-2.0, 5.0, 3.0]
 color = [1.0, 0.95, 0.9]
 intensity = 30.0
+name = "key"
 
 [[light]]
 position = [4.0, 3.0, -1.0]
 color = [0.5, 0.6, 0.8]
 intensity = 10.0
+name = "fill"
 "#;
