@@ -93,17 +93,9 @@ own_workspaces() {
   run cargo clippy --manifest-path tests/dualcore/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
 
   # The three examples are linted in the release profile, the one their tests
-  # build them in (in their own target folders): the build scripts and their
-  # build-dependencies (the qemu example's scene baker, tessera-host) are then
-  # compiled once, for both.
-  #
-  # The board example (an STM32F411 Black Pill and an ST7789 panel): its own
-  # workspace; the test `examples::board::...` in `cargo test-all` links it for a
-  # textured scene file and for its default (the teapot), and checks the sizes its
-  # README states.
-  say "board example (examples/blackpill-st7789): format and clippy"
-  run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
-  run cargo clippy --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+  # build them in (in the target folders their tests use): the build scripts and
+  # their build-dependencies (the scene baker, tessera-host) are then compiled
+  # once, for both.
 
   # The Raspberry Pi Pico 2 example (an RP2350, both cores, and a Waveshare
   # Pico-LCD-1.3 fed by DMA): its own workspace, for the Cortex-M33; the test
@@ -119,18 +111,26 @@ own_workspaces() {
   run cargo fmt --manifest-path examples/qemu-m4f/Cargo.toml -- --check
   run cargo clippy --release --manifest-path examples/qemu-m4f/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
 
+  # The board example (an STM32F411 Black Pill and an ST7789 panel): its own
+  # workspace, linted and built in the qemu example's target folder (its test
+  # `examples::board::...` in `cargo test-all` links it there for a textured scene
+  # file and for its default, the teapot, and checks the sizes its README states):
+  # the scene baker both examples' build scripts use is compiled once.
+  say "board example (examples/blackpill-st7789): format and clippy"
+  run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
+  run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+
   say "no-panic proof (tests/nopanic): format and clippy, both backends"
   run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check
   run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
   run cargo clippy --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf --features fast-math -- -D warnings
 
-  say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends; for the other targets"
+  # The other targets' builds of the core are the firmware tests' (`cores::...`,
+  # `nofpu::...` in `cargo test-all`: the test image, the core in it, for each
+  # core's target, with the teapot).
+  say "core for the Cortex-M4F (thumbv7em-none-eabihf), both backends"
   run cargo fw-core
   run cargo fw-core --features fast-math
-  run cargo build -p tessera-core --release --target thumbv8m.main-none-eabihf
-  run cargo build -p tessera-core --release --target riscv32imafc-unknown-none-elf
-  run cargo build -p tessera-core --release --target thumbv6m-none-eabi --features teapot
-  run cargo build -p tessera-core --release --target riscv32imc-unknown-none-elf --features teapot
 
   # The image renders every built-in scene through the tile API and its panic handler
   # calls an undefined symbol: the link fails ("undefined symbol:

@@ -159,6 +159,13 @@ pub trait Geometry: sealed::Sealed + Copy + core::fmt::Debug + PartialEq + 'stat
     /// The same geometry with every length multiplied by `f` (checked again).
     #[doc(hidden)]
     fn scaled(&self, f: f32) -> Result<Self, crate::Error>;
+    /// `primitives` with `list` as its list of this kind.
+    #[doc(hidden)]
+    fn set<'a>(primitives: &mut Primitives<'a>, list: &'a [Primitive<Self>]);
+    /// Whether the value is what its checked constructor makes of its own
+    /// numbers (`Err`: numbers the constructor refuses).
+    #[doc(hidden)]
+    fn is_as_made(&self) -> Result<bool, crate::Error>;
 }
 
 /// The empty list of capacity `C`.
@@ -357,6 +364,13 @@ macro_rules! define {
                 }
                 fn scaled(&self, f: f32) -> Result<Self, crate::Error> {
                     crate::geometry::Kinded::scaled(self, f)
+                }
+                #[inline]
+                fn set<'a>(primitives: &mut Primitives<'a>, list: &'a [Primitive<Self>]) {
+                    primitives.$f = list;
+                }
+                fn is_as_made(&self) -> Result<bool, crate::Error> {
+                    crate::geometry::Kinded::check_baked(self)
                 }
             }
         )*

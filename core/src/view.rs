@@ -285,6 +285,171 @@ impl<'a> SceneView<'a> {
         }
     }
 
+    /// The same view with `list` in place of its primitives of kind `G`: a
+    /// frame's changes to a scene that lies in flash. Copy the kind's table
+    /// into RAM (a baked scene's `SPHERES`, say: the only bytes of the scene in
+    /// RAM), change what moves, and render the frame through the view this
+    /// returns; every other list, the lights, the materials, the meshes and
+    /// their hierarchies stay the view's, read where they lie, so no part of the
+    /// scene can be left out. Checked here in time linear in `list` alone (each
+    /// item as its checked constructor makes it, each material reference in
+    /// range): a frame's set-up costs what changed, not the scene.
+    ///
+    /// `list` holds at most as many items as the view's list of that kind (the
+    /// room its tiles' culling lists have; fewer hides the rest). Per-tile and
+    /// shadow culling follow the new list. A hierarchy built over the old list
+    /// (a baked scene's triangle BVH, a sphere BVH) is left out: the new list
+    /// is searched flat, to the same pixels.
+    ///
+    /// ```
+    /// use tessera_core::{builtin::Builtin, geometry::Sphere, Primitive, Tile, TileCoord, Vec3};
+    ///
+    /// Builtin::Showcase.with_baked_scene(|view, camera| -> Result<(), tessera_core::Error> {
+    ///     // The spheres in RAM; the rest of the scene stays where it lies.
+    ///     let mut spheres = [view.spheres()[0]; 8];
+    ///     let spheres = &mut spheres[..view.spheres().len()];
+    ///     spheres.copy_from_slice(view.spheres());
+    ///     let renderer = tessera_core::Renderer::try_new(
+    ///         camera,
+    ///         tessera_core::Viewport::new(32, 32),
+    ///         tessera_core::RenderSettings::default(),
+    ///     )?;
+    ///     let mut tile = Tile::<16>::new();
+    ///     for frame in 0..3 {
+    ///         let s = spheres[0].geometry;
+    ///         let lifted = s.center() + Vec3::new(0.0, 0.1 * frame as f32, 0.0);
+    ///         spheres[0].geometry = Sphere::try_new(lifted, s.radius())?; // checked here
+    ///         let moved = view.with_list(&*spheres)?;
+    ///         renderer.render_tile(&moved, TileCoord::new(0, 0), &mut tile, &mut ())?;
+    ///     }
+    ///     Ok(())
+    /// })??;
+    /// # Ok::<(), tessera_core::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::CapacityExceeded`] for a list longer than the view's;
+    /// [`Error::MaterialOutOfRange`]; the kind's own error for numbers its
+    /// constructor refuses, and [`Error::BadBaked`] for an item that is not
+    /// what its constructor makes of its numbers (written by hand).
+    pub fn with_list<G: crate::kind::Geometry>(
+        &self,
+        list: &'a [Primitive<G>],
+    ) -> Result<Self, Error> {
+        let room = G::of(&self.primitives).len();
+        if list.len() > room {
+            return Err(Error::CapacityExceeded {
+                list: G::KIND.list(),
+                capacity: room,
+            });
+        }
+        let count = self.materials.len();
+        let mut lo = crate::Vec3::splat(f32::INFINITY);
+        let mut hi = crate::Vec3::splat(f32::NEG_INFINITY);
+        for (i, p) in list.iter().enumerate() {
+            check_material(p.material, count)?;
+            if !p.geometry.is_as_made()? {
+                return Err(Error::BadBaked {
+                    list: G::KIND.list(),
+                    index: u16::try_from(i).unwrap_or(u16::MAX),
+                });
+            }
+            if let Some(points) = p.geometry.hull_points() {
+                for v in points {
+                    lo = lo.min(v);
+                    hi = hi.max(v);
+                }
+            }
+        }
+        let mut primitives = self.primitives;
+        G::set(&mut primitives, list);
+        let mut view = Self {
+            primitives,
+            ..*self
+        };
+        match G::KIND {
+            crate::kind::Kind::Triangle => {
+                view.triangle_hull = crate::cull::Hull::new(lo, hi);
+                #[cfg(feature = "bvh")]
+                {
+                    view.bvh = None;
+                }
+            }
+            #[cfg(feature = "bvh")]
+            crate::kind::Kind::Sphere => view.sphere_bvh = None,
+            _ => {}
+        }
+        Ok(view)
+    }
+
+    /// The same view with `lights` in place of its lights (a frame's moved or
+    /// recoloured lights, copied into RAM and changed), checked here in time
+    /// linear in them; the rest of the scene stays the view's, as
+    /// [`SceneView::with_list`] keeps it.
+    ///
+    /// # Errors
+    /// [`Error::CapacityExceeded`] for more lights than the view has; the
+    /// light's own error for numbers [`Light`]'s constructors refuse;
+    /// [`Error::BadBaked`] for a light that is not what they make of its
+    /// numbers.
+    pub fn with_lights(&self, lights: &'a [Light]) -> Result<Self, Error> {
+        if lights.len() > self.lights.len() {
+            return Err(Error::CapacityExceeded {
+                list: crate::error::List::Lights,
+                capacity: self.lights.len(),
+            });
+        }
+        for (i, l) in lights.iter().enumerate() {
+            if l.checked()? != *l {
+                return Err(Error::BadBaked {
+                    list: crate::error::List::Lights,
+                    index: u16::try_from(i).unwrap_or(u16::MAX),
+                });
+            }
+        }
+        Ok(Self { lights, ..*self })
+    }
+
+    /// The same view with `materials` in place of its materials (a frame's
+    /// changed colours, copied into RAM and changed), checked here in time
+    /// linear in them; the primitives keep referring to them by index. A
+    /// mirror or glass added or taken away turns secondary rays on or off.
+    ///
+    /// # Errors
+    /// [`Error::MaterialOutOfRange`] for fewer materials than the view has
+    /// (the primitives refer to them all as far as this knows: the first
+    /// missing one is named); the material's own error
+    /// ([`Material::validate`]); [`Error::BadBaked`] for a material with a
+    /// subnormal number (one its constructors read as zero).
+    pub fn with_materials(&self, materials: &'a [Material]) -> Result<Self, Error> {
+        if materials.len() < self.materials.len() {
+            return Err(Error::MaterialOutOfRange {
+                id: u16::try_from(materials.len()).unwrap_or(u16::MAX),
+                count: u16::try_from(materials.len()).unwrap_or(u16::MAX),
+            });
+        }
+        if materials.len() > usize::from(u16::MAX) {
+            return Err(Error::CapacityExceeded {
+                list: crate::error::List::Materials,
+                capacity: usize::from(u16::MAX),
+            });
+        }
+        for (i, m) in materials.iter().enumerate() {
+            m.validate()?;
+            if m.flushed() != *m {
+                return Err(Error::BadBaked {
+                    list: crate::error::List::Materials,
+                    index: u16::try_from(i).unwrap_or(u16::MAX),
+                });
+            }
+        }
+        Ok(Self {
+            materials,
+            secondary: materials.iter().any(Material::sends_rays),
+            ..*self
+        })
+    }
+
     /// The primitives of one kind: `view.list::<Sphere>()`.
     #[must_use]
     pub fn list<G: crate::kind::Geometry>(&self) -> &'a [Primitive<G>] {

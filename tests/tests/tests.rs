@@ -24,6 +24,7 @@ mod frustum;
 mod golden;
 mod install;
 mod interference;
+mod moving;
 mod nofpu;
 mod overlay;
 mod reference;

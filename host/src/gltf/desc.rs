@@ -146,10 +146,15 @@ pub fn scene(path: &Path, camera: Option<&str>) -> Result<SceneDesc, String> {
     let cameras = std::mem::take(&mut imported.cameras);
     let lights = std::mem::take(&mut imported.lights);
     let identity = Placement::of(&MeshDesc::unplaced(obj.clone(), None))?;
-    let Converted { file, degenerate } = convert(imported, &obj, &identity, MAX_TRIANGLES)?;
-    let meshes = split(&file, &degenerate, &obj)?;
+    let Converted {
+        file,
+        degenerate,
+        nodes,
+    } = convert(imported, &obj, &identity, MAX_TRIANGLES)?;
+    let mut meshes = split(&file, &degenerate, &obj)?;
+    let mut warnings = file.warnings.clone();
+    name_meshes(&mut meshes, &file, &nodes, &shown, &mut warnings);
     let (lo, hi) = bounds(&file.faces);
-    let mut warnings = file.warnings;
 
     let chosen = match camera {
         Some(name) => match cameras.iter().find(|c| c.name == name) {
@@ -234,6 +239,19 @@ pub fn scene(path: &Path, camera: Option<&str>) -> Result<SceneDesc, String> {
              camera (intensity 1), and the ambient light is {DEFAULT_AMBIENT}"
         ));
     }
+    // A mesh's name that a light has too is left out: names are unique.
+    for m in &mut meshes {
+        if let Some(name) = &m.name
+            && desc.lights.iter().any(|l| l.name.as_ref() == Some(name))
+        {
+            warnings.push(format!(
+                "{shown}: a mesh and a light would both be named '{}': the mesh is left \
+                 unnamed",
+                crate::escape(name)
+            ));
+            m.name = None;
+        }
+    }
     desc.materials = file.materials;
     desc.meshes = meshes;
     desc.embedded = file.embedded;
@@ -247,6 +265,9 @@ struct Converted {
     file: MeshFile,
     /// By index into `file.materials`.
     degenerate: Vec<usize>,
+    /// By index into `file.materials`: the nodes (index, name) whose
+    /// primitives have faces of that material, each once.
+    nodes: Vec<Vec<(usize, String)>>,
 }
 
 /// The mesh file of what the reader made of a file (see [`mesh_file`]).
@@ -268,11 +289,13 @@ fn convert(
     out.warnings
         .extend(warnings.into_iter().map(|w| format!("{escaped}: {w}")));
     let mut degenerate = Vec::new();
+    let mut nodes: Vec<Vec<(usize, String)>> = Vec::new();
     for m in &materials {
         let (desc, notes) = material(m, &images, shown, &out.materials);
         out.materials.push(desc);
         out.warnings.extend(notes);
         degenerate.push(0);
+        nodes.push(Vec::new());
     }
     // Each image once, in the order the reader gives them (of first use).
     for image in images {
@@ -293,10 +316,14 @@ fn convert(
                 out.materials.push(desc);
                 out.warnings.extend(notes);
                 degenerate.push(0);
+                nodes.push(Vec::new());
                 out.materials.len() - 1
             }),
         };
         add_faces(mesh, k, place, room, shown, &mut out, &mut degenerate[k])?;
+        if !mesh.triangles.is_empty() && !nodes[k].iter().any(|(n, _)| *n == mesh.node) {
+            nodes[k].push((mesh.node, mesh.name.clone()));
+        }
     }
     if out.faces.is_empty() {
         return Err(format!(
@@ -307,6 +334,7 @@ fn convert(
     Ok(Converted {
         file: out,
         degenerate,
+        nodes,
     })
 }
 
@@ -476,6 +504,66 @@ fn default_material(shown: &str, taken: &[MaterialDesc]) -> (MaterialDesc, Vec<S
             emissive: [0.0; 3],
         },
     )
+}
+
+/// Names each mesh of a whole glTF scene by its node (the node's name, else
+/// its mesh's: [`super::ImportedMesh::name`]) when its faces come from one
+/// node; a node whose faces are in several meshes (one a material) names each
+/// `NODE/MATERIAL` (the material's name in the file). A mesh of several nodes'
+/// faces has no name, and names that two meshes would share are left out, with
+/// a warning naming them.
+fn name_meshes(
+    meshes: &mut [MeshDesc],
+    file: &MeshFile,
+    nodes: &[Vec<(usize, String)>],
+    shown: &str,
+    warnings: &mut Vec<String>,
+) {
+    // The nodes of each mesh, through its material.
+    let of = |m: &MeshDesc| {
+        let k = file
+            .materials
+            .iter()
+            .position(|d| Some(&d.name) == m.material.as_ref())?;
+        nodes.get(k)
+    };
+    let parts_of = |node: usize| {
+        meshes
+            .iter()
+            .filter(|m| of(m).is_some_and(|n| n.iter().any(|(i, _)| *i == node)))
+            .count()
+    };
+    let names: Vec<Option<String>> = meshes
+        .iter()
+        .map(|m| {
+            let [(node, name)] = of(m)?.as_slice() else {
+                return None;
+            };
+            Some(if parts_of(*node) > 1 {
+                // The material as the file names it (`FILE/NAME` less `FILE/`).
+                let material = m.material.as_deref().unwrap_or_default();
+                let own = material.split_once('/').map_or(material, |(_, n)| n);
+                format!("{name}/{own}")
+            } else {
+                name.clone()
+            })
+        })
+        .collect();
+    for (i, m) in meshes.iter_mut().enumerate() {
+        let Some(name) = &names[i] else { continue };
+        if names.iter().filter(|n| n.as_ref() == Some(name)).count() > 1 {
+            warnings.push(format!(
+                "{shown}: several meshes would be named '{}' (nodes of one name): they are \
+                 left unnamed",
+                crate::escape(name)
+            ));
+            continue;
+        }
+        if !name.trim().is_empty() && !name.chars().any(char::is_control) {
+            m.name = Some(name.clone());
+        }
+    }
+    warnings.dedup();
 }
 
 /// The meshes of `file` (the file `obj`), one per material with faces, with
@@ -1041,6 +1129,41 @@ mod tests {
         let path = dir.join(format!("t{materials}.gltf"));
         std::fs::write(&path, text).unwrap();
         path
+    }
+
+    /// A whole scene's meshes take their node's name: `NODE/MATERIAL` for a
+    /// node in several meshes (one a material), none for a mesh of several
+    /// nodes; a name a light has too is left to the light, with a warning.
+    #[test]
+    fn meshes_take_their_nodes_names() {
+        let dir = tempfile::tempdir().unwrap();
+        let one = scene(&triangles(dir.path(), 1, &[], ""), None).unwrap();
+        assert_eq!(one.meshes[0].name.as_deref(), Some("node 0"));
+        assert_eq!(one.find("node 0"), Some(crate::desc::Object::Mesh(0)));
+        let two = scene(&triangles(dir.path(), 2, &[], ""), None).unwrap();
+        let names: Vec<_> = two.meshes.iter().map(|m| m.name.as_deref()).collect();
+        assert_eq!(names, [Some("node 0/m0"), Some("node 0/m1")]);
+        two.to_core().unwrap();
+        let lid = [r#"{"mesh":0,"name":"lid","translation":[0,0,1]}"#.to_string()];
+        let shared = scene(&triangles(dir.path(), 1, &lid, ""), None).unwrap();
+        assert_eq!(shared.meshes[0].name, None);
+        // A light of the mesh's name keeps it.
+        let light =
+            [r#"{"name":"node 0","extensions":{"KHR_lights_punctual":{"light":0}}}"#.to_string()];
+        let lights = r#","extensionsUsed":["KHR_lights_punctual"],
+            "extensions":{"KHR_lights_punctual":{"lights":[{"type":"directional"}]}}"#;
+        let clash = scene(&triangles(dir.path(), 1, &light, lights), None).unwrap();
+        assert_eq!(clash.lights[0].name.as_deref(), Some("node 0"));
+        assert_eq!(clash.meshes[0].name, None);
+        assert!(
+            clash
+                .warnings
+                .iter()
+                .any(|w| w.contains("a mesh and a light would both be named 'node 0'")),
+            "{:?}",
+            clash.warnings
+        );
+        clash.to_core().unwrap();
     }
 
     /// One mesh per material: 16 are a scene, 17 are refused with the count.

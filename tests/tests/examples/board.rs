@@ -20,14 +20,27 @@ fn example() -> PathBuf {
         .join("blackpill-st7789")
 }
 
+/// The target folder the example is built in here: the qemu example's, so that
+/// the scene baker both build scripts use (tessera-host and its readers, a
+/// build-dependency of each, the same versions in both lock files) is compiled
+/// once for the two (`tests/run-all.sh` lints it there too). A user's build in
+/// the example's own folder links the same code (the README's figures are
+/// checked within 1 %).
+fn target_dir() -> PathBuf {
+    tessera_tests::qemu_example::example().join("target")
+}
+
 /// Builds the example as a user does (`cargo build --release` in its folder: its
-/// `.cargo/config.toml` names the target) for the scene file `scene`
-/// (`TESSERA_SCENE`; `None`: its default, the teapot) with the core's features the
-/// scene needs, as its build.rs asks for them, and returns the ELF's path.
+/// `.cargo/config.toml` names the target; in [`target_dir`]) for the scene file
+/// `scene` (`TESSERA_SCENE`; `None`: its default, the teapot) with the core's
+/// features the scene needs, as its build.rs asks for them, and returns the
+/// ELF's path.
 fn build(scene: Option<&str>) -> Result<PathBuf, String> {
     let dir = example();
     let mut cmd = firmware::cargo();
-    cmd.current_dir(&dir).args(["build", "--release"]);
+    cmd.current_dir(&dir)
+        .args(["build", "--release"])
+        .env("CARGO_TARGET_DIR", target_dir());
     if let Some(scene) = scene {
         let desc = tessera_host::file::load(&dir.join(scene)).map_err(|e| e.to_string())?;
         let features = tessera_host::bake::kind_features(&desc);
@@ -49,8 +62,7 @@ fn build(scene: Option<&str>) -> Result<PathBuf, String> {
             firmware::INSTALL_HINT
         ),
     )?;
-    let elf = dir
-        .join("target")
+    let elf = target_dir()
         .join(firmware::TARGET)
         .join("release")
         .join("blackpill-st7789");
