@@ -623,6 +623,24 @@ pub struct RunResult {
     pub stack_base: u64,
     /// Peak stack below the tile loop's stack pointer: what `render_tile` needs.
     pub stack_render: u64,
+    /// For a baked scene's run, the instructions of a frame's set-up.
+    pub setup: Option<Setup>,
+}
+
+/// The instructions of a frame's set-up on a baked scene, as the firmware
+/// measures them after the run: its whole view checked again with its camera
+/// (`BakedScene::view`), and its lights, spheres and planes each handed to the
+/// view as a frame's changed list (`SceneView::with_lights`, `with_list`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Setup {
+    /// `BakedScene::view` and the camera.
+    pub view: u64,
+    /// `with_lights` of its lights.
+    pub lights: u64,
+    /// `with_list` of its spheres.
+    pub spheres: u64,
+    /// `with_list` of its planes.
+    pub planes: u64,
 }
 
 impl RunResult {
@@ -864,6 +882,18 @@ fn parse_output(stdout: &str, runs: &[Run], dir: &Path, tick: TickRate) -> Resul
             stack: number(l, "stack")?,
             stack_base: number(l, "base")?,
             stack_render: number(l, "render")?,
+            setup: match stdout
+                .lines()
+                .find(|l| l.starts_with(&format!("setup {i} ")))
+            {
+                Some(l) => Some(Setup {
+                    view: number(l, "view")?,
+                    lights: number(l, "lights")?,
+                    spheres: number(l, "spheres")?,
+                    planes: number(l, "planes")?,
+                }),
+                None => None,
+            },
         });
     }
     Ok(Output {

@@ -310,6 +310,7 @@ mod tests {
             stack: 0,
             stack_base: 0,
             stack_render: 0,
+            setup: None,
         };
         // Armed once short of a tile: refused though the totals agree.
         assert!(check_total(&run, &systick, &profile).is_err());

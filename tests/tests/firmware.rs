@@ -160,6 +160,27 @@ fn firmware_pixels_equal_the_host_build_byte_for_byte() {
         "chip and host differ (images in target/test-images):\n{}",
         bad.join("\n")
     );
+    // A frame's set-up on each baked scene: measured once a run, and a
+    // changed list (lights, spheres) checks that list alone, far less than
+    // the whole scene's view (its every table, the teapot's mesh and BVH).
+    for (run, r) in runs.iter().zip(&out.runs) {
+        match (run.scene, r.setup) {
+            (SceneRef::Baked(b), Some(s)) => {
+                assert!(s.view > 0 && s.lights > 0, "{}: {s:?}", run.scene.name());
+                assert!(
+                    4 * s.lights < s.view && 4 * s.spheres < s.view,
+                    "{}: a changed list costs as much as the whole view: {s:?}",
+                    run.scene.name()
+                );
+                if b == Builtin::Teapot {
+                    assert!(100 * s.lights < s.view, "teapot: {s:?}");
+                }
+            }
+            (SceneRef::Baked(_), None) => panic!("{}: no set-up line", run.scene.name()),
+            (_, Some(s)) => panic!("{}: a set-up line {s:?}", run.scene.name()),
+            (_, None) => {}
+        }
+    }
 }
 
 /// The core's square root (`vsqrt.f32`) is correctly rounded on the chip: hard

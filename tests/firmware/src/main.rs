@@ -25,6 +25,9 @@
 //!    the run (from the top of RAM), `base` the stack in use when the run started
 //!    (the harness) and `render` the peak below the tile loop's stack pointer (what
 //!    `render_tile` itself needs);
+//!    and after a run of a baked scene (`baked-<name>`) `setup <i> view=<n>
+//!    lights=<n> spheres=<n> planes=<n>`: the instructions of a frame's set-up
+//!    ([`setup`]);
 //! 5. prints `stack peak=<max over runs> available=<bytes> ram=<bytes>` and
 //!    `done runs=<n>`, then exits with success.
 //!
@@ -184,6 +187,17 @@ fn run_all() -> Result<(), FwError> {
             base,
             loop_sp.saturating_sub(lowest)
         );
+        if let runs::SceneRef::Baked(b) = run.scene {
+            let [view, lights, spheres, planes] = setup(b)?;
+            hprintln!(
+                "setup {} view={} lights={} spheres={} planes={}",
+                index,
+                clock::RATE.instructions(view),
+                clock::RATE.instructions(lights),
+                clock::RATE.instructions(spheres),
+                clock::RATE.instructions(planes)
+            );
+        }
         index += 1;
     }
     hprintln!(
@@ -194,6 +208,30 @@ fn run_all() -> Result<(), FwError> {
     );
     hprintln!("done runs={}", index);
     Ok(())
+}
+
+/// The ticks a frame's set-up takes on the baked scene `b`: its whole view
+/// built and checked again with its camera (`BakedScene::view`, what rebuilding
+/// the scene each frame costs), then its lights, its spheres and its planes each
+/// handed to the view again as a frame's changed list (`SceneView::with_lights`,
+/// `with_list`: each checks that list alone).
+#[inline(never)]
+fn setup(b: tessera_core::builtin::Builtin) -> Result<[u64; 4], FwError> {
+    use core::hint::black_box;
+    let t0 = clock::now();
+    let (times, checked) = b.with_baked_scene(|view, _camera| {
+        let t1 = clock::now();
+        let lights = black_box(view.with_lights(black_box(view.lights()))).map(|_| ());
+        let t2 = clock::now();
+        let spheres = black_box(view.with_list(black_box(view.spheres()))).map(|_| ());
+        let t3 = clock::now();
+        let planes = black_box(view.with_list(black_box(view.planes()))).map(|_| ());
+        let t4 = clock::now();
+        ([t1, t2, t3, t4], lights.and(spheres).and(planes))
+    })?;
+    checked?;
+    let [t1, t2, t3, t4] = times;
+    Ok([t1 - t0, t2 - t1, t3 - t2, t4 - t3])
 }
 
 /// Takes the run-list buffer and the tile buffers (once). Not inlined: the values

@@ -149,6 +149,14 @@ fn runs() -> Vec<Run> {
         });
     }
     runs.extend(frame_runs());
+    // Each built-in scene from its baked tables, for a frame's set-up (the
+    // firmware measures it after a baked scene's run).
+    for &b in Builtin::ALL {
+        runs.push(Run {
+            tile: TILE,
+            ..Run::of(SceneRef::Baked(b), SIZE, SIZE)
+        });
+    }
     runs
 }
 
@@ -387,6 +395,7 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     m.image_size(&mut d);
     m.stack(&mut d);
     m.scene_files(&mut d);
+    m.frame_setup(&mut d);
     m.cores(&mut d);
     m.both_cores(&mut d);
     m.frames(&mut d);
@@ -1343,6 +1352,46 @@ impl Measured {
              above runs on the test firmware's profile, which renders the built-in \
              scenes only."
         );
+    }
+
+    /// A frame's set-up on each baked scene: the whole view checked again
+    /// against one changed list, beside the frame's render.
+    fn frame_setup(&self, w: &mut String) {
+        let _ = writeln!(w, "\n## A frame's set-up: what moves\n");
+        let _ = writeln!(
+            w,
+            "A firmware that moves something builds each frame's view. Rebuilding the whole \
+             baked scene (`SCENE.view()` and its camera: every table checked, a mesh's \
+             faces and BVH among them) costs what the scene holds; handing the view one \
+             changed list (`view.with_lights(&lights)`, `view.with_list(&spheres)`: a RAM \
+             copy of that table, changed) checks that list alone. Measured by the firmware \
+             after each baked scene's run (the same clock as above; these lists unchanged, \
+             so the figures are the checks' and the copy is the caller's), beside that \
+             run's render at {SIZE}x{SIZE} with the scene's own settings. Instructions:\n"
+        );
+        let _ = writeln!(
+            w,
+            "| scene | lights | spheres | planes | `SCENE.view()` | `with_lights` | `with_list` (spheres) | `with_list` (planes) | the frame's render |"
+        );
+        let _ = writeln!(w, "|---|---|---|---|---|---|---|---|---|");
+        for (r, res) in self.runs.iter().zip(&self.exact.out.runs) {
+            let (SceneRef::Baked(b), Some(s)) = (r.scene, res.setup) else {
+                continue;
+            };
+            let (lights, spheres, planes) = b
+                .with_baked_scene(|v, _| (v.lights().len(), v.spheres().len(), v.planes().len()))
+                .unwrap_or_default();
+            let _ = writeln!(
+                w,
+                "| {} | {lights} | {spheres} | {planes} | {} | {} | {} | {} | {} |",
+                b.name(),
+                thousands(s.view),
+                thousands(s.lights),
+                thousands(s.spheres),
+                thousands(s.planes),
+                thousands(res.instructions),
+            );
+        }
     }
 
     /// How to regenerate the document.
