@@ -213,15 +213,31 @@ while IFS= read -r step; do failed+=("$step"); done <"$own_failed"
 rm -f "$own_log" "$own_failed"
 
 say "tests"
+# The test binaries are built first; while they run (the long part: the firmware
+# under qemu, mostly one core at a time), the same tests with the approximations
+# on build and run beside them: the core's unit tests (math: each approximation's
+# error bound; not its doc examples or its layers test, which no approximation
+# changes) and the host library's (the f64 reference against the core), with
+# fast-math (every approximation; each alone is linted above). Not the command's
+# integration tests (messages, outputs, files: nothing an approximation changes),
+# nor tessera-tests, which holds the long runs (qemu, golden images: exact
+# images). Their output is held and shown after the tests, and their failures
+# join the list.
+run cargo test-all --no-run
+fast_log=$(mktemp)
+fast_failed=$(mktemp)
+(
+  run() { "$@" >>"$fast_log" 2>&1 || printf '%s\n' "$*" >>"$fast_failed"; }
+  say() { printf '\n== %s (at %d s)\n' "$*" "$SECONDS" >>"$fast_log"; }
+  say "tests with the approximations (fast-math: the core's unit tests, the host library's)"
+  run cargo test -p tessera-core --features fast-math --lib
+  run cargo test -p tessera-host --features fast-math --lib
+) &
+fast_pid=$!
 run cargo test-all
-
-# The same tests with the approximations on: the core's unit tests (math: each
-# approximation's error bound; not its doc examples or its layers test, which no
-# approximation changes) and the host library's (the f64 reference against the
-# core), with fast-math (every approximation; each alone is linted above). Not the
-# command's integration tests (messages, outputs, files: nothing an approximation
-# changes), nor tessera-tests, which holds the long runs (qemu, golden images:
-# exact images).
-say "tests with the approximations (fast-math: the core's unit tests, the host library's)"
-run cargo test -p tessera-core --features fast-math --lib
-run cargo test -p tessera-host --features fast-math --lib
+wait "$fast_pid" || true
+say "the tests with the approximations, run beside the tests above:"
+cat "$fast_log"
+cat "$fast_log" >>"$log"
+while IFS= read -r step; do failed+=("$step"); done <"$fast_failed"
+rm -f "$fast_log" "$fast_failed"
