@@ -21,7 +21,9 @@ const DEFAULT_SCENE: &str = "../../scenes/teapot.toml";
 
 fn main() -> ExitCode {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
-    match bake(&out) {
+    // The scene file, read, checked against the core's features this build
+    // enables, and baked to `OUT_DIR/scene.rs`.
+    match tessera_host::bake::build_script(DEFAULT_SCENE) {
         Ok(()) => {
             link(&out);
             ExitCode::SUCCESS
@@ -31,58 +33,6 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
-}
-
-/// Writes the scene named by `TESSERA_SCENE` to `out/scene.rs` (the same as the
-/// qemu example's build.rs, but for the default scene and the `bvh` message).
-fn bake(out: &Path) -> Result<(), String> {
-    println!("cargo::rerun-if-env-changed=TESSERA_SCENE");
-    let scene = env::var("TESSERA_SCENE").unwrap_or_else(|_| DEFAULT_SCENE.into());
-    // Cargo runs this script in the crate's folder: the path is taken from there,
-    // and the messages name the file as the user gave it.
-    println!("cargo::rerun-if-changed={scene}");
-    let path = Path::new(&scene);
-    let desc = tessera_host::file::load(path).map_err(|e| e.to_string())?;
-    for w in tessera_host::file::warnings(&desc) {
-        println!("cargo::warning={scene}: {w}");
-    }
-    let base = path.parent().unwrap_or(Path::new(""));
-    for mesh in &desc.meshes {
-        if let Some(file) = tessera_host::mesh::obj_file(mesh, base) {
-            println!("cargo::rerun-if-changed={}", file.display());
-        }
-    }
-    let source = tessera_host::bake::scene_source(&desc, &scene, "tessera_core")
-        .map_err(|e| format!("{scene}: {e}"))?;
-    // The baked hierarchies are of the core's feature `bvh`.
-    if source.contains("BakedBvh") && env::var_os("CARGO_FEATURE_BVH").is_none() {
-        return Err(format!(
-            "{scene} has meshes or 100 triangles or more: it needs the feature `bvh` \
-             (on by default; with --no-default-features, add --features bvh)"
-        ));
-    }
-    // The kinds (and image textures, and the sun) the core compiles only with
-    // a feature of its own (the example forwards each: `--features
-    // cylinder,disk,image,sun`).
-    let missing: Vec<&str> = tessera_host::bake::kind_features(&desc)
-        .into_iter()
-        .filter(|f| {
-            // Cargo's variable for feature `a-b` is `CARGO_FEATURE_A_B`.
-            let var = format!("CARGO_FEATURE_{}", f.to_uppercase().replace('-', "_"));
-            env::var_os(var).is_none()
-        })
-        .collect();
-    if !missing.is_empty() {
-        return Err(format!(
-            "{scene} needs the core's optional features `{}` \
-             (build with --features {})",
-            missing.join("`, `"),
-            missing.join(",")
-        ));
-    }
-    // The scene's name, for the firmware's log.
-    println!("cargo::rustc-env=TESSERA_SCENE_NAME={scene}");
-    fs::write(out.join("scene.rs"), source).map_err(|e| format!("cannot write scene.rs: {e}"))
 }
 
 /// Puts memory.x where the linker finds it and links with cortex-m-rt's `link.x`

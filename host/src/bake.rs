@@ -322,36 +322,23 @@ fn constants<'n>(prefix: &str, items: impl Iterator<Item = (usize, &'n str)>) ->
 }
 
 /// The constants of the scene's named objects and lights, each with its
-/// line: `(constant, "The sphere \"red ball\"", "SPHERES", place)`, the lights
-/// first, then each kind's items in the core's order, then the meshes.
+/// line: `(constant, "The sphere \"red ball\"", "SPHERES", place)`, in the
+/// order of `named` ([`SceneDesc::named`]: each list's items together).
 fn object_constants(named: &[(String, Object)]) -> Vec<(String, String, String, usize)> {
-    let list = |o: &Object| match *o {
-        Object::Primitive(kind, _) => (kind.name().to_string(), kind.list().name().to_uppercase()),
-        Object::Mesh(_) => ("mesh".into(), "MESHES".into()),
-        Object::Light(_) => ("light".into(), "LIGHTS".into()),
-    };
-    let place = |o: &Object| match *o {
-        Object::Primitive(_, i) | Object::Mesh(i) | Object::Light(i) => i,
+    // Each item's kind as the line names it, its table and its place there.
+    let of = |o: &Object| match *o {
+        Object::Primitive(kind, i) => (kind.name(), kind.list().name().to_uppercase(), i),
+        Object::Mesh(i) => ("mesh", "MESHES".into(), i),
+        Object::Light(i) => ("light", "LIGHTS".into(), i),
     };
     let mut out = Vec::new();
-    let mut lists: Vec<(String, String)> = Vec::new();
-    for (_, o) in named {
-        if !lists.contains(&list(o)) {
-            lists.push(list(o));
-        }
-    }
-    for (kind, table) in lists {
-        let items: Vec<&(String, Object)> =
-            named.iter().filter(|(_, o)| list(o).0 == kind).collect();
+    for list in named.chunk_by(|a, b| of(&a.1).1 == of(&b.1).1) {
+        let (kind, table, _) = of(&list[0].1);
         let prefix = kind.to_uppercase();
-        let consts = constants(&prefix, items.iter().map(|(n, o)| (place(o), n.as_str())));
-        for (c, (n, o)) in consts.into_iter().zip(items) {
-            out.push((
-                c,
-                format!("The {kind} {}", rust_string(n)),
-                table.clone(),
-                place(o),
-            ));
+        let consts = constants(&prefix, list.iter().map(|(n, o)| (of(o).2, n.as_str())));
+        for (c, (n, o)) in consts.into_iter().zip(list) {
+            let what = format!("The {kind} {}", rust_string(n));
+            out.push((c, what, table.clone(), of(o).2));
         }
     }
     out
@@ -1101,6 +1088,84 @@ impl<'a> Writer<'a> {
     }
 }
 
+/// What a firmware's `build.rs` does with its scene file: reads the file named
+/// by the environment variable `TESSERA_SCENE`, else `default_scene` (relative
+/// to the crate's folder, where cargo runs build scripts; mesh and image files
+/// relative to it, as `tessera render` reads them), prints its warnings as
+/// cargo's, asks cargo to run again when the file, its mesh files or the
+/// variable change, checks that the build enables the core's features the
+/// scene needs ([`missing_features`], read from cargo's `CARGO_FEATURE_*`
+/// variables: the firmware forwards each to the core), and writes the baked
+/// scene to `OUT_DIR/scene.rs`, which the firmware `include!`s. It also sets
+/// `TESSERA_SCENE_NAME` (the file as named) for the firmware's code.
+///
+/// # Errors
+/// The reader's message (file, line, what is wrong), the baker's, the
+/// features the build lacks, or a file that cannot be written: the build
+/// script prints it as `cargo::error` and fails.
+pub fn build_script(default_scene: &str) -> Result<(), String> {
+    use std::env;
+    println!("cargo::rerun-if-env-changed=TESSERA_SCENE");
+    let scene = env::var("TESSERA_SCENE").unwrap_or_else(|_| default_scene.into());
+    // The messages name the file as the user gave it.
+    println!("cargo::rerun-if-changed={scene}");
+    let path = std::path::Path::new(&scene);
+    let desc = crate::file::load(path).map_err(|e| e.to_string())?;
+    for w in crate::file::warnings(&desc) {
+        println!("cargo::warning={scene}: {w}");
+    }
+    let base = path.parent().unwrap_or(std::path::Path::new(""));
+    for mesh in &desc.meshes {
+        if let Some(file) = crate::mesh::obj_file(mesh, base) {
+            println!("cargo::rerun-if-changed={}", file.display());
+        }
+    }
+    let source =
+        scene_source(&desc, &scene, "tessera_core").map_err(|e| format!("{scene}: {e}"))?;
+    // Cargo's variable for feature `a-b` is `CARGO_FEATURE_A_B`.
+    let enabled = |f: &str| {
+        env::var_os(format!(
+            "CARGO_FEATURE_{}",
+            f.to_uppercase().replace('-', "_")
+        ))
+        .is_some()
+    };
+    let missing = missing_features(&desc, &source, enabled);
+    if !missing.is_empty() {
+        return Err(format!(
+            "{scene} needs the core's features `{}`, which this build lacks (build with \
+             --features {}{})",
+            missing.join("`, `"),
+            missing.join(","),
+            if missing.contains(&"bvh") {
+                "; `bvh`, for meshes and 100 triangles or more, is on by default: \
+                 --no-default-features turns it off"
+            } else {
+                ""
+            }
+        ));
+    }
+    println!("cargo::rustc-env=TESSERA_SCENE_NAME={scene}");
+    let out = env::var_os("OUT_DIR").ok_or("OUT_DIR is not set: call this from a build script")?;
+    std::fs::write(std::path::Path::new(&out).join("scene.rs"), source)
+        .map_err(|e| format!("cannot write scene.rs: {e}"))
+}
+
+/// The core's features that the baked `source` of `desc` needs and
+/// `enabled` says the build lacks: `bvh` for its hierarchies (meshes, or 100
+/// triangles or more), then [`kind_features`].
+pub fn missing_features(
+    desc: &SceneDesc,
+    source: &str,
+    enabled: impl Fn(&str) -> bool,
+) -> Vec<&'static str> {
+    let bvh = source.contains("BakedBvh").then_some("bvh");
+    bvh.into_iter()
+        .chain(kind_features(desc))
+        .filter(|f| !enabled(f))
+        .collect()
+}
+
 /// The core's optional features that a scene needs (`cylinder`, `disk`: the
 /// kinds the core compiles only with them, in the core's order; then `image`
 /// for image textures, `sun` for a directional light): a firmware that bakes
@@ -1630,59 +1695,32 @@ mod tests {
         }
     }
 
+    /// A firmware's build is told the core's features its scene needs and it
+    /// lacks: `bvh` for the teapot's mesh, `image` and `sun` for the 3D tools'
+    /// scene, none once they are on.
+    #[test]
+    fn the_features_a_build_lacks_are_named() {
+        let teapot = crate::file::builtin_desc(tessera_core::builtin::Builtin::Teapot);
+        let src = scene_source(&teapot, "teapot.toml", "tessera_core").unwrap();
+        assert_eq!(missing_features(&teapot, &src, |_| false), ["bvh"]);
+        assert!(missing_features(&teapot, &src, |f| f == "bvh").is_empty());
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data");
+        let tools = crate::file::load(&dir.join("tools.toml")).unwrap();
+        let src = scene_source(&tools, "tools.toml", "tessera_core").unwrap();
+        assert_eq!(
+            missing_features(&tools, &src, |f| f == "bvh"),
+            ["image", "sun"]
+        );
+        assert!(missing_features(&tools, &src, |_| true).is_empty());
+    }
+
     /// Each named object and light bakes as a constant of its place in its
     /// table, by the material constants' rule within its list (two names of
     /// one stem numbered, neither taking the plain constant); unnamed items
     /// have none.
     #[test]
     fn named_items_bake_as_constants_of_their_places() {
-        let text = r#"
-            [camera]
-            position = [0, 0, 5]
-            look_at = [0, 0, 0]
-            near = 0.1
-            far = 100
-            [[material]]
-            name = "m"
-            color = [1, 1, 1]
-            [[light]]
-            position = [0, 4, 4]
-            intensity = 10
-            [[light]]
-            direction = [0, -1, 0]
-            intensity = 1
-            name = "sun"
-            [[sphere]]
-            center = [0, 0, 0]
-            radius = 1
-            material = "m"
-            [[sphere]]
-            center = [2, 0, 0]
-            radius = 1
-            material = "m"
-            name = "red ball"
-            [[sphere]]
-            center = [4, 0, 0]
-            radius = 1
-            material = "m"
-            name = "Red-Ball"
-            [[sphere]]
-            center = [6, 0, 0]
-            radius = 1
-            material = "m"
-            name = "!"
-            [[box]]
-            min = [-1, -1, -1]
-            max = [1, 1, 1]
-            material = "m"
-            name = "crate"
-            [[box]]
-            min = [-1, -1, -1]
-            max = [1, 1, 1]
-            material = "m"
-            rotate = [0, 45, 0]
-            name = "turned crate"
-        "#;
+        let text = crate::desc::NAMED_SCENE;
         let desc = crate::file::parse(text, "named.toml").unwrap();
         let src = scene_source(&desc, "named.toml", "tessera_core").unwrap();
         for (doc, line) in [

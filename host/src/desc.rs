@@ -770,6 +770,19 @@ impl LightDesc {
     }
 }
 
+/// What is wrong with an item's `name`, if anything: empty (or blank), or
+/// holding a control character.
+#[must_use]
+pub fn name_fault(name: &str) -> Option<String> {
+    if name.trim().is_empty() {
+        Some("its name is empty: give it one, or leave the key out".into())
+    } else if name.chars().any(char::is_control) {
+        Some(format!("its name {name:?} holds a control character"))
+    } else {
+        None
+    }
+}
+
 /// A named item of a scene ([`SceneDesc::find`]): its list and its place in
 /// it (from 0), which is its place in that list's table in a baked scene
 /// (`SPHERES`, `MESHES`, `LIGHTS`).
@@ -1223,24 +1236,19 @@ impl SceneDesc {
             .find_map(|(n, o)| (n == name).then_some(o))
     }
 
-    /// Refuses an empty name, a name with a control character, and a name
-    /// that an earlier item has, naming both items.
+    /// Refuses a name [`name_fault`] finds fault with, and a name that an
+    /// earlier item has, naming both items.
     fn check_names(&self) -> Result<(), DescError> {
-        let named = self.named();
-        for (i, &(name, object)) in named.iter().enumerate() {
+        let mut seen = std::collections::HashMap::new();
+        for (name, object) in self.named() {
             let fail = |message: String| DescError {
                 item: object.to_string(),
                 message,
             };
-            if name.trim().is_empty() {
-                return Err(fail(
-                    "its name is empty: give it one, or leave the key out".into(),
-                ));
+            if let Some(fault) = name_fault(name) {
+                return Err(fail(fault));
             }
-            if name.chars().any(char::is_control) {
-                return Err(fail(format!("its name {name:?} holds a control character")));
-            }
-            if let Some(&(_, first)) = named[..i].iter().find(|(n, _)| *n == name) {
+            if let Some(first) = seen.insert(name, object) {
                 return Err(fail(format!(
                     "{first} has the name {name:?} too: a name is unique among the \
                      scene's objects and lights"
@@ -1641,61 +1649,73 @@ fn core_material(m: &MaterialDesc) -> Result<Material, String> {
         })
 }
 
+/// A scene of named items, for the tests of names: two lights (one named),
+/// four spheres (one unnamed, two names of one stem, one without a letter), a
+/// box and a turned box (a mesh).
+#[cfg(test)]
+pub(crate) const NAMED_SCENE: &str = r#"
+    [camera]
+    position = [0, 0, 5]
+    look_at = [0, 0, 0]
+    near = 0.1
+    far = 100
+    [[material]]
+    name = "m"
+    color = [1, 1, 1]
+    [[light]]
+    position = [0, 4, 4]
+    intensity = 10
+    [[light]]
+    direction = [0, -1, 0]
+    intensity = 1
+    name = "sun"
+    [[sphere]]
+    center = [0, 0, 0]
+    radius = 1
+    material = "m"
+    [[sphere]]
+    center = [2, 0, 0]
+    radius = 1
+    material = "m"
+    name = "red ball"
+    [[sphere]]
+    center = [4, 0, 0]
+    radius = 1
+    material = "m"
+    name = "Red-Ball"
+    [[sphere]]
+    center = [6, 0, 0]
+    radius = 1
+    material = "m"
+    name = "!"
+    [[box]]
+    min = [-1, -1, -1]
+    max = [1, 1, 1]
+    material = "m"
+    name = "crate"
+    [[box]]
+    min = [-1, -1, -1]
+    max = [1, 1, 1]
+    material = "m"
+    rotate = [0, 45, 0]
+    name = "turned crate"
+"#;
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A scene of named items: two spheres (one unnamed), a box, a light and
-    /// a mesh of one triangle given as an OBJ text beside it.
-    const NAMED: &str = r#"
-        [camera]
-        position = [0, 0, 5]
-        look_at = [0, 0, 0]
-        near = 0.1
-        far = 100
-        [[material]]
-        name = "m"
-        color = [1, 1, 1]
-        [[light]]
-        position = [0, 4, 4]
-        intensity = 10
-        [[light]]
-        direction = [0, -1, 0]
-        intensity = 1
-        name = "sun"
-        [[sphere]]
-        center = [0, 0, 0]
-        radius = 1
-        material = "m"
-        [[sphere]]
-        center = [2, 0, 0]
-        radius = 1
-        material = "m"
-        name = "red ball"
-        [[box]]
-        min = [-1, -1, -1]
-        max = [1, 1, 1]
-        material = "m"
-        name = "crate"
-        [[box]]
-        min = [-1, -1, -1]
-        max = [1, 1, 1]
-        material = "m"
-        rotate = [0, 45, 0]
-        name = "turned crate"
-    "#;
 
     /// Each named item is found by its name in its list, at its place there
     /// (a turned box among the meshes); an unknown name is none.
     #[test]
     fn named_items_are_found_in_their_lists() {
-        let d = crate::file::parse(NAMED, "named.toml").unwrap();
+        let d = crate::file::parse(NAMED_SCENE, "named.toml").unwrap();
         assert_eq!(d.find("sun"), Some(Object::Light(1)));
         assert_eq!(d.find("red ball"), Some(Object::Primitive(Kind::Sphere, 1)));
         assert_eq!(d.find("crate"), Some(Object::Primitive(Kind::Box, 0)));
         assert_eq!(d.find("turned crate"), Some(Object::Mesh(0)));
         assert_eq!(d.find("Red ball"), None);
-        assert_eq!(d.named().len(), 4);
+        assert_eq!(d.named().len(), 6);
         assert_eq!(Object::Primitive(Kind::Sphere, 1).to_string(), "sphere 2");
         assert_eq!(Object::Mesh(0).to_string(), "mesh 1");
         d.to_core().unwrap();
@@ -1706,7 +1726,7 @@ mod tests {
     #[test]
     fn names_are_unique_and_not_empty() {
         let refused = |from: &str, to: &str| {
-            let text = NAMED.replacen(from, to, 1);
+            let text = NAMED_SCENE.replacen(from, to, 1);
             let d = crate::file::parse(&text, "named.toml");
             let e = match d {
                 Ok(d) => d.to_core().map(|_| ()).unwrap_err(),

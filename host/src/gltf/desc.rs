@@ -147,12 +147,12 @@ pub fn scene(path: &Path, camera: Option<&str>) -> Result<SceneDesc, String> {
     let lights = std::mem::take(&mut imported.lights);
     let identity = Placement::of(&MeshDesc::unplaced(obj.clone(), None))?;
     let Converted {
-        file,
+        mut file,
         degenerate,
         nodes,
     } = convert(imported, &obj, &identity, MAX_TRIANGLES)?;
     let mut meshes = split(&file, &degenerate, &obj)?;
-    let mut warnings = file.warnings.clone();
+    let mut warnings = std::mem::take(&mut file.warnings);
     name_meshes(&mut meshes, &file, &nodes, &shown, &mut warnings);
     let (lo, hi) = bounds(&file.faces);
 
@@ -225,7 +225,7 @@ pub fn scene(path: &Path, camera: Option<&str>) -> Result<SceneDesc, String> {
                 "{shown}: light '{}': an earlier light has its name: it is left unnamed",
                 crate::escape(&l.name)
             ));
-        } else if !l.name.trim().is_empty() && !l.name.chars().any(char::is_control) {
+        } else if crate::desc::name_fault(&l.name).is_none() {
             light.name = Some(l.name.clone());
         }
         desc.lights.push(light);
@@ -549,21 +549,25 @@ fn name_meshes(
             })
         })
         .collect();
+    let mut shared: Vec<&String> = Vec::new();
     for (i, m) in meshes.iter_mut().enumerate() {
         let Some(name) = &names[i] else { continue };
         if names.iter().filter(|n| n.as_ref() == Some(name)).count() > 1 {
-            warnings.push(format!(
-                "{shown}: several meshes would be named '{}' (nodes of one name): they are \
-                 left unnamed",
-                crate::escape(name)
-            ));
+            // One warning a name.
+            if !shared.contains(&name) {
+                shared.push(name);
+                warnings.push(format!(
+                    "{shown}: several meshes would be named '{}' (nodes of one name): they \
+                     are left unnamed",
+                    crate::escape(name)
+                ));
+            }
             continue;
         }
-        if !name.trim().is_empty() && !name.chars().any(char::is_control) {
+        if crate::desc::name_fault(name).is_none() {
             m.name = Some(name.clone());
         }
     }
-    warnings.dedup();
 }
 
 /// The meshes of `file` (the file `obj`), one per material with faces, with

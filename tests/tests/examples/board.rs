@@ -120,12 +120,7 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
         !images.is_empty() && images.iter().all(|s| s.size > 0),
         "{TEXTURED}: no image tables (IMAGE0...) in the ELF"
     );
-    println!(
-        "{TEXTURED}: flash {} bytes, RAM {} bytes, images {} bytes",
-        t.flash(),
-        t.ram(),
-        images.iter().map(|s| s.size).sum::<u64>()
-    );
+    let image_bytes: u64 = images.iter().map(|s| s.size).sum();
 
     let elf = build(None).unwrap_or_else(|e| panic!("{e}"));
     let s: Sizes = firmware::sections(&elf).unwrap();
@@ -165,6 +160,14 @@ fn the_board_example_links_within_the_chip_and_its_readme_has_its_sizes() {
             wrong.push(format!("{what}: the README says {said:?}, the ELF {truth}"));
         }
     };
+    // The textured scene's build, as "Another scene" states it.
+    for (what, label, truth) in [
+        ("tools.toml flash", "- flash: ", t.flash()),
+        ("tools.toml images", "of which the images: ", image_bytes),
+        ("tools.toml static RAM", "- static RAM: ", t.ram()),
+    ] {
+        expect(what, figure_after(&readme, label), truth);
+    }
     for (section, truth) in [
         (".vector_table", s.vector_table),
         (".text", s.text),
