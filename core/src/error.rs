@@ -51,6 +51,9 @@ pub enum Field {
     SubPixelOffset,
     RayOrigin,
     RayDirection,
+    InstanceRotation,
+    InstanceScale,
+    InstanceTranslation,
 }
 
 impl Field {
@@ -100,6 +103,9 @@ impl Field {
             Self::SubPixelOffset => "sub-pixel offset",
             Self::RayOrigin => "ray origin",
             Self::RayDirection => "ray direction",
+            Self::InstanceRotation => "instance rotation",
+            Self::InstanceScale => "instance scale",
+            Self::InstanceTranslation => "instance translation",
         }
     }
 }
@@ -122,6 +128,8 @@ pub enum List {
     BvhNodes,
     /// The meshes of a scene view (`SceneView::with_meshes`, feature `bvh`).
     Meshes,
+    /// The instances of a view's meshes (`Instances`, feature `instances`).
+    Instances,
 }
 
 impl List {
@@ -139,6 +147,7 @@ impl List {
             Self::Lights => "lights",
             Self::BvhNodes => "BVH nodes",
             Self::Meshes => "meshes",
+            Self::Instances => "instances",
         }
     }
 }
@@ -189,6 +198,14 @@ pub enum Error {
     /// out of range, normals that are not one unit vector per vertex, 65,536 faces
     /// or more, a hierarchy of other faces, or a view that has meshes already.
     BadMesh,
+    /// An instance (`Instance`, feature `instances`) of a mesh the view does
+    /// not have.
+    MeshOutOfRange {
+        /// The mesh index asked for.
+        id: u16,
+        /// How many meshes the view has.
+        count: u16,
+    },
     /// A box's min corner is above its max corner on some axis.
     InvertedBox,
     /// The recursion depth asked for is above [`crate::error::MAX_DEPTH`].
@@ -246,10 +263,14 @@ impl fmt::Display for Error {
                 list.name()
             ),
             Self::DegenerateTriangle => f.write_str("triangle vertices are collinear (zero area)"),
+            Self::MeshOutOfRange { id, count } => write!(
+                f,
+                "an instance of mesh {id}, which does not exist (the view has {count} mesh(es))"
+            ),
             Self::BadMesh => f.write_str(
                 "a mesh does not hold together (a vertex index out of range, normals not one \
-                 unit vector per vertex, 65,536 faces or more, a BVH of other faces, or \
-                 meshes given twice)",
+                 unit vector per vertex, 65,536 faces or more, a BVH of other faces, \
+                 meshes given twice, or instances of another view's meshes)",
             ),
             Self::BadBaked { list, index } => write!(
                 f,

@@ -28,6 +28,10 @@ macro_rules! geom {
             /// ([`MeshFace`]), so that a `Geom` stays a tag and a pointer.
             #[cfg(feature = "bvh")]
             Mesh(&'a crate::mesh::Mesh<'a>),
+            /// A face of an instance of a mesh (feature `instances`); which
+            /// face, the hit's index says.
+            #[cfg(feature = "instances")]
+            Placed(&'a crate::instance::Placed<'a>),
         }
 
         impl Geom<'_> {
@@ -39,6 +43,8 @@ macro_rules! geom {
                     $(Self::$K(_) => (Kind::$K, <$T as Kinded>::FLAT),)*
                     #[cfg(feature = "bvh")]
                     Self::Mesh(..) => (Kind::Mesh, true),
+                    #[cfg(feature = "instances")]
+                    Self::Placed(..) => (Kind::Mesh, true),
                 }
             }
 
@@ -59,6 +65,11 @@ macro_rules! geom {
                     Self::Mesh(m) => m
                         .triangle(MeshFace::of(index).face)
                         .map_or(Vec3::ZERO, |t| t.error(ray, hit, point, aux)),
+                    #[cfg(feature = "instances")]
+                    Self::Placed(p) => {
+                        let _ = (point, aux);
+                        p.error(MeshFace::of(index).face, ray, hit)
+                    }
                 }
             }
         }
@@ -201,6 +212,10 @@ fn resolve_mesh<'a>(
     footprint: Option<&Footprint<'_>>,
 ) -> Option<Hit<'a>> {
     let at = MeshFace::of(n.index);
+    #[cfg(feature = "instances")]
+    if at.mesh >= crate::mesh::MAX_MESHES {
+        return resolve_placed(view, n, ray, footprint);
+    }
     let mesh = view.meshes.get(at.mesh)?;
     let face = u16::try_from(at.face).ok()?;
     let tri = mesh.triangle(usize::from(face))?;
@@ -235,6 +250,59 @@ fn resolve_mesh<'a>(
         aux,
         hit: n.hit,
         geom: Geom::Mesh(mesh),
+        index: n.index,
+        material,
+        base,
+        error: core::cell::Cell::new(None),
+    })
+}
+
+/// [`resolve_mesh`] for a face of an instance: the face carried into the
+/// world (module `instance`), then resolved as a mesh's.
+#[cfg(feature = "instances")]
+#[inline(never)]
+fn resolve_placed<'a>(
+    view: &SceneView<'a>,
+    n: &Nearest,
+    ray: &Ray,
+    footprint: Option<&Footprint<'_>>,
+) -> Option<Hit<'a>> {
+    let at = MeshFace::of(n.index);
+    let placed = view.instances.get(at.mesh - crate::mesh::MAX_MESHES)?;
+    let mesh = placed.mesh;
+    let face = at.face;
+    let material = view.materials.get(usize::from(mesh.material().0))?;
+    let (own_tri, _, local, local_normal, aux) = placed.locate(face, ray, &n.hit)?;
+    let (point, normal) = placed.to_world(local, local_normal);
+    let texture = material.texture();
+    let base = if texture.needs_uv() {
+        let surface = Surface {
+            point: local,
+            normal: local_normal,
+            error: Vec3::ZERO,
+        };
+        let own = own_tri.uv(&surface, &n.hit);
+        // The pixel's footprint is the world's: the face carried there.
+        let tri = placed.triangle(face)?;
+        let uv = mesh.uv(face, own);
+        let footprint = match footprint {
+            Some(f) if mesh.uvs().is_empty() => uv_box(&tri, f, uv, own_uv),
+            Some(f) => uv_box(&tri, f, uv, |b| mesh.uv(face, b)),
+            None => None,
+        };
+        match footprint {
+            Some((lo, hi)) => texture.eval_box(lo, hi),
+            None => texture.eval(uv),
+        }
+    } else {
+        texture.eval([0.0, 0.0])
+    };
+    Some(Hit {
+        point,
+        normal,
+        aux,
+        hit: n.hit,
+        geom: Geom::Placed(placed),
         index: n.index,
         material,
         base,

@@ -66,6 +66,8 @@ pub mod geometry;
 mod hit;
 #[cfg(feature = "image")]
 pub mod image;
+#[cfg(feature = "instances")]
+pub mod instance;
 pub mod kind;
 pub mod light;
 pub mod material;

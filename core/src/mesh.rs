@@ -152,6 +152,20 @@ impl<'a> Mesh<'a> {
     /// vertices), turned to the side of `n`, the face's normal as the shading
     /// uses it; `n` itself for a flat mesh (or a sum that does not normalise).
     pub(crate) fn shading_normal(&self, f: usize, b: [f32; 3], n: Vec3) -> Vec3 {
+        self.shading_normal_with(f, b, n, |m| m)
+    }
+
+    /// [`Mesh::shading_normal`] with each vertex normal carried by `normal`
+    /// first (an instance's inverse transpose, normalised: the normals of the
+    /// mesh carried into the world).
+    #[inline(always)]
+    pub(crate) fn shading_normal_with(
+        &self,
+        f: usize,
+        b: [f32; 3],
+        n: Vec3,
+        normal: impl Fn(Vec3) -> Vec3,
+    ) -> Vec3 {
         let Some(&[i, j, k]) = self.faces.get(f) else {
             return n;
         };
@@ -163,6 +177,7 @@ impl<'a> Mesh<'a> {
         let (Some(a), Some(bn), Some(c)) = (at(i), at(j), at(k)) else {
             return n;
         };
+        let (a, bn, c) = (normal(a), normal(bn), normal(c));
         let s = (a * b[0] + bn * b[1] + c * b[2]).normalize_or(n);
         if s.dot(n) < 0.0 { -s } else { s }
     }

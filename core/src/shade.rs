@@ -201,6 +201,11 @@ fn sign_hit<C: Observer>(count: &mut C, hit: Option<&Hit<'_>>) {
             crate::kind::Kind::Mesh,
             crate::search::MeshFace::of(hit.index).mesh,
         ),
+        #[cfg(feature = "instances")]
+        Geom::Placed(..) => (
+            crate::kind::Kind::Mesh,
+            crate::search::MeshFace::of(hit.index).mesh,
+        ),
         g => (g.kind().0, hit.index),
     };
     count.token(HIT | (kind as u32) << 24 | (index as u32 & 0x00ff_ffff));
@@ -427,6 +432,13 @@ fn local<const SMOOTH: bool, C: Observer>(
     {
         return local_smooth(view, hit, ray, shadow, count, sign);
     }
+    #[cfg(feature = "instances")]
+    if !SMOOTH
+        && let Geom::Placed(p) = hit.geom
+        && !p.mesh.normals().is_empty()
+    {
+        return local_smooth(view, hit, ray, shadow, count, sign);
+    }
     let n = facing(hit.normal, ray.dir);
     // The normal the light is weighed with: a smooth mesh's interpolated one
     // (on `n`'s side); `n` itself places the shadow rays, which for a smooth
@@ -442,6 +454,15 @@ fn local<const SMOOTH: bool, C: Observer>(
             let out = if n.dot(hit.normal) < 0.0 { -1.0 } else { 1.0 };
             let ns = mesh.shading_normal(f, b, n);
             (ns, mesh.lift(f, b, hit.point, out))
+        }
+        #[cfg(feature = "instances")]
+        Geom::Placed(p) if SMOOTH => {
+            let (f, b) = (
+                crate::search::MeshFace::of(hit.index).face,
+                [hit.aux.x, hit.hit.b1, hit.hit.b2],
+            );
+            let out = if n.dot(hit.normal) < 0.0 { -1.0 } else { 1.0 };
+            (p.shading_normal(f, b, n), p.lift(f, b, ray, &hit.hit, out))
         }
         _ => (n, Vec3::ZERO),
     };

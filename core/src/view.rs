@@ -52,6 +52,10 @@ impl<'a> Lists<'a> {
             sphere_bvh: None,
             #[cfg(feature = "bvh")]
             meshes: &[],
+            #[cfg(feature = "instances")]
+            instances: &[],
+            #[cfg(feature = "instances")]
+            instanced: 0,
         }
     }
 }
@@ -101,6 +105,13 @@ pub struct SceneView<'a> {
     /// The indexed meshes ([`SceneView::with_meshes`]), searched after every list.
     #[cfg(feature = "bvh")]
     pub(crate) meshes: &'a [crate::mesh::Mesh<'a>],
+    /// The meshes' instances ([`SceneView::with_instances`]), searched after
+    /// the meshes drawn in place.
+    #[cfg(feature = "instances")]
+    pub(crate) instances: &'a [crate::instance::Placed<'a>],
+    /// The meshes drawn only through instances, a bit each.
+    #[cfg(feature = "instances")]
+    pub(crate) instanced: u16,
 }
 
 impl core::fmt::Debug for SceneView<'_> {
@@ -568,6 +579,39 @@ impl<'a> SceneView<'a> {
             m.check(self.materials.len())?;
         }
         Ok(Self { meshes, ..*self })
+    }
+
+    /// The same view with the meshes drawn where `instances` place them: a
+    /// mesh that an instance names is drawn at each of its instances and no
+    /// longer where it lies; the others stay. Checked when each instance was
+    /// placed ([`crate::instance::Instances::set`]); here only that they are of
+    /// this view's meshes, in time linear in their count.
+    ///
+    /// # Errors
+    /// [`Error::BadMesh`] for instances of another view's meshes.
+    #[cfg(feature = "instances")]
+    pub fn with_instances<const N: usize>(
+        &self,
+        instances: &'a crate::instance::Instances<'a, N>,
+    ) -> Result<Self, Error> {
+        let theirs = instances.meshes();
+        if theirs.len() != self.meshes.len() || !core::ptr::eq(theirs, self.meshes) {
+            return Err(Error::BadMesh);
+        }
+        let placed = instances.placed();
+        Ok(Self {
+            instances: placed,
+            instanced: crate::instance::instanced(placed),
+            ..*self
+        })
+    }
+
+    /// How many instances of the meshes the view draws
+    /// ([`SceneView::with_instances`]).
+    #[cfg(feature = "instances")]
+    #[must_use]
+    pub fn instance_count(&self) -> usize {
+        self.instances.len()
     }
 }
 

@@ -10,9 +10,7 @@ use crate::bvh::{BvhView, DEPTH, Known, NodeRay};
 use crate::bvh::{VISITS, count_visit};
 use crate::geometry::Candidate;
 use crate::geometry::triangle::{Shear, with_axes};
-use crate::mesh::Mesh;
 use crate::ray::Ray;
-#[cfg(doc)]
 use crate::view::SceneView;
 use heapless::Vec;
 
@@ -167,36 +165,99 @@ fn visit_known<const FIRST: bool>(
     found
 }
 
-/// The nearest face of `meshes` but `skip` nearer than `*t` (after every list: a
-/// face at the time of another primitive does not replace it); with `FIRST`, the
-/// first found. Among faces, the mesh listed first, then the face listed first, is
-/// kept.
+/// The nearest face of the view's meshes but `skip` nearer than `*t` (after
+/// every list: a face at the time of another primitive does not replace it);
+/// with `FIRST`, the first found. Among faces, the mesh listed first, then the
+/// face listed first, is kept; the meshes drawn in place come before the
+/// instances (feature `instances`), which come in their order.
 #[inline(always)]
 pub(super) fn meshes<const FIRST: bool>(
-    meshes: &[Mesh<'_>],
+    view: &SceneView<'_>,
     ray: &Ray,
     skip: Skip,
     t: &mut f32,
 ) -> Option<Nearest> {
+    let meshes = view.meshes;
     if meshes.is_empty() {
         return None;
     }
-    let shear = Shear::new(ray);
     let sk = skip.index(Kind::Mesh);
-    let mut best = None;
-    for (m, mesh) in meshes.iter().enumerate() {
-        // The face to skip, if it is one of this mesh's.
-        let skipped = MeshFace::of(sk);
-        let face = if skipped.mesh == m {
+    // The face to skip, if it is one of this mesh's (or instance's).
+    let skipped = MeshFace::of(sk);
+    let face_of = |m: usize| {
+        if skipped.mesh == m {
             skipped.face
         } else {
             usize::MAX
-        };
+        }
+    };
+    #[cfg(feature = "instances")]
+    let instanced = view.instanced;
+    #[cfg(not(feature = "instances"))]
+    let instanced = 0u16;
+    let mut best = None;
+    let shear = Shear::new(ray);
+    for (m, mesh) in meshes.iter().enumerate() {
+        if instanced >> m & 1 != 0 {
+            continue;
+        }
+        let face = face_of(m);
         let found = with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), ray, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None);
         if let Some((f, hit)) = found {
             best = Some(Nearest {
                 kind: Kind::Mesh,
                 index: MeshFace { mesh: m, face: f }.index(),
+                hit,
+            });
+            if FIRST {
+                return best;
+            }
+        }
+    }
+    #[cfg(feature = "instances")]
+    if let Some(n) = instances::<FIRST>(view.instances, ray, skipped, t) {
+        best = Some(n);
+    }
+    best
+}
+
+/// [`meshes`] for the instances: each whose box the ray may pass through
+/// before `*t` searched in its mesh's space (see [`crate::instance`]), its
+/// faces named `MAX_MESHES + instance` in a hit's index.
+#[cfg(feature = "instances")]
+#[inline(never)]
+fn instances<const FIRST: bool>(
+    placed: &[crate::instance::Placed<'_>],
+    ray: &Ray,
+    skipped: MeshFace,
+    t: &mut f32,
+) -> Option<Nearest> {
+    if placed.is_empty() {
+        return None;
+    }
+    let inv = crate::geometry::aabb_inverse(ray.dir);
+    let mag = ray.origin.abs().max_element();
+    let mut best = None;
+    for (i, p) in placed.iter().enumerate() {
+        if let Some(h) = p.hull
+            && !h.may_hit(ray.origin, mag, inv, *t)
+        {
+            continue;
+        }
+        let at = crate::mesh::MAX_MESHES + i;
+        let local = p.ray(ray);
+        let shear = Shear::new(&local);
+        let mesh = p.mesh;
+        let face = if skipped.mesh == at {
+            skipped.face
+        } else {
+            usize::MAX
+        };
+        let found = with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), &local, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None);
+        if let Some((f, hit)) = found {
+            best = Some(Nearest {
+                kind: Kind::Mesh,
+                index: MeshFace { mesh: at, face: f }.index(),
                 hit,
             });
             if FIRST {

@@ -568,7 +568,7 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
     });
     #[cfg(feature = "bvh")]
     if S::MESHES
-        && let Some(m) = bvh::meshes::<FIRST>(view.meshes, ray, skip, &mut t)
+        && let Some(m) = bvh::meshes::<FIRST>(view, ray, skip, &mut t)
     {
         best = Some(m);
     }
