@@ -122,6 +122,8 @@ pub struct BakedScene<'a, C: Capacities> {
     bvh: Option<crate::bvh::BakedBvh<'a>>,
     #[cfg(feature = "bvh")]
     meshes: &'a [crate::mesh::Mesh<'a>],
+    #[cfg(feature = "instances")]
+    instances: &'a [crate::instance::Placed<'a>],
     capacities: PhantomData<fn() -> C>,
 }
 
@@ -179,6 +181,8 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
             bvh: None,
             #[cfg(feature = "bvh")]
             meshes: &[],
+            #[cfg(feature = "instances")]
+            instances: &[],
             capacities: PhantomData,
         }
     }
@@ -202,6 +206,15 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
         Self { meshes, ..self }
     }
 
+    /// The same scene with its meshes drawn where `instances` place them
+    /// (as [`SceneView::with_instances`]; the table `tessera bake` writes,
+    /// checked by [`BakedScene::view`]).
+    #[cfg(feature = "instances")]
+    #[must_use]
+    pub const fn with_instances(self, instances: &'a [crate::instance::Placed<'a>]) -> Self {
+        Self { instances, ..self }
+    }
+
     /// The same scene without its meshes: its lists alone, for a copy of them
     /// ([`crate::Scene::from_view`]) that does not check meshes it leaves out.
     #[must_use]
@@ -209,6 +222,8 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
         Self {
             #[cfg(feature = "bvh")]
             meshes: &[],
+            #[cfg(feature = "instances")]
+            instances: &[],
             ..self
         }
     }
@@ -325,6 +340,12 @@ impl<'a, C: Capacities> BakedScene<'a, C> {
             view
         } else {
             view.with_meshes(self.meshes)?
+        };
+        #[cfg(feature = "instances")]
+        let view = if self.instances.is_empty() {
+            view
+        } else {
+            view.with_placed(self.instances)?
         };
         Ok(view)
     }

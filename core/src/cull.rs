@@ -147,6 +147,23 @@ impl Hull {
         })
     }
 
+    /// The hull's numbers: its grown box's corners and its reach (baked
+    /// instances, module `instance`).
+    #[cfg(feature = "instances")]
+    pub(crate) fn parts(&self) -> [f32; 7] {
+        let (lo, hi) = (self.bounds.min(), self.bounds.max());
+        [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, self.reach]
+    }
+
+    /// The hull of these numbers ([`Hull::parts`]).
+    #[cfg(feature = "instances")]
+    pub(crate) const fn from_parts(p: [f32; 7]) -> Self {
+        Self {
+            bounds: crate::geometry::Aabb::baked([p[0], p[1], p[2]], [p[3], p[4], p[5]]),
+            reach: p[6],
+        }
+    }
+
     /// False only when the ray from `origin` (reciprocal direction `inv`) surely
     /// misses every primitive inside before `t_max`.
     #[inline(always)]

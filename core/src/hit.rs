@@ -273,7 +273,7 @@ fn resolve_placed<'a>(
     let face = at.face;
     let material = view.materials.get(usize::from(mesh.material().0))?;
     let (own_tri, _, local, local_normal, aux) = placed.locate(face, ray, &n.hit)?;
-    let (point, normal) = placed.to_world(local, local_normal);
+    let (point, normal) = placed.carry(local, local_normal);
     let texture = material.texture();
     let base = if texture.needs_uv() {
         let surface = Surface {

@@ -94,7 +94,8 @@ impl Placement {
         let [x, y, z, w] = q;
         let len2 = x * x + y * y + z * z + w * w;
         // Below 2^-60 the squares underflow towards subnormals: no direction.
-        if !(len2 >= 1.0 / (1u64 << 60) as f32) || !len2.is_finite() {
+        let tiny = 1.0 / (1u64 << 60) as f32;
+        if len2.is_nan() || len2 < tiny || !len2.is_finite() {
             return Err(Error::ZeroLength(Field::InstanceRotation));
         }
         let inv = 1.0 / crate::math::sqrt(len2);
@@ -103,7 +104,9 @@ impl Placement {
         if s.iter().any(|x| !x.is_finite()) {
             return Err(Error::NotFinite(Field::InstanceScale));
         }
-        if s.iter().any(|v| !(v.abs() >= MIN_SCALE && v.abs() <= MAX_SCALE)) {
+        if s.iter()
+            .any(|v| !(v.abs() >= MIN_SCALE && v.abs() <= MAX_SCALE))
+        {
             return Err(Error::OutOfRange {
                 field: Field::InstanceScale,
                 range: "[2^-20, 2^20] in magnitude on each axis (not 0)",
@@ -135,11 +138,15 @@ impl Placement {
         ];
         let r = r.map(|row| row.map(flush));
         // M = R diag(s): column j scaled by s_j. M^-1 = diag(1/s) R^T.
-        let m = r.map(|row| Vec3::new(row[0] * s[0], row[1] * s[1], row[2] * s[2]));
-        let inv = [0, 1, 2].map(|i| {
-            let k = 1.0 / s[i];
-            Vec3::new(r[0][i] * k, r[1][i] * k, r[2][i] * k)
-        });
+        let [sx, sy, sz] = s;
+        let m = r.map(|[a, b, c]| Vec3::new(a * sx, b * sy, c * sz));
+        let [[r00, r01, r02], [r10, r11, r12], [r20, r21, r22]] = r;
+        let (kx, ky, kz) = (1.0 / sx, 1.0 / sy, 1.0 / sz);
+        let inv = [
+            Vec3::new(r00 * kx, r10 * kx, r20 * kx),
+            Vec3::new(r01 * ky, r11 * ky, r21 * ky),
+            Vec3::new(r02 * kz, r12 * kz, r22 * kz),
+        ];
         let to_object = Linear(inv);
         let back = to_object.apply(t);
         Ok(Affine {
@@ -205,15 +212,135 @@ impl Instance {
 }
 
 /// An instance as the search takes it: its mesh, its transforms and its box in
-/// the world.
+/// the world. Made by [`Instances`] (in RAM), or baked (`tessera bake` writes
+/// a scene's instances as a `static` table of them, which
+/// [`crate::BakedScene::view`] checks against what [`Instances`] makes of
+/// the same placements).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Placed<'a> {
+pub struct Placed<'a> {
     pub(crate) mesh: &'a Mesh<'a>,
     index: u16,
     placement: Placement,
     affine: Affine,
     /// The box of its faces in the world, grown as the culling's hulls are.
     pub(crate) hull: Option<Hull>,
+}
+
+/// The numbers of a [`Placed`] beyond its placement: its transforms (`M`,
+/// `t`, `M^-1`, `M^-1 t` negated, rows) and its hull (grown box and reach;
+/// NaN for none).
+#[doc(hidden)]
+pub type PlacedNumbers = ([f32; 24], [f32; 7]);
+
+impl<'a> Placed<'a> {
+    /// Baked data (what [`Placed::numbers`] gave on the host), not checked
+    /// here: [`crate::BakedScene::view`] checks it.
+    #[doc(hidden)]
+    #[must_use]
+    pub const fn baked(
+        mesh: &'a Mesh<'a>,
+        index: u16,
+        placement: Placement,
+        numbers: PlacedNumbers,
+    ) -> Self {
+        let (a, h) = numbers;
+        let [
+            m0,
+            m1,
+            m2,
+            m3,
+            m4,
+            m5,
+            m6,
+            m7,
+            m8,
+            t0,
+            t1,
+            t2,
+            i0,
+            i1,
+            i2,
+            i3,
+            i4,
+            i5,
+            i6,
+            i7,
+            i8,
+            b0,
+            b1,
+            b2,
+        ] = a;
+        Self {
+            mesh,
+            index,
+            placement,
+            affine: Affine {
+                to_world: Linear([
+                    Vec3::new(m0, m1, m2),
+                    Vec3::new(m3, m4, m5),
+                    Vec3::new(m6, m7, m8),
+                ]),
+                t: Vec3::new(t0, t1, t2),
+                to_object: Linear([
+                    Vec3::new(i0, i1, i2),
+                    Vec3::new(i3, i4, i5),
+                    Vec3::new(i6, i7, i8),
+                ]),
+                back: Vec3::new(b0, b1, b2),
+            },
+            hull: if h[6].is_nan() {
+                None
+            } else {
+                Some(Hull::from_parts(h))
+            },
+        }
+    }
+
+    /// The numbers [`Placed::baked`] takes back.
+    #[doc(hidden)]
+    #[must_use]
+    pub fn numbers(&self) -> PlacedNumbers {
+        let a = &self.affine;
+        let mut out = [0.0; 24];
+        let parts = [
+            a.to_world.0[0],
+            a.to_world.0[1],
+            a.to_world.0[2],
+            a.t,
+            a.to_object.0[0],
+            a.to_object.0[1],
+            a.to_object.0[2],
+            a.back,
+        ];
+        for (o, v) in out.chunks_exact_mut(3).zip(parts) {
+            o.copy_from_slice(&[v.x, v.y, v.z]);
+        }
+        let h = self.hull.map_or([f32::NAN; 7], |h| h.parts());
+        (out, h)
+    }
+
+    /// Which mesh and where.
+    #[must_use]
+    pub fn instance(&self) -> Instance {
+        Instance::new(self.index, self.placement)
+    }
+
+    /// True when `other` is the same instance to the bit (NaN a hull's
+    /// absence on both).
+    fn same(&self, other: &Self) -> bool {
+        let bits = |p: &Self| {
+            let (a, h) = p.numbers();
+            let mut out = [0u32; 31];
+            for (o, x) in out.iter_mut().zip(a.iter().chain(h.iter())) {
+                *o = x.to_bits();
+            }
+            out
+        };
+        core::ptr::eq(self.mesh, other.mesh)
+            && self.index == other.index
+            && self.placement == other.placement
+            && bits(self) == bits(other)
+    }
 }
 
 impl Placed<'_> {
@@ -272,7 +399,7 @@ impl Placed<'_> {
 
     /// The point `p` and unit normal `n` of the mesh's space in the world.
     #[inline(always)]
-    pub(crate) fn to_world(&self, p: Vec3, n: Vec3) -> (Vec3, Vec3) {
+    pub(crate) fn carry(&self, p: Vec3, n: Vec3) -> (Vec3, Vec3) {
         (self.point(p), self.normal(n).normalize_or(n))
     }
 
@@ -370,6 +497,26 @@ impl<'a, const N: usize> Instances<'a, N> {
         }
     }
 
+    /// The instances `view` draws (a baked scene's, say), copied into RAM to
+    /// be moved ([`Instances::set`]), then given back to the view
+    /// ([`SceneView::with_instances`]).
+    ///
+    /// # Errors
+    /// [`Error::CapacityExceeded`] when the view has more than `N`.
+    pub fn of(view: &SceneView<'a>) -> Result<Self, Error> {
+        let mut placed = heapless::Vec::new();
+        for &p in view.instances {
+            placed.push(p).map_err(|_| Error::CapacityExceeded {
+                list: List::Instances,
+                capacity: N,
+            })?;
+        }
+        Ok(Self {
+            meshes: view.meshes,
+            placed,
+        })
+    }
+
     /// Adds `instance`; returns its index.
     ///
     /// # Errors
@@ -386,10 +533,12 @@ impl<'a, const N: usize> Instances<'a, N> {
         }
         let placed = self.place(instance)?;
         let i = self.placed.len();
-        self.placed.push(placed).map_err(|_| Error::CapacityExceeded {
-            list: List::Instances,
-            capacity: room,
-        })?;
+        self.placed
+            .push(placed)
+            .map_err(|_| Error::CapacityExceeded {
+                list: List::Instances,
+                capacity: room,
+            })?;
         Ok(i)
     }
 
@@ -502,7 +651,7 @@ impl<'a, const N: usize> Instances<'a, N> {
                 max = max.max(w);
             }
             let m = min.abs().max(max.abs()).max_element();
-            if !(m <= MAX_EXTENT) {
+            if m.is_nan() || m > MAX_EXTENT {
                 return Err(Error::OutOfRange {
                     field: Field::InstanceTranslation,
                     range: "the scene's extent for every point of the placed mesh (2^60)",
@@ -514,12 +663,38 @@ impl<'a, const N: usize> Instances<'a, N> {
     }
 }
 
+/// Checks baked instances `placed` of `meshes`: each of one of them (by
+/// index and place), at most [`MAX_INSTANCES`], and to the bit what
+/// [`Instances`] makes of its placement.
+pub(crate) fn check_baked(meshes: &[Mesh<'_>], placed: &[Placed<'_>]) -> Result<(), Error> {
+    if placed.len() > MAX_INSTANCES {
+        return Err(Error::CapacityExceeded {
+            list: List::Instances,
+            capacity: MAX_INSTANCES,
+        });
+    }
+    let made: Instances<'_, 1> = Instances {
+        meshes,
+        placed: heapless::Vec::new(),
+    };
+    for (i, p) in placed.iter().enumerate() {
+        let again = made.place(p.instance())?;
+        if !again.same(p) {
+            return Err(Error::BadBaked {
+                list: List::Instances,
+                index: u16::try_from(i).unwrap_or(u16::MAX),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The meshes that `instances` draw (a bit per mesh of the view): these are
 /// drawn only where their instances lie.
 pub(crate) fn instanced(instances: &[Placed<'_>]) -> u16 {
-    instances
-        .iter()
-        .fold(0, |m, p| m | 1u16.checked_shl(u32::from(p.index)).unwrap_or(0))
+    instances.iter().fold(0, |m, p| {
+        m | 1u16.checked_shl(u32::from(p.index)).unwrap_or(0)
+    })
 }
 
 const _: () = assert!(MAX_MESHES <= 16 && ((MAX_MESHES + MAX_INSTANCES) << 16) < (1 << 29) - 1);
@@ -744,7 +919,12 @@ mod tests {
         )
         .unwrap();
         s.add_light(
-            Light::point(f.at(Vec3::new(3.0, 2.0, -1.0)), Color::splat(0.5), 20.0 * k2).unwrap(),
+            Light::point(
+                f.at(Vec3::new(3.0, 2.0, -1.0)),
+                Color::splat(0.5),
+                20.0 * k2,
+            )
+            .unwrap(),
         )
         .unwrap();
         s
@@ -864,14 +1044,10 @@ mod tests {
             },
         ];
         for f in frames {
-            let p = Placement::new(
-                [0.2, 0.7, -0.1, 0.6],
-                [0.8 * f.k, 0.4 * f.k, 0.6 * f.k],
-                {
-                    let t = f.at(Vec3::new(-0.4, 0.1, 0.2));
-                    [t.x, t.y, t.z]
-                },
-            );
+            let p = Placement::new([0.2, 0.7, -0.1, 0.6], [0.8 * f.k, 0.4 * f.k, 0.6 * f.k], {
+                let t = f.at(Vec3::new(-0.4, 0.1, 0.2));
+                [t.x, t.y, t.z]
+            });
             let s = scene_in(f);
             let carried = parts.carried(&p);
             let world = [carried.mesh()];
@@ -889,7 +1065,11 @@ mod tests {
             assert_eq!(off(&expected, &got, 8), 0, "k {} o {:?}", f.k, f.o);
             assert!(off(&expected, &got, 2) <= got.len() / 100, "k {}", f.k);
             // The sphere is in the picture.
-            assert!(off(&render_in(&view, f), &got, 8) > got.len() / 20, "k {}", f.k);
+            assert!(
+                off(&render_in(&view, f), &got, 8) > got.len() / 20,
+                "k {}",
+                f.k
+            );
         }
     }
 
@@ -898,7 +1078,12 @@ mod tests {
     /// scaled by 3 and moved down by 1, hit from above.
     #[test]
     fn a_ray_meets_a_placed_face_at_its_analytic_time() {
-        let v = std::vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]];
+        let v = std::vec![
+            [-1.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0]
+        ];
         let parts = Parts::new(v, std::vec![[0, 1, 2], [0, 2, 3]], StdVec::new());
         let meshes = [parts.mesh()];
         let s = scene();
@@ -927,15 +1112,23 @@ mod tests {
     /// found where it now lies; a refused move leaves it where it was.
     #[test]
     fn set_moves_one_instance_and_a_refused_move_keeps_it() {
-        let v = std::vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]];
+        let v = std::vec![
+            [-1.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0]
+        ];
         let parts = Parts::new(v, std::vec![[0, 1, 2], [0, 2, 3]], StdVec::new());
         let meshes = [parts.mesh()];
         let s = scene();
         let view = s.view().with_meshes(&meshes).unwrap();
         let mut inst: Instances<'_, 3> = Instances::new(&view);
         for x in [-5.0, 0.0, 5.0] {
-            inst.push(Instance::new(0, Placement::new(quarter(3 % 3), [1.0; 3], [x, 0.0, 0.0])))
-                .unwrap();
+            inst.push(Instance::new(
+                0,
+                Placement::new(quarter(3 % 3), [1.0; 3], [x, 0.0, 0.0]),
+            ))
+            .unwrap();
         }
         let down = |x: f32| crate::ray::Ray::new(Vec3::new(x, 3.0, 0.5), -Vec3::Y).unwrap();
         let hits = |inst: &Instances<'_, 3>| {
@@ -943,17 +1136,85 @@ mod tests {
             [-5.0, 0.0, 5.0, 20.0].map(|x| first_hit(&v, &down(x), 100.0))
         };
         let before = hits(&inst);
-        assert!(before[..3].iter().all(|t| t.is_some_and(|t| (t - 3.0).abs() < 1e-5)));
+        assert!(
+            before[..3]
+                .iter()
+                .all(|t| t.is_some_and(|t| (t - 3.0).abs() < 1e-5))
+        );
         inst.set(1, Placement::new(quarter(0), [1.0; 3], [20.0, 1.0, 0.0]))
             .unwrap();
         let after = hits(&inst);
         assert_eq!(after[0], before[0]);
         assert_eq!(after[2], before[2]);
         assert!(after[1].is_none_or(|t| (t - 4.2).abs() < 1e-5), "{after:?}"); // the floor
-        assert!(after[3].is_some_and(|t| (t - 2.0).abs() < 1e-5), "{after:?}");
+        assert!(
+            after[3].is_some_and(|t| (t - 2.0).abs() < 1e-5),
+            "{after:?}"
+        );
         let refused = inst.set(1, Placement::new([0.0; 4], [1.0; 3], [0.0; 3]));
         assert_eq!(refused, Err(Error::ZeroLength(Field::InstanceRotation)));
         assert_eq!(hits(&inst), after);
+    }
+
+    /// Baked instances (their numbers written out and read back, as `tessera
+    /// bake` does) are taken when they are what the placement makes, and
+    /// refused by index when a bit differs; a copy of them in RAM moves.
+    #[test]
+    fn baked_instances_are_checked_to_the_bit() {
+        let parts = sphere(6, 12);
+        let meshes = [parts.mesh()];
+        let s = scene();
+        let view = s.view().with_meshes(&meshes).unwrap();
+        let mut inst: Instances<'_, 2> = Instances::new(&view);
+        inst.push(Instance::new(
+            0,
+            Placement::new(quarter(1), [0.5; 3], [1.0, 0.0, 0.0]),
+        ))
+        .unwrap();
+        inst.push(Instance::new(0, Placement::IDENTITY)).unwrap();
+        let baked: StdVec<Placed<'_>> = inst
+            .placed()
+            .iter()
+            .map(|p| Placed::baked(&meshes[0], 0, p.placement, p.numbers()))
+            .collect();
+        let from_baked = view.with_placed(&baked).unwrap();
+        assert_eq!(
+            render(&from_baked),
+            render(&view.with_instances(&inst).unwrap())
+        );
+        // One bit of one number off.
+        let mut numbers = baked[1].numbers();
+        numbers.0[10] = f32::from_bits(numbers.0[10].to_bits() ^ 1);
+        let bad = [
+            baked[0],
+            Placed::baked(&meshes[0], 0, baked[1].placement, numbers),
+        ];
+        assert_eq!(
+            view.with_placed(&bad).err(),
+            Some(Error::BadBaked {
+                list: List::Instances,
+                index: 1
+            })
+        );
+        // Of another mesh than the one it names.
+        let other = parts.mesh();
+        let stray = [Placed::baked(
+            &other,
+            0,
+            baked[0].placement,
+            baked[0].numbers(),
+        )];
+        assert!(view.with_placed(&stray).is_err());
+        // Copied into RAM and moved.
+        let mut moved: Instances<'_, 2> = Instances::of(&from_baked).unwrap();
+        assert_eq!(moved.get(0), inst.get(0));
+        moved
+            .set(1, Placement::new(quarter(0), [0.5; 3], [-1.0, 0.0, 0.0]))
+            .unwrap();
+        let frame = from_baked.with_instances(&moved).unwrap();
+        assert_ne!(render(&frame), render(&from_baked));
+        let small: Result<Instances<'_, 1>, _> = Instances::of(&from_baked);
+        assert!(small.is_err());
     }
 
     /// Bad placements and instances are refused, naming what is wrong.
@@ -1033,8 +1294,11 @@ mod tests {
         let big = [big.mesh()];
         let big_view = s.view().with_meshes(&big).unwrap();
         let mut far: Instances<'_, 1> = Instances::new(&big_view);
-        far.push(Instance::new(0, Placement::new([0.0, 0.0, 0.0, 1.0], [1e3; 3], [0.0; 3])))
-            .unwrap();
+        far.push(Instance::new(
+            0,
+            Placement::new([0.0, 0.0, 0.0, 1.0], [1e3; 3], [0.0; 3]),
+        ))
+        .unwrap();
         assert_eq!(
             far.set(0, Placement::new([0.0, 0.0, 0.0, 1.0], [1e4; 3], [0.0; 3])),
             Err(Error::OutOfRange {

@@ -606,6 +606,20 @@ impl<'a> SceneView<'a> {
         })
     }
 
+    /// The same view with baked `instances` (checked).
+    #[cfg(feature = "instances")]
+    pub(crate) fn with_placed(
+        &self,
+        instances: &'a [crate::instance::Placed<'a>],
+    ) -> Result<Self, Error> {
+        crate::instance::check_baked(self.meshes, instances)?;
+        Ok(Self {
+            instances,
+            instanced: crate::instance::instanced(instances),
+            ..*self
+        })
+    }
+
     /// How many instances of the meshes the view draws
     /// ([`SceneView::with_instances`]).
     #[cfg(feature = "instances")]
