@@ -430,10 +430,10 @@ impl Placed<'_> {
             .shading_normal_with(f, b, n, |m| self.normal(m).normalize_or(m))
     }
 
-    /// [`Mesh::lift`] in the world: the lift in the mesh's space (from the
-    /// point where `ray` hit face `f` there), carried. (A vector: the
-    /// translation does not apply, and the point's far coordinates do not
-    /// cancel in it.)
+    /// [`Mesh::lift`] in the world, as for the mesh carried there (its unit
+    /// normals carried, its tangent planes the carried ones), from the point
+    /// where `ray` hit face `f` in the mesh's space: the differences of
+    /// points carried as vectors, so that a far translation cancels in none.
     pub(crate) fn lift(
         &self,
         f: usize,
@@ -445,7 +445,17 @@ impl Placed<'_> {
         let Some((_, _, p, _, _)) = self.locate(f, ray, hit) else {
             return Vec3::ZERO;
         };
-        self.affine.to_world.apply(self.mesh.lift(f, b, p, out))
+        let [x, y, z] = self.placement.scale;
+        let winding = if x * y * z < 0.0 { -1.0 } else { 1.0 };
+        self.mesh.lift_with(
+            f,
+            b,
+            p,
+            out,
+            |v| self.affine.to_world.apply(v),
+            |m| self.normal(m).normalize_or(m),
+            winding,
+        )
     }
 }
 
@@ -606,6 +616,14 @@ impl<'a, const N: usize> Instances<'a, N> {
         self.placed
             .get(index)
             .map(|p| Instance::new(p.index, p.placement))
+    }
+
+    /// The numbers of instance `index` as a baked table writes them
+    /// ([`Placed::baked`]).
+    #[doc(hidden)]
+    #[must_use]
+    pub fn numbers(&self, index: usize) -> Option<PlacedNumbers> {
+        self.placed.get(index).map(Placed::numbers)
     }
 
     /// The instances as the view takes them.

@@ -190,6 +190,27 @@ impl<'a> Mesh<'a> {
     /// but the flat face does not is blocked by the face's own neighbours: dark
     /// facets along the terminator. Zero for a flat mesh.
     pub(crate) fn lift(&self, f: usize, b: [f32; 3], p: Vec3, out: f32) -> Vec3 {
+        self.lift_with(f, b, p, out, |v| v, |n| n, 1.0)
+    }
+
+    /// [`Mesh::lift`] in another space: the differences of points (the
+    /// edges, the point from each vertex) carried there by the linear map
+    /// `vector` (`p` stays in the mesh's space: no far coordinate cancels),
+    /// the unit vertex normals by `normal`; `winding` is -1 where `vector`
+    /// mirrors (which turns the carried face's winding against its
+    /// normals), else 1. The move is the other space's.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn lift_with(
+        &self,
+        f: usize,
+        b: [f32; 3],
+        p: Vec3,
+        out: f32,
+        vector: impl Fn(Vec3) -> Vec3,
+        normal: impl Fn(Vec3) -> Vec3,
+        winding: f32,
+    ) -> Vec3 {
         let Some(&face) = self.faces.get(f) else {
             return Vec3::ZERO;
         };
@@ -199,7 +220,7 @@ impl<'a> Mesh<'a> {
             return Vec3::ZERO;
         };
         let [a, b1, c] = tri.vertices();
-        let g = (b1 - a).cross(c - a);
+        let g = vector(b1 - a).cross(vector(c - a)) * winding;
         // p' = sum w_i (p - min(0, (p - v_i) . n_i) n_i), so with sum w_i = 1 the
         // move is the weighted sum of the lifts above each vertex's tangent plane.
         let mut lift = Vec3::ZERO;
@@ -210,9 +231,9 @@ impl<'a> Mesh<'a> {
             else {
                 return Vec3::ZERO;
             };
-            let n = Vec3::new(nx, ny, nz);
+            let n = normal(Vec3::new(nx, ny, nz));
             let n = if n.dot(g) < 0.0 { -n } else { n } * out;
-            let below = crate::math::min((p - Vec3::new(x, y, z)).dot(n), 0.0);
+            let below = crate::math::min(vector(p - Vec3::new(x, y, z)).dot(n), 0.0);
             lift = lift - n * (below * w);
         }
         if lift.x.is_finite() && lift.y.is_finite() && lift.z.is_finite() {

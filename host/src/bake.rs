@@ -234,6 +234,7 @@ fn api_path(name: &str) -> String {
         "Image" | "TexelFormat" | "Filter" | "Wrap" => "image::",
         "Light" => "light::",
         "BakedBvh" | "BvhNode" => "bvh::",
+        "Placed" | "Placement" => "instance::",
         "Mesh" => "mesh::",
         "Loops" | "TileLoop" => "tile::",
         "SubPixel" => "sample::",
@@ -330,6 +331,7 @@ fn object_constants(named: &[(String, Object)]) -> Vec<(String, String, String, 
         Object::Primitive(kind, i) => (kind.name(), kind.list().name().to_uppercase(), i),
         Object::Mesh(i) => ("mesh", "MESHES".into(), i),
         Object::Light(i) => ("light", "LIGHTS".into(), i),
+        Object::Instance(i) => ("instance", "INSTANCES".into(), i),
     };
     let mut out = Vec::new();
     for list in named.chunk_by(|a, b| of(&a.1).1 == of(&b.1).1) {
@@ -534,7 +536,8 @@ struct Writer<'a> {
     bvh_needed: bool,
     /// The core's features its kinds need (`cylinder`, `disk`).
     features: Vec<&'static str>,
-    /// `.with_meshes(&MESHES)` when there are meshes, else empty.
+    /// `.with_meshes(&MESHES)` when there are meshes (and
+    /// `.with_instances(&INSTANCES)` when they have instances), else empty.
     with_meshes: String,
 }
 
@@ -890,6 +893,58 @@ impl<'a> Writer<'a> {
             );
             self.with_meshes = "\n.with_meshes(&MESHES)".into();
         }
+        self.instances();
+    }
+
+    /// `INSTANCES`, the meshes' instances placed (what
+    /// `tessera_core::instance::Instances` makes of each placement, checked
+    /// again by `SCENE.view()`), and the core's feature `instances`.
+    fn instances(&mut self) {
+        let list = self.b.scene.instances();
+        if list.is_empty() {
+            return;
+        }
+        let placed = self.b.scene.with_view(|view| {
+            // Placed as the host's view places them: the same core code.
+            tessera_core::instance::Instances::<'_, { crate::desc::MAX_INSTANCES }>::of(view)
+                .map(|p| {
+                    (0..p.len())
+                        .filter_map(|i| p.get(i).zip(p.numbers(i)))
+                        .collect::<Vec<_>>()
+                })
+                .unwrap_or_default()
+        });
+        let f = |xs: &[f32]| xs.iter().map(|&x| lit(x)).collect::<Vec<_>>().join(", ");
+        let items: Vec<String> = placed
+            .iter()
+            .map(|(inst, (a, h))| {
+                let p = inst.placement;
+                format!(
+                    "Placed::baked(\n        &MESHES[{m}],\n        {m},\n        \
+                     Placement::new([{}], [{}], [{}]),\n        ([{}], [{}]),\n    )",
+                    f(&p.rotation),
+                    f(&p.scale),
+                    f(&p.translation),
+                    f(a),
+                    f(h),
+                    m = inst.mesh,
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            self.body,
+            "/// The meshes' instances: each mesh drawn where they place it (copy them\n\
+             /// into RAM to move them: `Instances::of(&SCENE.view()?)`, `set`, then\n\
+             /// `view.with_instances(..)`).\n#[rustfmt::skip]\npub static INSTANCES: \
+             [Placed<'static>; {}] = [\n    {},\n];\n",
+            items.len(),
+            items.join(",\n    ")
+        );
+        self.bytes += items.len() * size_of::<tessera_core::instance::Placed<'static>>();
+        self.names.extend(["Placed", "Placement"]);
+        self.features.push("instances");
+        self.parts.push(count(items.len(), "instance", "instances"));
+        self.with_meshes += "\n.with_instances(&INSTANCES)";
     }
 
     /// `WIDTH`, `HEIGHT`, `TILE`, `SceneLoops` and `SCENE`.
@@ -1190,6 +1245,9 @@ pub fn kind_features(desc: &SceneDesc) -> Vec<&'static str> {
     if desc.lights.iter().any(|l| l.direction.is_some()) {
         out.push("sun");
     }
+    if !desc.instances.is_empty() {
+        out.push("instances");
+    }
     out
 }
 
@@ -1205,11 +1263,17 @@ pub fn scene_source(desc: &SceneDesc, name: &str, krate: &str) -> Result<String,
         viewport: desc.viewport(),
         tile: desc.render.tile,
         names: desc.materials.iter().map(|m| m.name.clone()).collect(),
-        objects: desc
-            .named()
-            .into_iter()
-            .map(|(n, o)| (n.to_string(), o))
-            .collect(),
+        objects: {
+            // An instance's constant is the place of its first part.
+            let starts = desc.instance_starts();
+            desc.named()
+                .into_iter()
+                .map(|(n, o)| match o {
+                    Object::Instance(i) => (n.to_string(), Object::Instance(starts[i])),
+                    o => (n.to_string(), o),
+                })
+                .collect()
+        },
     };
     // The scene's path is written as a Rust string literal: a line break or a
     // bidirectional-text control in it cannot end the comment or reorder the

@@ -58,7 +58,16 @@ pub type HostSphereBvh = tessera_core::bvh::Bvh<{ 2 * MAX_SPHERES }, MAX_SPHERES
 pub struct HostScene {
     scene: Box<CoreScene>,
     meshes: Vec<HostMesh>,
+    /// The meshes' instances, each `[[instance]]` one per part of its mesh.
+    instances: Vec<tessera_core::instance::Instance>,
 }
+
+/// The most instances a host scene holds (each part of a mesh split by its
+/// file's materials counts).
+pub const MAX_INSTANCES: usize = 1024;
+
+/// The host's instances of a view's meshes (in RAM, boxed: 200 bytes each).
+type HostInstances<'a> = tessera_core::instance::Instances<'a, MAX_INSTANCES>;
 
 /// A mesh of a [`HostScene`]: what a [`tessera_core::mesh::Mesh`] of it borrows.
 #[derive(Clone, Copy)]
@@ -139,9 +148,29 @@ impl HostScene {
         })
     }
 
-    /// Runs `f` with the scene's view: its meshes, and its triangles through a
-    /// BVH when there are enough of them for it to pay
-    /// ([`tessera_core::SceneView::with_bvh`]).
+    /// Runs `f` with the view of the lists and the meshes where they lie.
+    fn with_meshes_view<R>(&self, f: impl FnOnce(&tessera_core::SceneView<'_>) -> R) -> R {
+        let meshes: Vec<tessera_core::mesh::Mesh<'_>> =
+            self.mesh_parts().map(|m| m.mesh()).collect();
+        let view = self.scene.view();
+        let view = if meshes.is_empty() {
+            view
+        } else {
+            view.with_meshes(&meshes).unwrap_or(view)
+        };
+        f(&view)
+    }
+
+    /// The meshes' instances (each `[[instance]]` one per part of its mesh,
+    /// in the file's order).
+    #[must_use]
+    pub fn instances(&self) -> &[tessera_core::instance::Instance] {
+        &self.instances
+    }
+
+    /// Runs `f` with the scene's view: its meshes (where their instances
+    /// place them), and its triangles through a BVH when there are enough of
+    /// them for it to pay ([`tessera_core::SceneView::with_bvh`]).
     pub fn with_view<R>(&self, f: impl FnOnce(&tessera_core::SceneView<'_>) -> R) -> R {
         let meshes: Vec<tessera_core::mesh::Mesh<'_>> =
             self.mesh_parts().map(|m| m.mesh()).collect();
@@ -152,6 +181,15 @@ impl HostScene {
             view
         } else {
             view.with_meshes(&meshes).unwrap_or(view)
+        };
+        let mut placed = (!self.instances.is_empty()).then(|| Box::new(HostInstances::new(&view)));
+        // As the meshes: placed when the scene was made.
+        let view = match &mut placed {
+            Some(p) => match p.place_all(&self.instances) {
+                Ok(()) => view.with_instances(p).unwrap_or(view),
+                Err(_) => view,
+            },
+            None => view,
         };
         // Built only where it pays; as below, it cannot fail, and the flat list
         // renders the same image.
@@ -352,6 +390,10 @@ macro_rules! scene_desc {
             /// after the file's own `[[triangle]]`s.
             #[serde(default, rename = "mesh")]
             pub meshes: Vec<MeshDesc>,
+            /// Instances of the meshes (`[[instance]]`): a mesh an instance
+            /// names is drawn at each of its instances, not where it lies.
+            #[serde(default, rename = "instance")]
+            pub instances: Vec<InstanceDesc>,
             /// The numbers [`SceneDesc::flush_subnormals`] read as zero, the first
             /// [`FLUSHED_KEPT`] of them: never written in a file.
             #[serde(skip)]
@@ -384,6 +426,7 @@ macro_rules! scene_desc {
                     lights: Vec::new(),
                     $($f: Vec::new(),)*
                     meshes: Vec::new(),
+                    instances: Vec::new(),
                     flushed: Vec::new(),
                     flushed_count: 0,
                     warnings: Vec::new(),
@@ -795,6 +838,9 @@ pub enum Object {
     Mesh(usize),
     /// A light.
     Light(usize),
+    /// An instance of a mesh (`[[instance]]`; its place in the baked
+    /// `INSTANCES` table is that of its first part).
+    Instance(usize),
 }
 
 impl fmt::Display for Object {
@@ -804,6 +850,7 @@ impl fmt::Display for Object {
             Self::Primitive(kind, i) => write!(f, "{} {}", kind.name(), i + 1),
             Self::Mesh(i) => write!(f, "mesh {}", i + 1),
             Self::Light(i) => write!(f, "light {}", i + 1),
+            Self::Instance(i) => write!(f, "instance {}", i + 1),
         }
     }
 }
@@ -873,6 +920,59 @@ pub struct MeshDesc {
     /// (shown as warnings when the scene is read).
     #[serde(skip)]
     pub warnings: Vec<String>,
+}
+
+/// A scale: one number for every axis, or one per axis.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum ScaleDesc {
+    /// The same on every axis.
+    Uniform(f64),
+    /// `[x, y, z]`.
+    Axes([f64; 3]),
+}
+
+impl ScaleDesc {
+    /// Per axis.
+    #[must_use]
+    pub fn axes(self) -> [f64; 3] {
+        match self {
+            Self::Uniform(s) => [s; 3],
+            Self::Axes(a) => a,
+        }
+    }
+}
+
+fn unit_scale() -> ScaleDesc {
+    ScaleDesc::Uniform(1.0)
+}
+
+/// An instance of a mesh (`[[instance]]`): the mesh named `mesh` (every part
+/// of a mesh split by its file's materials) drawn scaled (per axis: a mirror
+/// allowed), turned by `rotate` or `quaternion`, then moved by `translate`,
+/// from the mesh's own place (its own `scale`, `rotate` and `translate` make
+/// its space). The mesh is then drawn only where its instances are.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct InstanceDesc {
+    /// The name of a `[[mesh]]`.
+    pub mesh: String,
+    /// Its own name, unique among the scene's objects and lights.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Scale: a number, or `[x, y, z]` (each finite, not 0, at most `2^20`
+    /// and at least `2^-20` in magnitude).
+    #[serde(default = "unit_scale")]
+    pub scale: ScaleDesc,
+    /// Degrees about the fixed X axis, then Y, then Z.
+    #[serde(default)]
+    pub rotate: Option<[f64; 3]>,
+    /// A quaternion `[x, y, z, w]` (normalised), in place of `rotate`.
+    #[serde(default)]
+    pub quaternion: Option<[f64; 4]>,
+    /// Translation, after the scale and the rotation.
+    #[serde(default)]
+    pub translate: [f64; 3],
 }
 
 /// What is wrong with a description: the item (`sphere 3`, `camera`, `render`) and
@@ -1106,6 +1206,20 @@ impl SceneDesc {
                 }
             }
         }
+        for (i, d) in self.instances.iter_mut().enumerate() {
+            let item = format!("instance {}", i + 1);
+            match &mut d.scale {
+                ScaleDesc::Uniform(x) => at(&item, "scale", std::slice::from_mut(x)),
+                ScaleDesc::Axes(a) => at(&item, "scale", a),
+            }
+            at(&item, "translate", &mut d.translate);
+            if let Some(r) = &mut d.rotate {
+                at(&item, "rotate", r);
+            }
+            if let Some(q) = &mut d.quaternion {
+                at(&item, "quaternion", q);
+            }
+        }
         self.flushed = out;
         self.flushed_count = count;
     }
@@ -1222,6 +1336,11 @@ impl SceneDesc {
         for (i, m) in self.meshes.iter().enumerate() {
             if let Some(name) = m.name.as_deref() {
                 out.push((name, Object::Mesh(i)));
+            }
+        }
+        for (i, d) in self.instances.iter().enumerate() {
+            if let Some(name) = d.name.as_deref() {
+                out.push((name, Object::Instance(i)));
             }
         }
         out
@@ -1351,7 +1470,11 @@ impl SceneDesc {
             let item = Item(format!("mesh {} ({:?})", i + 1, m.obj));
             meshes.push(self.core_mesh(&item, m)?);
         }
-        let scene = HostScene { scene: s, meshes };
+        let mut scene = HostScene {
+            scene: s,
+            meshes,
+            instances: Vec::new(),
+        };
         // Each mesh's own checks (the view's), named by its item: every fault
         // should have been caught above.
         for (i, (m, d)) in scene.mesh_parts().zip(&self.meshes).enumerate() {
@@ -1363,7 +1486,123 @@ impl SceneDesc {
                 .with_meshes(&mesh)
                 .map_err(|e| item.fail(e.to_string()))?;
         }
+        scene.instances = self.core_instances(&scene)?;
         Ok(scene)
+    }
+
+    /// The mesh parts that the instance of the mesh named `name` draws: the
+    /// mesh of that name, or every part of it split by its file's materials
+    /// (`<name>/<material>`).
+    pub fn instance_parts(&self, name: &str) -> Vec<usize> {
+        let prefix = format!("{name}/");
+        self.meshes
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| {
+                m.name
+                    .as_deref()
+                    .is_some_and(|n| n == name || n.starts_with(&prefix))
+            })
+            .map(|(i, _)| i)
+            .collect()
+    }
+
+    /// Where each `[[instance]]` starts in the scene's instances (one per part
+    /// of its mesh: the baked `INSTANCES` table's order).
+    pub fn instance_starts(&self) -> Vec<usize> {
+        let mut at = 0;
+        self.instances
+            .iter()
+            .map(|d| {
+                let start = at;
+                at += self.instance_parts(&d.mesh).len();
+                start
+            })
+            .collect()
+    }
+
+    /// The placement of instance `d` (`item`), its rotation from `rotate`
+    /// (degrees, about X, then Y, then Z) or `quaternion`, in `f32`.
+    fn placement(
+        item: &Item,
+        d: &InstanceDesc,
+    ) -> Result<tessera_core::instance::Placement, DescError> {
+        let q = match (d.rotate, d.quaternion) {
+            (Some(_), Some(_)) => {
+                return Err(item.fail(
+                    "an instance is rotated by `rotate` (degrees) or `quaternion`, not both".into(),
+                ));
+            }
+            (Some(r), None) => {
+                if !r.iter().all(|x| x.is_finite()) {
+                    return Err(
+                        item.fail(format!("instance rotate must be finite, got {}", show(&r)))
+                    );
+                }
+                crate::mesh::euler_quaternion(r)
+            }
+            (None, Some(q)) => q,
+            (None, None) => [0.0, 0.0, 0.0, 1.0],
+        };
+        let rotation = q.map(|x| to_f32(x).unwrap_or(if x > 0.0 { f32::MAX } else { f32::MIN }));
+        let scale = d.scale.axes();
+        let scale = f3(scale, Field::InstanceScale.name()).map_err(|m| item.fail(m))?;
+        let translation =
+            f3(d.translate, Field::InstanceTranslation.name()).map_err(|m| item.fail(m))?;
+        Ok(tessera_core::instance::Placement::new(
+            rotation,
+            scale,
+            translation,
+        ))
+    }
+
+    /// The core's instances of the file's `[[instance]]`s, each checked (as
+    /// placed over the scene's meshes) and named in its error.
+    fn core_instances(
+        &self,
+        scene: &HostScene,
+    ) -> Result<Vec<tessera_core::instance::Instance>, DescError> {
+        let mut out = Vec::new();
+        for (i, d) in self.instances.iter().enumerate() {
+            let item = Item(match &d.name {
+                Some(n) => format!("instance {} ({n:?})", i + 1),
+                None => format!("instance {}", i + 1),
+            });
+            let parts = self.instance_parts(&d.mesh);
+            if parts.is_empty() {
+                return Err(item.fail(format!(
+                    "no mesh is named {:?}: an instance names a [[mesh]] by its `name`",
+                    d.mesh
+                )));
+            }
+            let placement = Self::placement(&item, d)?;
+            for part in parts {
+                let mesh = u16::try_from(part).map_err(|_| item.fail("too many meshes".into()))?;
+                out.push(tessera_core::instance::Instance::new(mesh, placement));
+            }
+            if out.len() > MAX_INSTANCES {
+                return Err(item.fail(format!(
+                    "too many instances: the scene holds at most {MAX_INSTANCES} (each part of a \
+                     mesh split by its file's materials counts)"
+                )));
+            }
+            // Checked as the view will place it, named by this item.
+            let value = format!(
+                "scale {}, rotation {}, translate {}",
+                show(&d.scale.axes()),
+                show(&placement.rotation.map(f64::from)),
+                show(&d.translate)
+            );
+            scene.with_meshes_view(|view| {
+                let mut one: tessera_core::instance::Instances<'_, 1> =
+                    tessera_core::instance::Instances::new(view);
+                for inst in &out[out.len().saturating_sub(1)..] {
+                    one.push(*inst).map_err(|e| item.core(e, value.clone()))?;
+                }
+                Ok(())
+            })?;
+        }
+        Ok(out)
     }
 
     /// The core data of mesh `m`: welded, in `f32`, with its BVH.

@@ -589,6 +589,48 @@ pub fn euler_xyz(degrees: [f64; 3]) -> Rotation {
     mul(rz, mul(ry, rx))
 }
 
+/// The unit quaternion `[x, y, z, w]` of [`euler_xyz`]'s rotation: `qz qy qx`
+/// of the half angles (quarter turns as exact as `f64` gives `sqrt(1/2)`).
+#[must_use]
+pub fn euler_quaternion(degrees: [f64; 3]) -> [f64; 4] {
+    let half = |d: f64| {
+        let q = d / 90.0;
+        if q == q.round() && q.abs() < 1e15 {
+            // Multiples of 45 degrees for the half angle.
+            let k = (q.round() as i64).rem_euclid(8);
+            let h = std::f64::consts::FRAC_1_SQRT_2;
+            [
+                (0.0, 1.0),
+                (h, h),
+                (1.0, 0.0),
+                (h, -h),
+                (0.0, -1.0),
+                (-h, -h),
+                (-1.0, 0.0),
+                (-h, h),
+            ][k as usize]
+        } else {
+            (d / 2.0).to_radians().sin_cos()
+        }
+    };
+    let [(sx, cx), (sy, cy), (sz, cz)] = degrees.map(half);
+    // qy qx, then qz (qy qx); a quaternion (x, y, z, w).
+    let mul = |a: [f64; 4], b: [f64; 4]| {
+        let [ax, ay, az, aw] = a;
+        let [bx, by, bz, bw] = b;
+        [
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ]
+    };
+    let qx = [sx, 0.0, 0.0, cx];
+    let qy = [0.0, sy, 0.0, cy];
+    let qz = [0.0, 0.0, sz, cz];
+    mul(qz, mul(qy, qx))
+}
+
 /// The rotation of the unit quaternion `[x, y, z, w]`.
 #[must_use]
 pub fn quaternion_matrix([x, y, z, w]: [f64; 4]) -> Rotation {

@@ -286,6 +286,107 @@ impl Object {
     }
 }
 
+/// The index of a mesh's instance `k` as a hit names it (`16 + k`: the core
+/// names the meshes drawn in place below).
+const MESH_INDEXES: usize = 16;
+
+/// Where an instance puts its mesh, in `f64`, derived here on its own:
+/// `world = R (s * p) + t`, the rotation from the quaternion by Rodrigues'
+/// formula (its axis and angle), or from `rotate`'s degrees as the product of
+/// the turns about the fixed X, then Y, then Z axes; normals carried by the
+/// inverse transpose (the cofactors), normalised.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Placing {
+    m: [[f64; 3]; 3],
+    cof: [[f64; 3]; 3],
+    t: V3,
+}
+
+impl Placing {
+    const IDENTITY: Self = Self {
+        m: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        cof: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        t: V3::new(0.0, 0.0, 0.0),
+    };
+
+    fn of(d: &crate::desc::InstanceDesc) -> Self {
+        let r = match (d.rotate, d.quaternion) {
+            (Some(deg), _) => {
+                let turn = |axis: usize, a: f64| {
+                    let (s, c) = a.to_radians().sin_cos();
+                    let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+                    let mut m = [[0.0; 3]; 3];
+                    m[axis][axis] = 1.0;
+                    m[i][i] = c;
+                    m[j][j] = c;
+                    m[i][j] = -s;
+                    m[j][i] = s;
+                    m
+                };
+                mul(turn(2, deg[2]), mul(turn(1, deg[1]), turn(0, deg[0])))
+            }
+            (None, Some(q)) => {
+                let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+                let q = q.map(|x| x / len);
+                let s = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
+                let angle = 2.0 * s.atan2(q[3]);
+                let k = if s > 0.0 {
+                    [q[0] / s, q[1] / s, q[2] / s]
+                } else {
+                    [1.0, 0.0, 0.0]
+                };
+                let (sn, cs) = angle.sin_cos();
+                let kx = [[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]];
+                let mut r = [[0.0; 3]; 3];
+                for (i, row) in r.iter_mut().enumerate() {
+                    for (j, x) in row.iter_mut().enumerate() {
+                        let delta = if i == j { 1.0 } else { 0.0 };
+                        *x = cs * delta + sn * kx[i][j] + (1.0 - cs) * k[i] * k[j];
+                    }
+                }
+                r
+            }
+            (None, None) => Self::IDENTITY.m,
+        };
+        let s = d.scale.axes();
+        let m = r.map(|row| [row[0] * s[0], row[1] * s[1], row[2] * s[2]]);
+        let c = |i: usize, j: usize| {
+            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+            let (x, y) = ((j + 1) % 3, (j + 2) % 3);
+            m[a][x] * m[b][y] - m[a][y] * m[b][x]
+        };
+        let cof = [0, 1, 2].map(|i| [0, 1, 2].map(|j| c(i, j)));
+        Self {
+            m,
+            cof,
+            t: V3::from_array(d.translate),
+        }
+    }
+
+    fn apply(m: &[[f64; 3]; 3], p: V3) -> V3 {
+        let r = m.map(|row| row[0] * p.x + row[1] * p.y + row[2] * p.z);
+        V3::from_array(r)
+    }
+
+    fn point(&self, p: V3) -> V3 {
+        Self::apply(&self.m, p) + self.t
+    }
+
+    /// A unit normal carried (the cofactor matrix is `det M` times the
+    /// inverse transpose: a mirror's negative determinant turns it back).
+    fn normal(&self, n: V3) -> V3 {
+        let c = Self::apply(&self.cof, n);
+        let det = self.m[0][0] * self.cof[0][0]
+            + self.m[0][1] * self.cof[0][1]
+            + self.m[0][2] * self.cof[0][2];
+        (c * det.signum()).normalize()
+    }
+}
+
+fn mul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
+}
+
 /// The scene in `f64`: every primitive in one list, spheres, planes, triangles,
 /// boxes in that order (ties in `t` go to the earlier one, as in the core).
 #[derive(Clone, Debug, PartialEq)]
@@ -388,8 +489,30 @@ impl RefScene {
             }
         });
         // The meshes, after every list (as the core searches them), a face at a
-        // time; a smooth one's normals welded as the host welds them.
-        for (i, m) in desc.meshes.iter().enumerate() {
+        // time; a smooth one's normals welded as the host welds them. A mesh
+        // that an instance names is drawn where its instances are, after the
+        // meshes in place: its faces carried there in f64 (`Placing`).
+        let instanced: Vec<(usize, Placing)> = desc
+            .instances
+            .iter()
+            .flat_map(|d| {
+                let placing = Placing::of(d);
+                desc.instance_parts(&d.mesh)
+                    .into_iter()
+                    .map(move |part| (part, placing))
+            })
+            .collect();
+        let drawn = (0..desc.meshes.len())
+            .filter(|i| !instanced.iter().any(|(part, _)| part == i))
+            .map(|i| (i, i, Placing::IDENTITY))
+            .chain(
+                instanced
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &(part, placing))| (part, MESH_INDEXES + k, placing)),
+            );
+        for (i, index, placing) in drawn {
+            let m = &desc.meshes[i];
             let w = m.welded();
             let name = m.material.as_deref().unwrap_or_default();
             let material = desc.material_index(name).ok_or_else(|| DescError {
@@ -399,13 +522,14 @@ impl RefScene {
             for (face, f) in w.faces.iter().enumerate() {
                 objects.push(Object {
                     shape: Shape::Triangle {
-                        p: f.map(|k| v(w.positions[k])),
+                        p: f.map(|k| placing.point(v(w.positions[k]))),
                     },
                     kind: MESH_FACE,
-                    index: i as u64,
+                    index: index as u64,
                     face: face as u64,
                     material,
-                    normals: (!w.normals.is_empty()).then(|| f.map(|k| v(w.normals[k]))),
+                    normals: (!w.normals.is_empty())
+                        .then(|| f.map(|k| placing.normal(v(w.normals[k])))),
                     uvs: (!w.uvs.is_empty()).then(|| f.map(|k| w.uvs[k])),
                 });
             }
