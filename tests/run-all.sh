@@ -136,11 +136,11 @@ own_workspaces() {
   # calls an undefined symbol: the link fails ("undefined symbol:
   # tessera_nopanic__a_panic_is_reachable_from_the_render_path") if any panic is
   # reachable from the render path. Then one run under qemu: every render returned Ok.
-  say "no panic reachable on the Cortex-M4F (tests/nopanic links): exact, fast-math, and with the BVH search, the optional kinds, image textures and the sun linked"
+  say "no panic reachable on the Cortex-M4F (tests/nopanic links): exact, fast-math, and with the BVH search, the optional kinds, image textures, the sun and the instances linked"
   for backend in exact fast-math bvh; do
     features=()
     [ "$backend" = fast-math ] && features=(--features fast-math)
-    [ "$backend" = bvh ] && features=(--features bvh,all-kinds,image,sun)
+    [ "$backend" = bvh ] && features=(--features bvh,all-kinds,image,sun,instances)
     run cargo build --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
     run cargo run -q --release --manifest-path tests/nopanic/Cargo.toml --target thumbv7em-none-eabihf "${features[@]}"
   done

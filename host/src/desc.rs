@@ -1491,9 +1491,16 @@ impl SceneDesc {
     }
 
     /// The mesh parts that the instance of the mesh named `name` draws: the
-    /// mesh of that name, or every part of it split by its file's materials
-    /// (`<name>/<material>`).
+    /// mesh of that name, or else every part of it split by its file's
+    /// materials (`<name>/<material>`).
     pub fn instance_parts(&self, name: &str) -> Vec<usize> {
+        if let Some(i) = self
+            .meshes
+            .iter()
+            .position(|m| m.name.as_deref() == Some(name))
+        {
+            return vec![i];
+        }
         let prefix = format!("{name}/");
         self.meshes
             .iter()
@@ -1541,7 +1548,21 @@ impl SceneDesc {
                 }
                 crate::mesh::euler_quaternion(r)
             }
-            (None, Some(q)) => q,
+            (None, Some(q)) => {
+                // Normalised in f64 (scaled by its largest component first,
+                // so no square overflows): any finite length but 0.
+                let field = Field::InstanceRotation;
+                if !q.iter().all(|x| x.is_finite()) {
+                    return Err(item.core(tessera_core::Error::NotFinite(field), show(&q)));
+                }
+                let big = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                if big == 0.0 {
+                    return Err(item.core(tessera_core::Error::ZeroLength(field), show(&q)));
+                }
+                let q = q.map(|x| x / big);
+                let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+                q.map(|x| x / len)
+            }
             (None, None) => [0.0, 0.0, 0.0, 1.0],
         };
         let rotation = q.map(|x| to_f32(x).unwrap_or(if x > 0.0 { f32::MAX } else { f32::MIN }));
@@ -1576,6 +1597,7 @@ impl SceneDesc {
                 )));
             }
             let placement = Self::placement(&item, d)?;
+            let first = out.len();
             for part in parts {
                 let mesh = u16::try_from(part).map_err(|_| item.fail("too many meshes".into()))?;
                 out.push(tessera_core::instance::Instance::new(mesh, placement));
@@ -1593,10 +1615,11 @@ impl SceneDesc {
                 show(&placement.rotation.map(f64::from)),
                 show(&d.translate)
             );
+            // Each part (its own box, its own extent).
             scene.with_meshes_view(|view| {
-                let mut one: tessera_core::instance::Instances<'_, 1> =
-                    tessera_core::instance::Instances::new(view);
-                for inst in &out[out.len().saturating_sub(1)..] {
+                for inst in &out[first..] {
+                    let mut one: tessera_core::instance::Instances<'_, 1> =
+                        tessera_core::instance::Instances::new(view);
                     one.push(*inst).map_err(|e| item.core(e, value.clone()))?;
                 }
                 Ok(())
@@ -2191,5 +2214,483 @@ mod tests {
             d.to_core().unwrap_err().to_string(),
             "material 257 (\"m256\"): too many materials: the scene holds at most 256"
         );
+    }
+
+    /// A scene with a sphere named "ball" and the built-in teapot as the mesh
+    /// named "teapot" (mesh 1), before its `[[instance]]`s.
+    const INSTANCE_HEAD: &str = r#"
+[camera]
+position = [0, 2, 8]
+look_at = [0, 0, 0]
+near = 0.1
+far = 100
+[[material]]
+name = "m"
+[[light]]
+position = [0, 5, 5]
+intensity = 20
+[[sphere]]
+center = [0, -101, 0]
+radius = 100
+material = "m"
+name = "ball"
+[[mesh]]
+obj = "builtin:teapot"
+material = "m"
+name = "teapot"
+"#;
+
+    /// A folder of its own under the system's temp folder, removed (with what
+    /// it holds) when dropped, also when the test fails.
+    struct Scratch(std::path::PathBuf);
+
+    impl Scratch {
+        fn new(tag: &str) -> Self {
+            use std::sync::atomic::{AtomicUsize, Ordering};
+            static N: AtomicUsize = AtomicUsize::new(0);
+            let n = N.fetch_add(1, Ordering::Relaxed);
+            let dir =
+                std::env::temp_dir().join(format!("tessera-desc-{tag}-{}-{n}", std::process::id()));
+            std::fs::create_dir_all(&dir).unwrap();
+            Self(dir)
+        }
+    }
+
+    impl Drop for Scratch {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+
+    /// An OBJ file of two faces of two materials of its MTL file (`red` and
+    /// `blue`) in `dir`: a mesh its file's materials split into two parts.
+    /// The `[[mesh]]` line naming it (by its absolute path).
+    fn two_part_obj(dir: &std::path::Path) -> String {
+        std::fs::write(
+            dir.join("pair.mtl"),
+            "newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("pair.obj"),
+            "mtllib pair.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
+             usemtl red\nf 1 2 3\nusemtl blue\nf 1 2 4\n",
+        )
+        .unwrap();
+        format!("file = {:?}", dir.join("pair.obj").to_str().unwrap())
+    }
+
+    /// The error of the instance scene with `instances` after its head.
+    fn instance_refusal(instances: &str) -> crate::file::FileError {
+        let text = format!("{INSTANCE_HEAD}{instances}");
+        match crate::file::parse(&text, "inst.toml") {
+            Ok(d) => panic!("accepted: {instances}\n{:?}", d.instances),
+            Err(e) => e,
+        }
+    }
+
+    /// Every bad `[[instance]]` is refused with a message naming the
+    /// instance (by its place and its name) at its header's line, and what is
+    /// wrong with it; nothing panics.
+    #[test]
+    fn bad_instances_are_refused_naming_the_instance_and_the_fault() {
+        // (the instance's keys, the item, words of the message).
+        let cases: &[(&str, &str, &[&str])] = &[
+            (
+                "mesh = \"kettle\"\nname = \"k\"",
+                "instance 1 (\"k\")",
+                &["no mesh is named \"kettle\"", "[[mesh]]", "`name`"],
+            ),
+            (
+                "mesh = \"teapot\"\nrotate = [0, 90, 0]\nquaternion = [0, 0, 0, 1]",
+                "instance 1",
+                &["`rotate`", "`quaternion`", "not both"],
+            ),
+            (
+                "mesh = \"teapot\"\nquaternion = [0, 0, 0, 0]",
+                "instance 1",
+                &["instance rotation", "zero length"],
+            ),
+            (
+                "mesh = \"teapot\"\nquaternion = [0, inf, 0, 1]",
+                "instance 1",
+                &["instance rotation", "NaN or infinite"],
+            ),
+            (
+                "mesh = \"teapot\"\nrotate = [0, nan, 0]",
+                "instance 1",
+                &["rotate", "finite", "NaN"],
+            ),
+            (
+                "mesh = \"teapot\"\nname = \"flat\"\nscale = 0",
+                "instance 1 (\"flat\")",
+                &[
+                    "instance scale",
+                    "[2^-20, 2^20]",
+                    "not 0",
+                    "scale [0, 0, 0]",
+                ],
+            ),
+            (
+                "mesh = \"teapot\"\nscale = [1, 0, 1]",
+                "instance 1",
+                &["instance scale", "[2^-20, 2^20]", "scale [1, 0, 1]"],
+            ),
+            (
+                "mesh = \"teapot\"\nscale = [1, nan, 1]",
+                "instance 1",
+                &["instance scale", "NaN or infinite"],
+            ),
+            (
+                "mesh = \"teapot\"\nscale = 2097152",
+                "instance 1",
+                &[
+                    "instance scale",
+                    "[2^-20, 2^20]",
+                    "got scale [2.097152e6, 2.097152e6, 2.097152e6]",
+                ],
+            ),
+            (
+                "mesh = \"teapot\"\nscale = [1, 1, -1048577]",
+                "instance 1",
+                &[
+                    "instance scale",
+                    "[2^-20, 2^20]",
+                    "got scale [1, 1, -1.048577e6]",
+                ],
+            ),
+            (
+                "mesh = \"teapot\"\nscale = 9.5e-7",
+                "instance 1",
+                &[
+                    "instance scale",
+                    "[2^-20, 2^20]",
+                    "got scale [9.5e-7, 9.5e-7, 9.5e-7]",
+                ],
+            ),
+            (
+                "mesh = \"teapot\"\nscale = 1e39",
+                "instance 1",
+                &["instance scale", "too large for f32", "1e39"],
+            ),
+            (
+                "mesh = \"teapot\"\ntranslate = [nan, 0, 0]",
+                "instance 1",
+                &[
+                    "instance translation",
+                    "NaN or infinite",
+                    "translate [NaN, 0, 0]",
+                ],
+            ),
+            (
+                "mesh = \"teapot\"\ntranslate = [0, -inf, 0]",
+                "instance 1",
+                &[
+                    "instance translation",
+                    "NaN or infinite",
+                    "translate [0, -inf, 0]",
+                ],
+            ),
+            (
+                "mesh = \"teapot\"\nname = \"ball\"",
+                "instance 1",
+                &["sphere 1 has the name \"ball\" too", "unique"],
+            ),
+        ];
+        let header = INSTANCE_HEAD.lines().count() + 1;
+        for (keys, item, words) in cases {
+            let e = instance_refusal(&format!("[[instance]]\n{keys}\n"));
+            assert_eq!(e.item.as_deref(), Some(*item), "{keys}: {e}");
+            for w in *words {
+                assert!(e.message.contains(w), "{keys}: {w:?} in {e}");
+            }
+            assert_eq!(e.line, Some(header), "{keys}: {e}");
+            assert!(!e.message.contains("panick"), "{keys}: {e}");
+        }
+        // The second instance is the one named (the first is good), by its
+        // place among the instances.
+        let e = instance_refusal(
+            "[[instance]]\nmesh = \"teapot\"\n[[instance]]\nmesh = \"teapot\"\nname = \"two\"\n\
+             scale = [1, 0, 1]\n",
+        );
+        assert_eq!(e.item.as_deref(), Some("instance 2 (\"two\")"), "{e}");
+        assert_eq!(e.line, Some(header + 2), "{e}");
+    }
+
+    /// An unknown key of an `[[instance]]` is a TOML error at its line and
+    /// column, naming the key and the keys an instance has.
+    #[test]
+    fn an_unknown_key_of_an_instance_is_refused_by_name() {
+        let e = instance_refusal("[[instance]]\nmesh = \"teapot\"\nrotation = [0, 90, 0]\n");
+        assert_eq!(e.kind, crate::file::ErrorKind::Toml, "{e}");
+        assert_eq!(e.item, None, "{e}");
+        assert_eq!(e.line, Some(INSTANCE_HEAD.lines().count() + 3), "{e}");
+        assert_eq!(e.column, Some(1), "{e}");
+        for w in [
+            "unknown field `rotation`",
+            "`mesh`",
+            "`name`",
+            "`scale`",
+            "`rotate`",
+            "`quaternion`",
+            "`translate`",
+        ] {
+            assert!(e.message.contains(w), "{w:?} in {e}");
+        }
+    }
+
+    /// The scale's bounds are inclusive: `2^20` and `2^-20` (and their
+    /// mirrors) are taken as written.
+    #[test]
+    fn instance_scales_of_the_bounds_are_taken() {
+        for scale in [
+            "1048576",
+            "-1048576",
+            "9.5367431640625e-7",
+            "[1, -9.5367431640625e-7, 1]",
+        ] {
+            let text = format!("{INSTANCE_HEAD}[[instance]]\nmesh = \"teapot\"\nscale = {scale}\n");
+            let d =
+                crate::file::parse(&text, "inst.toml").unwrap_or_else(|e| panic!("{scale}: {e}"));
+            let s = d.to_core().unwrap();
+            let want: f64 = scale
+                .trim_matches(['[', ']'])
+                .split(", ")
+                .map(|x| x.parse::<f64>().unwrap())
+                .find(|x| *x != 1.0)
+                .unwrap();
+            let got = s.instances()[0].placement.scale;
+            assert!(got.contains(&(want as f32)), "{scale}: {got:?}");
+        }
+    }
+
+    /// `to_core` of a description changed in code names the instance as the
+    /// file does, and leaves the scene's own items alone.
+    #[test]
+    fn to_core_names_the_instance_it_refuses() {
+        let text = format!("{INSTANCE_HEAD}[[instance]]\nmesh = \"teapot\"\nname = \"t\"\n");
+        let mut d = crate::file::parse(&text, "inst.toml").unwrap();
+        d.to_core().unwrap();
+        d.instances[0].scale = ScaleDesc::Axes([1.0, 0.0, 1.0]);
+        let e = d.to_core().unwrap_err();
+        assert_eq!(e.item, "instance 1 (\"t\")");
+        assert!(
+            e.message
+                .starts_with("instance scale must be in [2^-20, 2^20]"),
+            "{e}"
+        );
+        d.instances[0].scale = ScaleDesc::Uniform(1.0);
+        d.instances[0].quaternion = Some([0.0; 4]);
+        let e = d.to_core().unwrap_err();
+        assert_eq!(e.item, "instance 1 (\"t\")");
+        assert!(
+            e.message.starts_with("instance rotation has zero length"),
+            "{e}"
+        );
+        d.instances[0].quaternion = None;
+        d.instances[0].mesh = "nothing".into();
+        let e = d.to_core().unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "instance 1 (\"t\"): no mesh is named \"nothing\": an instance names a [[mesh]] by its `name`"
+        );
+    }
+
+    fn assert_close(got: &[f32], want: &[f64], tolerance: f64, what: &str) {
+        assert_eq!(got.len(), want.len(), "{what}");
+        for (g, w) in got.iter().zip(want) {
+            assert!(
+                (f64::from(*g) - w).abs() <= tolerance,
+                "{what}: {got:?}, want {want:?}"
+            );
+        }
+    }
+
+    /// A good scene of instances: each named instance is found by its name;
+    /// the core scene has one instance a part of its mesh, in the file's
+    /// order, of the mesh's index, with its placement (rotation as a
+    /// quaternion, a uniform scale on every axis).
+    #[test]
+    fn instances_are_found_and_placed_one_per_part() {
+        let dir = Scratch::new("instances");
+        let text = format!(
+            "{INSTANCE_HEAD}[[mesh]]\n{}\nname = \"pair\"\n\
+             [[instance]]\nmesh = \"teapot\"\nname = \"front\"\nrotate = [0, 90, 0]\nscale = 2\n\
+             translate = [1, 2, 3]\n\
+             [[instance]]\nmesh = \"pair\"\nquaternion = [0, 0, 1, 1]\nscale = [1, -2, 0.5]\n\
+             [[instance]]\nmesh = \"teapot\"\nname = \"mirror\"\nscale = [-1, 0.5, 1]\n\
+             translate = [-1, 0, 0]\n",
+            two_part_obj(&dir.0)
+        );
+        let d = crate::file::parse(&text, "inst.toml").unwrap();
+        assert_eq!(d.meshes.len(), 3, "the teapot and the pair's two parts");
+        assert_eq!(d.find("front"), Some(Object::Instance(0)));
+        assert_eq!(d.find("mirror"), Some(Object::Instance(2)));
+        assert_eq!(d.find("teapot"), Some(Object::Mesh(0)));
+        assert_eq!(Object::Instance(2).to_string(), "instance 3");
+        assert_eq!(d.instance_parts("teapot"), [0]);
+        assert_eq!(d.instance_parts("pair"), [1, 2]);
+        assert_eq!(d.instance_parts("pai"), Vec::<usize>::new());
+        assert_eq!(d.instance_starts(), [0, 1, 3]);
+        let s = d.to_core().unwrap();
+        let inst = s.instances();
+        assert_eq!(
+            inst.iter().map(|i| i.mesh).collect::<Vec<_>>(),
+            [0, 1, 2, 0]
+        );
+        let h = 0.5f64.sqrt();
+        let p = inst[0].placement;
+        assert_close(&p.rotation, &[0.0, h, 0.0, h], 1e-7, "front rotation");
+        assert_eq!(p.scale, [2.0; 3]);
+        assert_eq!(p.translation, [1.0, 2.0, 3.0]);
+        for p in [inst[1].placement, inst[2].placement] {
+            // As written or normalised: the same turn.
+            let q = p.rotation.map(f64::from);
+            let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let unit: Vec<f32> = q.iter().map(|x| (x / len) as f32).collect();
+            assert_close(&unit, &[0.0, 0.0, h, h], 1e-7, "pair rotation");
+            assert_eq!(p.scale, [1.0, -2.0, 0.5]);
+            assert_eq!(p.translation, [0.0; 3]);
+        }
+        let p = inst[3].placement;
+        assert_close(&p.rotation, &[0.0, 0.0, 0.0, 1.0], 0.0, "mirror rotation");
+        assert_eq!(p.scale, [-1.0, 0.5, 1.0]);
+        assert_eq!(p.translation, [-1.0, 0.0, 0.0]);
+        assert_eq!(s.with_view(|v| v.instance_count()), 4);
+        // Each mesh (part) is baked once, however many its instances.
+        assert_eq!(s.mesh_count(), 3);
+    }
+
+    /// Two instances of a mesh split into two parts start at 0 and 2 of the
+    /// scene's four instances, each part of the mesh once an instance.
+    #[test]
+    fn instances_of_a_split_mesh_start_a_part_count_apart() {
+        let dir = Scratch::new("starts");
+        let text = format!(
+            "{INSTANCE_HEAD}[[mesh]]\n{}\nname = \"pair\"\n\
+             [[instance]]\nmesh = \"pair\"\n\
+             [[instance]]\nmesh = \"pair\"\nname = \"second\"\ntranslate = [2, 0, 0]\n",
+            two_part_obj(&dir.0)
+        );
+        let d = crate::file::parse(&text, "inst.toml").unwrap();
+        assert_eq!(d.instance_starts(), [0, 2]);
+        assert_eq!(d.find("second"), Some(Object::Instance(1)));
+        let s = d.to_core().unwrap();
+        let got: Vec<(u16, [f32; 3])> = s
+            .instances()
+            .iter()
+            .map(|i| (i.mesh, i.placement.translation))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                (1, [0.0; 3]),
+                (2, [0.0; 3]),
+                (1, [2.0, 0.0, 0.0]),
+                (2, [2.0, 0.0, 0.0])
+            ]
+        );
+        // One part alone, by its own name.
+        let part = d.meshes[1].name.clone().unwrap();
+        assert!(part.starts_with("pair/"), "{part}");
+        assert_eq!(d.instance_parts(&part), [1]);
+    }
+
+    /// `euler_quaternion` is the turn of `euler_xyz` (about X, then Y, then Z):
+    /// its matrix is that rotation, for quarter turns and any angles; it is of
+    /// length 1; and a few turns are the quaternions worked out by hand.
+    #[test]
+    fn euler_quaternion_turns_as_euler_xyz() {
+        use crate::mesh::{euler_quaternion, euler_xyz, quaternion_matrix};
+        let angles = [
+            [0.0, 0.0, 0.0],
+            [90.0, 0.0, 0.0],
+            [0.0, 90.0, 0.0],
+            [0.0, 0.0, -90.0],
+            [180.0, 270.0, 90.0],
+            [90.0, 90.0, 90.0],
+            [-450.0, 720.0, 45.0],
+            [30.0, 45.0, 60.0],
+            [-12.5, 100.25, 359.0],
+            [123.456, -78.9, 10.11],
+            [0.001, -179.999, 33.3],
+            [1000.5, -3.0, 7.0],
+        ];
+        for a in angles {
+            let q = euler_quaternion(a);
+            let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+            assert!((len - 1.0).abs() <= 1e-12, "{a:?}: {q:?}");
+            let (m, r) = (quaternion_matrix(q), euler_xyz(a));
+            for (mr, rr) in m.iter().zip(&r) {
+                for (x, y) in mr.iter().zip(rr) {
+                    assert!((x - y).abs() <= 1e-12, "{a:?}: {m:?} != {r:?}");
+                }
+            }
+        }
+        // By hand: a quarter turn about Y, a half turn about Z, and about X
+        // then Y a quarter turn each (qy qx).
+        let h = 0.5f64.sqrt();
+        let same = |a: [f64; 3], want: [f64; 4]| {
+            let q = euler_quaternion(a);
+            let sign = if q.iter().zip(&want).map(|(x, y)| x * y).sum::<f64>() < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            for (x, y) in q.iter().zip(want) {
+                assert!((sign * x - y).abs() <= 1e-15, "{a:?}: {q:?}, want {want:?}");
+            }
+        };
+        same([0.0, 90.0, 0.0], [0.0, h, 0.0, h]);
+        same([0.0, 0.0, 180.0], [0.0, 0.0, 1.0, 0.0]);
+        same([90.0, 90.0, 0.0], [0.5, 0.5, -0.5, 0.5]);
+        // [0, 90, 0] turns +X to -Z, as `rotate` is documented.
+        let r = euler_xyz([0.0, 90.0, 0.0]);
+        assert_eq!([r[0][0], r[1][0], r[2][0]], [0.0, 0.0, -1.0]);
+    }
+
+    /// Every part of a split mesh is checked where an instance places it: a
+    /// first part carried beyond the scene's extent is refused as the last
+    /// would be (not accepted, then left out of the view with every other
+    /// instance).
+    #[test]
+    fn every_part_of_an_instance_is_checked() {
+        let dir = Scratch::new("extent");
+        std::fs::write(
+            dir.0.join("big.mtl"),
+            "newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n",
+        )
+        .unwrap();
+        // The first part (red) 1e13 wide, the last (blue) 1: at a scale of
+        // 2^20 the first reaches 1e19, beyond 2^60.
+        std::fs::write(
+            dir.0.join("big.obj"),
+            "mtllib big.mtl\nv 0 0 0\nv 1e13 0 0\nv 0 1e13 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
+             usemtl red\nf 1 2 3\nusemtl blue\nf 4 5 6\n",
+        )
+        .unwrap();
+        let text = format!(
+            "{INSTANCE_HEAD}[[mesh]]\nfile = {:?}\nname = \"big\"\n\
+             [[instance]]\nmesh = \"big\"\nscale = 1048576\n",
+            dir.0.join("big.obj").to_str().unwrap()
+        );
+        match crate::file::parse(&text, "inst.toml") {
+            Ok(d) => {
+                let s = d.to_core().unwrap();
+                panic!(
+                    "accepted: {} instances, {} in the view",
+                    s.instances().len(),
+                    s.with_view(|v| v.instance_count())
+                );
+            }
+            Err(e) => {
+                assert_eq!(e.item.as_deref(), Some("instance 1"), "{e}");
+                assert!(
+                    e.message
+                        .contains("instance translation must be in the scene's extent"),
+                    "{e}"
+                );
+            }
+        }
     }
 }

@@ -186,3 +186,98 @@ fn changes_are_checked_when_set() {
         })
         .unwrap();
 }
+
+/// The scene file at `path` (from the workspace's root), read.
+fn file(path: &str) -> SceneDesc {
+    let path = tessera_tests::firmware::repo_root().join(path);
+    tessera_host::file::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The host's picture of `desc` at its own size.
+fn full(desc: &SceneDesc) -> RgbImage {
+    let scene = desc.to_core().unwrap_or_else(|e| panic!("{e}"));
+    scene
+        .with_view(|v| {
+            tessera_host::render(
+                v,
+                scene.camera(),
+                desc.viewport(),
+                desc.settings().unwrap(),
+                desc.render.tile,
+            )
+        })
+        .unwrap()
+}
+
+/// Instances of one mesh draw what meshes baked in world space draw: the
+/// teapot as one instance where it lies is the teapot scene to the byte; four
+/// teapots turned, scaled and moved as instances are the four meshes carried
+/// there when the file is read, but for the rounding of carrying a hit point
+/// back from the mesh's space (a few pixels by one level).
+#[test]
+fn instances_draw_what_meshes_baked_in_world_space_draw() {
+    let once = full(&file("tests/data/instances/teapot-once.toml"));
+    assert_eq!(once.as_raw(), full(&file("scenes/teapot.toml")).as_raw());
+    let world = full(&file("tests/data/instances/teapots-world.toml"));
+    let instanced = full(&file("tests/data/instances/teapots-instanced.toml"));
+    let off: Vec<u8> = world
+        .pixels()
+        .zip(instanced.pixels())
+        .map(|(a, b)| {
+            a.0.iter()
+                .zip(b.0)
+                .map(|(x, y)| x.abs_diff(y))
+                .max()
+                .unwrap_or(0)
+        })
+        .filter(|&d| d > 0)
+        .collect();
+    let share = off.len() as f64 / f64::from(world.width() * world.height());
+    assert!(share < 0.0005, "{} pixels differ", off.len());
+    assert!(off.iter().all(|&d| d <= 2), "{off:?}");
+    // Four teapots, not the mesh where it lies.
+    assert_ne!(instanced.as_raw(), once.as_raw());
+}
+
+/// A frame's moved instance (`Instances::of` the scene's view, `set`, then
+/// `with_instances`) renders as the scene file with that instance moved,
+/// built by the host on its own; a move refused (a scale of 0) names the
+/// field and leaves the instance where it was.
+#[test]
+fn a_moved_instance_renders_as_the_scene_file_with_it_moved() {
+    use tessera_core::instance::{Instances, Placement};
+    let mut desc = file("scenes/examples/instances.toml");
+    let scene = desc.to_core().unwrap();
+    let moved = Placement::new([0.0, 0.6, 0.0, 0.8], [0.5, 0.7, 0.5], [0.25, 0.5, -0.25]);
+    let frame = scene.with_view(|view| {
+        let mut placed: Instances<'_, 8> = Instances::of(view).unwrap();
+        let before = placed.get(1);
+        assert_eq!(
+            placed.set(
+                1,
+                Placement {
+                    scale: [0.5, 0.0, 0.5],
+                    ..moved
+                }
+            ),
+            Err(Error::OutOfRange {
+                field: tessera_core::error::Field::InstanceScale,
+                range: "[2^-20, 2^20] in magnitude on each axis (not 0)",
+            })
+        );
+        assert_eq!(placed.get(1), before);
+        placed.set(1, moved).unwrap();
+        let v = view.with_instances(&placed).unwrap();
+        chip(&v, scene.camera(), &desc)
+    });
+    let d = &mut desc.instances[1];
+    d.rotate = None;
+    d.quaternion = Some(moved.rotation.map(f64::from));
+    d.scale = tessera_host::desc::ScaleDesc::Axes(moved.scale.map(f64::from));
+    d.translate = moved.translation.map(f64::from);
+    same(&frame, &host(&desc), "the moved instance");
+    assert_ne!(
+        frame.as_raw(),
+        host(&file("scenes/examples/instances.toml")).as_raw()
+    );
+}

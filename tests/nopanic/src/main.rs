@@ -195,7 +195,9 @@ fn render<const N: usize>(
     settings: RenderSettings,
     tile: &mut Tile<N>,
 ) -> Result<bool, Failure> {
-    let draw = |view: &SceneView<'_>, camera: &Camera| {
+    // Mutable where the instances' closure below calls it.
+    #[allow(unused_mut)]
+    let mut draw = |view: &SceneView<'_>, camera: &Camera| {
         let renderer = Renderer::try_new(camera, viewport, settings)?;
         let (across, down) = renderer.tile_grid(N);
         let mut lit = false;
@@ -212,6 +214,29 @@ fn render<const N: usize>(
             }
         }
         Ok::<bool, Failure>(lit)
+    };
+    // With the feature `instances`: a scene with meshes is drawn through
+    // instances of them too (placed by the job's hidden numbers), so that the
+    // instance search and its hits are linked and proved.
+    #[cfg(feature = "instances")]
+    let draw = |view: &SceneView<'_>, camera: &Camera| {
+        if view.meshes().is_empty() {
+            return draw(view, camera);
+        }
+        let mut placed: tessera_core::instance::Instances<'_, 2> =
+            tessera_core::instance::Instances::new(view);
+        let k = 1.0 + job.offset[0];
+        let turn = job.offset[1];
+        for (i, x) in [-0.5f32, 0.5].into_iter().enumerate() {
+            let at = tessera_core::instance::Placement::new(
+                [0.0, turn, 0.0, 1.0],
+                [0.5 * k, 0.5, -0.5 * k],
+                [x, 0.0, 0.0],
+            );
+            let mesh = u16::try_from(i % view.meshes().len()).unwrap_or(0);
+            placed.push(tessera_core::instance::Instance::new(mesh, at))?;
+        }
+        draw(&view.with_instances(&placed)?, camera)
     };
     if job.baked {
         scene.with_baked_scene(draw)?

@@ -23,14 +23,16 @@ use tessera_tests::readme::{figure_after, table_row, within};
 /// mesh, no BVH), the cylinders and disks (the core's optional kinds, built with
 /// their features), files from 3D tools (Blender's OBJ with its MTL material
 /// and PNG, Khronos glTF samples with an embedded PNG: normals, uvs, image
-/// textures in flash in RGB565, a sun) and the default (the showcase with an OBJ
-/// mesh) last, so that the ELF left in the example's target folder is the one a
+/// textures in flash in RGB565, a sun), four instances of the teapot's mesh
+/// (turned, scaled, one squashed, one mirrored: built with the feature
+/// `instances`) and the default (the showcase with an OBJ mesh) last, so that the ELF left in the example's target folder is the one a
 /// user builds there.
-const SCENES: [&str; 5] = [
+const SCENES: [&str; 6] = [
     "../../scenes/teapot.toml",
     "../../scenes/showcase.toml",
     "../../scenes/pillars.toml",
     "../../tests/data/tools.toml",
+    "../../scenes/examples/instances.toml",
     DEFAULT,
 ];
 
