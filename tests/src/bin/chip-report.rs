@@ -395,6 +395,7 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     m.image_size(&mut d);
     m.stack(&mut d);
     m.scene_files(&mut d);
+    m.instances(&mut d);
     m.frame_setup(&mut d);
     m.cores(&mut d);
     m.both_cores(&mut d);
@@ -431,10 +432,26 @@ fn dual_core() -> Result<Vec<dualcore::SceneCounts>, String> {
 /// The scene files of the table of scenes from files, as the qemu example's
 /// `TESSERA_SCENE` names them, and what each shows; its default scene last, so
 /// that the ELF left in the example's folder is the one a user builds there.
-const SCENE_FILES: [(&str, &str); 4] = [
+const SCENE_FILES: [(&str, &str); 8] = [
     (
         "../../scenes/teapot.toml",
         "the built-in teapot's scene file: a mesh of about 1,000 triangles with its normals, no texture",
+    ),
+    (
+        TEAPOT_ONCE,
+        "the teapot scene with its teapot drawn as one instance of its mesh, where the mesh lies",
+    ),
+    (
+        TEAPOTS_WORLD,
+        "four teapots, each a mesh of its own baked in world space (turned, scaled and moved when read)",
+    ),
+    (
+        TEAPOTS_INSTANCED,
+        "the same four teapots as instances of one mesh",
+    ),
+    (
+        "../../scenes/examples/instances.toml",
+        "four instances of the teapot's mesh: turned, scaled, one squashed, one mirrored",
     ),
     (
         "../../tests/data/tools.toml",
@@ -450,6 +467,11 @@ const SCENE_FILES: [(&str, &str); 4] = [
         "the example's default: the showcase's primitives and an OBJ icosahedron",
     ),
 ];
+
+/// The scene files that compare instances with meshes baked in world space.
+const TEAPOT_ONCE: &str = "../../tests/data/instances/teapot-once.toml";
+const TEAPOTS_WORLD: &str = "../../tests/data/instances/teapots-world.toml";
+const TEAPOTS_INSTANCED: &str = "../../tests/data/instances/teapots-instanced.toml";
 
 /// Builds and runs the qemu example for each of [`SCENE_FILES`] and checks each
 /// picture against the host's of the same file, byte for byte (as the example's
@@ -1352,6 +1374,107 @@ impl Measured {
              above runs on the test firmware's profile, which renders the built-in \
              scenes only."
         );
+    }
+
+    /// Instances against meshes baked in world space, from the scene files'
+    /// runs: the same picture, the cost of each, and a frame's set-up of a
+    /// moved instance.
+    fn instances(&self, w: &mut String) {
+        let run = |scene: &str| self.files.iter().find(|r| r.scene == scene);
+        let (Some(world1), Some(once), Some(world4), Some(four)) = (
+            run("../../scenes/teapot.toml"),
+            run(TEAPOT_ONCE),
+            run(TEAPOTS_WORLD),
+            run(TEAPOTS_INSTANCED),
+        ) else {
+            return;
+        };
+        let _ = writeln!(w, "\n## Mesh instances against meshes in world space\n");
+        let _ = writeln!(
+            w,
+            "A mesh drawn through instances (`[[instance]]`, the core's feature \
+             `instances`) is searched in its own space: each instance's box in the world \
+             is tested, then the ray is carried into the mesh's space and its BVH searched \
+             there, and the nearest hit carried back. The same qemu example runs as above \
+             (instructions around `render_tile_in`, the whole frame); the pictures of the \
+             two ways are compared byte for byte here.\n"
+        );
+        let _ = writeln!(
+            w,
+            "| teapots | drawn as | instructions | instr/px | flash | scene tables | pixels that differ from world space |"
+        );
+        let _ = writeln!(w, "|---|---|---|---|---|---|---|");
+        for (n, how, r, base) in [
+            (1, "a mesh in world space (`scenes/teapot.toml`)", world1, world1),
+            (1, "one instance of the mesh", once, world1),
+            (4, "four meshes in world space", world4, world4),
+            (4, "four instances of one mesh", four, world4),
+        ] {
+            let pixels = u64::from(r.picture.width()) * u64::from(r.picture.height());
+            let instructions = r.number("instructions");
+            let tables: u64 = r.tables().iter().map(|t| t.size).sum();
+            let differ = r
+                .picture
+                .pixels()
+                .zip(base.picture.pixels())
+                .filter(|(a, b)| a != b)
+                .count();
+            let max = r
+                .picture
+                .pixels()
+                .zip(base.picture.pixels())
+                .flat_map(|(a, b)| a.0.iter().zip(b.0).map(|(x, y)| x.abs_diff(y)))
+                .max()
+                .unwrap_or(0);
+            let diff = if std::ptr::eq(r, base) {
+                "(the base)".to_string()
+            } else {
+                format!("{differ} (by at most {max} levels)")
+            };
+            let _ = writeln!(
+                w,
+                "| {n} | {how} | {} | {} | {} | {} | {diff} |",
+                thousands(instructions),
+                thousands(instructions / pixels.max(1)),
+                thousands(r.sizes.flash()),
+                thousands(tables),
+            );
+        }
+        let moved: Vec<String> = self
+            .files
+            .iter()
+            .filter_map(|r| {
+                let line = r.stdout.lines().find(|l| l.starts_with("moving an instance:"))?;
+                let scene = r.scene.strip_prefix("../../").unwrap_or(r.scene);
+                Some(format!(
+                    "| `{scene}` | {} | {} | {} | {} | {} |",
+                    thousands(qemu_example::number(line, "instances")),
+                    thousands(qemu_example::number(line, "copy")),
+                    thousands(qemu_example::number(line, "set")),
+                    thousands(qemu_example::number(line, "view")),
+                    thousands(r.number("instructions")),
+                ))
+            })
+            .collect();
+        if !moved.is_empty() {
+            let _ = writeln!(
+                w,
+                "\nA frame that moves an instance (the qemu example, after its render, with \
+                 the feature `instances`): the scene's instances copied into RAM once \
+                 (`Instances::of(&view)`), one moved (`set`: its transforms and its box \
+                 worked out again from its rotation, scale and translation, checked) and \
+                 handed to the view (`with_instances`). Instructions, beside the frame's \
+                 render:\n"
+            );
+            let _ = writeln!(
+                w,
+                "| scene file | instances | `Instances::of` (once) | `set` (one moved) | `with_instances` | the frame's render |"
+            );
+            let _ = writeln!(w, "|---|---|---|---|---|---|");
+            for row in moved {
+                let _ = writeln!(w, "{row}");
+            }
+        }
     }
 
     /// A frame's set-up on each baked scene: the whole view checked again
