@@ -182,35 +182,42 @@ run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera-core --no-deps
 # features, is the workspace's above).
 run env RUSTDOCFLAGS="-D warnings" cargo doc -p tessera-core --no-deps --all-features --target thumbv7em-none-eabihf
 
-# The two crates users depend on, as the crate registry would take them: each
-# packaged from its own files and built from the package alone (the host against
-# the packaged core), then the upload skipped. --allow-dirty: the steps before
-# may have refreshed a lock file.
-say "packages: cargo publish --dry-run (tessera-core, tessera-host)"
-# Cargo unpacks the packaged crates into its registry folder (one folder per
-# local overlay, named by a hash) and reuses a folder of the same name and
-# version: an earlier run's tessera-core 0.1.0 would be verified against instead
-# of this one's. Neither crate comes from the crate registry, so those folders
-# are only ever this check's.
-rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/tessera-core-* \
-  "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/tessera-host-*
-# Without debug info (CARGO_PROFILE_DEV_DEBUG): the check is that the packages
-# build, and the build writes and links less.
-run env CARGO_PROFILE_DEV_DEBUG=0 cargo publish --dry-run --allow-dirty -p tessera-core -p tessera-host --target-dir target/package-check
-
-# rust-version is what the dependencies need (flip-rs 1.88, criterion 1.86): the
-# two published crates, every target (their tests and benchmark), type-check with
-# that toolchain, and cargo refuses a dependency whose own rust-version is newer.
-# (The test crate is the repository's own, never built by a user.)
-say "minimum supported Rust: cargo +$msrv check (Cargo.toml's rust-version)"
-run cargo "+$msrv" check -p tessera-core -p tessera-host --all-targets
-
 wait "$own_pid" || true
 say "the firmware images' and examples' steps, run beside the steps above:"
 cat "$own_log"
 cat "$own_log" >>"$log"
 while IFS= read -r step; do failed+=("$step"); done <"$own_failed"
 rm -f "$own_log" "$own_failed"
+
+# The two crates users depend on, as the crate registry would take them, and
+# the minimum supported Rust: both compile from scratch in target folders of
+# their own, so they run in the background beside the tests (which spend most
+# of their time in qemu, one core at a time).
+packages_and_msrv() {
+  # The two crates users depend on, as the crate registry would take them: each
+  # packaged from its own files and built from the package alone (the host against
+  # the packaged core), then the upload skipped. --allow-dirty: the steps before
+  # may have refreshed a lock file.
+  say "packages: cargo publish --dry-run (tessera-core, tessera-host)"
+  # Cargo unpacks the packaged crates into its registry folder (one folder per
+  # local overlay, named by a hash) and reuses a folder of the same name and
+  # version: an earlier run's tessera-core 0.1.0 would be verified against instead
+  # of this one's. Neither crate comes from the crate registry, so those folders
+  # are only ever this check's.
+  rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/tessera-core-* \
+    "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/tessera-host-*
+  # Without debug info (CARGO_PROFILE_DEV_DEBUG): the check is that the packages
+  # build, and the build writes and links less.
+  run env CARGO_PROFILE_DEV_DEBUG=0 cargo publish --dry-run --allow-dirty -p tessera-core -p tessera-host --target-dir target/package-check
+
+  # rust-version is what the dependencies need (flip-rs 1.88, criterion 1.86): the
+  # two published crates, every target (their tests and benchmark), type-check with
+  # that toolchain, and cargo refuses a dependency whose own rust-version is newer.
+  # (The test crate is the repository's own, never built by a user.)
+  say "minimum supported Rust: cargo +$msrv check (Cargo.toml's rust-version)"
+  run cargo "+$msrv" check -p tessera-core -p tessera-host --all-targets --target-dir target/msrv
+
+}
 
 say "tests"
 # The test binaries are built first; while they run (the long part: the firmware
@@ -232,11 +239,12 @@ fast_failed=$(mktemp)
   say "tests with the approximations (fast-math: the core's unit tests, the host library's)"
   run cargo test -p tessera-core --features fast-math --lib
   run cargo test -p tessera-host --features fast-math --lib
+  packages_and_msrv
 ) &
 fast_pid=$!
 run cargo test-all
 wait "$fast_pid" || true
-say "the tests with the approximations, run beside the tests above:"
+say "the tests with the approximations, the packages and the minimum Rust, run beside the tests above:"
 cat "$fast_log"
 cat "$fast_log" >>"$log"
 while IFS= read -r step; do failed+=("$step"); done <"$fast_failed"

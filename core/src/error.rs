@@ -54,6 +54,8 @@ pub enum Field {
     InstanceRotation,
     InstanceScale,
     InstanceTranslation,
+    KeyframeTime,
+    KeyframeValue,
 }
 
 impl Field {
@@ -106,6 +108,8 @@ impl Field {
             Self::InstanceRotation => "instance rotation",
             Self::InstanceScale => "instance scale",
             Self::InstanceTranslation => "instance translation",
+            Self::KeyframeTime => "keyframe time",
+            Self::KeyframeValue => "keyframe value",
         }
     }
 }

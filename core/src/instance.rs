@@ -35,7 +35,6 @@ use crate::geometry::Triangle;
 use crate::mesh::{MAX_MESHES, Mesh};
 use crate::ray::Ray;
 use crate::vec::Vec3;
-use crate::view::SceneView;
 
 /// The most instances a view takes: a hit names an instance and its face in one
 /// index (`(MAX_MESHES + instance) << 16 | face`, under `2^29`).
@@ -463,7 +462,7 @@ impl Placed<'_> {
 /// [`MAX_INSTANCES`]) instances of the meshes of one view, each checked and
 /// carried into the world when it is placed, so that a frame whose instances
 /// move pays for those alone ([`Instances::set`]), then
-/// [`SceneView::with_instances`] for the frame's view.
+/// `SceneView::with_instances` for the frame's view.
 ///
 /// ```
 /// use tessera_core::instance::{Instance, Instances, Placement};
@@ -498,32 +497,30 @@ pub struct Instances<'a, const N: usize> {
 }
 
 impl<'a, const N: usize> Instances<'a, N> {
-    /// No instance yet, of the meshes of `view`.
-    #[must_use]
-    pub fn new(view: &SceneView<'a>) -> Self {
+    /// No instance of `meshes` (a view's: `Instances::new`, in module `view`).
+    pub(crate) fn empty(meshes: &'a [Mesh<'a>]) -> Self {
         Self {
-            meshes: view.meshes,
+            meshes,
             placed: heapless::Vec::new(),
         }
     }
 
-    /// The instances `view` draws (a baked scene's, say), copied into RAM to
-    /// be moved ([`Instances::set`]), then given back to the view
-    /// ([`SceneView::with_instances`]).
+    /// The instances `placed` of `meshes` (a view's: `Instances::new` and
+    /// `Instances::of`, in module `view`, which this layer does not import).
     ///
     /// # Errors
-    /// [`Error::CapacityExceeded`] when the view has more than `N`.
-    pub fn of(view: &SceneView<'a>) -> Result<Self, Error> {
-        let mut placed = heapless::Vec::new();
-        for &p in view.instances {
-            placed.push(p).map_err(|_| Error::CapacityExceeded {
+    /// [`Error::CapacityExceeded`] for more than `N`.
+    pub(crate) fn over(meshes: &'a [Mesh<'a>], placed: &[Placed<'a>]) -> Result<Self, Error> {
+        let mut out = heapless::Vec::new();
+        for &p in placed {
+            out.push(p).map_err(|_| Error::CapacityExceeded {
                 list: List::Instances,
                 capacity: N,
             })?;
         }
         Ok(Self {
-            meshes: view.meshes,
-            placed,
+            meshes,
+            placed: out,
         })
     }
 
@@ -723,7 +720,9 @@ mod tests {
     use crate::bvh::{BakedBvh, Bvh, BvhNode};
     use crate::material::{Material, MaterialId};
     use crate::primitive::Primitive;
-    use crate::{Camera, Color, RenderSettings, Renderer, Scene, Tile, TileCoord, Viewport};
+    use crate::{
+        Camera, Color, RenderSettings, Renderer, Scene, SceneView, Tile, TileCoord, Viewport,
+    };
     use crate::{light::Light, search::first_hit};
 
     extern crate std;

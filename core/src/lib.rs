@@ -50,6 +50,8 @@
 // the frame and its tiles, the camera and viewport, the settings, the errors, the
 // built-in scenes) and one public module per concept; the other modules are the
 // renderer's internals.
+#[cfg(feature = "animation")]
+pub mod animation;
 mod baked;
 pub mod builtin;
 #[cfg(feature = "bvh")]

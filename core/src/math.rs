@@ -151,6 +151,17 @@ pub fn min(a: f32, b: f32) -> f32 {
     if a < b { a } else { b }
 }
 
+/// The sine of `x` radians (libm: the same bits on every target; an
+/// animation's rotations, once a frame, not a pixel's work). Unused without
+/// the feature `animation` (not gated by it: this file is also compiled alone,
+/// by the tests' benchmarks, which know no such feature).
+#[allow(dead_code)]
+#[inline]
+#[must_use]
+pub fn sin(x: f32) -> f32 {
+    libm::sinf(x)
+}
+
 /// Largest integer not greater than `x`.
 #[inline]
 #[must_use]

@@ -629,6 +629,25 @@ impl<'a> SceneView<'a> {
     }
 }
 
+#[cfg(feature = "instances")]
+impl<'a, const N: usize> crate::instance::Instances<'a, N> {
+    /// No instance yet, of the meshes of `view`.
+    #[must_use]
+    pub fn new(view: &SceneView<'a>) -> Self {
+        Self::empty(view.meshes)
+    }
+
+    /// The instances `view` draws (a baked scene's, say), copied into RAM to
+    /// be moved ([`crate::instance::Instances::set`]), then given back to the
+    /// view ([`SceneView::with_instances`]).
+    ///
+    /// # Errors
+    /// [`Error::CapacityExceeded`] when the view has more than `N`.
+    pub fn of(view: &SceneView<'a>) -> Result<Self, Error> {
+        Self::over(view.meshes, view.instances)
+    }
+}
+
 impl crate::cull::Source for SceneView<'_> {
     #[inline(always)]
     fn primitives(&self) -> Primitives<'_> {

@@ -87,9 +87,9 @@ fn check_target_dir() -> PathBuf {
 
 /// The core's features for a program that must render like this build's
 /// `tessera`: `bvh`, the optional kinds (`all-kinds`), image textures, the sun,
-/// and the math backend's features this package was built with.
+/// mesh instances, and the math backend's features this package was built with.
 fn core_features() -> Vec<&'static str> {
-    let mut f = vec!["bvh", "all-kinds", "image", "sun"];
+    let mut f = vec!["bvh", "all-kinds", "image", "sun", "instances"];
     for (on, name) in [
         (cfg!(feature = "fast-math"), "fast-math"),
         (cfg!(feature = "fast-rsqrt"), "fast-rsqrt"),
@@ -105,7 +105,7 @@ fn core_features() -> Vec<&'static str> {
 
 /// Builds and runs, with `cargo run --offline` and `-D warnings`, the program
 /// `main` (the source of its `main.rs`) in a crate `dir/check` that depends on
-/// the core with its features `bvh`, `all-kinds`, `image` and `sun` (as the host's) and this
+/// the core with its features `bvh`, `all-kinds`, `image`, `sun` and `instances` (as the host's) and this
 /// build's math backend
 /// ([`core_features`]), in release when `release`; returns its standard output. Panics with cargo's output if it does not compile cleanly
 /// or fails.

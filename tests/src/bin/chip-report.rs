@@ -1405,7 +1405,12 @@ impl Measured {
         );
         let _ = writeln!(w, "|---|---|---|---|---|---|---|");
         for (n, how, r, base) in [
-            (1, "a mesh in world space (`scenes/teapot.toml`)", world1, world1),
+            (
+                1,
+                "a mesh in world space (`scenes/teapot.toml`)",
+                world1,
+                world1,
+            ),
             (1, "one instance of the mesh", once, world1),
             (4, "four meshes in world space", world4, world4),
             (4, "four instances of one mesh", four, world4),
@@ -1444,7 +1449,10 @@ impl Measured {
             .files
             .iter()
             .filter_map(|r| {
-                let line = r.stdout.lines().find(|l| l.starts_with("moving an instance:"))?;
+                let line = r
+                    .stdout
+                    .lines()
+                    .find(|l| l.starts_with("moving an instance:"))?;
                 let scene = r.scene.strip_prefix("../../").unwrap_or(r.scene);
                 Some(format!(
                     "| `{scene}` | {} | {} | {} | {} | {} |",
