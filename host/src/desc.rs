@@ -394,6 +394,10 @@ macro_rules! scene_desc {
             /// names is drawn at each of its instances, not where it lies.
             #[serde(default, rename = "instance")]
             pub instances: Vec<InstanceDesc>,
+            /// Keyframe tracks of the instances (`[[keyframes]]`): the
+            /// scene's animation (module [`crate::animation`]).
+            #[serde(default, rename = "keyframes")]
+            pub keyframes: Vec<KeyframesDesc>,
             /// The numbers [`SceneDesc::flush_subnormals`] read as zero, the first
             /// [`FLUSHED_KEPT`] of them: never written in a file.
             #[serde(skip)]
@@ -427,6 +431,7 @@ macro_rules! scene_desc {
                     $($f: Vec::new(),)*
                     meshes: Vec::new(),
                     instances: Vec::new(),
+                    keyframes: Vec::new(),
                     flushed: Vec::new(),
                     flushed_count: 0,
                     warnings: Vec::new(),
@@ -545,6 +550,9 @@ pub struct RenderDesc {
     /// The bytes all image textures may take together (in flash, once baked):
     /// each image is resized to its share, in proportion to its own texels.
     pub texture_budget: usize,
+    /// Frames a second of the scene's animation: frame `n` is the time
+    /// `n / fps` (`tessera render --frame N`).
+    pub fps: f64,
 }
 
 /// The default [`RenderDesc::texture_budget`]: 64 KiB.
@@ -562,6 +570,7 @@ impl Default for RenderDesc {
             encoding: "srgb".into(),
             texture_format: "srgb8".into(),
             texture_budget: TEXTURE_BUDGET,
+            fps: 30.0,
         }
     }
 }
@@ -975,6 +984,51 @@ pub struct InstanceDesc {
     pub translate: [f64; 3],
 }
 
+/// What a keyframe track moves (`channel`).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum ChannelDesc {
+    /// `values` are translations `[x, y, z]`.
+    Translation,
+    /// `values` are quaternions `[x, y, z, w]` (each normalised).
+    Rotation,
+    /// `values` are rotations in degrees `[x, y, z]`, as an instance's
+    /// `rotate` (turned into quaternions).
+    Rotate,
+    /// `values` are scales `[x, y, z]` (or one number each).
+    Scale,
+}
+
+/// How a track goes between keyframes (`interpolation`).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum InterpolationDesc {
+    /// The earlier keyframe's value until the next one's time.
+    Step,
+    /// Straight between keyframes; spherical (constant angular speed) for
+    /// rotations. The default.
+    #[default]
+    Linear,
+}
+
+/// A keyframe track (`[[keyframes]]`): the instance named `target` moved on
+/// `channel` through `values` at `times` (seconds, strictly increasing).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct KeyframesDesc {
+    /// The name of an `[[instance]]`.
+    pub target: String,
+    /// What it moves.
+    pub channel: ChannelDesc,
+    /// How it goes between keyframes.
+    #[serde(default)]
+    pub interpolation: InterpolationDesc,
+    /// The keyframes' times, in seconds.
+    pub times: Vec<f64>,
+    /// The keyframes' values, one per time (see [`ChannelDesc`]).
+    pub values: Vec<Vec<f64>>,
+}
+
 /// What is wrong with a description: the item (`sphere 3`, `camera`, `render`) and
 /// the message.
 #[derive(Clone, Debug, PartialEq)]
@@ -1204,6 +1258,13 @@ impl SceneDesc {
                 for v in f {
                     at(&item, &format!("face {} vertex", j + 1), v);
                 }
+            }
+        }
+        for (i, k) in self.keyframes.iter_mut().enumerate() {
+            let item = format!("keyframes {}", i + 1);
+            at(&item, "times", &mut k.times);
+            for v in &mut k.values {
+                at(&item, "values", v);
             }
         }
         for (i, d) in self.instances.iter_mut().enumerate() {

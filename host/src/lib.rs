@@ -39,6 +39,7 @@ macro_rules! with_tile_size {
     };
 }
 
+pub mod animation;
 pub mod arr3;
 pub mod bake;
 #[cfg(feature = "cli")]

@@ -120,6 +120,51 @@ fn a_scene_file_renders_with_its_own_settings() {
     assert_eq!(img.dimensions(), (64, 48));
 }
 
+/// `render --frame N` renders frame N of a scene file's animation (the time
+/// N / fps): the library's render of the file's scene at that frame; frames
+/// differ; `--frame` of a scene without keyframes (a built-in scene) is an
+/// error that says so and keeps the output.
+#[test]
+fn render_frame_renders_that_frame_of_the_animation() {
+    let dir = scratch("frame");
+    let scene = scenes().join("examples/animated.toml");
+    let render = |n: &str, out: &str| {
+        let o = bin()
+            .current_dir(&dir)
+            .arg("render")
+            .arg(&scene)
+            .args(["--frame", n, "--size", "80x60", "-o", out])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        image::open(dir.join(out)).unwrap().to_rgb8()
+    };
+    let f7 = render("7", "f7.png");
+    let desc = tessera_host::file::load(&scene)
+        .unwrap()
+        .at_frame(7)
+        .unwrap();
+    let s = desc.to_core().unwrap();
+    let want = s
+        .with_view(|v| {
+            tessera_host::render(
+                v,
+                s.camera(),
+                tessera_core::Viewport::new(80, 60),
+                desc.settings().unwrap(),
+                desc.render.tile,
+            )
+        })
+        .unwrap();
+    assert_eq!(f7.as_raw(), want.as_raw());
+    assert_ne!(f7.as_raw(), render("8", "f8.png").as_raw());
+    let stderr = fails(
+        &dir,
+        &["render", "showcase", "--frame", "3", "-o", "out.png"],
+    );
+    assert!(stderr.contains("no animation"), "{stderr}");
+}
+
 /// A value that looks like a mistake (fovy in radians) is rendered as written,
 /// with a warning on stderr that names the file and says what it looks like.
 #[test]

@@ -209,6 +209,33 @@ fn mesh_instances_agree_with_the_reference() {
     println!("{report}");
 }
 
+/// Frames of an animation (`scenes/examples/animated.toml`: a teapot turning
+/// through `rotate` keyframes, a ball bouncing through translations): the
+/// core's frame (the host evaluating the tracks with the core's `f32` code)
+/// against the reference's, which evaluates the keyframes itself in `f64`
+/// (its own search of the times and spherical interpolation) and carries the
+/// meshes there on its own; mid-arc frames, between keyframes.
+#[test]
+fn animation_frames_agree_with_the_reference() {
+    let path = tessera_tests::firmware::repo_root().join("scenes/examples/animated.toml");
+    let desc = tessera_host::file::load(&path).unwrap();
+    assert_eq!(desc.keyframes.len(), 2);
+    let vp = Viewport::new(160, 120);
+    let settings = desc.settings().unwrap();
+    let mut report = String::new();
+    for frame in [5u32, 13, 20] {
+        let core_desc = desc.at_frame(frame).unwrap();
+        let scene = core_desc.to_core().unwrap();
+        let core = scene.with_view(|view| render(view, scene.camera(), vp, settings));
+        let t = f64::from(frame) / desc.render.fps;
+        let ref_desc = tessera_host::reference::animation::animate(&desc, t).unwrap();
+        let acc = against_reference(core, &ref_desc, vp, settings);
+        report.push_str(&format!("== frame {frame}\n{acc}\n"));
+        assert!(acc.meets_bar(), "frame {frame}:\n{acc}");
+    }
+    println!("{report}");
+}
+
 /// Blender's OBJ files (`tests/data/blender/scene.toml`): the file's own vertex
 /// normals (a smooth sphere, a bevelled cube, boxes with hard edges), its
 /// texture coordinates under a checker (point-sampled and averaged over each

@@ -21,6 +21,10 @@ pub struct RenderArgs {
     /// A glTF scene's camera, by its name [default: the file's first]
     #[arg(long)]
     camera: Option<String>,
+    /// Frame N of the scene file's animation (its `[[keyframes]]`, at its
+    /// `[render] fps`: the time N / fps) [default: the scene as the file places it]
+    #[arg(long, value_name = "N")]
+    frame: Option<u32>,
 }
 
 /// What `tessera` alone does: `tessera render` with its defaults.
@@ -30,12 +34,17 @@ impl Default for RenderArgs {
             common: Common::default(),
             output: PathBuf::from(DEFAULT_OUTPUT),
             camera: None,
+            frame: None,
         }
     }
 }
 
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let source = Source::open(args.common.scene.as_deref(), args.camera.as_deref())?;
+    let source = match args.frame {
+        Some(n) => source.at_frame(n)?,
+        None => source,
+    };
     let (settings, vp, tile) = source.settings(&args.common)?;
     let target = source.target(&args.output)?;
     let threads = threads(args.common.threads);

@@ -107,6 +107,27 @@ impl Source {
         }
     }
 
+    /// The scene at frame `n` of its animation (a scene file's
+    /// `[[keyframes]]`).
+    pub fn at_frame(self, n: u32) -> Result<Self, Error> {
+        let d = match &self {
+            Self::File(_, d) if !d.keyframes.is_empty() => d,
+            _ => {
+                return Err(self.error(DescError {
+                    item: "--frame".into(),
+                    message: "the scene has no animation (no [[keyframes]]): \
+                              only a scene file's keyframes move it"
+                        .into(),
+                }));
+            }
+        };
+        let at = d.at_frame(n).map_err(|e| self.error(e))?;
+        match self {
+            Self::File(name, _) => Ok(Self::File(name, Box::new(at))),
+            other => Ok(other),
+        }
+    }
+
     /// The scene description (for the reference).
     pub fn desc(&self) -> SceneDesc {
         match self {

@@ -20,6 +20,7 @@
 //! frame's shape (one pixel, one row), the pixels of the ring just outside the
 //! frame are signed too, by rays through them as through the frame's pixels.
 
+pub mod animation;
 pub mod exact;
 pub mod geometry;
 pub mod image_texture;
