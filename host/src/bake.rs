@@ -212,6 +212,9 @@ pub struct Baking<'a> {
     /// The scene's named objects and lights ([`SceneDesc::named`]), each
     /// written as a constant of its place in its table.
     pub objects: Vec<(String, Object)>,
+    /// The animation's tracks ([`SceneDesc::tracks`]), each with the places
+    /// in `INSTANCES` of the instance's parts (a track each).
+    pub tracks: Vec<(Vec<usize>, crate::animation::TrackData)>,
 }
 
 /// `c` as a Rust expression of a [`tessera_core::Color`].
@@ -235,6 +238,7 @@ fn api_path(name: &str) -> String {
         "Light" => "light::",
         "BakedBvh" | "BvhNode" => "bvh::",
         "Placed" | "Placement" => "instance::",
+        "Animation" | "Track" | "Channel" | "Interpolation" => "animation::",
         "Mesh" => "mesh::",
         "Loops" | "TileLoop" => "tile::",
         "SubPixel" => "sample::",
@@ -945,6 +949,71 @@ impl<'a> Writer<'a> {
         self.features.push("instances");
         self.parts.push(count(items.len(), "instance", "instances"));
         self.with_meshes += "\n.with_instances(&INSTANCES)";
+        self.animation();
+    }
+
+    /// `TRACK{k}_TIMES`, `TRACK{k}_VALUES` and `ANIMATION`, the scene's
+    /// keyframe tracks (one a part of each moved instance), and the core's
+    /// feature `animation`: a firmware places a frame's instances with
+    /// `ANIMATION.place(t, &rest, &mut instances)`.
+    fn animation(&mut self) {
+        if self.b.tracks.is_empty() {
+            return;
+        }
+        let mut tracks = Vec::new();
+        for (k, (parts, t)) in self.b.tracks.iter().enumerate() {
+            let _ = writeln!(
+                self.body,
+                "/// Track {k}'s keyframe times (seconds).\npub static TRACK{k}_TIMES: [f32; {}] = [{}];\n",
+                t.times.len(),
+                t.times
+                    .iter()
+                    .map(|&x| lit(x))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+            let _ = writeln!(
+                self.body,
+                "/// Track {k}'s keyframe values.\n#[rustfmt::skip]\npub static TRACK{k}_VALUES: [[f32; 4]; {}] = [",
+                t.values.len()
+            );
+            for v in &t.values {
+                let _ = writeln!(
+                    self.body,
+                    "    [{}],",
+                    v.iter().map(|&x| lit(x)).collect::<Vec<_>>().join(", ")
+                );
+            }
+            let _ = writeln!(self.body, "];\n");
+            self.bytes += size_of_val(t.times.as_slice()) + size_of_val(t.values.as_slice());
+            let channel = match t.channel {
+                tessera_core::animation::Channel::Translation => "Translation",
+                tessera_core::animation::Channel::Rotation => "Rotation",
+                _ => "Scale",
+            };
+            let interpolation = match t.interpolation {
+                tessera_core::animation::Interpolation::Step => "Step",
+                _ => "Linear",
+            };
+            for &p in parts {
+                tracks.push(format!(
+                    "    Track::new({p}, Channel::{channel}, Interpolation::{interpolation}, \
+                     &TRACK{k}_TIMES, &TRACK{k}_VALUES),"
+                ));
+            }
+        }
+        let _ = writeln!(
+            self.body,
+            "/// The scene's animation: `ANIMATION.place(t, &rest, &mut instances)` moves the\n\
+             /// instances a copy of `INSTANCES` in RAM holds to where they are at `t` seconds.\n\
+             pub static ANIMATION: Animation<'static> = Animation::new(&[\n{}\n]);\n",
+            tracks.join("\n")
+        );
+        self.bytes += tracks.len() * size_of::<tessera_core::animation::Track<'static>>();
+        self.names
+            .extend(["Animation", "Track", "Channel", "Interpolation"]);
+        self.features.push("animation");
+        self.parts.push(count(tracks.len(), "track", "tracks"));
     }
 
     /// `WIDTH`, `HEIGHT`, `TILE`, `SceneLoops` and `SCENE`.
@@ -1248,6 +1317,9 @@ pub fn kind_features(desc: &SceneDesc) -> Vec<&'static str> {
     if !desc.instances.is_empty() {
         out.push("instances");
     }
+    if !desc.keyframes.is_empty() {
+        out.push("animation");
+    }
     out
 }
 
@@ -1256,7 +1328,21 @@ pub fn kind_features(desc: &SceneDesc) -> Vec<&'static str> {
 /// rendering it: its camera, settings and every item checked).
 pub fn scene_source(desc: &SceneDesc, name: &str, krate: &str) -> Result<String, DescError> {
     let scene = desc.to_core()?;
+    let starts = desc.instance_starts();
+    let tracks = desc
+        .tracks()?
+        .into_iter()
+        .map(|t| {
+            let start = starts.get(t.instance).copied().unwrap_or(0);
+            let parts = desc
+                .instances
+                .get(t.instance)
+                .map_or(0, |d| desc.instance_parts(&d.mesh).len());
+            ((start..start + parts).collect(), t)
+        })
+        .collect();
     let baking = Baking {
+        tracks,
         scene: &scene,
         camera: desc.camera_numbers()?,
         settings: desc.settings()?,
@@ -1670,6 +1756,7 @@ mod tests {
             tile: desc.render.tile,
             names: vec!["a\nb".into(), "c".into()],
             objects: Vec::new(),
+            tracks: Vec::new(),
         };
         let text = source(&baking, "crate", &["one\npub static X: u8 = 0;".into()]).unwrap();
         assert!(

@@ -87,9 +87,10 @@ fn check_target_dir() -> PathBuf {
 
 /// The core's features for a program that must render like this build's
 /// `tessera`: `bvh`, the optional kinds (`all-kinds`), image textures, the sun,
-/// mesh instances, and the math backend's features this package was built with.
+/// mesh instances and their animation, and the math backend's features this
+/// package was built with.
 fn core_features() -> Vec<&'static str> {
-    let mut f = vec!["bvh", "all-kinds", "image", "sun", "instances"];
+    let mut f = vec!["bvh", "all-kinds", "image", "sun", "instances", "animation"];
     for (on, name) in [
         (cfg!(feature = "fast-math"), "fast-math"),
         (cfg!(feature = "fast-rsqrt"), "fast-rsqrt"),
@@ -105,7 +106,7 @@ fn core_features() -> Vec<&'static str> {
 
 /// Builds and runs, with `cargo run --offline` and `-D warnings`, the program
 /// `main` (the source of its `main.rs`) in a crate `dir/check` that depends on
-/// the core with its features `bvh`, `all-kinds`, `image`, `sun` and `instances` (as the host's) and this
+/// the core with its features `bvh`, `all-kinds`, `image`, `sun`, `instances` and `animation` (as the host's) and this
 /// build's math backend
 /// ([`core_features`]), in release when `release`; returns its standard output. Panics with cargo's output if it does not compile cleanly
 /// or fails.
@@ -308,6 +309,81 @@ fn every_scene_file_baked_renders_like_tessera_render() {
             differ == 0,
             "{}: {differ} bytes differ between the baked scene and `tessera render`",
             file.display()
+        );
+    }
+}
+
+/// A baked animation, as a firmware plays it (its instances copied into RAM,
+/// `ANIMATION.place` at each frame's time, `with_instances`), renders each
+/// frame as `tessera render --frame N` does, byte for byte: the same `f32`
+/// evaluation of the same tracks, on the baked tables.
+#[test]
+fn a_baked_animation_plays_the_frames_tessera_renders() {
+    let dir = scratch("bake-animation");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/examples/animated.toml");
+    let baked = dir.join("scene.rs");
+    let out = bin()
+        .arg("bake")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&baked)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let frames = [0u32, 5, 9, 17];
+    let fps = tessera_host::file::load(&scene).unwrap().render.fps;
+    let out_dir = dir.join("frames");
+    std::fs::create_dir(&out_dir).unwrap();
+    let main = format!(
+        "#[path = {:?}]\nmod scene;\n\
+         use tessera_core::{{Tile, TileCoord, instance::Instances}};\n\n\
+         fn main() {{\n    \
+             let view = scene::SCENE.view().expect(\"a valid scene\");\n    \
+             scene::ANIMATION.check(view.instance_count()).expect(\"valid tracks\");\n    \
+             let rest: Vec<_> = {{\n        \
+                 let i: Instances<'_, 16> = Instances::of(&view).expect(\"room\");\n        \
+                 (0..i.len()).map(|k| i.get(k).expect(\"an instance\").placement).collect()\n    \
+             }};\n    \
+             let mut moving: Instances<'_, 16> = Instances::of(&view).expect(\"room\");\n    \
+             let renderer = scene::SCENE.renderer().expect(\"a valid frame\");\n    \
+             let vp = scene::SCENE.viewport();\n    \
+             let (w, h) = (usize::from(vp.width), usize::from(vp.height));\n    \
+             for n in {frames:?} {{\n        \
+                 let t = n as f64 / {fps:?};\n        \
+                 scene::ANIMATION.place(t as f32, &rest, &mut moving).expect(\"placed\");\n        \
+                 let frame = view.with_instances(&moving).expect(\"its instances\");\n        \
+                 let mut rgb = vec![0u8; 3 * w * h];\n        \
+                 let mut tile = Tile::<{{ scene::TILE }}>::new();\n        \
+                 let (cols, rows) = renderer.tile_grid(scene::TILE);\n        \
+                 for ty in 0..rows {{\n            for tx in 0..cols {{\n                \
+                     renderer.render_tile(&frame, TileCoord::new(tx, ty), &mut tile, &mut ()).expect(\"rendered\");\n                \
+                     let (x0, y0) = tile.origin();\n                \
+                     for (y, row) in tile.rows().enumerate() {{\n                    \
+                         for (x, p) in row.iter().enumerate() {{\n                        \
+                             let i = 3 * ((y0 as usize + y) * w + x0 as usize + x);\n                        \
+                             rgb[i..i + 3].copy_from_slice(&[p.r, p.g, p.b]);\n                    \
+                         }}\n                }}\n            }}\n        }}\n        \
+                 std::fs::write(format!(\"{{}}/{{n}}.rgb\", {:?}), rgb).expect(\"written\");\n    \
+             }}\n}}\n",
+        baked.to_str().unwrap(),
+        out_dir.to_str().unwrap()
+    );
+    cargo_run(&dir, &main, true);
+    for n in frames {
+        let png = dir.join(format!("f{n}.png"));
+        let out = bin()
+            .arg("render")
+            .arg(&scene)
+            .args(["--frame", &n.to_string(), "-o"])
+            .arg(&png)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let want = image::open(&png).unwrap().to_rgb8();
+        let have = std::fs::read(out_dir.join(format!("{n}.rgb"))).unwrap();
+        assert!(
+            have == want.as_raw().as_slice(),
+            "frame {n}: the baked animation's frame differs"
         );
     }
 }
