@@ -215,6 +215,8 @@ pub struct Baking<'a> {
     /// The animation's tracks ([`SceneDesc::tracks`]), each with the places
     /// in `INSTANCES` of the instance's parts (a track each).
     pub tracks: Vec<(Vec<usize>, crate::animation::TrackData)>,
+    /// Frames a second of the animation (`[render] fps`).
+    pub fps: f64,
 }
 
 /// `c` as a Rust expression of a [`tessera_core::Color`].
@@ -1004,6 +1006,12 @@ impl<'a> Writer<'a> {
         }
         let _ = writeln!(
             self.body,
+            "/// Frames a second of the animation (the scene file's `fps`): frame n is at\n\
+             /// `n as f32 / FPS` seconds.\n#[allow(dead_code)]\npub const FPS: f32 = {};\n",
+            lit(self.b.fps as f32)
+        );
+        let _ = writeln!(
+            self.body,
             "/// The scene's animation: `ANIMATION.place(t, &rest, &mut instances)` moves the\n\
              /// instances a copy of `INSTANCES` in RAM holds to where they are at `t` seconds.\n\
              pub static ANIMATION: Animation<'static> = Animation::new(&[\n{}\n]);\n",
@@ -1343,6 +1351,7 @@ pub fn scene_source(desc: &SceneDesc, name: &str, krate: &str) -> Result<String,
         .collect();
     let baking = Baking {
         tracks,
+        fps: desc.render.fps,
         scene: &scene,
         camera: desc.camera_numbers()?,
         settings: desc.settings()?,
@@ -1757,6 +1766,7 @@ mod tests {
             names: vec!["a\nb".into(), "c".into()],
             objects: Vec::new(),
             tracks: Vec::new(),
+            fps: 30.0,
         };
         let text = source(&baking, "crate", &["one\npub static X: u8 = 0;".into()]).unwrap();
         assert!(
