@@ -966,7 +966,7 @@ impl<'a> Writer<'a> {
         for (k, (parts, t)) in self.b.tracks.iter().enumerate() {
             let _ = writeln!(
                 self.body,
-                "/// Track {k}'s keyframe times (seconds).\npub static TRACK{k}_TIMES: [f32; {}] = [{}];\n",
+                "/// Track {k}'s keyframe times (seconds).\n#[allow(dead_code)]\npub static TRACK{k}_TIMES: [f32; {}] = [{}];\n",
                 t.times.len(),
                 t.times
                     .iter()
@@ -976,7 +976,7 @@ impl<'a> Writer<'a> {
             );
             let _ = writeln!(
                 self.body,
-                "/// Track {k}'s keyframe values.\n#[rustfmt::skip]\npub static TRACK{k}_VALUES: [[f32; 4]; {}] = [",
+                "/// Track {k}'s keyframe values.\n#[rustfmt::skip]\n#[allow(dead_code)]\npub static TRACK{k}_VALUES: [[f32; 4]; {}] = [",
                 t.values.len()
             );
             for v in &t.values {
@@ -1013,8 +1013,9 @@ impl<'a> Writer<'a> {
         let _ = writeln!(
             self.body,
             "/// The scene's animation: `ANIMATION.place(t, &rest, &mut instances)` moves the\n\
-             /// instances a copy of `INSTANCES` in RAM holds to where they are at `t` seconds.\n\
-             pub static ANIMATION: Animation<'static> = Animation::new(&[\n{}\n]);\n",
+             /// instances a copy of `INSTANCES` in RAM holds to where they are at `t` seconds\n\
+             /// (a firmware that shows the still scene leaves it out of its flash).\n\
+             #[allow(dead_code)]\npub static ANIMATION: Animation<'static> = Animation::new(&[\n{}\n]);\n",
             tracks.join("\n")
         );
         self.bytes += tracks.len() * size_of::<tessera_core::animation::Track<'static>>();
