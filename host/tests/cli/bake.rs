@@ -109,16 +109,33 @@ fn core_features() -> Vec<&'static str> {
 /// the core with its features `bvh`, `all-kinds`, `image`, `sun`, `instances` and `animation` (as the host's) and this
 /// build's math backend
 /// ([`core_features`]), in release when `release`; returns its standard output. Panics with cargo's output if it does not compile cleanly
-/// or fails.
+/// or fails. Its package is named after `dir` (a test's own scratch folder):
+/// tests running at once share the target folder (the core compiled once),
+/// and a package of one name would be one binary, which one test's build
+/// could replace under another's run.
 fn cargo_run(dir: &Path, main: &str, release: bool) -> String {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let core = root.join("core");
     let project = dir.join("check");
+    // The scratch folder's name without its random suffix.
+    let folder = dir.file_name().and_then(|n| n.to_str()).unwrap_or("check");
+    let name: String = folder
+        .rsplit_once('-')
+        .map_or(folder, |(stem, _)| stem)
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
+        .collect();
     std::fs::create_dir_all(project.join("src")).unwrap();
     std::fs::write(
         project.join("Cargo.toml"),
         format!(
-            "[package]\nname = \"bake-check\"\nversion = \"0.0.0\"\nedition = \"2024\"\n\
+            "[package]\nname = \"bake-check-{name}\"\nversion = \"0.0.0\"\nedition = \"2024\"\n\
              publish = false\n\n[dependencies]\n\
              tessera-core = {{ path = {:?}, features = {:?} }}\n\n[workspace]\n",
             core.to_str().unwrap(),
