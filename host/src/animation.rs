@@ -118,16 +118,11 @@ impl SceneDesc {
                         crate::mesh::euler_quaternion([v[0], v[1], v[2]])
                     }
                     ChannelDesc::Rotate => [v[0], v[1], v[2], 0.0].map(|x| x * f64::NAN),
+                    // Normalised in f64; a zero or non-finite one goes on as
+                    // written, for the core's check to name.
                     ChannelDesc::Rotation => {
-                        // Normalised in f64 (scaled by its largest part first).
-                        let big = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                        if big > 0.0 && big.is_finite() {
-                            let u: Vec<f64> = v.iter().map(|x| x / big).collect();
-                            let len = u.iter().map(|x| x * x).sum::<f64>().sqrt();
-                            [u[0] / len, u[1] / len, u[2] / len, u[3] / len]
-                        } else {
-                            [v[0], v[1], v[2], v[3]]
-                        }
+                        let q = [v[0], v[1], v[2], v[3]];
+                        crate::mesh::unit_quaternion(q).unwrap_or(q)
                     }
                     _ => [v[0], v[1], v[2], 0.0],
                 };

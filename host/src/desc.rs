@@ -153,6 +153,8 @@ impl HostScene {
         let meshes: Vec<tessera_core::mesh::Mesh<'_>> =
             self.mesh_parts().map(|m| m.mesh()).collect();
         let view = self.scene.view();
+        // Checked when the scene was made: cannot fail (if it did, the meshes
+        // would be missing from the image, which every test would see).
         let view = if meshes.is_empty() {
             view
         } else {
@@ -172,16 +174,15 @@ impl HostScene {
     /// place them), and its triangles through a BVH when there are enough of
     /// them for it to pay ([`tessera_core::SceneView::with_bvh`]).
     pub fn with_view<R>(&self, f: impl FnOnce(&tessera_core::SceneView<'_>) -> R) -> R {
-        let meshes: Vec<tessera_core::mesh::Mesh<'_>> =
-            self.mesh_parts().map(|m| m.mesh()).collect();
-        let view = self.scene.view();
-        // Checked when the scene was made: cannot fail (if it did, the meshes
-        // would be missing from the image, which every test would see).
-        let view = if meshes.is_empty() {
-            view
-        } else {
-            view.with_meshes(&meshes).unwrap_or(view)
-        };
+        self.with_meshes_view(|view| self.with_placed_view(*view, f))
+    }
+
+    /// [`HostScene::with_view`] from the view with the meshes where they lie.
+    fn with_placed_view<R>(
+        &self,
+        view: tessera_core::SceneView<'_>,
+        f: impl FnOnce(&tessera_core::SceneView<'_>) -> R,
+    ) -> R {
         let mut placed = (!self.instances.is_empty()).then(|| Box::new(HostInstances::new(&view)));
         // As the meshes: placed when the scene was made.
         let view = match &mut placed {
@@ -1609,21 +1610,15 @@ impl SceneDesc {
                 }
                 crate::mesh::euler_quaternion(r)
             }
-            (None, Some(q)) => {
-                // Normalised in f64 (scaled by its largest component first,
-                // so no square overflows): any finite length but 0.
+            (None, Some(q)) => crate::mesh::unit_quaternion(q).ok_or_else(|| {
                 let field = Field::InstanceRotation;
-                if !q.iter().all(|x| x.is_finite()) {
-                    return Err(item.core(tessera_core::Error::NotFinite(field), show(&q)));
-                }
-                let big = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                if big == 0.0 {
-                    return Err(item.core(tessera_core::Error::ZeroLength(field), show(&q)));
-                }
-                let q = q.map(|x| x / big);
-                let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-                q.map(|x| x / len)
-            }
+                let e = if q.iter().all(|x| x.is_finite()) {
+                    tessera_core::Error::ZeroLength(field)
+                } else {
+                    tessera_core::Error::NotFinite(field)
+                };
+                item.core(e, show(&q))
+            })?,
             (None, None) => [0.0, 0.0, 0.0, 1.0],
         };
         let rotation = q.map(|x| to_f32(x).unwrap_or(if x > 0.0 { f32::MAX } else { f32::MIN }));

@@ -589,6 +589,20 @@ pub fn euler_xyz(degrees: [f64; 3]) -> Rotation {
     mul(rz, mul(ry, rx))
 }
 
+/// `q` normalised in f64, scaled by its largest component first so that no
+/// square overflows or underflows: any finite length but 0. `None` for a
+/// component that is not finite, or all zero.
+#[must_use]
+pub fn unit_quaternion(q: [f64; 4]) -> Option<[f64; 4]> {
+    let big = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if !q.iter().all(|x| x.is_finite()) || big == 0.0 {
+        return None;
+    }
+    let q = q.map(|x| x / big);
+    let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    Some(q.map(|x| x / len))
+}
+
 /// The unit quaternion `[x, y, z, w]` of [`euler_xyz`]'s rotation: `qz qy qx`
 /// of the half angles (quarter turns as exact as `f64` gives `sqrt(1/2)`).
 #[must_use]
