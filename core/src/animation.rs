@@ -202,6 +202,15 @@ fn slerp(a: [f32; 4], b: [f32; 4], u: f32) -> [f32; 4] {
     ])
 }
 
+/// The time of frame `n` at `fps` frames a second: `n / fps`, in `f32`.
+/// The host (`tessera render --frame N`) and a firmware (with a baked
+/// scene's `FPS`) both take a frame's time so, which makes frame `n` the
+/// same bytes on both.
+#[must_use]
+pub fn frame_time(n: u32, fps: f32) -> f32 {
+    n as f32 / fps
+}
+
 /// The tracks of a scene's animation (a baked scene's `static` table).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Animation<'a> {
@@ -228,6 +237,41 @@ impl<'a> Animation<'a> {
             .iter()
             .map(Track::end)
             .fold(0.0, crate::math::max)
+    }
+
+    /// How many frames at `fps` frames a second play it whole: frame 0 to
+    /// the last whose [`frame_time`] is at most [`Animation::duration`] (1
+    /// for an animation without tracks, or an `fps` that is not a finite
+    /// number above 0; at most `u32::MAX`).
+    #[must_use]
+    pub fn frames(&self, fps: f32) -> u32 {
+        let end = self.duration();
+        if !(fps.is_finite() && fps > 0.0) {
+            return 1;
+        }
+        // The product's rounding may put the count one off either way: the
+        // last frame is the one `frame_time` itself puts at or before the end.
+        let mut last = (end * fps) as u32;
+        while last < u32::MAX && frame_time(last + 1, fps) <= end {
+            last += 1;
+        }
+        while last > 0 && frame_time(last, fps) > end {
+            last -= 1;
+        }
+        last.saturating_add(1)
+    }
+
+    /// How many frames one pass takes when it plays in a loop, its time
+    /// wrapping at its end: frame 0 to the last before the end (a frame at
+    /// the end is the next pass's frame 0), at least 1.
+    #[must_use]
+    pub fn looped_frames(&self, fps: f32) -> u32 {
+        let n = self.frames(fps);
+        if n > 1 && frame_time(n - 1, fps) >= self.duration() {
+            n - 1
+        } else {
+            n
+        }
     }
 
     /// Checks every track (see [`Track`]) and that each moves an instance of
@@ -573,5 +617,52 @@ mod tests {
                 range: "[2^-20, 2^20] in magnitude on each axis (not 0)",
             })
         );
+    }
+
+    /// The frames that play an animation whole end at the last frame whose
+    /// time is at most its end, also where `end * fps` rounds past a whole
+    /// number; frame times are `n / fps` in `f32`.
+    #[test]
+    fn frames_cover_the_animation_to_its_last_keyframe() {
+        let values = [[0.0; 4]; 2];
+        let ends = [0.0f32, 2.0, 1.0 / 3.0, 0.7, 10.0];
+        let times: [[f32; 2]; 5] = ends.map(|e| [0.0, if e > 0.0 { e } else { 1e-3 }]);
+        for (k, t) in times.iter().enumerate() {
+            let track = [Track::new(
+                0,
+                Channel::Translation,
+                Interpolation::Linear,
+                t,
+                &values,
+            )];
+            let anim = Animation::new(&track);
+            for fps in [1.0f32, 12.0, 24.0, 29.97, 30.0, 60.0, 1000.0] {
+                let n = anim.frames(fps);
+                let end = anim.duration();
+                assert!(n >= 1);
+                assert!(frame_time(n - 1, fps) <= end, "{k} {fps}");
+                assert!(frame_time(n, fps) > end, "{k} {fps}");
+            }
+        }
+        // Two seconds at 12 frames a second: frames 0 to 24.
+        let two = [Track::new(
+            0,
+            Channel::Translation,
+            Interpolation::Linear,
+            &[0.0, 2.0],
+            &values,
+        )];
+        assert_eq!(Animation::new(&two).frames(12.0), 25);
+        // In a loop the frame at the end is the next pass's first.
+        assert_eq!(Animation::new(&two).looped_frames(12.0), 24);
+        assert_eq!(Animation::new(&two).looped_frames(7.0), 14);
+        assert_eq!(Animation::new(&two).frames(7.0), 15);
+        assert_eq!(Animation::new(&[]).looped_frames(12.0), 1);
+        assert_eq!(frame_time(6, 12.0), 0.5);
+        // No tracks, or no frame rate: one frame.
+        assert_eq!(Animation::new(&[]).frames(12.0), 1);
+        for fps in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+            assert_eq!(Animation::new(&two).frames(fps), 1);
+        }
     }
 }

@@ -171,6 +171,19 @@ impl SceneDesc {
         Ok(f64::from(Animation::new(&tracks).duration()))
     }
 
+    /// How many frames at `[render] fps` play the animation whole: frame 0 to
+    /// the last at or before its end, as the core counts them
+    /// ([`Animation::frames`]; 1 without keyframes).
+    ///
+    /// # Errors
+    /// As [`SceneDesc::tracks`] and [`SceneDesc::fps`].
+    pub fn frames(&self) -> Result<u32, DescError> {
+        let fps = self.fps()?;
+        let data = self.tracks()?;
+        let tracks: Vec<Track<'_>> = data.iter().map(|d| d.track(track_index(d))).collect();
+        Ok(Animation::new(&tracks).frames(fps))
+    }
+
     /// The scene at time `t` (seconds): each instance a track moves placed
     /// where the core's evaluation of its tracks has it (its rotation then a
     /// quaternion, its scale per axis); the rest as the file says.
@@ -201,19 +214,37 @@ impl SceneDesc {
         Ok(out)
     }
 
-    /// The scene at frame `n` of its animation (`[render] fps`).
+    /// The scene at frame `n` of its animation (`[render] fps`): at the time
+    /// [`tessera_core::animation::frame_time`] gives.
     ///
     /// # Errors
     /// As [`SceneDesc::at_time`]; an `fps` that is not a finite number above 0.
     pub fn at_frame(&self, n: u32) -> Result<SceneDesc, DescError> {
+        // The core's rule for a frame's time, which a firmware playing the
+        // baked `FPS` follows too.
+        self.at_time(f64::from(tessera_core::animation::frame_time(
+            n,
+            self.fps()?,
+        )))
+    }
+
+    /// `[render] fps` as the core and a baked scene take it (`f32`).
+    ///
+    /// # Errors
+    /// An `fps` that is not a finite number above 0 once in `f32`.
+    pub fn fps(&self) -> Result<f32, DescError> {
         let fps = self.render.fps;
-        if !(fps.is_finite() && fps > 0.0) {
-            return Err(DescError {
+        let fps32 = fps as f32;
+        if fps32.is_finite() && fps32 > 0.0 {
+            Ok(fps32)
+        } else {
+            Err(DescError {
                 item: "render".into(),
-                message: format!("fps must be a finite number above 0, got {fps}"),
-            });
+                message: format!(
+                    "fps must be a finite number above 0 (and below 3.4e38, in f32), got {fps}"
+                ),
+            })
         }
-        self.at_time(f64::from(n) / fps)
     }
 }
 
@@ -277,6 +308,83 @@ mod tests {
         assert!(d.at_time(f64::NAN).is_err());
         // The frame renders (its placements pass the core's checks).
         assert!(d.at_frame(5).unwrap().to_core().is_ok());
+    }
+
+    /// `fps` is checked with the render settings: a frame rate that is not a
+    /// finite number above 0 in `f32` (what a baked scene's `FPS` is) is
+    /// refused, naming `render`; frame `n` is at `n / fps` in `f32`.
+    #[test]
+    fn a_bad_fps_is_refused_and_frames_are_f32_times() {
+        let mut d = scene("").unwrap();
+        for bad in [0.0, -12.0, f64::NAN, f64::INFINITY, 1e39, 1e-50] {
+            d.render.fps = bad;
+            let e = d.settings().unwrap_err();
+            assert_eq!(e.item, "render", "{bad}");
+            assert!(e.message.contains("fps must be"), "{bad}: {e}");
+            assert_eq!(d.at_frame(1).unwrap_err(), e);
+        }
+        d.render.fps = 29.97;
+        assert!(d.settings().is_ok());
+        assert_eq!(d.fps().unwrap(), 29.97f32);
+        let d = scene(
+            "[[keyframes]]\ntarget = \"spin\"\nchannel = \"translation\"\n\
+             times = [0.0, 3.0]\nvalues = [[0, 0, 0], [3, 0, 0]]\n",
+        )
+        .unwrap();
+        // Frame 7 is at 7 / 10 in f32, a firmware's `7 as f32 / FPS`.
+        let t = 7.0f32 / 10.0;
+        let at = |f: SceneDesc| f.instances[0].translate;
+        assert_eq!(
+            at(d.at_frame(7).unwrap()),
+            at(d.at_time(f64::from(t)).unwrap())
+        );
+        assert!((at(d.at_frame(7).unwrap())[0] - 0.7).abs() < 1e-6);
+    }
+
+    /// Every frame of the repository's animation places its instances as a
+    /// firmware does, to the bit: the rest placements copied (`Instances::of`
+    /// of the still scene), `Animation::place` at `frame_time(n, fps)`,
+    /// against the instances of `at_frame(n)` made into the core's scene.
+    #[test]
+    fn each_frame_places_the_instances_a_firmware_places() {
+        use tessera_core::animation::{Animation, frame_time};
+        use tessera_core::instance::Instances;
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../scenes/examples/animated.toml");
+        let d = crate::file::load(&path).unwrap();
+        let data = d.tracks().unwrap();
+        let tracks: Vec<_> = data
+            .iter()
+            .map(|t| t.track(super::track_index(t)))
+            .collect();
+        let anim = Animation::new(&tracks);
+        let fps = d.fps().unwrap();
+        type Bits = Option<([u32; 24], [u32; 7])>;
+        let bits = |x: Option<([f32; 24], [f32; 7])>| -> Bits {
+            x.map(|(a, b)| (a.map(f32::to_bits), b.map(f32::to_bits)))
+        };
+        let frames = anim.frames(fps);
+        // The firmware's way, frame after frame, on the still scene's view.
+        let chip: Vec<Vec<Bits>> = d.to_core().unwrap().with_view(|view| {
+            let mut placed: Instances<'_, 8> = Instances::of(view).unwrap();
+            let rest: Vec<_> = (0..placed.len())
+                .map(|k| placed.get(k).unwrap().placement)
+                .collect();
+            (0..frames)
+                .map(|n| {
+                    anim.place(frame_time(n, fps), &rest, &mut placed).unwrap();
+                    (0..rest.len()).map(|k| bits(placed.numbers(k))).collect()
+                })
+                .collect()
+        });
+        for (n, want) in (0..frames).zip(&chip) {
+            let host = d.at_frame(n).unwrap().to_core().unwrap();
+            let have: Vec<Bits> = host.with_view(|frame| {
+                let placed: Instances<'_, 8> = Instances::of(frame).unwrap();
+                (0..want.len()).map(|k| bits(placed.numbers(k))).collect()
+            });
+            assert_eq!(&have, want, "frame {n}");
+        }
     }
 
     /// Bad keyframes are refused, naming the `[[keyframes]]` and what is wrong.

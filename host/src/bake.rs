@@ -1228,15 +1228,45 @@ impl<'a> Writer<'a> {
 /// cargo's, asks cargo to run again when the file, its mesh files or the
 /// variable change, checks that the build enables the core's features the
 /// scene needs ([`missing_features`], read from cargo's `CARGO_FEATURE_*`
-/// variables: the firmware forwards each to the core), and writes the baked
-/// scene to `OUT_DIR/scene.rs`, which the firmware `include!`s. It also sets
-/// `TESSERA_SCENE_NAME` (the file as named) for the firmware's code.
+/// variables: the firmware forwards each to the core,
+/// [`CoreFeatures::Forwarded`]), and writes the baked scene to
+/// `OUT_DIR/scene.rs`, which the firmware `include!`s. It also sets
+/// `TESSERA_SCENE_NAME` (the file as named) for the firmware's code, and the
+/// configuration `tessera_animation` when the baked scene has an animation
+/// (`ANIMATION` and `FPS`): code that plays it is `#[cfg(tessera_animation)]`,
+/// compiled for the scenes that have one.
 ///
 /// # Errors
 /// The reader's message (file, line, what is wrong), the baker's, the
 /// features the build lacks, or a file that cannot be written: the build
 /// script prints it as `cargo::error` and fails.
 pub fn build_script(default_scene: &str) -> Result<(), String> {
+    build_script_for(default_scene, CoreFeatures::Forwarded).map(|_| ())
+}
+
+/// Where a firmware's build has the core's features from, which
+/// [`build_script_for`] checks a scene file against.
+#[derive(Clone, Copy, Debug)]
+pub enum CoreFeatures<'a> {
+    /// Each forwarded from a feature of the firmware's own of the same name
+    /// (`bvh = ["tessera-core/bvh"]`), read from cargo's `CARGO_FEATURE_*`
+    /// variables; a missing one is asked for with `--features`.
+    Forwarded,
+    /// Fixed in the firmware's manifest (`tessera-core = { features = [...]
+    /// }`), these (with those they imply).
+    Fixed(&'a [&'a str]),
+}
+
+/// [`build_script`] with the core's features from `features`; returns the
+/// scene file read, for checks of the firmware's own (a firmware that plays
+/// an animation refuses a scene without one).
+///
+/// # Errors
+/// As [`build_script`].
+pub fn build_script_for(
+    default_scene: &str,
+    features: CoreFeatures<'_>,
+) -> Result<SceneDesc, String> {
     use std::env;
     println!("cargo::rerun-if-env-changed=TESSERA_SCENE");
     let scene = env::var("TESSERA_SCENE").unwrap_or_else(|_| default_scene.into());
@@ -1255,33 +1285,54 @@ pub fn build_script(default_scene: &str) -> Result<(), String> {
     }
     let source =
         scene_source(&desc, &scene, "tessera_core").map_err(|e| format!("{scene}: {e}"))?;
-    // Cargo's variable for feature `a-b` is `CARGO_FEATURE_A_B`.
-    let enabled = |f: &str| {
-        env::var_os(format!(
-            "CARGO_FEATURE_{}",
-            f.to_uppercase().replace('-', "_")
-        ))
-        .is_some()
+    let missing = match features {
+        // Cargo's variable for feature `a-b` is `CARGO_FEATURE_A_B`.
+        CoreFeatures::Forwarded => missing_features(&desc, &source, |f: &str| {
+            env::var_os(format!(
+                "CARGO_FEATURE_{}",
+                f.to_uppercase().replace('-', "_")
+            ))
+            .is_some()
+        }),
+        // What each feature implies (the core's manifest).
+        CoreFeatures::Fixed(on) => missing_features(&desc, &source, |f: &str| {
+            on.iter().any(|&g| {
+                g == f
+                    || (g == "animation" && matches!(f, "instances" | "bvh"))
+                    || (g == "instances" && f == "bvh")
+            })
+        }),
     };
-    let missing = missing_features(&desc, &source, enabled);
     if !missing.is_empty() {
-        return Err(format!(
-            "{scene} needs the core's features `{}`, which this build lacks (build with \
-             --features {}{})",
-            missing.join("`, `"),
-            missing.join(","),
-            if missing.contains(&"bvh") {
-                "; `bvh`, for meshes and 100 triangles or more, is on by default: \
-                 --no-default-features turns it off"
-            } else {
-                ""
+        let how = match features {
+            CoreFeatures::Forwarded => format!(
+                "build with --features {}{}",
+                missing.join(","),
+                if missing.contains(&"bvh") {
+                    "; `bvh`, for meshes and 100 triangles or more, is on by default: \
+                     --no-default-features turns it off"
+                } else {
+                    ""
+                }
+            ),
+            CoreFeatures::Fixed(_) => {
+                "add them to tessera-core's `features` in the firmware's Cargo.toml".into()
             }
+        };
+        return Err(format!(
+            "{scene} needs the core's features `{}`, which this build lacks ({how})",
+            missing.join("`, `"),
         ));
     }
     println!("cargo::rustc-env=TESSERA_SCENE_NAME={scene}");
+    println!("cargo::rustc-check-cfg=cfg(tessera_animation)");
+    if kind_features(&desc).contains(&"animation") {
+        println!("cargo::rustc-cfg=tessera_animation");
+    }
     let out = env::var_os("OUT_DIR").ok_or("OUT_DIR is not set: call this from a build script")?;
     std::fs::write(std::path::Path::new(&out).join("scene.rs"), source)
-        .map_err(|e| format!("cannot write scene.rs: {e}"))
+        .map_err(|e| format!("cannot write scene.rs: {e}"))?;
+    Ok(desc)
 }
 
 /// The core's features that the baked `source` of `desc` needs and

@@ -1307,6 +1307,7 @@ impl SceneDesc {
             })?,
         };
         s.validate().map_err(|e| err("render".into(), e, None))?;
+        self.fps()?;
         if !tessera_tile_ok(self.render.tile) {
             return Err(DescError {
                 item: "render".into(),
@@ -1610,15 +1611,23 @@ impl SceneDesc {
                 }
                 crate::mesh::euler_quaternion(r)
             }
-            (None, Some(q)) => crate::mesh::unit_quaternion(q).ok_or_else(|| {
-                let field = Field::InstanceRotation;
-                let e = if q.iter().all(|x| x.is_finite()) {
-                    tessera_core::Error::ZeroLength(field)
-                } else {
-                    tessera_core::Error::NotFinite(field)
-                };
-                item.core(e, show(&q))
-            })?,
+            (None, Some(q)) => match crate::mesh::unit_quaternion(q) {
+                // Numbers of `f32` already (an animation's frame: what the
+                // tracks give a firmware) go to the core as they are, which
+                // normalises them in `f32` as a firmware's `Instances::set`
+                // does: the same placement to the bit.
+                Some(_) if q.iter().all(|&x| f64::from(x as f32) == x) => q,
+                Some(unit) => unit,
+                None => {
+                    let field = Field::InstanceRotation;
+                    let e = if q.iter().all(|x| x.is_finite()) {
+                        tessera_core::Error::ZeroLength(field)
+                    } else {
+                        tessera_core::Error::NotFinite(field)
+                    };
+                    return Err(item.core(e, show(&q)));
+                }
+            },
             (None, None) => [0.0, 0.0, 0.0, 1.0],
         };
         let rotation = q.map(|x| to_f32(x).unwrap_or(if x > 0.0 { f32::MAX } else { f32::MIN }));

@@ -39,6 +39,7 @@ const FILES: &[TemplateFile] = files![
     "src/clock.rs",
     "src/ppm.rs",
     "src/stack.rs",
+    "src/animation.rs",
 ];
 
 /// Where the new crate takes `tessera-core` and `tessera-host` from.

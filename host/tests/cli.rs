@@ -165,6 +165,310 @@ fn render_frame_renders_that_frame_of_the_animation() {
     assert!(stderr.contains("no animation"), "{stderr}");
 }
 
+/// The animated example at 4 frames a second (its 2 seconds: frames 0 to 8),
+/// written with its sphere's OBJ file in `dir`; its path and description.
+fn animated_at_4_fps(dir: &Path) -> (String, tessera_host::desc::SceneDesc) {
+    let examples = scenes().join("examples");
+    let body = std::fs::read_to_string(examples.join("animated.toml"))
+        .unwrap()
+        .replace("fps = 12", "fps = 4");
+    assert!(body.contains("fps = 4"));
+    std::fs::copy(examples.join("icosphere.obj"), dir.join("icosphere.obj")).unwrap();
+    let scene = write(dir, "anim4.toml", &body);
+    let desc = tessera_host::file::load(Path::new(&scene)).unwrap();
+    (scene, desc)
+}
+
+/// The frames of the GIF at `path`: each as RGB, and its delay in ms.
+fn gif_frames(path: &Path) -> Vec<(image::RgbImage, u32)> {
+    use image::AnimationDecoder;
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .collect_frames()
+        .unwrap();
+    frames
+        .into_iter()
+        .map(|f| {
+            let (num, den) = f.delay().numer_denom_ms();
+            let rgb = image::DynamicImage::ImageRgba8(f.into_buffer()).to_rgb8();
+            (rgb, num / den)
+        })
+        .collect()
+}
+
+/// `simulate --animate` plays a scene file's keyframes: a GIF of every frame
+/// from 0 to the one at the animation's end (its last keyframe's time times
+/// fps), each frame lasting the scene's frame time (1000 / fps ms), each the
+/// panel of the still scene at that frame (the library's `at_frame`, drawn
+/// by `simulate_labelled` with the frame's label, then made a one-frame GIF
+/// the same way).
+#[test]
+fn simulate_animate_plays_the_scene_files_keyframes_as_a_gif() {
+    let dir = scratch("animate");
+    let (scene, desc) = animated_at_4_fps(&dir);
+    let out = bin()
+        .current_dir(&dir)
+        .args(["simulate", &scene, "--animate", "--size", "40x30"])
+        .args(["--label", "f {frame}"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("wrote simulator-animation.gif"), "{stdout}");
+    let frames = gif_frames(&dir.join("simulator-animation.gif"));
+    // 2 s at 4 fps: frames 0, 0.25 s, ..., 2 s.
+    let duration = desc.duration().unwrap();
+    assert_eq!(duration, 2.0);
+    let last = (duration * desc.render.fps) as usize;
+    assert_eq!(frames.len(), last + 1);
+    let vp = tessera_core::Viewport::new(40, 30);
+    let settings = desc.settings().unwrap();
+    for (k, (img, delay)) in frames.iter().enumerate() {
+        // 1000 / 4 fps = 250 ms, 25 hundredths.
+        assert_eq!(*delay, 250, "frame {k}");
+        let at = desc.at_frame(k as u32).unwrap();
+        let s = at.to_core().unwrap();
+        let still = s.with_view(|v| {
+            let r = tessera_core::Renderer::try_new(s.camera(), vp, settings).unwrap();
+            tessera_host::simulate::simulate_labelled(
+                v,
+                &r,
+                tessera_host::simulate::PanelColor::Rgb565,
+                desc.render.tile,
+                Some(tessera_core::dither::Dither::Bayer4),
+                Some(&format!("f {k}")),
+            )
+            .unwrap()
+        });
+        let one = dir.join(format!("still-{k}.gif"));
+        std::fs::write(&one, tessera_host::simulate::gif(&[still], 250).unwrap()).unwrap();
+        let want = gif_frames(&one);
+        assert_eq!(img.as_raw(), want[0].0.as_raw(), "frame {k}");
+    }
+    // The frames move: the first and the middle differ.
+    assert_ne!(frames[0].0.as_raw(), frames[last / 2].0.as_raw());
+    // --delay-ms overrides the frame time.
+    let out = bin()
+        .current_dir(&dir)
+        .args(["simulate", &scene, "--animate", "--size", "16x12"])
+        .args(["--delay-ms", "120", "-o", "d.gif"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let delays: Vec<u32> = gif_frames(&dir.join("d.gif")).iter().map(|f| f.1).collect();
+    assert_eq!(delays, vec![120; last + 1]);
+}
+
+/// `simulate --animate` to numbered PNGs on an exact panel (rgb888, no
+/// dithering): frame k is, byte for byte, what `tessera render --frame k`
+/// writes, for each of the 9 frames (2 s at 4 fps), and no more.
+#[test]
+fn simulate_animate_frames_are_the_render_of_each_frame() {
+    let dir = scratch("animate-png");
+    let (scene, _) = animated_at_4_fps(&dir);
+    let out = bin()
+        .current_dir(&dir)
+        .args(["simulate", &scene, "--animate", "--size", "40x30"])
+        .args(["--color", "rgb888", "--dither", "none", "-o", "p.png"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("9 frame(s)"));
+    assert!(!dir.join("p-009.png").exists());
+    for k in 0..9 {
+        let name = format!("r{k}.png");
+        let o = bin()
+            .current_dir(&dir)
+            .args([
+                "render",
+                &scene,
+                "--frame",
+                &k.to_string(),
+                "--size",
+                "40x30",
+            ])
+            .args(["-o", &name])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let want = image::open(dir.join(&name)).unwrap().to_rgb8();
+        let got = image::open(dir.join(format!("p-{k:03}.png")))
+            .unwrap()
+            .to_rgb8();
+        assert_eq!(got.as_raw(), want.as_raw(), "frame {k}");
+    }
+}
+
+/// `--animate` with `--orbit` is a usage error naming both; on a scene
+/// without keyframes (a scene file, a built-in) an error naming the scene;
+/// an animation of more frames than the limit is refused, naming the count.
+#[test]
+fn simulate_animate_refuses_what_it_cannot_play() {
+    let dir = scratch("animate-bad");
+    let e = fails(
+        &dir,
+        &["simulate", "--animate", "--orbit", "3", "-o", "out.png"],
+    );
+    assert!(e.contains("--animate") && e.contains("--orbit"), "{e}");
+    let still = scenes().join("chapter-direct.toml");
+    let still = still.to_str().unwrap();
+    let e = fails(&dir, &["simulate", still, "--animate", "-o", "out.png"]);
+    assert!(
+        e.contains("chapter-direct.toml") && e.contains("no animation (no [[keyframes]])"),
+        "{e}"
+    );
+    let e = fails(
+        &dir,
+        &["simulate", "showcase", "--animate", "-o", "out.png"],
+    );
+    assert!(e.contains("showcase") && e.contains("no animation"), "{e}");
+    // 2 s at 2000 fps: 4001 frames.
+    animated_at_4_fps(&dir);
+    let fast = std::fs::read_to_string(dir.join("anim4.toml"))
+        .unwrap()
+        .replace("fps = 4", "fps = 2000");
+    let scene = write(&dir, "fast.toml", &fast);
+    let e = fails(&dir, &["simulate", &scene, "--animate", "-o", "out.png"]);
+    assert!(
+        e.contains(
+            "--animate: the animation lasts 2 s, 4001 frames at 2000 fps: it plays at most \
+             3600 frames"
+        ),
+        "{e}"
+    );
+}
+
+/// Writes `anim.gltf` and its `anim.bin` in `dir`: a box 2 x 1 x 0.5 (12
+/// triangles) on a node turned by its first animation from the identity to a
+/// quarter about Y and moved from (0, 0, 0) to (1, 0.5, 0) in one second,
+/// seen from (0, 1, 5) down -Z, lit by a sun and a point light. Its path.
+fn animated_gltf(dir: &Path) -> String {
+    let corner = |i: u16| {
+        let s = |bit: u16| if i >> bit & 1 == 1 { 1.0f32 } else { -1.0 };
+        [s(0), 0.5 * s(1), 0.25 * s(2)]
+    };
+    let corners: Vec<[f32; 3]> = (0..8).map(corner).collect();
+    let mut indices: Vec<u16> = Vec::new();
+    for q in [
+        [0u16, 2, 6, 4],
+        [1, 3, 7, 5],
+        [0, 1, 5, 4],
+        [2, 3, 7, 6],
+        [0, 1, 3, 2],
+        [4, 5, 7, 6],
+    ] {
+        for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
+            let [a, b, c] = t.map(|i| corners[usize::from(i)]);
+            let (u, v) = (
+                [0, 1, 2].map(|k| b[k] - a[k]),
+                [0, 1, 2].map(|k| c[k] - a[k]),
+            );
+            let n = [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ];
+            let outward: f32 = (0..3).map(|k| n[k] * (a[k] + b[k] + c[k])).sum();
+            indices.extend(if outward > 0.0 { t } else { [t[0], t[2], t[1]] });
+        }
+    }
+    let h = std::f32::consts::FRAC_1_SQRT_2;
+    let floats = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+    let parts: Vec<Vec<u8>> = vec![
+        floats(&corners.concat()),
+        indices.iter().flat_map(|i| i.to_le_bytes()).collect(),
+        floats(&[0.0, 1.0]),
+        floats(&[0.0, 0.0, 0.0, 1.0, 0.5, 0.0]),
+        floats(&[0.0, 0.0, 0.0, 1.0, 0.0, h, 0.0, h]),
+    ];
+    let mut bin = Vec::new();
+    let mut views = Vec::new();
+    for p in &parts {
+        views.push(format!(
+            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
+            bin.len(),
+            p.len()
+        ));
+        bin.extend_from_slice(p);
+        while bin.len() % 4 != 0 {
+            bin.push(0);
+        }
+    }
+    std::fs::write(dir.join("anim.bin"), &bin).unwrap();
+    let text = format!(
+        r#"{{"asset":{{"version":"2.0"}},
+        "buffers":[{{"byteLength":{},"uri":"anim.bin"}}],"bufferViews":[{}],
+        "accessors":[
+          {{"bufferView":0,"componentType":5126,"type":"VEC3","count":8,"min":[-1,-0.5,-0.25],"max":[1,0.5,0.25]}},
+          {{"bufferView":1,"componentType":5123,"type":"SCALAR","count":36}},
+          {{"bufferView":2,"componentType":5126,"type":"SCALAR","count":2,"min":[0],"max":[1]}},
+          {{"bufferView":3,"componentType":5126,"type":"VEC3","count":2}},
+          {{"bufferView":4,"componentType":5126,"type":"VEC4","count":2}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1,"material":0}}]}}],
+        "materials":[{{"name":"clay","pbrMetallicRoughness":{{"baseColorFactor":[0.8,0.45,0.2,1],"metallicFactor":0,"roughnessFactor":1}}}}],
+        "cameras":[{{"type":"perspective","perspective":{{"yfov":0.8,"znear":0.1,"zfar":50,"aspectRatio":1.3333334}}}}],
+        "extensionsUsed":["KHR_lights_punctual"],
+        "extensions":{{"KHR_lights_punctual":{{"lights":[{{"type":"directional","intensity":1.5}},{{"type":"point","intensity":4}}]}}}},
+        "nodes":[{{"name":"box","mesh":0}},{{"camera":0,"translation":[0,1,5]}},
+          {{"rotation":[-0.3826834,0,0,0.9238795],"extensions":{{"KHR_lights_punctual":{{"light":0}}}}}},
+          {{"translation":[-2,2,2],"extensions":{{"KHR_lights_punctual":{{"light":1}}}}}}],
+        "scenes":[{{"nodes":[0,1,2,3]}}],
+        "animations":[{{"name":"turn","channels":[
+            {{"sampler":0,"target":{{"node":0,"path":"translation"}}}},
+            {{"sampler":1,"target":{{"node":0,"path":"rotation"}}}}],
+          "samplers":[{{"input":2,"output":3}},{{"input":2,"output":4}}]}}]}}"#,
+        bin.len(),
+        views.join(",")
+    );
+    write(dir, "anim.gltf", &text)
+}
+
+/// `tessera render anim.gltf --frame N` plays the glTF file's animation: its
+/// frames agree with the f64 reference's render of the file's scene at that
+/// time (the reference's own evaluation of the keyframes) under the accuracy
+/// bar, and the box moves (frame 15 differs from frame 0).
+#[test]
+fn render_frame_of_a_gltf_animation_agrees_with_the_reference() {
+    let dir = scratch("gltf-frame");
+    let scene = animated_gltf(&dir);
+    let desc = tessera_host::file::load_gltf(Path::new(&scene), None).unwrap();
+    assert_eq!((desc.instances.len(), desc.keyframes.len()), (1, 2));
+    let vp = tessera_core::Viewport::new(80, 60);
+    let settings = desc.settings().unwrap();
+    let render = |n: u32| {
+        let out = format!("g{n}.png");
+        let o = bin()
+            .current_dir(&dir)
+            .args([
+                "render",
+                &scene,
+                "--frame",
+                &n.to_string(),
+                "--size",
+                "80x60",
+                "-o",
+                &out,
+            ])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        image::open(dir.join(out)).unwrap().to_rgb8()
+    };
+    for n in [15u32, 30] {
+        let img = render(n);
+        let t = f64::from(n) / desc.render.fps;
+        let at = tessera_host::reference::animation::animate(&desc, t).unwrap();
+        let r = tessera_host::reference::render(&at, vp, &settings).unwrap();
+        let acc =
+            tessera_host::compare::measure(&img, 0, &r.to_rgb8(), r.non_finite(), &r.signature)
+                .unwrap();
+        assert!(acc.meets_bar(), "frame {n}:\n{acc}");
+    }
+    assert_ne!(render(0).as_raw(), render(15).as_raw());
+}
+
 /// A value that looks like a mistake (fovy in radians) is rendered as written,
 /// with a warning on stderr that names the file and says what it looks like.
 #[test]

@@ -20,7 +20,7 @@ fn new_writes_the_template_with_the_crate_s_name_and_its_source() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let said = text(&out.stdout);
     assert!(
-        said.starts_with("created my-fw (12 files, tessera 0.1.0 from the crate registry)"),
+        said.starts_with("created my-fw (13 files, tessera 0.1.0 from the crate registry)"),
         "{said}"
     );
     assert_eq!(entries(&dir), ["my-fw"], "no staging folder left");
@@ -37,6 +37,7 @@ fn new_writes_the_template_with_the_crate_s_name_and_its_source() {
         "memory.x",
         "scene.toml",
         "src/main.rs",
+        "src/animation.rs",
         "README.md",
     ] {
         assert!(dir.join("my-fw").join(file).is_file(), "{file}");

@@ -34,6 +34,9 @@ pub struct Run {
     pub stdout: String,
     /// The picture it wrote.
     pub picture: RgbImage,
+    /// The frames of the scene's animation it wrote (`frame-NNN.ppm`), by
+    /// frame number; none for a scene without an animation.
+    pub frames: Vec<(u32, RgbImage)>,
     /// Its sections.
     pub sizes: Sizes,
     /// Its symbols.
@@ -115,13 +118,39 @@ pub fn build_and_run(scene: &'static str) -> Result<Run, String> {
     let path = scratch.path().join(PICTURE);
     let bytes = std::fs::read(&path).map_err(|e| format!("{scene}: no {PICTURE}: {e}"))?;
     let picture = ppm(&bytes).map_err(|e| format!("{scene}: {PICTURE}: {e}"))?;
+    let frames = frames(scratch.path()).map_err(|e| format!("{scene}: {e}"))?;
     Ok(Run {
         scene,
         stdout,
         picture,
+        frames,
         sizes: firmware::sections(&elf)?,
         symbols: firmware::symbols(&elf)?,
     })
+}
+
+/// The frames of an animation the firmware wrote in `dir`: each
+/// `frame-NNN.ppm`, by its number, in order.
+fn frames(dir: &Path) -> Result<Vec<(u32, RgbImage)>, String> {
+    let mut out = Vec::new();
+    let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for entry in entries {
+        let name = entry.map_err(|e| e.to_string())?.file_name();
+        let name = name.to_string_lossy();
+        let Some(n) = name
+            .strip_prefix("frame-")
+            .and_then(|n| n.strip_suffix(".ppm"))
+        else {
+            continue;
+        };
+        let n: u32 = n
+            .parse()
+            .map_err(|_| format!("{name}: not a frame's number"))?;
+        let bytes = std::fs::read(dir.join(&*name)).map_err(|e| format!("{name}: {e}"))?;
+        out.push((n, ppm(&bytes).map_err(|e| format!("{name}: {e}"))?));
+    }
+    out.sort_by_key(|f| f.0);
+    Ok(out)
 }
 
 /// The host's picture of the scene file `path` (its size, settings and tile
@@ -132,6 +161,15 @@ pub fn build_and_run(scene: &'static str) -> Result<Run, String> {
 #[must_use]
 pub fn host(path: &Path) -> RgbImage {
     let desc = tessera_host::file::load(path).unwrap_or_else(|e| panic!("{e}"));
+    host_of(&desc)
+}
+
+/// The host's picture of the scene `desc`, as [`host`].
+///
+/// # Panics
+/// When the scene does not render.
+#[must_use]
+pub fn host_of(desc: &tessera_host::desc::SceneDesc) -> RgbImage {
     let scene = desc.to_core().unwrap_or_else(|e| panic!("{e}"));
     let settings = desc.settings().unwrap_or_else(|e| panic!("{e}"));
     scene

@@ -29,19 +29,23 @@ pub trait Value {}
 #[cfg(not(feature = "defmt"))]
 impl<T: ?Sized> Value for T {}
 
-/// Logs what the firmware animates: the scene, the frame's and the tiles' sizes,
-/// the orbit's step, the settings (`RenderSettings`' `defmt::Format`) and how
+/// Logs what the firmware animates: the scene file, the frame's and the tiles'
+/// sizes, the instances, the frames of a pass through the animation and its
+/// frames a second, the settings (`RenderSettings`' `defmt::Format`) and how
 /// many cores render.
 #[cfg_attr(not(feature = "defmt"), allow(unused_variables))]
-pub fn started(two_cores: bool) {
+pub fn started(two_cores: bool, frames_per_loop: u32) {
     #[cfg(feature = "defmt")]
     defmt::info!(
-        "pico2-st7789: chapter-reflect at {=u16}x{=u16} in {=usize}x{=usize} tiles, {=u32} frames a turn, on {=u8} core(s), fps label {=bool}; {}",
+        "pico2-st7789: {=str} at {=u16}x{=u16} in {=usize}x{=usize} tiles, {=usize} instance(s), {=u32} frames a loop at {=f32} frames a second, on {=u8} core(s), fps label {=bool}; {}",
+        env!("TESSERA_SCENE_NAME"),
         crate::PICTURE.0,
         crate::PICTURE.1,
         crate::TILE,
         crate::TILE,
-        crate::FRAMES_PER_TURN,
+        crate::INSTANCE_COUNT,
+        frames_per_loop,
+        crate::scene::FPS,
         if two_cores { 2 } else { 1 },
         cfg!(feature = "fps-label"),
         crate::scene::SCENE.settings()

@@ -1,6 +1,10 @@
 //! tessera on a Raspberry Pi Pico 2: both Cortex-M33 cores of the RP2350 ray trace
-//! the chapter's reflecting spheres, frame after frame, for a camera orbiting the
-//! scene, onto a Waveshare Pico-LCD-1.3 (ST7789, 240x240), with no framebuffer.
+//! an animated scene, frame after frame, onto a Waveshare Pico-LCD-1.3 (ST7789,
+//! 240x240), with no framebuffer. The scene is a scene file baked into flash by
+//! build.rs (by default `scenes/examples/animated-pico2.toml`: a teapot turning on
+//! the spot and a ball bouncing beside it over a checkered floor, lit by two
+//! lights; another file with `TESSERA_SCENE`); its meshes are drawn as
+//! instances, which its keyframes move.
 //!
 //! The chip runs at 150 MHz from the board's 12 MHz crystal. SPI1 (SCK GP10, MOSI
 //! GP11) talks to the panel in mode 3 at 37.5 MHz (the 150 MHz peripheral clock
@@ -20,11 +24,28 @@
 //! a transfer ([`TileSink::finish`]) before it starts the next one, before it renders
 //! into that buffer again and before it gives a buffer back to core 1.
 //!
-//! Each frame is a new [`Renderer`] for a new [`Camera`]: the scene's own camera
-//! turned about its target by `1 / FRAMES_PER_TURN` of a turn more than the frame
-//! before ([`orbit`]). Core 0 publishes it with the frame's label ([`JOB`],
-//! [`FRAME`]) once core 1 has finished the frame before ([`CORE1_DONE`]) and the
-//! queue is reset.
+//! **Frames.** The camera, the panel's size and the scene's settings do not change:
+//! one [`Renderer`] serves every frame. What changes is where the instances are.
+//! Frame `n` of the animation is at `frame_time(n, FPS)` seconds (`n / FPS`, the
+//! scene file's `fps`; the host's `tessera render --frame n` is at the same time),
+//! whatever time the frame before took to render, and `n` starts again from 0 at
+//! the animation's end (`ANIMATION.looped_frames(FPS)`): the animation loops,
+//! one frame step a frame, in slow motion when the chip renders fewer frames a second than
+//! the file's `fps`. Before each frame core 0 moves the instances to where the
+//! animation has them at that time (`ANIMATION.place`, each placement checked;
+//! an error stops the firmware as any other, on the LED and in the log) and makes
+//! the frame's view of them (`SceneView::with_instances`).
+//!
+//! **The instances and the two cores.** The instances live in one static in RAM
+//! ([`placed`]): the scene's own, copied there once, then moved by core 0 alone
+//! before each frame. The frame's view borrows them; core 0 publishes it with the
+//! renderer and the frame's label ([`JOB`], then the frame's number, [`FRAME`])
+//! only once core 1 has finished the frame before ([`CORE1_DONE`]) and the queue is
+//! reset, and it moves the instances again only after that too. So the instances
+//! never change while either core renders through a view of them: core 1 reads
+//! them only between seeing a frame's number (acquire) and storing it as done
+//! (release), and core 0 writes them only after seeing that store (acquire) and
+//! before publishing the next number (release).
 //!
 //! With the feature `fps-label` (on by default) each frame shows the rate of the
 //! frame before, timed with the RP2350's timer, in its top left corner: a
@@ -59,15 +80,24 @@ use hal::gpio::{FunctionSioOutput, FunctionSpi, Pin, PullDown};
 use hal::multicore::{Multicore, Stack};
 use hal::pac;
 use rp235x_hal as hal;
-use tessera_core::builtin::baked::chapter_reflect as scene;
+use tessera_core::animation::frame_time;
 use tessera_core::display::{Drawing, Rgb565Wire, TileSink, tile_area, wire_bytes};
 use tessera_core::tile::TileQueue;
-use tessera_core::{Camera, Renderer, SceneView, Tile, Vec3, Viewport};
+use tessera_core::{Renderer, SceneView, Tile, Viewport};
 
 mod label;
 mod log;
 
 use label::Label;
+
+/// The scene: its tables (`SCENE`, the meshes and their BVHs, `INSTANCES`,
+/// `ANIMATION` and its tracks, `FPS`) are statics in flash, written by build.rs
+/// from the scene file. Its numbers are data: a vertex normal of 0.7071068 is
+/// not `FRAC_1_SQRT_2` written by hand (clippy's `approx_constant`).
+#[allow(clippy::approx_constant)]
+mod scene {
+    include!(concat!(env!("OUT_DIR"), "/scene.rs"));
+}
 
 /// The Pico 2's crystal, in Hz.
 const XTAL_HZ: u32 = 12_000_000;
@@ -88,11 +118,13 @@ const GRID: (u16, u16) = (
     PICTURE.0.div_ceil(TILE as u16),
     PICTURE.1.div_ceil(TILE as u16),
 );
-/// Frames for one turn of the camera about the scene's target (3 degrees a frame).
-const FRAMES_PER_TURN: u32 = 120;
-/// Core 1's stack, in 32-bit words: 8 KiB. `render_tile` needs at most 2,000
-/// bytes on the Cortex-M33 (measured under qemu, docs/chip-cost.md); core 1's own
-/// frames (576 bytes) hold a renderer and the scene's view, no tile.
+/// How many instances the scene has: the room of the RAM copy that moves them.
+const INSTANCE_COUNT: usize = scene::INSTANCES.len();
+/// Core 1's stack, in 32-bit words: 8 KiB. `render_tile` needs about 2.3 KiB on
+/// the Cortex-M33 for the built-in scenes and about 4 KiB for instanced teapots
+/// (the peak of a whole firmware on the Cortex-M4F; both measured under qemu,
+/// docs/chip-cost.md); core 1's own frames hold the frame's job (a renderer, a
+/// view, a label), no tile.
 const CORE1_STACK_WORDS: usize = 2048;
 /// How long the LED is on and off in a blink of an error code, in ms.
 const BLINK_MS: u32 = 200;
@@ -125,8 +157,9 @@ static FRAME: AtomicU32 = AtomicU32::new(0);
 /// The last frame for which core 1 has stopped taking tiles and handed over every
 /// tile it rendered (stored with release after its last hand-over).
 static CORE1_DONE: AtomicU32 = AtomicU32::new(0);
-/// The renderer and label of the frame [`FRAME`] names: plain data, copied out
-/// by core 1.
+/// The renderer, view and label of the frame [`FRAME`] names: plain data, copied
+/// out by core 1 (the view borrows the instances of [`placed`], which stay put
+/// until core 1 has stored the frame in [`CORE1_DONE`]).
 static JOB: Mutex<Cell<Option<FrameJob>>> = Mutex::new(Cell::new(None));
 /// Core 1's stack (in `.bss`; core 0's is SRAM8 and SRAM9, memory.x). The HAL
 /// puts its lowest address in core 1's MSPLIM: an overflow faults.
@@ -241,6 +274,113 @@ mod handoff {
                     slot.state.store(FREE, Ordering::Release);
                 }
             }
+        }
+    }
+}
+
+/// The frame's instances: the scene's copied into RAM once, then moved by the
+/// animation before each frame; both cores read them through the frame's view.
+///
+/// They live in one static ([`Placer`]'s slot) and have one writer, the one
+/// [`Placer`] (core 0's), which moves them only in [`Placer::place`], an `unsafe
+/// fn` whose caller promises that no view of them is in use meanwhile. Core 0
+/// keeps that promise by the frame protocol (`crate::animate`): it places a
+/// frame's instances before it publishes the frame (the view in `crate::JOB`,
+/// then the number in `crate::FRAME`, release), and the next frame's only after
+/// core 1 has stored the frame as done (`crate::CORE1_DONE`, release; core 0's
+/// acquire load sees it before `crate::draw_frame` returns), with its own view of
+/// the frame before gone. Core 1 reads through the view only between its acquire
+/// load of the frame's number and its release store of it as done. So every
+/// write to the instances happens before every read of them through the next
+/// view, and every read through a view happens before the next write.
+mod placed {
+    use super::{INSTANCE_COUNT, scene};
+    use core::cell::UnsafeCell;
+    use core::ptr::NonNull;
+    use core::sync::atomic::{AtomicBool, Ordering};
+    use tessera_core::instance::{Instances, Placement};
+    use tessera_core::{Error, SceneView};
+
+    /// The instances, in RAM (about 180 bytes each).
+    type Moving = Instances<'static, INSTANCE_COUNT>;
+
+    /// Where the instances live: `None` until [`Placer::new`] copies the
+    /// scene's there.
+    struct Slot(UnsafeCell<Option<Moving>>);
+
+    // SAFETY: the slot is reached only through the one `Placer`, which writes it
+    // in `new` (before any view of it exists) and in `place` (whose caller
+    // promises that no view of it is in use on either core), and through the
+    // views `place` returns, which only read it (the module's documentation).
+    unsafe impl Sync for Slot {}
+
+    /// The instances both cores read through the frame's view.
+    static SLOT: Slot = Slot(UnsafeCell::new(None));
+    /// Whether [`Placer::new`] has made the one placer.
+    static MADE: AtomicBool = AtomicBool::new(false);
+
+    /// Core 0's handle on the instances: the only one that moves them.
+    pub struct Placer {
+        /// The scene's view, with its instances where the scene file has them.
+        view: SceneView<'static>,
+        /// Each instance's placement in the scene file, which the animation's
+        /// tracks change channel by channel.
+        rest: [Placement; INSTANCE_COUNT],
+        /// The instances in [`SLOT`].
+        moving: NonNull<Moving>,
+    }
+
+    impl Placer {
+        /// Checks the scene's animation against `view`'s instances and copies
+        /// them into RAM; `None` on a second call (there is one placer).
+        ///
+        /// # Errors
+        /// The animation's ([`tessera_core::animation::Animation::check`]: its
+        /// times, its values, its tracks' instances) and
+        /// [`Error::CapacityExceeded`] if `view` has more instances than the
+        /// scene baked.
+        pub fn new(view: SceneView<'static>) -> Result<Option<Self>, Error> {
+            if MADE.swap(true, Ordering::AcqRel) {
+                return Ok(None);
+            }
+            scene::ANIMATION.check(view.instance_count())?;
+            let copy = Instances::of(&view)?;
+            // SAFETY: `MADE` was false: this is the one placer being made, so no
+            // view of the slot exists yet and nothing else reaches it.
+            let slot = unsafe { &mut *SLOT.0.get() };
+            Ok(Some(Self {
+                view,
+                rest: scene::INSTANCES.map(|p| p.instance().placement),
+                moving: NonNull::from(slot.insert(copy)),
+            }))
+        }
+
+        /// Moves the instances to where the animation has them at `t` seconds
+        /// and returns the frame's view of them. The view reads the instances in
+        /// place: it shows this frame's placements until the next call.
+        ///
+        /// # Safety
+        /// No view an earlier call returned is in use, or will be used again,
+        /// on either core: core 1 has stored the frame of the last one as done
+        /// (`crate::CORE1_DONE`) and core 0 has seen it with an acquire load,
+        /// or core 1 renders nothing; core 0's own copy of it is no longer used.
+        ///
+        /// # Errors
+        /// As [`tessera_core::animation::Animation::place`] (a placement the
+        /// core refuses) and [`SceneView::with_instances`]. The instances may
+        /// then be partly moved: the caller stops.
+        pub unsafe fn place(&mut self, t: f32) -> Result<SceneView<'static>, Error> {
+            // SAFETY: `moving` points into `SLOT`, a static; this placer is its
+            // only writer (`&mut self`), and the caller promises that no view
+            // reads it while it changes.
+            let moving = unsafe { self.moving.as_mut() };
+            scene::ANIMATION.place(t, &self.rest, moving)?;
+            // SAFETY: from here to the next `place` the instances are only read,
+            // through the view returned (on both cores); `SLOT` lives for the
+            // whole run, so the borrow is `'static` as long as the next `place`'s
+            // caller keeps its promise that this view is no longer used.
+            let moving: &'static Moving = unsafe { self.moving.as_ref() };
+            self.view.with_instances(moving)
         }
     }
 }
@@ -571,47 +711,30 @@ impl From<PanelError> for Failure {
     }
 }
 
-/// What core 0 hands core 1 for a frame ([`JOB`]): the frame's renderer and its
-/// label, so that both cores draw the same text on their tiles.
+/// What core 0 hands core 1 for a frame ([`JOB`]): the renderer, the frame's
+/// view (the instances where the frame has them) and its label, so that both
+/// cores render the same frame and draw the same text on their tiles. Plain
+/// `Copy` data; the view borrows the instances of [`placed`], which do not
+/// change until core 1 is done with the frame ([`CORE1_DONE`]).
 #[derive(Clone, Copy)]
 struct FrameJob {
     renderer: Renderer,
+    view: SceneView<'static>,
     label: Label,
 }
 
-/// The renderer of frame `frame`: the scene's camera turned about its target, the
-/// vertical through the point it looks at, by `frame / FRAMES_PER_TURN` of a
-/// turn; the panel's size and the scene's own settings (centre sampling, one
-/// bounce, sRGB; 4x4 Bayer dithering to RGB565, the renderer's default).
-fn orbit(frame: u32) -> Result<Renderer, tessera_core::Error> {
-    let baked = scene::SCENE.camera();
-    let position = Vec3::from_array(baked.position);
-    // The baker writes `forward` as the scene file's `look_at - position`.
-    let target = position + Vec3::from_array(baked.forward);
-    let axis = Vec3::from_array(baked.up).normalize_or(Vec3::Y);
-    let turn = (frame % FRAMES_PER_TURN) as f32 / FRAMES_PER_TURN as f32;
-    let (sin, cos) = libm::sincosf(turn * core::f32::consts::TAU);
-    // Rodrigues' rotation of the target-to-camera offset about the axis.
-    let v = position - target;
-    let turned = v * cos + axis.cross(v) * sin + axis * (axis.dot(v) * (1.0 - cos));
-    let camera = Camera::try_new(
-        target + turned,
-        -turned,
-        axis,
-        baked.fovy_degrees,
-        baked.near,
-        baked.far,
-    )?;
-    Renderer::try_new(
-        &camera,
-        Viewport::new(PICTURE.0, PICTURE.1),
-        scene::SCENE.settings(),
-    )
+/// The renderer of every frame: the scene's camera at the panel's size with the
+/// scene's own settings (for the default scene: centre sampling, no bounce,
+/// sRGB; 4x4 Bayer dithering to RGB565, the renderer's default).
+fn renderer() -> Result<Renderer, tessera_core::Error> {
+    scene::SCENE.renderer_at(Viewport::new(PICTURE.0, PICTURE.1), scene::SCENE.settings())
 }
 
 /// Core 1: renders tiles of each new frame from the queue into its buffers and
-/// hands them to core 0, then says it is done with the frame.
-fn core1_main(view: SceneView<'static>, mut tiles: handoff::Producer) -> ! {
+/// hands them to core 0, then says it is done with the frame. It reads the frame's
+/// view (and so the instances) only between its acquire load of the frame's
+/// number and its release store of it in [`CORE1_DONE`].
+fn core1_main(mut tiles: handoff::Producer) -> ! {
     let mut seen = 0;
     loop {
         let frame = FRAME.load(Ordering::Acquire);
@@ -626,7 +749,7 @@ fn core1_main(view: SceneView<'static>, mut tiles: handoff::Producer) -> ! {
                     let rendered = job
                         .renderer
                         .render_tile_in::<scene::SceneLoops, TILE, _, _>(
-                            &view,
+                            &job.view,
                             coord,
                             tile,
                             &mut (),
@@ -650,21 +773,19 @@ fn core1_main(view: SceneView<'static>, mut tiles: handoff::Producer) -> ! {
 
 /// Core 0's frame with core 1: publishes the frame, then renders and sends tiles
 /// with [`render_and_send`] until core 1 is done and every tile is sent. Returns
-/// how many tiles core 0 rendered.
-fn draw_frame(
-    sender: &mut Sender,
-    job: &FrameJob,
-    view: &SceneView<'_>,
-    frame: u32,
-) -> Result<u32, PanelError> {
-    // Core 1 stopped taking tiles at the end of the frame before (CORE1_DONE).
+/// how many tiles core 0 rendered; on `Ok`, core 1 has stored `frame` in
+/// [`CORE1_DONE`] and core 0 has seen it (acquire): core 1 no longer reads the
+/// frame's view.
+fn draw_frame(sender: &mut Sender, job: &FrameJob, frame: u32) -> Result<u32, PanelError> {
+    // Core 1 stopped taking tiles at the end of the frame before (CORE1_DONE),
+    // and no longer reads its view.
     QUEUE.reset();
     critical_section::with(|cs| JOB.borrow(cs).set(Some(*job)));
     FRAME.store(frame, Ordering::Release);
     // Core 0's two buffers, on its stack: no transfer may outlive them, so the
     // last one is waited for here whatever `render_and_send` returned.
     let mut own = [Tile::<TILE, Rgb565Wire>::blank(), Tile::blank()];
-    let drawn = render_and_send(sender, &mut own, job, view, frame);
+    let drawn = render_and_send(sender, &mut own, job, frame);
     let finished = sender.finish();
     let core0_tiles = drawn?;
     finished?;
@@ -679,7 +800,6 @@ fn render_and_send(
     sender: &mut Sender,
     own: &mut [Tile<TILE, Rgb565Wire>; 2],
     job: &FrameJob,
-    view: &SceneView<'_>,
     frame: u32,
 ) -> Result<u32, PanelError> {
     let mut k = 0;
@@ -693,7 +813,7 @@ fn render_and_send(
             }
             let rendered = match job
                 .renderer
-                .render_tile_in::<scene::SceneLoops, TILE, _, _>(view, coord, tile, &mut ())
+                .render_tile_in::<scene::SceneLoops, TILE, _, _>(&job.view, coord, tile, &mut ())
             {
                 Ok(()) => {
                     job.label.draw(tile);
@@ -724,20 +844,27 @@ fn render_and_send(
     }
 }
 
-/// Renders frame after frame of the orbit onto the panel, with core 1 if it
-/// started, else with core 0 alone (`Drawing::send_overlaid`), each with the
-/// rate of the frame before ([`Label`], timed by `timer`). Returns only on an
-/// error.
+/// Renders frame after frame of the animation onto the panel through `renderer`
+/// (its tile loops checked), the instances moved by `placer` before each, with
+/// core 1 if it started, else with core 0 alone (`Drawing::send_overlaid`), each
+/// with the rate of the frame before ([`Label`], timed by `timer`). Returns only
+/// on an error.
 fn animate(
     sender: &mut Sender,
-    view: &SceneView<'_>,
+    renderer: Renderer,
+    placer: &mut placed::Placer,
     two_cores: bool,
     timer: hal::Timer<hal::timer::CopyableTimer0>,
     backlight: &mut impl OutputPin,
     led: &mut impl StatefulOutputPin,
 ) -> Result<Infallible, Failure> {
     let tiles = u32::from(GRID.0) * u32::from(GRID.1);
+    // One pass: for the default scene, two seconds at 12 frames a second, 24
+    // frames, the 25th (at the end) the next pass's first.
+    let per_loop = scene::ANIMATION.looped_frames(scene::FPS);
     let mut frame: u32 = 0;
+    // The frame of the animation this frame shows: 0 to `per_loop - 1`.
+    let mut step: u32 = 0;
     // The start of the frame before (µs) and how many tiles core 0 rendered of it.
     let mut before: Option<(u64, u32)> = None;
     loop {
@@ -748,16 +875,22 @@ fn animate(
             log::frame(frame.wrapping_sub(1), period, core0_tiles, tiles);
             period
         });
+        // SAFETY: no view of the instances is in use: core 1 is done with the
+        // frame before (`draw_frame` returned `Ok` only once it saw core 1 store
+        // that frame in CORE1_DONE, acquire; an error ends this loop for good),
+        // or core 1 does not render; core 0's job of the frame before went out
+        // of scope at the end of the last pass of this loop.
+        let view = unsafe { placer.place(frame_time(step, scene::FPS)) }?;
+        step = if step + 1 >= per_loop { 0 } else { step + 1 };
         let job = FrameJob {
-            renderer: orbit(frame)?,
+            renderer,
+            view,
             label: Label::new(period),
         };
-        // Checked once a frame, so that no tile meets `Error::NotLinked`.
-        job.renderer.check_loops::<scene::SceneLoops>(view)?;
         let core0_tiles = if two_cores {
-            draw_frame(sender, &job, view, frame)?
+            draw_frame(sender, &job, frame)?
         } else {
-            Drawing::<Rgb565Wire, TILE>::new(&job.renderer, view)
+            Drawing::<Rgb565Wire, TILE>::new(&job.renderer, &job.view)
                 .linking::<scene::SceneLoops>()?
                 .send_overlaid(&mut sender.panel, |tile| job.label.draw(tile))?;
             tiles
@@ -830,13 +963,25 @@ fn main() -> ! {
     let outcome = panel
         .init(&mut rst, &mut timer)
         .map_err(Failure::from)
-        .and_then(|()| scene::SCENE.view().map_err(Failure::from))
-        .and_then(|view| {
+        .and_then(|()| {
+            let view = scene::SCENE.view()?;
+            let renderer = renderer()?;
+            // Once: the tile loops linked serve the renderer's settings and the
+            // scene's materials, which every frame shares, so that no tile meets
+            // `Error::NotLinked`.
+            renderer.check_loops::<scene::SceneLoops>(&view)?;
+            // There is one placer: this is the only call.
+            let Some(placer) = placed::Placer::new(view)? else {
+                halt()
+            };
+            Ok((renderer, placer))
+        })
+        .and_then(|(renderer, mut placer)| {
             // Core 1 with its own stack; if it does not start, core 0 renders alone.
             let mut mc = Multicore::new(&mut pac.PSM, &mut pac.PPB, &mut sio.fifo);
             let two_cores = match (mc.cores().get_mut(1), CORE1_STACK.take()) {
                 (Some(core1), Some(stack)) => {
-                    match core1.spawn(stack, move || core1_main(view, producer)) {
+                    match core1.spawn(stack, move || core1_main(producer)) {
                         Ok(()) => true,
                         Err(e) => {
                             log::core1_not_started(&e);
@@ -846,7 +991,7 @@ fn main() -> ! {
                 }
                 _ => false,
             };
-            log::started(two_cores);
+            log::started(two_cores, scene::ANIMATION.looped_frames(scene::FPS));
             let mut sender = Sender {
                 panel,
                 from_core1: consumer,
@@ -854,7 +999,8 @@ fn main() -> ! {
             };
             animate(
                 &mut sender,
-                &view,
+                renderer,
+                &mut placer,
                 two_cores,
                 timer,
                 &mut backlight,

@@ -67,7 +67,9 @@ when the images are identical, 1 when they differ.",
         "draws the scene through the core's embedded-graphics output onto a \
 simulated panel (240x240 unless --size is given) and saves what the panel shows, in \
 its colour type and after its dithering; --orbit N renders N frames of the camera \
-circling what it looks at, as an animated GIF or numbered PNGs.",
+circling what it looks at, and --animate plays the scene file's [[keyframes]] (or a \
+glTF file's first animation) at its fps, each frame what render --frame N renders, as \
+an animated GIF (each frame lasting the scene's frame time) or numbered PNGs.",
     ),
     (
         "trade",
@@ -140,7 +142,7 @@ files: a FIFO, a device, a socket or a folder is refused at once, unread.",
         "checked before any work: --threads at most 256; compare, diff and trade \
 at most about 28.5 million pixels (FLIP's work limit), where compare's memory peaks \
 at about 950 MB (33 bytes a pixel; 2.3 GB with --sampler adaptive:K, 80 bytes a \
-pixel); simulate at most 4 GiB for its panel, 3600 orbit frames and a GIF delay of \
+pixel); simulate at most 4 GiB for its panel, 3600 orbit or animation frames and a GIF delay of \
 655350 ms (--delay-ms). render has no size limit: it streams the PNG a row of tiles \
 at a time.",
     ),

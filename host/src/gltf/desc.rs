@@ -30,11 +30,31 @@
 //!   them (decoded later, by the scene loader), with the sampler's
 //!   magnification filter (`NEAREST`: nearest, else bilinear) and wrap modes.
 //! - **Meshes** ([`scene`]): one [`crate::desc::MeshDesc`] per material (the
-//!   core's meshes have one material each), in the order of the materials;
+//!   core's meshes have one material each), in the order of the materials
+//!   (and one per material of each animated node: see below);
 //!   at most [`tessera_core::mesh::MAX_MESHES`] of them: a file whose
 //!   triangles use more materials is refused. A mesh has the vertex normals of
 //!   its faces (or texture coordinates) only when every one of its faces has
 //!   them; otherwise it is shaded flat (or untextured), with a warning.
+//!
+//! # Animation
+//!
+//! [`scene`] reads the file's first animation ([`super::read_animated`]).
+//! Each node it moves that draws meshes becomes an `[[instance]]` named after
+//! the node (its name, else its mesh's, else `node N`; when that name is
+//! taken, `NAME (node N)`, else `node N`, with a warning) of its own meshes,
+//! one per material in the node's own space, named `NAME/MATERIAL`; the
+//! instance stands at the node's rest placement in world space, and each
+//! channel is a `[[keyframes]]` track of it (`translation`, `rotation` as
+//! quaternions, `scale`; `LINEAR` linear, `STEP` step, `CUBICSPLINE` linear
+//! through its values). The scene renders at the default 30 frames a second
+//! (`tessera render model.glb --frame N`, `tessera simulate --animate`); a
+//! render without `--frame` shows the file's rest pose. The still nodes'
+//! meshes are drawn in world space as before. The still meshes and the
+//! animated nodes' together are at most [`tessera_core::mesh::MAX_MESHES`]:
+//! more is an error (so at most that many instances, and three tracks each).
+//! The default camera frames the meshes at rest. [`mesh_file`] leaves the
+//! animations out, with a warning.
 //!
 //! # Camera
 //!
@@ -142,19 +162,25 @@ pub fn scene(path: &Path, camera: Option<&str>) -> Result<SceneDesc, String> {
         |n| n.to_string_lossy().into_owned(),
     );
     let shown = crate::escape(&obj);
-    let mut imported = super::read(path, &Limits::default())?;
+    let mut imported = super::read_animated(path, &Limits::default())?;
     let cameras = std::mem::take(&mut imported.cameras);
     let lights = std::mem::take(&mut imported.lights);
+    let animated = imported.animation.take().map_or_else(Vec::new, |a| a.nodes);
     let identity = Placement::of(&MeshDesc::unplaced(obj.clone(), None))?;
     let Converted {
         mut file,
         degenerate,
         nodes,
+        anchors,
     } = convert(imported, &obj, &identity, MAX_TRIANGLES)?;
-    let mut meshes = split(&file, &degenerate, &obj)?;
+    let mut meshes = split(
+        &group(&file, &anchors, None),
+        &degenerate_of(&degenerate, None),
+        &obj,
+    )?;
     let mut warnings = std::mem::take(&mut file.warnings);
     name_meshes(&mut meshes, &file, &nodes, &shown, &mut warnings);
-    let (lo, hi) = bounds(&file.faces);
+    let (lo, hi) = world_bounds(&file.faces, &anchors, &animated);
 
     let chosen = match camera {
         Some(name) => match cameras.iter().find(|c| c.name == name) {
@@ -252,22 +278,207 @@ pub fn scene(path: &Path, camera: Option<&str>) -> Result<SceneDesc, String> {
             m.name = None;
         }
     }
+    // The animated nodes: their meshes, an instance of each, its keyframes.
+    for a in &animated {
+        let parts = split(
+            &group(&file, &anchors, Some(a.node)),
+            &degenerate_of(&degenerate, Some(a.node)),
+            &obj,
+        )?;
+        if parts.is_empty() {
+            continue;
+        }
+        let name = instance_name(a, &parts, &meshes, &desc);
+        if name != a.name {
+            warnings.push(format!(
+                "{shown}: node '{}': its name is taken (or not a name): its instance is \
+                 named '{}'",
+                crate::escape(&a.name),
+                crate::escape(&name)
+            ));
+        }
+        animate(a, &name, parts, &mut meshes, &mut desc);
+    }
+    let most = tessera_core::mesh::MAX_MESHES;
+    if meshes.len() > most {
+        return Err(format!(
+            "{shown}: its triangles make {} meshes (one per material of the still nodes, \
+             and one per material of each animated node), and tessera draws at most {most}",
+            meshes.len()
+        ));
+    }
     desc.materials = file.materials;
     desc.meshes = meshes;
     desc.embedded = file.embedded;
     desc.warnings = warnings;
+    if !desc.keyframes.is_empty() {
+        desc.tracks().map_err(|e| format!("{shown}: {e}"))?;
+    }
     Ok(desc)
+}
+
+/// The faces of `file` that the anchor `anchor` draws (`None`: the still
+/// nodes', in world space), with the file's materials.
+fn group(file: &MeshFile, anchors: &[Option<usize>], anchor: Option<usize>) -> MeshFile {
+    let mut out = MeshFile {
+        materials: file.materials.clone(),
+        ..MeshFile::default()
+    };
+    for (j, face) in file.faces.iter().enumerate() {
+        if anchors.get(j).copied().flatten() != anchor {
+            continue;
+        }
+        out.faces.push(*face);
+        out.normals.push(file.normals.get(j).copied().flatten());
+        out.uvs.push(file.uvs.get(j).copied().flatten());
+        out.face_materials
+            .push(file.face_materials.get(j).copied().flatten());
+    }
+    out
+}
+
+/// The degenerate faces of each material among the faces of `anchor`.
+fn degenerate_of(degenerate: &[Vec<(Option<usize>, usize)>], anchor: Option<usize>) -> Vec<usize> {
+    degenerate
+        .iter()
+        .map(|per| {
+            per.iter()
+                .filter(|(a, _)| *a == anchor)
+                .map(|(_, n)| n)
+                .sum()
+        })
+        .collect()
+}
+
+/// The smallest and largest coordinates of the faces at rest, in world
+/// space: those of an animated node's meshes (`anchors`, by face) moved by
+/// its world matrix.
+fn world_bounds(
+    faces: &[[[f64; 3]; 3]],
+    anchors: &[Option<usize>],
+    animated: &[super::AnimatedNode],
+) -> ([f64; 3], [f64; 3]) {
+    let placed: Vec<[[f64; 3]; 3]> = faces
+        .iter()
+        .enumerate()
+        .map(|(j, f)| {
+            let world = anchors
+                .get(j)
+                .copied()
+                .flatten()
+                .and_then(|n| animated.iter().find(|a| a.node == n));
+            match world {
+                Some(a) => f.map(|p| super::scene::point(&a.world, p)),
+                None => *f,
+            }
+        })
+        .collect();
+    bounds(&placed)
+}
+
+/// The name of the instance of the animated node `a` (whose meshes are
+/// `parts`): the node's name, else `NAME (node N)`, else `node N`, else that
+/// with a number: one no mesh, light or instance of `desc` and `meshes` has,
+/// that no still mesh's name starts with (followed by `/`), and that makes
+/// no part's name (`NAME/MATERIAL`) one taken.
+fn instance_name(
+    a: &super::AnimatedNode,
+    parts: &[MeshDesc],
+    meshes: &[MeshDesc],
+    desc: &SceneDesc,
+) -> String {
+    let names = || {
+        meshes
+            .iter()
+            .filter_map(|m| m.name.as_deref())
+            .chain(desc.lights.iter().filter_map(|l| l.name.as_deref()))
+            .chain(desc.instances.iter().filter_map(|i| i.name.as_deref()))
+    };
+    let free = |n: &str| {
+        let prefix = format!("{n}/");
+        crate::desc::name_fault(n).is_none()
+            && !names().any(|t| t == n || t.starts_with(&prefix))
+            && !parts.iter().any(|p| {
+                let own = part_name(n, p);
+                names().any(|t| t == own)
+            })
+    };
+    let first = [
+        a.name.clone(),
+        format!("{} (node {})", a.name, a.node),
+        format!("node {}", a.node),
+    ];
+    first
+        .into_iter()
+        .chain((2..).map(|k| format!("node {} ({k})", a.node)))
+        .find(|n| free(n))
+        .unwrap_or_else(|| format!("node {}", a.node))
+}
+
+/// The name of the part `p` (a mesh of one material) of the instance `name`:
+/// `NAME/MATERIAL`, the material as the file names it.
+fn part_name(name: &str, p: &MeshDesc) -> String {
+    let material = p.material.as_deref().unwrap_or_default();
+    let own = material.split_once('/').map_or(material, |(_, n)| n);
+    format!("{name}/{own}")
+}
+
+/// Adds the animated node `a` to `desc`: its `parts` (in its own space) as
+/// meshes named `NAME/MATERIAL`, an instance `name` of them at its rest
+/// placement, and a `[[keyframes]]` track per channel.
+fn animate(
+    a: &super::AnimatedNode,
+    name: &str,
+    parts: Vec<MeshDesc>,
+    meshes: &mut Vec<MeshDesc>,
+    desc: &mut SceneDesc,
+) {
+    use crate::desc::{ChannelDesc, InstanceDesc, InterpolationDesc, KeyframesDesc, ScaleDesc};
+    use tessera_core::animation::{Channel, Interpolation};
+    for mut p in parts {
+        p.name = Some(part_name(name, &p));
+        meshes.push(p);
+    }
+    desc.instances.push(InstanceDesc {
+        mesh: name.to_string(),
+        name: Some(name.to_string()),
+        scale: ScaleDesc::Axes(a.scale),
+        rotate: None,
+        quaternion: Some(a.rotation),
+        translate: a.translation,
+    });
+    for t in &a.tracks {
+        let (channel, len) = match t.path {
+            Channel::Translation => (ChannelDesc::Translation, 3),
+            Channel::Rotation => (ChannelDesc::Rotation, 4),
+            Channel::Scale => (ChannelDesc::Scale, 3),
+        };
+        desc.keyframes.push(KeyframesDesc {
+            target: name.to_string(),
+            channel,
+            interpolation: match t.interpolation {
+                Interpolation::Step => InterpolationDesc::Step,
+                Interpolation::Linear => InterpolationDesc::Linear,
+            },
+            times: t.times.clone(),
+            values: t.values.iter().map(|v| v[..len].to_vec()).collect(),
+        });
+    }
 }
 
 /// What [`convert`] makes of a file: the mesh file, and how many degenerate
 /// faces each of its materials lost.
 struct Converted {
     file: MeshFile,
-    /// By index into `file.materials`.
-    degenerate: Vec<usize>,
-    /// By index into `file.materials`: the nodes (index, name) whose
+    /// By index into `file.materials`: the degenerate faces left out, by the
+    /// animated node whose meshes they are in (`None`: a still node's).
+    degenerate: Vec<Vec<(Option<usize>, usize)>>,
+    /// By index into `file.materials`: the still nodes (index, name) whose
     /// primitives have faces of that material, each once.
     nodes: Vec<Vec<(usize, String)>>,
+    /// By face: the animated node whose own space it is in (`None`: world
+    /// space).
+    anchors: Vec<Option<usize>>,
 }
 
 /// The mesh file of what the reader made of a file (see [`mesh_file`]).
@@ -288,13 +499,14 @@ fn convert(
     let mut out = MeshFile::default();
     out.warnings
         .extend(warnings.into_iter().map(|w| format!("{escaped}: {w}")));
-    let mut degenerate = Vec::new();
+    let mut degenerate: Vec<Vec<(Option<usize>, usize)>> = Vec::new();
     let mut nodes: Vec<Vec<(usize, String)>> = Vec::new();
+    let mut anchors = Vec::new();
     for m in &materials {
         let (desc, notes) = material(m, &images, shown, &out.materials);
         out.materials.push(desc);
         out.warnings.extend(notes);
-        degenerate.push(0);
+        degenerate.push(Vec::new());
         nodes.push(Vec::new());
     }
     // Each image once, in the order the reader gives them (of first use).
@@ -315,13 +527,22 @@ fn convert(
                 let (desc, notes) = default_material(shown, &out.materials);
                 out.materials.push(desc);
                 out.warnings.extend(notes);
-                degenerate.push(0);
+                degenerate.push(Vec::new());
                 nodes.push(Vec::new());
                 out.materials.len() - 1
             }),
         };
-        add_faces(mesh, k, place, room, shown, &mut out, &mut degenerate[k])?;
-        if !mesh.triangles.is_empty() && !nodes[k].iter().any(|(n, _)| *n == mesh.node) {
+        let mut lost = 0;
+        add_faces(mesh, k, place, room, shown, &mut out, &mut lost)?;
+        anchors.resize(out.faces.len(), mesh.anchor);
+        match degenerate[k].iter_mut().find(|(a, _)| *a == mesh.anchor) {
+            Some((_, n)) => *n += lost,
+            None => degenerate[k].push((mesh.anchor, lost)),
+        }
+        if mesh.anchor.is_none()
+            && !mesh.triangles.is_empty()
+            && !nodes[k].iter().any(|(n, _)| *n == mesh.node)
+        {
             nodes[k].push((mesh.node, mesh.name.clone()));
         }
     }
@@ -335,6 +556,7 @@ fn convert(
         file: out,
         degenerate,
         nodes,
+        anchors,
     })
 }
 
@@ -744,7 +966,7 @@ mod tests {
     //! hand-written files; expectations from the files' own JSON or by hand.
 
     use super::*;
-    use crate::desc::TextureDesc;
+    use crate::desc::{ChannelDesc, TextureDesc};
     use base64::Engine as _;
     use gltf::json::Value;
     use std::path::PathBuf;
@@ -1041,30 +1263,45 @@ mod tests {
         d.to_core().unwrap();
     }
 
-    /// BoxAnimated: the reader's warning about its animations (as many as its
-    /// JSON has), naming the file; one mesh per material.
+    /// BoxAnimated: its first animation (of the two its JSON has; the other
+    /// named in a warning) turns node 2, the inner box: that box is an
+    /// instance of a mesh of its own, its rotation keyframes those of the
+    /// sampler's accessors (count, first and last time from the JSON); the
+    /// outer box stays in world space. One mesh per material and node.
     #[test]
-    fn box_animated_warns_of_its_animations() {
-        let n = json("BoxAnimated/BoxAnimated.gltf")["animations"]
-            .as_array()
-            .unwrap()
-            .len();
+    fn box_animated_plays_its_first_animation() {
+        let j = json("BoxAnimated/BoxAnimated.gltf");
+        let n = j["animations"].as_array().unwrap().len();
+        assert_eq!(n, 2);
         let d = scene(&data("BoxAnimated/BoxAnimated.gltf"), None).unwrap();
         let all = d.warnings.join("\n");
         assert!(
-            all.contains(&format!(
-                "BoxAnimated.gltf: animations are not read yet: {n} animations"
-            )),
+            all.contains(
+                "BoxAnimated.gltf: only the first animation, animation 0, is read: animation 1 ignored"
+            ),
             "{all}"
         );
-        let mut materials: Vec<&str> = d
-            .meshes
-            .iter()
-            .map(|m| m.material.as_deref().unwrap())
-            .collect();
-        materials.sort_unstable();
-        assert_eq!(materials.len(), 2);
-        assert!(materials[0].ends_with("/inner") && materials[1].ends_with("/outer"));
+        let names: Vec<Option<&str>> = d.meshes.iter().map(|m| m.name.as_deref()).collect();
+        assert_eq!(names, [Some("outer_box"), Some("inner_box/inner")]);
+        assert_eq!(d.instances.len(), 1);
+        assert_eq!(d.instances[0].name.as_deref(), Some("inner_box"));
+        assert_eq!(d.keyframes.len(), 1);
+        let k = &d.keyframes[0];
+        assert_eq!(
+            (k.target.as_str(), k.channel),
+            ("inner_box", ChannelDesc::Rotation)
+        );
+        let sampler = &j["animations"][0]["samplers"][0];
+        let input = &j["accessors"][sampler["input"].as_u64().unwrap() as usize];
+        let f = |v: &Value| f64::from(v.as_f64().unwrap() as f32);
+        assert_eq!(k.times.len() as u64, input["count"].as_u64().unwrap());
+        assert_eq!(k.times[0], f(&input["min"][0]));
+        assert_eq!(*k.times.last().unwrap(), f(&input["max"][0]));
+        assert_eq!(d.render.fps, 30.0);
+        // Its keyframes run from 1.25 s to 2.5 s: frame 60 (2 s) is between.
+        let mid = d.at_frame(60).unwrap();
+        assert_ne!(mid.instances[0].quaternion, d.instances[0].quaternion);
+        mid.to_core().unwrap();
     }
 
     /// Every sample model makes a scene the core builds, but the Draco one,

@@ -31,6 +31,26 @@
 //!   base colour textures, from a buffer view, a `data:` URI or a file. They are
 //!   not decoded here.
 //! - Perspective cameras and `KHR_lights_punctual` lights, in world space.
+//! - Animations ([`read_animated`], what a whole glTF scene plays; [`read`]
+//!   leaves them out with a warning, as a scene file's `[[mesh]]` takes a
+//!   file's triangles as posed): the file's first animation, its channels
+//!   that move a node's `translation`, `rotation` or `scale`. Each node they
+//!   move that draws meshes (itself or the nodes below it) is an anchor: its
+//!   meshes and its descendants' are read in its own space (the descendants'
+//!   transforms relative to it applied) and [`Imported::animation`] gives
+//!   its rest placement and its tracks in world space
+//!   ([`AnimatedNode`]): the node's parent's world matrix `P` must be a
+//!   similarity (a rotation `R`, a uniform scale `s`, possibly negative for a
+//!   mirror, and a translation; checked in `f64` within a relative 1e-6), and
+//!   is composed into each keyframe: translations moved by `P`, rotations
+//!   `R q`, scales times `s`; a channel not animated takes the node's own
+//!   TRS composed the same way. Times come from the sampler's input accessor
+//!   (seconds, at least 0, strictly increasing), values from its output
+//!   (rotations of `FLOAT` or normalized integers, made unit length);
+//!   `LINEAR` stays linear (spherical for rotations), `STEP` step, and
+//!   `CUBICSPLINE` is read as linear through the keyframes' values, its
+//!   tangents dropped, with a warning naming the animation and the channel.
+//!   Nodes not animated stay in world space.
 //!
 //! # What is not, and what it costs
 //!
@@ -41,7 +61,15 @@
 //! | --- | --- |
 //! | skins and joints | warning per node: drawn as stored (the bind pose) |
 //! | morph targets, weights | warning per mesh: the base shape is drawn |
-//! | animations | warning: "animations are not read yet" |
+//! | animations other than the first | warning naming them |
+//! | animations, read by [`read`] (a `[[mesh]]` file) | warning: not read for a `[[mesh]]` file, the triangles as posed |
+//! | a `weights` channel (morph targets) | warning naming the animation, the channel and the node: left still |
+//! | a channel moving a node that draws no mesh (a camera, a light, a joint, an empty node) | warning naming the node: left still |
+//! | an animated node whose parent's world matrix shears or scales unevenly | warning naming the node: drawn still at its rest pose |
+//! | an animated node below another animated node | warning naming both: only the outermost's animation is read, the inner one stays at its rest pose within it |
+//! | an animated node given by a `matrix` (glTF forbids it) | warning naming the node: drawn still |
+//! | `CUBICSPLINE` interpolation | warning naming the animation and the channel: linear through the keyframes' values |
+//! | keyframes: times not finite, negative or not strictly increasing, a count of values that is not one (three for `CUBICSPLINE`) a time, a value not finite, a rotation of length 0, an accessor of the wrong type; two channels moving one property of a node; a channel naming a sampler or a node the file lacks | error naming the animation, the channel and the sampler |
 //! | `KHR_draco_mesh_compression`, `EXT_meshopt_compression` | error if in `extensionsRequired`; otherwise a warning and the uncompressed data is read, or an error if there is none |
 //! | `KHR_texture_basisu` (KTX2) | error if required; otherwise a warning naming the texture (its PNG/JPEG fallback is read); a base colour texture whose image is KTX2 is an error naming the image |
 //! | `KHR_mesh_quantization`, any other unknown `extensionsRequired` entry | error naming it |
@@ -88,6 +116,9 @@
 //!   all in checked arithmetic. Index values must be below the vertex count;
 //!   positions, normals and texture coordinates must be finite.
 //! - The images' bytes together are bounded by [`Limits::max_image_bytes`].
+//! - The keyframes read, every channel together, are bounded by
+//!   [`Limits::max_keyframes`], checked from each input accessor's count
+//!   before it is read; their accessors are checked as the meshes' are.
 //! - Each warning is given once; past [`MAX_WARNINGS`] they are counted, not
 //!   kept. Every primitive instance counts as at least one triangle against
 //!   [`Limits::max_triangles`] (points and lines too), so that the work of a
@@ -122,10 +153,13 @@
 //!   [`Imported::images`] only the images their base colour textures use
 //!   ([`ImportedImage::index`] likewise): an image nothing draws is not read.
 //! - [`ImportedCamera::node`] names the node a camera hangs on.
+//! - [`ImportedMesh::anchor`] says which animated node's space a mesh is in;
+//!   cameras and lights hang at their rest pose, animated or not.
 
 use std::collections::HashSet;
 use std::path::Path;
 
+mod animation;
 pub mod desc;
 mod material;
 mod primitive;
@@ -148,17 +182,25 @@ pub struct Imported {
     /// Every `KHR_lights_punctual` light a node of the scene carries, in world
     /// space.
     pub lights: Vec<ImportedLight>,
+    /// The file's first animation, as the nodes it moves that draw meshes
+    /// ([`read_animated`]; `None` from [`read`], or when it moves no such node).
+    pub animation: Option<ImportedAnimation>,
     /// Everything left out or changed, by name (`node 'Foo': skin ignored: ...`).
     pub warnings: Vec<String>,
 }
 
-/// A triangle mesh: one primitive of one node's mesh, in world space.
+/// A triangle mesh: one primitive of one node's mesh, in world space (or in
+/// its animated anchor's own space).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImportedMesh {
     /// The node's name, else the mesh's, else `node N`.
     pub name: String,
     /// The node's index in the file.
     pub node: usize,
+    /// The animated node ([`AnimatedNode::node`]) whose own space the
+    /// positions and normals are in (the node itself or an ancestor), or
+    /// `None`: world space.
+    pub anchor: Option<usize>,
     /// The mesh's index in the file.
     pub mesh: usize,
     /// The primitive's index in its mesh.
@@ -292,6 +334,60 @@ pub struct ImportedLight {
     pub intensity: f64,
 }
 
+/// The animation read: the file's first, as the nodes it moves that draw
+/// meshes (each an anchor: its meshes and its descendants' are in its own
+/// space), their tracks in world space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImportedAnimation {
+    /// The animation's name (empty when it has none).
+    pub name: String,
+    /// Its index in the file.
+    pub index: usize,
+    /// The nodes it moves that draw meshes, in the order the scene visits
+    /// them.
+    pub nodes: Vec<AnimatedNode>,
+}
+
+/// A node an animation moves, which draws meshes (itself or below it), placed
+/// in world space: its own translation, rotation and scale composed with its
+/// parent's world matrix (a similarity: a uniform scale `s` and a rotation
+/// `P`): translations moved by the parent's matrix, rotations `P q`, scales
+/// times `s`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnimatedNode {
+    /// The node's index in the file.
+    pub node: usize,
+    /// The node's name, else its mesh's, else `node N`.
+    pub name: String,
+    /// Its translation at rest (the file's pose), in world space.
+    pub translation: [f64; 3],
+    /// Its rotation at rest, a unit quaternion `x, y, z, w`, in world space.
+    pub rotation: [f64; 4],
+    /// Its scale at rest, per axis, in world space.
+    pub scale: [f64; 3],
+    /// Its world matrix at rest (column-major): where its meshes' positions go.
+    pub world: [[f64; 4]; 4],
+    /// The channels moving it, each in world space.
+    pub tracks: Vec<ImportedTrack>,
+}
+
+/// One channel of an animated node: keyframe `k` is `values[k]` at
+/// `times[k]` (seconds, at least 0, strictly increasing).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImportedTrack {
+    /// The channel's index in its animation.
+    pub channel: usize,
+    /// What it moves.
+    pub path: tessera_core::animation::Channel,
+    /// How (`CUBICSPLINE` is read as linear through the values).
+    pub interpolation: tessera_core::animation::Interpolation,
+    /// The keyframes' times, in seconds.
+    pub times: Vec<f64>,
+    /// The values, in world space: a translation or a scale in the first
+    /// three numbers, a unit quaternion in all four.
+    pub values: Vec<[f64; 4]>,
+}
+
 /// How much a glTF file may make the reader read and hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Limits {
@@ -305,12 +401,16 @@ pub struct Limits {
     pub max_triangles: usize,
     /// The most image bytes, all the images read together.
     pub max_image_bytes: usize,
+    /// The most animation keyframes, every channel read together (a
+    /// `CUBICSPLINE` keyframe counts once).
+    pub max_keyframes: usize,
 }
 
 /// 64 MiB of file and of buffers: about 2.8 million triangles of indexed,
 /// normalled, textured vertices (a vertex of 32 bytes, two triangles a vertex),
 /// far beyond the host scene's [`crate::desc::MAX_TRIANGLES`] triangles, which
-/// bound the triangles by default; 32 MiB of images.
+/// bound the triangles by default; 32 MiB of images; [`MAX_KEYFRAMES`]
+/// keyframes.
 impl Default for Limits {
     fn default() -> Self {
         Limits {
@@ -318,15 +418,34 @@ impl Default for Limits {
             max_buffer_bytes: 64 << 20,
             max_triangles: crate::desc::MAX_TRIANGLES,
             max_image_bytes: 32 << 20,
+            max_keyframes: MAX_KEYFRAMES,
         }
     }
 }
 
+/// The most keyframes read by default, every channel together: an hour of
+/// three channels at 30 keyframes a second would be 324,000; a scene's
+/// description holds each as about 100 bytes, 10 MB at most.
+pub const MAX_KEYFRAMES: usize = 100_000;
+
 /// Reads the glTF file at `path` (`.gltf` or `.glb`, told apart by the `.glb`
 /// signature, not the name), its external buffers and images relative to its
-/// folder, within `limits`. Errors name the file as `path` shows and the item
-/// at fault.
+/// folder, within `limits`, as posed: its animations are left out, with a
+/// warning (what a scene file's `[[mesh]]` takes). Errors name the file as
+/// `path` shows and the item at fault.
 pub fn read(path: &Path, limits: &Limits) -> Result<Imported, String> {
+    read_with(path, limits, false)
+}
+
+/// [`read`], and the file's first animation: the meshes of each node it
+/// moves (and of the nodes below it) in that node's own space, its tracks
+/// in [`Imported::animation`] (what a whole glTF scene plays).
+pub fn read_animated(path: &Path, limits: &Limits) -> Result<Imported, String> {
+    read_with(path, limits, true)
+}
+
+/// [`read`] or [`read_animated`].
+fn read_with(path: &Path, limits: &Limits, animated: bool) -> Result<Imported, String> {
     let shown = crate::escape_path(path);
     let bytes = crate::file::read_bytes(path, limits.max_file_bytes, "glTF file")
         .map_err(|e| format!("{shown}: {e}"))?;
@@ -339,7 +458,7 @@ pub fn read(path: &Path, limits: &Limits) -> Result<Imported, String> {
         seen: HashSet::new(),
         unshown: 0,
     };
-    import(&bytes, &mut cx)
+    import(&bytes, animated, &mut cx)
 }
 
 /// What every step needs: the file as messages name it, its folder, the
@@ -397,34 +516,34 @@ fn named(kind: &str, index: usize, name: Option<&str>) -> String {
     }
 }
 
-/// The whole import of the file's `bytes`.
-fn import(bytes: &[u8], cx: &mut Cx) -> Result<Imported, String> {
+/// The whole import of the file's `bytes` (its first animation too when
+/// `animated`).
+fn import(bytes: &[u8], animated: bool, cx: &mut Cx) -> Result<Imported, String> {
     let (json, bin) = source::split(bytes, cx)?;
     let root = source::parse_json(json, cx)?;
     let document = source::validate(root, cx)?;
     let root = document.as_json();
-    let animations = root.animations.len();
-    if animations > 0 {
-        cx.warn(format!(
-            "animations are not read yet: {animations} animation{} ignored, the scene is drawn as the file poses it",
-            if animations == 1 { "" } else { "s" }
-        ));
-    }
-    let visit = scene::visit(root, cx)?;
-    let mut plan = primitive::plan(&document, &visit, cx)?;
+    let targets = animation::targets(root, animated, cx)?;
+    let visit = scene::visit(root, &targets.animated(), &targets.name, cx)?;
+    let mut plan = primitive::plan(&document, &visit.placed, cx)?;
     let (materials, image_indices) = material::materials(root, &plan.materials, cx)?;
-    let needed = primitive::needed_buffers(&document, &plan, &image_indices);
+    let mut needed = primitive::needed_buffers(&document, &plan, &image_indices);
+    needed.extend(animation::needed_buffers(root, &targets, &visit));
+    needed.sort_unstable();
+    needed.dedup();
     let buffers = source::buffers(root, bin, &needed, cx)?;
     let images = source::images(root, &image_indices, &buffers, cx)?;
-    let meshes = primitive::meshes(&document, &visit, &mut plan, &buffers, cx)?;
-    let cameras = scene::cameras(root, &visit, cx)?;
-    let lights = scene::lights(root, &visit, cx)?;
+    let meshes = primitive::meshes(&document, &visit.placed, &mut plan, &buffers, cx)?;
+    let animation = animation::read(&document, &targets, &visit, &meshes, &buffers, cx)?;
+    let cameras = scene::cameras(root, &visit.placed, cx)?;
+    let lights = scene::lights(root, &visit.placed, cx)?;
     Ok(Imported {
         meshes,
         materials,
         images,
         cameras,
         lights,
+        animation,
         warnings: cx.take_warnings(),
     })
 }

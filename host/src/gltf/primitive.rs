@@ -46,7 +46,7 @@ pub(super) fn plan(
         read: Vec::new(),
     };
     let mut total: usize = 0;
-    for placed in visit.iter().filter(|p| p.regular()) {
+    for placed in visit.iter().filter(|p| p.drawn()) {
         let Some(m) = root.nodes[placed.node].mesh.map(|m| m.value()) else {
             continue;
         };
@@ -212,7 +212,7 @@ pub(super) fn meshes(
 ) -> Result<Vec<ImportedMesh>, String> {
     let root = document.as_json();
     let mut out = Vec::new();
-    for placed in visit.iter().filter(|p| p.regular()) {
+    for placed in visit.iter().filter(|p| p.drawn()) {
         let node = &root.nodes[placed.node];
         let Some(m) = node.mesh.map(|m| m.value()) else {
             continue;
@@ -265,7 +265,8 @@ pub(super) fn meshes(
     Ok(out)
 }
 
-/// `local` in world space as `placed` puts it: positions by the world matrix,
+/// `local` in world space as `placed` puts it (or in its anchor's space, for a
+/// node under an animated one): positions by the matrix,
 /// normals by its inverse transpose (unit length), the winding reversed under
 /// a mirror.
 fn place(
@@ -275,13 +276,13 @@ fn place(
     mesh: usize,
     primitive: usize,
 ) -> ImportedMesh {
-    let w = &placed.world;
+    let w = &placed.draw;
     let positions = local
         .positions
         .iter()
         .map(|&p| scene::point(w, p))
         .collect();
-    let n = scene::normal_matrix(w, placed.det);
+    let n = scene::normal_matrix(w, placed.draw_det);
     let normals = local.normals.as_ref().map(|normals| {
         normals
             .iter()
@@ -293,7 +294,7 @@ fn place(
             })
             .collect()
     });
-    let triangles = if placed.det < 0.0 {
+    let triangles = if placed.draw_det < 0.0 {
         local.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect()
     } else {
         local.triangles.clone()
@@ -301,6 +302,7 @@ fn place(
     ImportedMesh {
         name,
         node: placed.node,
+        anchor: placed.anchor,
         mesh,
         primitive,
         positions,
@@ -313,11 +315,17 @@ fn place(
 
 /// What an accessor is read as.
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum Use {
+pub(super) enum Use {
     Position,
     Normal,
     TexCoord,
     Indices,
+    /// An animation sampler's input: keyframe times.
+    Times,
+    /// An animation sampler's output for a translation or a scale.
+    Vectors,
+    /// An animation sampler's output for a rotation.
+    Rotations,
 }
 
 impl Use {
@@ -328,6 +336,8 @@ impl Use {
             Use::Normal => "NORMAL",
             Use::TexCoord => "TEXCOORD_0",
             Use::Indices => "indices",
+            Use::Times => "input",
+            Use::Vectors | Use::Rotations => "output",
         }
     }
 
@@ -349,6 +359,16 @@ impl Use {
                 dims == Dimensions::Scalar
                     && matches!(data, DataType::U8 | DataType::U16 | DataType::U32)
             }
+            Use::Times => data == DataType::F32 && dims == Dimensions::Scalar && !normalized,
+            Use::Vectors => data == DataType::F32 && dims == Dimensions::Vec3 && !normalized,
+            Use::Rotations => {
+                dims == Dimensions::Vec4
+                    && match data {
+                        DataType::F32 => !normalized,
+                        DataType::I8 | DataType::U8 | DataType::I16 | DataType::U16 => normalized,
+                        DataType::U32 => false,
+                    }
+            }
         }
     }
 
@@ -358,6 +378,11 @@ impl Use {
             Use::Position | Use::Normal => "VEC3 of FLOAT",
             Use::TexCoord => "VEC2 of FLOAT, or of normalized UNSIGNED_BYTE or UNSIGNED_SHORT",
             Use::Indices => "SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT",
+            Use::Times => "SCALAR of FLOAT (keyframe times)",
+            Use::Vectors => "VEC3 of FLOAT (a translation or scale)",
+            Use::Rotations => {
+                "VEC4 of FLOAT, or of normalized BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT (a rotation)"
+            }
         }
     }
 }
@@ -366,7 +391,7 @@ impl Use {
 /// most `max_bytes` of elements), and that every element it reads (sparse
 /// parts too) lies within its buffer view, within its buffer. `gltf`'s reader
 /// indexes no further than this.
-fn check(
+pub(super) fn check(
     accessor: &gltf::Accessor,
     usage: Use,
     buffers: &Buffers,

@@ -1,5 +1,7 @@
 //! The node tree: the scene's nodes visited with their world matrices (in `f64`,
-//! column-major), and the cameras and lights they carry.
+//! column-major), the animated nodes whose meshes are drawn in their own space
+//! (the anchors of [`super::animation`]), and the cameras and lights they
+//! carry.
 
 use super::{Cx, ImportedCamera, ImportedLight, ImportedLightKind, named};
 use crate::arr3::dot;
@@ -10,7 +12,7 @@ use json::validation::Checked;
 pub(super) type Mat4 = [[f64; 4]; 4];
 
 /// The identity.
-const IDENTITY: Mat4 = [
+pub(super) const IDENTITY: Mat4 = [
     [1.0, 0.0, 0.0, 0.0],
     [0.0, 1.0, 0.0, 0.0],
     [0.0, 0.0, 1.0, 0.0],
@@ -27,19 +29,68 @@ pub(super) struct Placed {
     /// The determinant of the world matrix's upper 3×3 (negative: a mirror;
     /// zero or not finite: singular, nothing on the node is drawn).
     pub det: f64,
+    /// The animated node (an anchor, this node or an ancestor) whose own space
+    /// its meshes are drawn in, or `None`: drawn in world space.
+    pub anchor: Option<usize>,
+    /// The matrix its meshes are drawn with: `world`, or for a node under an
+    /// anchor its matrix relative to the anchor (the identity for the anchor).
+    pub draw: Mat4,
+    /// The determinant of `draw`'s upper 3×3.
+    pub draw_det: f64,
 }
 
 impl Placed {
-    /// Whether the world matrix can be inverted (a zero scale cannot).
+    /// Whether the world matrix can be inverted (a zero scale cannot): its
+    /// camera and light are placed.
     pub fn regular(&self) -> bool {
         self.det != 0.0 && self.det.is_finite()
     }
+
+    /// Whether the matrix its meshes are drawn with can be inverted: its
+    /// mesh is drawn.
+    pub fn drawn(&self) -> bool {
+        self.draw_det != 0.0 && self.draw_det.is_finite()
+    }
+}
+
+/// An animated node whose animation is read: its meshes and its descendants'
+/// are drawn in its own space, placed by an instance.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Anchor {
+    /// The node's index.
+    pub node: usize,
+    /// Its parent's world matrix, a similarity (identity for a root).
+    pub parent: Mat4,
+    /// Its world matrix at rest (the parent's times its own TRS).
+    pub world: Mat4,
+}
+
+/// The nodes of the visit and the anchors among them.
+pub(super) struct Visit {
+    /// Every node of the scene, depth first.
+    pub placed: Vec<Placed>,
+    /// The animated nodes whose animation is read, in the order visited.
+    pub anchors: Vec<Anchor>,
 }
 
 /// The nodes of the scene (the default one, else scene 0, else the root
 /// nodes), depth first, each with its world matrix. A node reached twice (a
 /// cycle, a node with two parents) is an error; skins are warned about.
-pub(super) fn visit(root: &json::Root, cx: &mut Cx) -> Result<Vec<Placed>, String> {
+///
+/// Each node of `animated` (a node the animation read moves, by index, with
+/// the animation's name for messages) becomes an anchor, its meshes and its
+/// descendants' drawn in its own space, unless (each with a warning naming the
+/// node, and then drawn still, at its rest pose) it is given by a `matrix`, an
+/// ancestor is an anchor already (the outermost animated node is kept), or its
+/// parent's world matrix is not a similarity (a shear or an uneven scale,
+/// which an instance's translation, rotation and per-axis scale cannot carry
+/// once the node turns).
+pub(super) fn visit(
+    root: &json::Root,
+    animated: &[usize],
+    animation: &str,
+    cx: &mut Cx,
+) -> Result<Visit, String> {
     let roots: Vec<usize> = match root
         .scene
         .or_else(|| (!root.scenes.is_empty()).then(|| json::Index::new(0)))
@@ -64,9 +115,12 @@ pub(super) fn visit(root: &json::Root, cx: &mut Cx) -> Result<Vec<Placed>, Strin
     };
     let mut seen = vec![false; root.nodes.len()];
     let mut out = Vec::new();
-    // (node, parent's world matrix), the next one on top.
-    let mut stack: Vec<(usize, Mat4)> = roots.iter().rev().map(|&n| (n, IDENTITY)).collect();
-    while let Some((n, parent)) = stack.pop() {
+    let mut anchors: Vec<Anchor> = Vec::new();
+    // (node, parent's world matrix, the parent's anchor and its matrix
+    // relative to it), the next one on top.
+    type Entry = (usize, Mat4, Option<(usize, Mat4)>);
+    let mut stack: Vec<Entry> = roots.iter().rev().map(|&n| (n, IDENTITY, None)).collect();
+    while let Some((n, parent, within)) = stack.pop() {
         let Some(node) = root.nodes.get(n) else {
             return Err(cx.err(format!("node {n} does not exist")));
         };
@@ -76,18 +130,56 @@ pub(super) fn visit(root: &json::Root, cx: &mut Cx) -> Result<Vec<Placed>, Strin
                 "{at}: reached twice by the scene's hierarchy (a cycle, or a node with two parents): glTF nodes form trees"
             )));
         }
-        let world = mul(
-            &parent,
-            &local(node).map_err(|e| cx.err(format!("{at}: {e}")))?,
-        );
+        let own = local(node).map_err(|e| cx.err(format!("{at}: {e}")))?;
+        let world = mul(&parent, &own);
         let det = det3(&world);
         if node.skin.is_some() {
             cx.warn(format!(
                 "{at}: skin ignored: the mesh is drawn as stored (its bind pose), not deformed by its joints"
             ));
         }
-        let carries = node.mesh.is_some() || node.camera.is_some() || light_of(node).is_some();
-        if carries && !(det != 0.0 && det.is_finite()) {
+        let mut within = within.map(|(a, m)| (a, mul(&m, &own)));
+        if animated.contains(&n) {
+            let refused = if node.matrix.is_some() {
+                Some("it is given by a matrix, which glTF forbids on an animated node".to_string())
+            } else if let Some((a, _)) = within {
+                Some(format!(
+                    "{} above it is animated too: only the outermost animated node's \
+                     animation is read, this one stays at its rest pose within it",
+                    named("node", a, root.nodes.get(a).and_then(|o| o.name.as_deref()))
+                ))
+            } else if super::animation::similarity(&parent).is_none() {
+                Some(
+                    "its parent's world matrix shears or scales unevenly, which an \
+                     instance (translation, rotation, per-axis scale) cannot carry as \
+                     it turns"
+                        .to_string(),
+                )
+            } else {
+                None
+            };
+            match refused {
+                Some(why) => cx.warn(format!(
+                    "{at}: its animation ({animation}) is not read: {why}; it is drawn still, at its rest pose"
+                )),
+                None => {
+                    anchors.push(Anchor {
+                        node: n,
+                        parent,
+                        world,
+                    });
+                    within = Some((n, IDENTITY));
+                }
+            }
+        }
+        let (anchor, draw) = match within {
+            Some((a, m)) => (Some(a), m),
+            None => (None, world),
+        };
+        let draw_det = det3(&draw);
+        let singular = |d: f64| !(d != 0.0 && d.is_finite());
+        let camera_or_light = node.camera.is_some() || light_of(node).is_some();
+        if (node.mesh.is_some() && singular(draw_det)) || (camera_or_light && singular(det)) {
             cx.warn(format!(
                 "{at}: its world matrix cannot be inverted (a zero scale, or one past the range of f64): its mesh, camera or light is skipped"
             ));
@@ -96,12 +188,18 @@ pub(super) fn visit(root: &json::Root, cx: &mut Cx) -> Result<Vec<Placed>, Strin
             node: n,
             world,
             det,
+            anchor,
+            draw,
+            draw_det,
         });
         for c in node.children.iter().flatten().rev() {
-            stack.push((c.value(), world));
+            stack.push((c.value(), world, within));
         }
     }
-    Ok(out)
+    Ok(Visit {
+        placed: out,
+        anchors,
+    })
 }
 
 /// The node's own matrix: its `matrix`, else translation × rotation × scale.

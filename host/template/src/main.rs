@@ -4,11 +4,16 @@
 //! folder), and the firmware prints the picture's size, its checksum, the
 //! instructions the render took and the stack it needed.
 //!
+//! A scene with an animation (`[[keyframes]]`) also has a few of its frames
+//! written, `frame-NNN.ppm`, each with its checksum and counts ([`animation`]).
+//!
 //! On a real board the tiles go to a display instead of the file: see
 //! [`show`]. Everything else stays as it is.
 #![no_std]
 #![no_main]
 
+#[cfg(tessera_animation)]
+mod animation;
 mod clock;
 mod ppm;
 mod stack;
@@ -19,17 +24,18 @@ mod scene {
     include!(concat!(env!("OUT_DIR"), "/scene.rs"));
 }
 
+use core::ffi::CStr;
 use core::fmt;
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
-use tessera_core::{Tile, TileCoord};
+use tessera_core::{Renderer, SceneView, Tile, TileCoord};
 
 /// The tile size: the scene file's `tile` (8, 16 or 32).
 const N: usize = scene::TILE;
 
 /// The picture's file on the host.
-const PICTURE: &core::ffi::CStr = c"tessera.ppm";
+const PICTURE: &CStr = c"tessera.ppm";
 
 #[entry]
 fn main() -> ! {
@@ -66,28 +72,8 @@ fn run() -> Result<(), Error> {
         N
     );
 
-    let mut out = ppm::Ppm::create(PICTURE, width, height)?;
-    let mut checksum = Fnv1a64::new();
-    let mut ticks = 0;
-    let (across, down) = renderer.tile_grid(N);
-    for ty in 0..down {
-        for tx in 0..across {
-            let start = clock::ticks();
-            // SceneLoops: only the tile loops this scene needs are linked.
-            renderer.render_tile_in::<scene::SceneLoops, N, _, _>(
-                &view,
-                TileCoord::new(tx, ty),
-                tile,
-                &mut (),
-            )?;
-            ticks += clock::ticks() - start;
-            show(tile, &mut out, &mut checksum)?;
-        }
-    }
-    drop(out);
-
+    let (checksum, instructions) = render_picture(&view, &renderer, tile, Picture::Still)?;
     let pixels = u64::from(width) * u64::from(height);
-    let instructions = ticks * clock::INSTRUCTIONS_PER_TICK;
     let (peak, available) = (stack::peak(), stack::available());
     if peak >= available {
         return Err(Error::StackOverflow);
@@ -96,7 +82,7 @@ fn run() -> Result<(), Error> {
     hprintln!("size={}x{}", width, height);
     hprintln!(
         "checksum={:016x} (FNV-1a 64 of the RGB bytes, tile after tile)",
-        checksum.0
+        checksum
     );
     hprintln!(
         "instructions={} ({} a pixel)",
@@ -106,7 +92,64 @@ fn run() -> Result<(), Error> {
     hprintln!("stack={} bytes (peak, of {} free)", peak, available);
     #[cfg(feature = "instances")]
     move_an_instance(&view)?;
+    #[cfg(tessera_animation)]
+    animation::play(&view, &renderer, tile)?;
     Ok(())
+}
+
+/// A picture file the firmware writes on the host.
+#[derive(Clone, Copy, Debug)]
+enum Picture {
+    /// The scene's picture, [`PICTURE`].
+    Still,
+    /// Frame `n` of its animation, `frame-NNN.ppm` (at least three digits).
+    #[cfg_attr(not(tessera_animation), allow(dead_code))]
+    Frame(u32),
+}
+
+impl fmt::Display for Picture {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Still => f.write_str(PICTURE.to_str().unwrap_or("the picture")),
+            Self::Frame(n) => write!(f, "frame-{n:03}.ppm"),
+        }
+    }
+}
+
+/// Renders the frame of `renderer` through `view`, tile after tile into `tile`,
+/// each tile written to the file `picture` ([`show`]). Returns the picture's
+/// checksum and the instructions the render took.
+fn render_picture(
+    view: &SceneView<'_>,
+    renderer: &Renderer,
+    tile: &mut Tile<N>,
+    picture: Picture,
+) -> Result<(u64, u64), Error> {
+    let vp = renderer.viewport();
+    // The name, NUL-terminated, as semihosting takes it.
+    let mut name = Name::default();
+    fmt::write(&mut name, format_args!("{picture}\0")).map_err(|_| Error::Name(picture))?;
+    let name = CStr::from_bytes_with_nul(name.bytes()).map_err(|_| Error::Name(picture))?;
+    let io = |e| Error::Io(e, picture);
+    let mut out = ppm::Ppm::create(name, vp.width, vp.height).map_err(io)?;
+    let mut checksum = Fnv1a64::new();
+    let mut ticks = 0;
+    let (across, down) = renderer.tile_grid(N);
+    for ty in 0..down {
+        for tx in 0..across {
+            let start = clock::ticks();
+            // SceneLoops: only the tile loops this scene needs are linked.
+            renderer.render_tile_in::<scene::SceneLoops, N, _, _>(
+                view,
+                TileCoord::new(tx, ty),
+                tile,
+                &mut (),
+            )?;
+            ticks += clock::ticks() - start;
+            show(tile, &mut out, &mut checksum).map_err(io)?;
+        }
+    }
+    Ok((checksum.0, ticks * clock::INSTRUCTIONS_PER_TICK))
 }
 
 /// What a frame that moves one mesh instance sets up (with the feature
@@ -153,7 +196,7 @@ fn move_an_instance(view: &tessera_core::SceneView<'_>) -> Result<(), Error> {
 /// one `display.fill_contiguous(&rectangle, colours)`; a `Tile<N, Rgb565>`
 /// holds a 16-bit panel's colours already). examples/blackpill-st7789 draws on
 /// an ST7789 so, through `tessera_core::display::Drawing`.
-fn show(tile: &Tile<N>, out: &mut ppm::Ppm, checksum: &mut Fnv1a64) -> Result<(), Error> {
+fn show(tile: &Tile<N>, out: &mut ppm::Ppm, checksum: &mut Fnv1a64) -> Result<(), ppm::IoError> {
     let (x, y) = tile.origin();
     let mut bytes = [0u8; 3 * N];
     for (j, row) in tile.rows().enumerate() {
@@ -165,6 +208,29 @@ fn show(tile: &Tile<N>, out: &mut ppm::Ppm, checksum: &mut Fnv1a64) -> Result<()
         out.write_at(x as usize, y as usize + j, rgb)?;
     }
     Ok(())
+}
+
+/// A file name, formatted in place (at most 32 bytes).
+#[derive(Default)]
+struct Name {
+    bytes: [u8; 32],
+    len: usize,
+}
+
+impl Name {
+    fn bytes(&self) -> &[u8] {
+        self.bytes.get(..self.len).unwrap_or_default()
+    }
+}
+
+impl fmt::Write for Name {
+    fn write_str(&mut self, s: &str) -> fmt::Result {
+        let end = self.len + s.len();
+        let room = self.bytes.get_mut(self.len..end).ok_or(fmt::Error)?;
+        room.copy_from_slice(s.as_bytes());
+        self.len = end;
+        Ok(())
+    }
 }
 
 /// The FNV-1a 64-bit hash.
@@ -184,7 +250,10 @@ impl Fnv1a64 {
 
 enum Error {
     Tessera(tessera_core::Error),
-    Io(ppm::IoError),
+    /// A semihosting call failed on this file.
+    Io(ppm::IoError, Picture),
+    /// This file's name did not fit its buffer.
+    Name(Picture),
     Taken,
     StackOverflow,
 }
@@ -195,17 +264,12 @@ impl From<tessera_core::Error> for Error {
     }
 }
 
-impl From<ppm::IoError> for Error {
-    fn from(e: ppm::IoError) -> Self {
-        Self::Io(e)
-    }
-}
-
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Tessera(e) => write!(f, "tessera: {e}"),
-            Self::Io(e) => write!(f, "{e} on {}", PICTURE.to_str().unwrap_or("the picture")),
+            Self::Io(e, picture) => write!(f, "{e} on {picture}"),
+            Self::Name(picture) => write!(f, "the file name {picture} is too long"),
             Self::Taken => f.write_str("the peripherals or the tile buffer were taken already"),
             Self::StackOverflow => f.write_str("the stack reached the statics"),
         }

@@ -400,6 +400,7 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     m.cores(&mut d);
     m.both_cores(&mut d);
     m.frames(&mut d);
+    m.animation(&mut d);
     m.regenerate(&mut d);
     let path = firmware::repo_root().join("docs").join("chip-cost.md");
     std::fs::write(&path, d).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
@@ -432,7 +433,7 @@ fn dual_core() -> Result<Vec<dualcore::SceneCounts>, String> {
 /// The scene files of the table of scenes from files, as the qemu example's
 /// `TESSERA_SCENE` names them, and what each shows; its default scene last, so
 /// that the ELF left in the example's folder is the one a user builds there.
-const SCENE_FILES: [(&str, &str); 8] = [
+const SCENE_FILES: [(&str, &str); 9] = [
     (
         "../../scenes/teapot.toml",
         "the built-in teapot's scene file: a mesh of about 1,000 triangles with its normals, no texture",
@@ -463,10 +464,17 @@ const SCENE_FILES: [(&str, &str); 8] = [
         "two meshes with 8-bit sRGB images, nearest and mirrored, tinted",
     ),
     (
+        ANIMATED,
+        "an animation: a teapot turning and a ball bouncing, instances of two meshes moved by keyframes (the Pico 2 example's scene, 240x240)",
+    ),
+    (
         qemu_example::DEFAULT,
         "the example's default: the showcase's primitives and an OBJ icosahedron",
     ),
 ];
+
+/// The animated scene the Pico 2 example plays, at its panel's size.
+const ANIMATED: &str = "../../scenes/examples/animated-pico2.toml";
 
 /// The scene files that compare instances with meshes baked in world space.
 const TEAPOT_ONCE: &str = "../../tests/data/instances/teapot-once.toml";
@@ -1225,6 +1233,108 @@ impl Measured {
             );
         }
         self.sparse_frames(w, m33, budget);
+    }
+
+    /// The animated scene's frames on the Cortex-M4F (the qemu example's
+    /// frames of `scenes/examples/animated.toml`), each frame's set-up beside
+    /// its render, and the estimated frame rate of the Pico 2 example, which
+    /// plays that scene on both cores at 240x240.
+    fn animation(&self, w: &mut String) {
+        let Some(anim) = self.files.iter().find(|r| r.scene == ANIMATED) else {
+            return;
+        };
+        let Self {
+            runs,
+            exact,
+            est,
+            cores,
+            dual,
+            ..
+        } = self;
+        let _ = writeln!(w, "\n## An animation's frames\n");
+        // The teapot's cycles per instruction (the Cortex-M4 model), its
+        // Cortex-M33 to Cortex-M4F instructions and its dual-core speed-up: the
+        // built-in scene nearest the animation (the same mesh, a checkered floor).
+        let teapot = Run {
+            sampler: Centre,
+            tile: TILE,
+            ..Run::of(Builtin::Teapot, SIZE, SIZE)
+        };
+        let m33 = cores.iter().find(|c| c.core.title == "Cortex-M33");
+        let (Some(j), Some(i), Some(m33)) = (
+            runs.iter().position(|x| *x == teapot),
+            core_runs().iter().position(|x| *x == teapot),
+            m33,
+        ) else {
+            let _ = writeln!(w, "(the teapot or the Cortex-M33 was not measured)");
+            return;
+        };
+        let m4f_px = exact.out.runs[j].instructions_per_pixel();
+        let cpi = est[j] as f64 / exact.out.runs[j].pixels_count.max(1) as f64 / m4f_px.max(1.0);
+        let m33_ratio = m33.out.runs[i].instructions_per_pixel() / m4f_px.max(1.0);
+        let two = dual
+            .iter()
+            .find(|c| c.scene.name() == Builtin::Teapot.name())
+            .map_or(1.0, dualcore::SceneCounts::speedup);
+        let pixels = u64::from(anim.picture.width()) * u64::from(anim.picture.height());
+        let _ = writeln!(
+            w,
+            "`{}` ({}x{}, {} pixels): a teapot turning and a ball bouncing, each an \
+             instance of a mesh, moved by keyframes; the scene the Pico 2 example plays. \
+             The qemu example renders frames at 0, 1/4, 1/2 and 3/4 of the animation \
+             (each the host's frame of the same number, byte for byte: the example's \
+             test), and counts each frame's set-up apart from its render: the moving \
+             instances placed at the frame's time from the tracks in flash \
+             (`ANIMATION.place`) and the frame's view made (`with_instances`). \
+             **The Pico 2 columns are estimates, not measurements** (no board is here): \
+             the Cortex-M4F's instructions a pixel times the teapot's cycles per \
+             instruction by the Cortex-M4 model ({cpi:.3}) and its Cortex-M33 to \
+             Cortex-M4F instructions ({m33_ratio:.3}: the built-in scene nearest this \
+             one, the same mesh over a checkered floor), at 150 MHz on {} \
+             pixels, one core, and two at the teapot's speed-up on both cores of \
+             `mps2-an521` ({two:.3}); zero-wait memory, as the table above.\n",
+            ANIMATED.strip_prefix("../../").unwrap_or(ANIMATED),
+            anim.picture.width(),
+            anim.picture.height(),
+            thousands(pixels),
+            thousands(pixels)
+        );
+        let _ = writeln!(
+            w,
+            "| frame | set-up, instructions | render, instructions | instr/px | set-up / render | Pico 2: est. cycles/px | one core: fps | two cores: fps |"
+        );
+        let _ = writeln!(w, "|---|---|---|---|---|---|---|---|");
+        let mut per_px = Vec::new();
+        for line in anim.stdout.lines().filter(|l| l.starts_with("frame=")) {
+            let n = qemu_example::number(line, "frame");
+            let setup = qemu_example::number(line, "setup");
+            let render = qemu_example::number(line, "instructions");
+            let instr_px = render as f64 / pixels.max(1) as f64;
+            let cycles = instr_px * cpi * m33_ratio;
+            let one = PICO2_HZ / (cycles * pixels as f64);
+            per_px.push(cycles);
+            let _ = writeln!(
+                w,
+                "| {n} | {} | {} | {} | {:.5} % | {} | {one:.2} | {:.2} |",
+                thousands(setup),
+                thousands(render),
+                thousands_rounded(instr_px),
+                100.0 * setup as f64 / render.max(1) as f64,
+                thousands_rounded(cycles),
+                two * one
+            );
+        }
+        if !per_px.is_empty() {
+            let mean = per_px.iter().sum::<f64>() / per_px.len() as f64;
+            let _ = writeln!(
+                w,
+                "\nThe Pico 2 example's estimate, the mean of these frames: {} cycles a \
+                 pixel, {:.2} frames a second on both cores. A frame's set-up is a few \
+                 thousand instructions of a render's tens of millions.",
+                thousands_rounded(mean),
+                two * PICO2_HZ / (mean * pixels as f64)
+            );
+        }
     }
 
     /// The fps estimates again with the sparse sampler, from the Cortex-M4F runs

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use tessera_tests::firmware::{self, TempDir};
 use tessera_tests::qemu_example::{
-    DEFAULT, PICTURE, Run, build_and_run, example, field, host, number, ppm,
+    DEFAULT, PICTURE, Run, build_and_run, example, field, host, host_of, number, ppm,
 };
 use tessera_tests::readme::{figure_after, table_row, within};
 
@@ -23,16 +23,17 @@ use tessera_tests::readme::{figure_after, table_row, within};
 /// mesh, no BVH), the cylinders and disks (the core's optional kinds, built with
 /// their features), files from 3D tools (Blender's OBJ with its MTL material
 /// and PNG, Khronos glTF samples with an embedded PNG: normals, uvs, image
-/// textures in flash in RGB565, a sun), four instances of the teapot's mesh
-/// (turned, scaled, one squashed, one mirrored: built with the feature
-/// `instances`) and the default (the showcase with an OBJ mesh) last, so that the ELF left in the example's target folder is the one a
+/// textures in flash in RGB565, a sun), an animation (a teapot turning and a
+/// ball bouncing, instances of two meshes moved by keyframes: built with the
+/// features `instances` and `animation`, it also writes frames of its
+/// animation) and the default (the showcase with an OBJ mesh) last, so that the ELF left in the example's target folder is the one a
 /// user builds there.
 const SCENES: [&str; 6] = [
     "../../scenes/teapot.toml",
     "../../scenes/showcase.toml",
     "../../scenes/pillars.toml",
     "../../tests/data/tools.toml",
-    "../../scenes/examples/instances.toml",
+    "../../scenes/examples/animated.toml",
     DEFAULT,
 ];
 
@@ -67,15 +68,19 @@ fn tile_order_fnv1a64(img: &RgbImage, tile: u32) -> u64 {
     hash
 }
 
-/// Every scene file of [`SCENES`] built and run once, then checked three ways,
+/// Every scene file of [`SCENES`] built and run once, then checked four ways,
 /// each check's failures reported (one test: the builds are one chain in one
 /// target folder, and tests waiting on it would hold the test threads).
 #[test]
 fn each_scene_file_builds_runs_and_is_what_the_host_and_readme_say() {
-    let checks: [(&str, fn()); 3] = [
+    let checks: [(&str, fn()); 4] = [
         (
             "the host's picture",
             writes_the_hosts_picture_of_each_scene_file,
+        ),
+        (
+            "the host's frames of the animation",
+            plays_the_hosts_frames_of_each_animation,
         ),
         (
             "scenes in flash, tile in RAM",
@@ -144,6 +149,78 @@ fn writes_the_hosts_picture_of_each_scene_file() {
     assert!(
         bad.is_empty(),
         "the firmware's pictures differ from the host's (images in target/test-images): {bad:#?}"
+    );
+}
+
+/// The frames an animated scene's firmware writes are the host's frames of the
+/// same number (`tessera render --frame N`: the scene file's instances placed
+/// by the host's reading of its keyframes), byte for byte, with the printed
+/// checksums: the frames at 0, 1/4, 1/2 and 3/4 of the animation's frames
+/// (as many as the host counts at the scene's `fps`), no two alike. A scene
+/// without an animation writes no frame.
+fn plays_the_hosts_frames_of_each_animation() {
+    let dir = example();
+    let mut bad = Vec::new();
+    let mut animated = 0;
+    for run in runs() {
+        let desc = tessera_host::file::load(&dir.join(run.scene)).unwrap();
+        if desc.keyframes.is_empty() {
+            assert!(
+                run.frames.is_empty(),
+                "{}: frames of no animation",
+                run.scene
+            );
+            continue;
+        }
+        animated += 1;
+        let count = desc.frames().unwrap();
+        let out = &run.stdout;
+        assert_eq!(number(out, "frames"), u64::from(count), "{out}");
+        let written = count.min(4);
+        let want: Vec<u32> = (0..written).map(|k| k * count / written).collect();
+        let have: Vec<u32> = run.frames.iter().map(|f| f.0).collect();
+        assert_eq!(have, want, "{}: the frames written", run.scene);
+        for pair in run.frames.windows(2) {
+            assert!(
+                pair[0].1 != pair[1].1,
+                "{}: frames {} and {} are alike: nothing moved",
+                run.scene,
+                pair[0].0,
+                pair[1].0
+            );
+        }
+        for (n, chip) in &run.frames {
+            let line = out
+                .lines()
+                .find(|l| l.starts_with(&format!("frame={n} ")))
+                .unwrap_or_else(|| panic!("{}: no line of frame {n} in {out}", run.scene));
+            assert_eq!(
+                field(line, "checksum"),
+                format!("{:016x}", tile_order_fnv1a64(chip, desc.render.tile as u32)),
+                "{}: frame {n}'s printed checksum is not its picture's",
+                run.scene
+            );
+            assert!(number(line, "instructions") > 0 && number(line, "setup") > 0);
+            let want = host_of(&desc.at_frame(*n).unwrap());
+            println!("{}: {line}", run.scene);
+            if chip.as_raw() != want.as_raw() {
+                let name = run.scene.rsplit('/').next().unwrap_or("scene");
+                let images = tessera_tests::output_dir();
+                let _ = chip.save(images.join(format!("qemu-m4f-{name}-frame{n}-chip.png")));
+                let _ = want.save(images.join(format!("qemu-m4f-{name}-frame{n}-host.png")));
+                let differ = want
+                    .pixels()
+                    .zip(chip.pixels())
+                    .filter(|(a, b)| a != b)
+                    .count();
+                bad.push(format!("{} frame {n}: {differ} pixels differ", run.scene));
+            }
+        }
+    }
+    assert!(animated > 0, "no scene of {SCENES:?} is animated");
+    assert!(
+        bad.is_empty(),
+        "the firmware's frames differ from the host's (images in target/test-images): {bad:#?}"
     );
 }
 
