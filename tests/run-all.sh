@@ -98,11 +98,13 @@ own_workspaces() {
   # once, for both.
 
   # The Raspberry Pi Pico 2 example (an RP2350, both cores, and a Waveshare
-  # Pico-LCD-1.3 fed by DMA): its own workspace, for the Cortex-M33; the test
-  # `examples::pico2::...` in `cargo test-all` links it and checks the sizes its README states.
+  # Pico-LCD-1.3 fed by DMA): its own workspace, for the Cortex-M33, linted and
+  # built in the qemu example's target folder (its test `examples::pico2::...`
+  # in `cargo test-all` links it there and checks the sizes its README states):
+  # the scene baker the three examples' build scripts use is compiled once.
   say "Pico 2 example (examples/pico2-st7789): format and clippy"
   run cargo fmt --manifest-path examples/pico2-st7789/Cargo.toml -- --check
-  run cargo clippy --release --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
+  run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
 
   # The firmware to copy (a scene file on qemu's Cortex-M4F): its own workspace; the
   # tests `examples::qemu::...` in `cargo test-all` build it in its folder, as a user
@@ -195,28 +197,59 @@ rm -f "$own_log" "$own_failed"
 # of their time in qemu, one core at a time).
 packages_and_msrv() {
   # The two crates users depend on, as the crate registry would take them: each
-  # packaged from its own files and built from the package alone (the host against
-  # the packaged core), then the upload skipped. --allow-dirty: the steps before
-  # may have refreshed a lock file.
+  # packaged from its own files (the host against the packaged core) and its
+  # manifest checked as an upload would be, then the upload skipped.
+  # --allow-dirty: the steps before may have refreshed a lock file. The packages
+  # are not built here (--no-verify) but checked below, from their files alone,
+  # with the minimum supported Rust.
   say "packages: cargo publish --dry-run (tessera-core, tessera-host)"
   # Cargo unpacks the packaged crates into its registry folder (one folder per
   # local overlay, named by a hash) and reuses a folder of the same name and
-  # version: an earlier run's tessera-core 0.1.0 would be verified against instead
-  # of this one's. Neither crate comes from the crate registry, so those folders
-  # are only ever this check's.
+  # version: an earlier run's tessera-core 0.1.0 would be read instead of this
+  # one's. Neither crate comes from the crate registry, so those folders are only
+  # ever this check's.
   rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/tessera-core-* \
     "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/tessera-host-*
-  # Without debug info (CARGO_PROFILE_DEV_DEBUG): the check is that the packages
-  # build, and the build writes and links less.
-  run env CARGO_PROFILE_DEV_DEBUG=0 cargo publish --dry-run --allow-dirty -p tessera-core -p tessera-host --target-dir target/package-check
+  run cargo publish --dry-run --no-verify --allow-dirty -p tessera-core -p tessera-host --target-dir target/package-check
 
-  # rust-version is what the dependencies need (flip-rs 1.88, criterion 1.86): the
-  # two published crates, every target (their tests and benchmark), type-check with
-  # that toolchain, and cargo refuses a dependency whose own rust-version is newer.
-  # (The test crate is the repository's own, never built by a user.)
-  say "minimum supported Rust: cargo +$msrv check (Cargo.toml's rust-version)"
+  # rust-version is what the dependencies need (flip-rs 1.88, criterion 1.86).
+  # First the two packages as a user gets them, unpacked into a workspace of
+  # their own (the host's dependency on the core patched to the unpacked core,
+  # the repository's lock file): every target they hold (the library, the
+  # command, their unit tests) type-checks with that toolchain from the
+  # packaged files alone (a file the package lacks fails here), and cargo
+  # refuses a dependency whose own rust-version is newer. Then the crates'
+  # other targets in the repository (integration tests, the benchmark), in the
+  # same target folder, which has the dependencies checked already. (The test
+  # crate is the repository's own, never built by a user.)
+  say "the packages from their files alone, and every target, with the minimum supported Rust: cargo +$msrv check (Cargo.toml's rust-version)"
+  run check_packages
   run cargo "+$msrv" check -p tessera-core -p tessera-host --all-targets --target-dir target/msrv
+}
 
+# Packages both crates (`cargo package`: the files `cargo publish` sends, into
+# target/package-check/package), unpacks them into a workspace of their own and
+# type-checks every target of both with the minimum supported Rust.
+check_packages() {
+  local dir=target/package-check/unpacked crates=target/package-check/package
+  rm -f "$crates"/tessera-*.crate
+  cargo package --no-verify --allow-dirty -p tessera-core -p tessera-host --target-dir target/package-check || return 1
+  rm -rf "$dir" && mkdir -p "$dir" || return 1
+  local core host
+  core=$(cd "$crates" && ls tessera-core-*.crate) || return 1
+  host=$(cd "$crates" && ls tessera-host-*.crate) || return 1
+  tar -xzf "$crates/$core" -C "$dir" && tar -xzf "$crates/$host" -C "$dir" || return 1
+  core=${core%.crate} host=${host%.crate}
+  # The repository's profiles (its manifest's last tables), so that the check
+  # of the repository's other targets after this one finds the dependencies
+  # checked in the same profile and checks only the two crates again.
+  {
+    printf '[workspace]\nmembers = ["%s", "%s"]\nresolver = "2"\n\n[patch.crates-io]\ntessera-core = { path = "%s" }\n\n' \
+      "$core" "$host" "$core"
+    sed -n '/^\[profile/,$p' Cargo.toml
+  } >"$dir/Cargo.toml"
+  cp Cargo.lock "$dir/Cargo.lock"
+  cargo "+$msrv" check --workspace --all-targets --manifest-path "$dir/Cargo.toml" --target-dir target/msrv
 }
 
 say "tests"

@@ -30,10 +30,14 @@ fn example() -> PathBuf {
 #[test]
 fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
     let dir = example();
+    // Built in the qemu example's target folder, as the board example is: the
+    // scene baker all three build scripts use (tessera-host, a
+    // build-dependency of each, the same versions in each lock file) is compiled
+    // once for the three (`tests/run-all.sh` lints it there too).
     let elf = firmware::CORTEX_M33
         .build_elf(
             &dir.join("Cargo.toml"),
-            &dir.join("target"),
+            &tessera_tests::qemu_example::example().join("target"),
             &[],
             "pico2-st7789",
             "the Pico 2 example",
