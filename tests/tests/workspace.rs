@@ -40,8 +40,8 @@ fn report_programs_build_no_test_harness() {
 }
 
 /// What the crate registry and the online documentation read from the two
-/// published manifests (`cargo publish --dry-run` in tests/run-all.sh packages and
-/// builds both): a licence with both texts in each package, identical to the
+/// published manifests (tests/run-all.sh packages both with `cargo publish
+/// --dry-run` and type-checks each from its packaged files): a licence with both texts in each package, identical to the
 /// repository's; a README, description, keywords and categories within the
 /// registry's limits; the documentation address and its build of every feature
 /// (and the Cortex-M4F for the core); no placeholder repository address; the path
