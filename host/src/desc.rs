@@ -1612,11 +1612,16 @@ impl SceneDesc {
                 crate::mesh::euler_quaternion(r)
             }
             (None, Some(q)) => match crate::mesh::unit_quaternion(q) {
-                // Numbers of `f32` already (an animation's frame: what the
-                // tracks give a firmware) go to the core as they are, which
-                // normalises them in `f32` as a firmware's `Instances::set`
-                // does: the same placement to the bit.
-                Some(_) if q.iter().all(|&x| f64::from(x as f32) == x) => q,
+                // A unit quaternion of `f32` numbers already (an animation's
+                // frame: what the tracks give a firmware) goes to the core as
+                // it is, which normalises it in `f32` as a firmware's
+                // `Instances::set` does: the same placement to the bit.
+                Some(_)
+                    if q.iter().all(|&x| f64::from(x as f32) == x)
+                        && (q.iter().map(|x| x * x).sum::<f64>() - 1.0).abs() < 1e-5 =>
+                {
+                    q
+                }
                 Some(unit) => unit,
                 None => {
                     let field = Field::InstanceRotation;
@@ -2568,6 +2573,27 @@ name = "teapot"
                 (f64::from(*g) - w).abs() <= tolerance,
                 "{what}: {got:?}, want {want:?}"
             );
+        }
+    }
+
+    /// A quaternion of `f32` numbers far from unit length (here 2^100, exact
+    /// in `f32`, whose squares `f32` cannot hold) is normalised in `f64`
+    /// before the core sees it, as a file's quaternions are; only a unit one
+    /// (an animation's frame) goes to the core as it is.
+    #[test]
+    fn a_huge_quaternion_of_f32_numbers_is_normalised_first() {
+        let dir = Scratch::new("huge-quaternion");
+        let big = 2f64.powi(100);
+        let text = format!(
+            "{INSTANCE_HEAD}[[mesh]]\n{}\nname = \"pair\"\n\
+             [[instance]]\nmesh = \"pair\"\nquaternion = [0, 0, {big:e}, {big:e}]\n",
+            two_part_obj(&dir.0)
+        );
+        let d = crate::file::parse(&text, "inst.toml").unwrap();
+        let s = d.to_core().unwrap();
+        let h = 0.5f64.sqrt();
+        for i in s.instances() {
+            assert_close(&i.placement.rotation, &[0.0, 0.0, h, h], 1e-7, "rotation");
         }
     }
 
