@@ -1253,7 +1253,8 @@ pub enum CoreFeatures<'a> {
     /// variables; a missing one is asked for with `--features`.
     Forwarded,
     /// Fixed in the firmware's manifest (`tessera-core = { features = [...]
-    /// }`), these (with those they imply).
+    /// }`): these, each feature the manifest turns on listed, those it
+    /// implies included.
     Fixed(&'a [&'a str]),
 }
 
@@ -1294,14 +1295,7 @@ pub fn build_script_for(
             ))
             .is_some()
         }),
-        // What each feature implies (the core's manifest).
-        CoreFeatures::Fixed(on) => missing_features(&desc, &source, |f: &str| {
-            on.iter().any(|&g| {
-                g == f
-                    || (g == "animation" && matches!(f, "instances" | "bvh"))
-                    || (g == "instances" && f == "bvh")
-            })
-        }),
+        CoreFeatures::Fixed(on) => missing_features(&desc, &source, |f: &str| on.contains(&f)),
     };
     if !missing.is_empty() {
         let how = match features {

@@ -628,21 +628,24 @@ pub fn euler_quaternion(degrees: [f64; 3]) -> [f64; 4] {
         }
     };
     let [(sx, cx), (sy, cy), (sz, cz)] = degrees.map(half);
-    // qy qx, then qz (qy qx); a quaternion (x, y, z, w).
-    let mul = |a: [f64; 4], b: [f64; 4]| {
-        let [ax, ay, az, aw] = a;
-        let [bx, by, bz, bw] = b;
-        [
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-            aw * bw - ax * bx - ay * by - az * bz,
-        ]
-    };
+    // qy qx, then qz (qy qx).
     let qx = [sx, 0.0, 0.0, cx];
     let qy = [0.0, sy, 0.0, cy];
     let qz = [0.0, 0.0, sz, cz];
-    mul(qz, mul(qy, qx))
+    quaternion_product(qz, quaternion_product(qy, qx))
+}
+
+/// The product `a b` of quaternions `[x, y, z, w]`: `b`'s turn, then `a`'s.
+#[must_use]
+pub fn quaternion_product(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
+    let [ax, ay, az, aw] = a;
+    let [bx, by, bz, bw] = b;
+    [
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+        aw * bw - ax * bx - ay * by - az * bz,
+    ]
 }
 
 /// The rotation of the unit quaternion `[x, y, z, w]`.

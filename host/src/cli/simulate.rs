@@ -175,9 +175,9 @@ impl Outputs {
 
 /// The animation `--animate` plays: the scene file's description, its frames
 /// and the delay between them.
-struct Animated {
+struct Animated<'s> {
     /// The scene as the file places it (each frame is [`SceneDesc::at_frame`]).
-    desc: SceneDesc,
+    desc: &'s SceneDesc,
     /// How many frames are played, from frame 0 (at most
     /// [`limits::MAX_ORBIT_FRAMES`]).
     frames: u32,
@@ -185,10 +185,10 @@ struct Animated {
     delay_ms: u32,
 }
 
-impl Animated {
+impl<'s> Animated<'s> {
     /// The animation of `source` (a scene file with `[[keyframes]]`), played
     /// whole.
-    fn of(source: &Source) -> Result<Self, Error> {
+    fn of(source: &'s Source) -> Result<Self, Error> {
         let none = |why: &str| {
             source.error(DescError {
                 item: "--animate".into(),
@@ -199,7 +199,7 @@ impl Animated {
             })
         };
         let desc = match source {
-            Source::File(_, d) if !d.keyframes.is_empty() => (**d).clone(),
+            Source::File(_, d) if !d.keyframes.is_empty() => &**d,
             Source::File(..) => return Err(none("no [[keyframes]]")),
             Source::Builtin(_) => return Err(none("a built-in scene")),
         };
@@ -369,7 +369,7 @@ fn still_or_orbit(
 fn animation(
     args: &SimulateArgs,
     source: &Source,
-    animated: &Animated,
+    animated: &Animated<'_>,
     outputs: Outputs,
     (settings, vp, tile): (RenderSettings, Viewport, usize),
     delay_ms: u32,

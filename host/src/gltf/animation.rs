@@ -6,6 +6,7 @@
 use super::primitive::{self, Use};
 use super::scene::{self, Mat4, Visit};
 use super::{AnimatedNode, Cx, ImportedAnimation, ImportedMesh, ImportedTrack, named};
+use crate::mesh::{quaternion_product, unit_quaternion};
 use gltf::json;
 use json::validation::Checked;
 use std::borrow::Cow;
@@ -240,25 +241,7 @@ fn quaternion_of(r: &[[f64; 3]; 3]) -> [f64; 4] {
             (r[1][0] - r[0][1]) / s,
         ]
     };
-    unit4(q).unwrap_or([0.0, 0.0, 0.0, 1.0])
-}
-
-/// `q / |q|`, or `None` for a zero or non-finite quaternion.
-fn unit4(q: [f64; 4]) -> Option<[f64; 4]> {
-    let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-    (len > 0.0 && len.is_finite()).then(|| q.map(|x| x / len))
-}
-
-/// The product `a b` of quaternions `x, y, z, w` (`b`'s turn, then `a`'s).
-pub(super) fn qmul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
-    let [ax, ay, az, aw] = a;
-    let [bx, by, bz, bw] = b;
-    [
-        aw * bx + ax * bw + ay * bz - az * by,
-        aw * by - ax * bz + ay * bw + az * bx,
-        aw * bz + ax * by - ay * bx + az * bw,
-        aw * bw - ax * bx - ay * by - az * bz,
-    ]
+    unit_quaternion(q).unwrap_or([0.0, 0.0, 0.0, 1.0])
 }
 
 /// How a parent's similarity moves an anchor's channels into world space.
@@ -277,7 +260,7 @@ impl Compose {
                 let [x, y, z] = scene::point(&self.parent, [v[0], v[1], v[2]]);
                 [x, y, z, 0.0]
             }
-            Channel::Rotation => qmul(self.rotation, v),
+            Channel::Rotation => quaternion_product(self.rotation, v),
             Channel::Scale => [v[0] * self.scale, v[1] * self.scale, v[2] * self.scale, 0.0],
         }
     }
@@ -415,7 +398,7 @@ fn rest(node: &json::Node, compose: &Compose) -> ([f64; 3], [f64; 4], [f64; 3]) 
         .rotation
         .map_or([0.0, 0.0, 0.0, 1.0], |q| q.0)
         .map(f64::from);
-    let q = unit4(q).unwrap_or([0.0, 0.0, 0.0, 1.0]);
+    let q = unit_quaternion(q).unwrap_or([0.0, 0.0, 0.0, 1.0]);
     let s = node.scale.unwrap_or([1.0; 3]).map(f64::from);
     let [tx, ty, tz, _] = compose.apply(Channel::Translation, [t[0], t[1], t[2], 0.0]);
     let r = compose.apply(Channel::Rotation, q);
@@ -554,7 +537,7 @@ fn channel(
             return Err(cx.err(format!("{at}: output: value {k} is not finite")));
         }
         let v = match path {
-            Channel::Rotation => unit4(v).ok_or_else(|| {
+            Channel::Rotation => unit_quaternion(v).ok_or_else(|| {
                 cx.err(format!(
                     "{at}: output: value {k} is a quaternion of length 0 (no rotation)"
                 ))
