@@ -20,9 +20,22 @@
 //!   part (see [`shadow_meets`]): much tighter for a floor than a capsule. A plane
 //!   blocks only if the light and some other visible point lie on opposite sides.
 //!
-//! A scene whose triangles are searched through a BVH (`SceneView::with_bvh`)
-//! builds no lists: its rays all search the whole scene, the triangles through the
-//! BVH (module `bvh`).
+//! The meshes and their instances ("tops", see [`LISTS`]) have a list of their
+//! own, camera and shadow, each top culled as a box: a mesh drawn where it lies
+//! by its faces' exact bounds (its BVH's root, which its search tests first), an
+//! instance by its hull's grown box (module `instance`: the mesh's root box
+//! carried into the world and grown by a clearance that covers the rounding of
+//! carrying rays and points, its translation's included). A tile's rays search
+//! the listed tops' BVHs. The shadow rays of a smooth mesh's hit leave from the
+//! hit lifted towards the curved surface its normals describe (`Mesh::lift`),
+//! which may lie outside the faces' box: the visible points of a top are its box
+//! clipped to the frustum and grown by how far its lift may reach
+//! (`Mesh::lift_bound`, times an instance's largest scale). A view of more than
+//! [`MAX_TOPS`] tops builds no lists.
+//!
+//! A scene whose triangles or spheres are searched through a BVH
+//! (`SceneView::with_bvh`, `with_sphere_bvh`) builds no lists: its rays all search
+//! the whole scene, those lists through their BVH (module `bvh`).
 //!
 //! Reflected and refracted rays can go anywhere: they test every primitive, except
 //! the triangles when they miss the triangles' [`Hull`] (a box around them all). (A
@@ -61,7 +74,9 @@
 //! [`lend`]): per kind a `u16` index list (camera) and a `u32` list (shadow: index
 //! and a 16-bit mask of the lights it may block), 6 bytes for each primitive of
 //! capacity, plus two lengths and two views (the camera's and the shadows') per
-//! kind, which [`TileLists`] holds: 24 bytes a kind on a 32-bit core.
+//! kind, which [`TileLists`] holds: 24 bytes a kind on a 32-bit core. A view with
+//! meshes is lent lists of tops the same way: 6 bytes a top for [`FEW_TOPS`] or
+//! [`MAX_TOPS`] of them (96 or 384 bytes), none without a mesh.
 
 use crate::camera::CameraBasis;
 use crate::geometry::{Extent, Kinded, Plane};
@@ -77,17 +92,42 @@ use heapless::vec::VecView;
 /// refracted rays, which may go anywhere, always search every primitive.
 #[derive(Clone, Copy, Default)]
 pub(crate) struct Picks<'l> {
-    pub(crate) camera: Option<[&'l [u16]; KINDS]>,
+    pub(crate) camera: Option<[&'l [u16]; LISTS]>,
     pub(crate) shadow: Option<ShadowLists<'l>>,
 }
 
-/// A tile's shadow lists: per kind, entries `index | mask << 16` (see
-/// `cull::PLANE_RECEIVERS` and `cull::SOLID_RECEIVERS` for the mask's bits), and the
-/// union of their masks.
+/// A tile's shadow lists: per list (see [`LISTS`]), entries `index | mask << 16`
+/// (see `cull::PLANE_RECEIVERS` and `cull::SOLID_RECEIVERS` for the mask's
+/// bits), and the union of their masks.
 #[derive(Clone, Copy)]
 pub(crate) struct ShadowLists<'l> {
-    pub(crate) lists: [&'l [u32]; KINDS],
+    pub(crate) lists: [&'l [u32]; LISTS],
     pub(crate) lights: u32,
+}
+
+/// A tile's lists: one per kind, in search order, then one of the meshes and
+/// their instances at index `KINDS` (the index of `Kind::Mesh`, feature
+/// `bvh`), their "tops": mesh `m` drawn where it lies is `m`, instance `i` is
+/// `MAX_MESHES + i` (the index a hit names them by).
+pub(crate) const LISTS: usize = KINDS + 1;
+
+/// The most meshes and instances a tile lists: a view with more builds no
+/// lists (every ray searches every primitive).
+pub(crate) const MAX_TOPS: usize = 64;
+
+/// The tops' storage lent to a view with at most this many (`MAX_TOPS` beyond).
+#[cfg_attr(not(feature = "bvh"), allow(dead_code))]
+const FEW_TOPS: usize = 16;
+
+/// What the tile lists need of a mesh drawn where it lies or of an instance:
+/// the box of its faces in the world (an instance's grown as its hull is), and
+/// how far from its faces a shadow ray may leave (a smooth mesh's `lift`, at
+/// most the largest face's diameter; 0 for a flat mesh).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TopBox {
+    pub(crate) min: Vec3,
+    pub(crate) max: Vec3,
+    pub(crate) lift: f32,
 }
 
 /// Lights beyond this index are not in the tile shadow lists' masks (16 bits: 8
@@ -100,6 +140,13 @@ pub(crate) const MASKED_LIGHTS: usize = 8;
 pub(crate) trait Source {
     fn primitives(&self) -> Primitives<'_>;
     fn lights(&self) -> &[Light];
+
+    /// Calls `f(top, box)` for each mesh drawn where it lies and each instance
+    /// (see [`LISTS`]) that has faces, in search order; `None` for one whose box
+    /// is unknown (a tile then builds no lists).
+    fn each_top(&self, f: impl FnMut(usize, Option<TopBox>)) {
+        let _ = f;
+    }
 }
 
 /// The first bit of a shadow list entry's light mask for hits on planes (bit
@@ -135,11 +182,20 @@ impl Hull {
     /// The hull of the primitives within `[min, max]`, or `None` for an empty or
     /// non-finite list.
     pub(crate) fn new(min: Vec3, max: Vec3) -> Option<Self> {
+        Self::reaching(min, max, 0.0)
+    }
+
+    /// [`Hull::new`] for primitives whose computed hits also carry the
+    /// rounding of numbers of magnitude up to `far` (an instance's: its
+    /// translation, which a point of its mesh far from the mesh's origin may
+    /// cancel, so that the rounding of the carried point exceeds what the
+    /// box's own magnitude bounds). `2 far` is added to the reach.
+    pub(crate) fn reaching(min: Vec3, max: Vec3, far: f32) -> Option<Self> {
         let b = Bounds::new(min, max);
         if b.is_empty() || !b.is_finite() {
             return None;
         }
-        let reach = 2.0 * b.magnitude() + mag(max - min);
+        let reach = 2.0 * b.magnitude() + mag(max - min) + 2.0 * far;
         let b = b.grown(MARGIN * reach);
         reach.is_finite().then_some(Self {
             bounds: crate::geometry::Aabb::enclosing(b.min, b.max),
@@ -171,24 +227,34 @@ impl Hull {
         let near = origin_mag <= self.reach; // false for NaN
         !near || self.bounds.spans(origin, inv, t_max)
     }
+
+    /// The grown box's corners.
+    #[cfg(feature = "instances")]
+    pub(crate) fn corners(&self) -> (Vec3, Vec3) {
+        (self.bounds.min(), self.bounds.max())
+    }
 }
 
 /// The largest list a `u16` index covers.
 const INDEXABLE: usize = 1 << 16;
 
-/// A tile's candidate lists, per kind (in search order).
+/// A tile's candidate lists, per kind (in search order), then of the tops (see
+/// [`LISTS`]).
 pub(crate) struct TileLists<'s> {
     camera: [&'s mut VecView<u16>; KINDS],
     shadow: [&'s mut VecView<u32>; KINDS],
+    tops: &'s mut VecView<u16>,
+    top_shadow: &'s mut VecView<u32>,
 }
 
 /// What renders a tile with the lists it is lent (`None`: no culling).
 pub(crate) type WithLists<'f> = dyn FnMut(Option<&mut TileLists<'_>>) + 'f;
 
 /// How a scene lends a tile the storage of its lists: [`TileStorage::lend`] for
-/// the scene's capacities, given the lengths of its lists (`None` when its
-/// tiles build no lists: rays searched through a hierarchy, or culling off).
-pub(crate) type Lender = fn(Option<[usize; KINDS]>, &mut WithLists<'_>);
+/// the scene's capacities, given the lengths of its lists and its number of
+/// tops (see [`LISTS`]; `None` when its tiles build no lists: rays searched
+/// through a hierarchy, or culling off).
+pub(crate) type Lender = fn(Option<[usize; LISTS]>, &mut WithLists<'_>);
 
 /// The storage of a tile's lists for at most as many primitives of each kind as
 /// the capacities `C`: per kind a `u16` index list (camera rays) and a `u32`
@@ -205,8 +271,9 @@ const FEW: usize = 64;
 
 impl<C: Capacities> TileStorage<C> {
     /// Lends `f` a tile's candidate lists on the stack, for a scene of capacities
-    /// `C` whose lists hold `held` primitives (`None`: lends none, and so does a
-    /// capacity beyond a `u16` index).
+    /// `C` whose lists hold `held` primitives, the last entry its tops (`None`:
+    /// lends none, and so does a capacity beyond a `u16` index or more than
+    /// [`MAX_TOPS`] tops).
     ///
     /// Sized by what the scene holds, not by its capacity, where the two differ
     /// widely: a scene file read into the host's capacities (thousands of
@@ -215,30 +282,51 @@ impl<C: Capacities> TileStorage<C> {
     /// cost. Such a scene, when every list holds at most [`FEW`], is lent storage
     /// for [`FEW`] of each kind. A firmware's scene, whose capacities are what it
     /// holds, is lent exactly its capacities (the branch is decided at compile
-    /// time).
-    pub(crate) fn lend(held: Option<[usize; KINDS]>, f: &mut WithLists<'_>) {
+    /// time). The tops' lists hold none (no mesh), [`FEW_TOPS`] or [`MAX_TOPS`]
+    /// entries.
+    pub(crate) fn lend(held: Option<[usize; LISTS]>, f: &mut WithLists<'_>) {
         let Some(held) = held else {
             return f(None);
         };
         let caps = C::COUNTS.kinds();
-        if caps.iter().any(|&c| c > INDEXABLE) {
+        let tops = held.get(KINDS).copied().unwrap_or(0);
+        if caps.iter().any(|&c| c > INDEXABLE) || tops > MAX_TOPS {
             return f(None);
         }
-        if caps.iter().any(|&c| c > FEW) && held.iter().all(|&n| n <= FEW) {
-            return TileStorage::<Uniform<FEW>>::lend_all(f);
+        let kinds = held.get(..KINDS).unwrap_or(&[]);
+        if caps.iter().any(|&c| c > FEW) && kinds.iter().all(|&n| n <= FEW) {
+            return TileStorage::<Uniform<FEW>>::lend_tops(tops, f);
         }
-        Self::lend_all(f);
+        Self::lend_tops(tops, f);
     }
 
-    /// Lends `f` lists of every capacity.
-    fn lend_all(f: &mut WithLists<'_>) {
+    /// Lends `f` lists of every capacity, with room for `tops` tops.
+    fn lend_tops(tops: usize, f: &mut WithLists<'_>) {
+        #[cfg(feature = "bvh")]
+        if tops > FEW_TOPS {
+            return Self::lend_all::<MAX_TOPS>(f);
+        }
+        #[cfg(feature = "bvh")]
+        if tops > 0 {
+            return Self::lend_all::<FEW_TOPS>(f);
+        }
+        let _ = tops;
+        Self::lend_all::<0>(f);
+    }
+
+    /// Lends `f` lists of every capacity, and `T` entries for the tops.
+    fn lend_all<const T: usize>(f: &mut WithLists<'_>) {
         let mut st = Self {
             camera: PerKind::EMPTY,
             shadow: PerKind::EMPTY,
         };
+        let mut tops = heapless::Vec::<u16, T>::new();
+        let mut top_shadow = heapless::Vec::<u32, T>::new();
         f(Some(&mut TileLists {
             camera: st.camera.views(),
             shadow: st.shadow.views(),
+            tops: tops.as_mut_view(),
+            top_shadow: top_shadow.as_mut_view(),
         }));
     }
 }
@@ -259,6 +347,8 @@ impl TileLists<'_> {
         for l in &mut self.shadow {
             l.clear();
         }
+        self.tops.clear();
+        self.top_shadow.clear();
         let Some(f) = Frustum::new(basis, x0, y0, x1, y1) else {
             return Picks::default();
         };
@@ -268,15 +358,38 @@ impl TileLists<'_> {
                 fill(list, G::of(&primitives), |g| !f.misses(g.extent()));
             }
         });
+        // The tops the tile sees, and where the shadow rays of their hits may
+        // leave from: their boxes clipped to the frustum, grown by the lift.
+        let mut unknown = false;
+        let mut seen_tops = Bounds::EMPTY;
+        view.each_top(|top, b| {
+            let Some(b) = b else {
+                unknown = true;
+                return;
+            };
+            if !f.misses_box(b.min, b.max) {
+                // Cannot fail: the storage holds every top (see `lend`).
+                unknown |= self.tops.push(index(top) as u16).is_err();
+                let seen = f.clip(Bounds::new(b.min, b.max));
+                seen_tops = seen_tops.union(if seen.is_empty() {
+                    seen
+                } else {
+                    seen.grown(b.lift)
+                });
+            }
+        });
+        if unknown {
+            return Picks::default();
+        }
 
         let shadow = if view.lights().is_empty() {
             None
         } else {
-            self.build_shadow(&f, view)
+            self.build_shadow(&f, view, seen_tops)
         };
-        let camera = Some(self.camera.each_ref().map(|l| &l[..]));
+        let camera = Some(lists_of(&self.camera, self.tops));
         let shadow = shadow.map(|()| {
-            let lists = self.shadow.each_ref().map(|l| &l[..]);
+            let lists = lists_of(&self.shadow, self.top_shadow);
             let lights = lists.iter().flat_map(|l| l.iter()).fold(0, |m, e| m | e);
             ShadowLists {
                 lists,
@@ -286,12 +399,13 @@ impl TileLists<'_> {
         Picks { camera, shadow }
     }
 
-    /// The shadow lists, from the camera lists; `None` when the visible points have
-    /// no finite bound.
-    fn build_shadow(&mut self, f: &Frustum, view: &impl Source) -> Option<()> {
+    /// The shadow lists, from the camera lists and the box `seen_tops` of where
+    /// the shadow rays of the visible tops' hits may leave from; `None` when the
+    /// visible points have no finite bound.
+    fn build_shadow(&mut self, f: &Frustum, view: &impl Source, seen_tops: Bounds) -> Option<()> {
         let primitives = view.primitives();
         // The visible points of everything but the planes, and of each plane.
-        let mut solids = Bounds::EMPTY;
+        let mut solids = seen_tops;
         each_kind!(|G| {
             let listed = self
                 .camera
@@ -381,6 +495,26 @@ impl TileLists<'_> {
                 });
             }
         });
+        let mut full = false;
+        view.each_top(|top, b| {
+            // Every top has a box here (`build` gave up otherwise).
+            let mask = b.map_or(u32::MAX << PLANE_RECEIVERS, |b| {
+                let e = Extent::Box {
+                    min: b.min,
+                    max: b.max,
+                };
+                match (ball_of(e), Bounds::of(e)) {
+                    (Some((c, r)), Some(b)) => blocks(c, r, b),
+                    _ => u32::MAX << PLANE_RECEIVERS,
+                }
+            });
+            if mask != 0 {
+                full |= self.top_shadow.push(index(top) | mask).is_err();
+            }
+        });
+        if full {
+            return None;
+        }
         let Some(sp) = self.shadow.get_mut(Kind::Plane as usize) else {
             return Some(());
         };
@@ -411,6 +545,11 @@ impl TileLists<'_> {
 /// `i` as a list entry (lists never exceed [`INDEXABLE`], see [`lend`]).
 fn index(i: usize) -> u32 {
     (i & 0xffff) as u32
+}
+
+/// The lists of each kind, then `tops`, as slices (see [`LISTS`]).
+fn lists_of<'l, T>(kinds: &'l [&mut VecView<T>; KINDS], tops: &'l VecView<T>) -> [&'l [T]; LISTS] {
+    core::array::from_fn(|k| kinds.get(k).map_or(&tops[..], |l| &l[..]))
 }
 
 /// Pushes the index of every primitive of `list` that `keep` accepts.
@@ -984,20 +1123,30 @@ mod tests {
     /// primitives, none when no lists are built.
     #[test]
     fn list_storage_is_lent_by_what_the_scene_holds() {
-        // The first kinds' numbers, the later kinds' 0.
+        // The first kinds' numbers, the later kinds' 0, no top.
         fn k(first: &[usize]) -> [usize; KINDS] {
             core::array::from_fn(|i| first.get(i).copied().unwrap_or(0))
         }
         fn lent<C: Capacities>(held: Option<[usize; KINDS]>) -> Option<[usize; KINDS]> {
+            lent_tops::<C>(held.map(|h| core::array::from_fn(|i| h.get(i).copied().unwrap_or(0))))
+                .map(|(kinds, tops)| {
+                    assert_eq!(tops, 0);
+                    kinds
+                })
+        }
+        // The capacities of the kinds' lists and of the tops'.
+        fn lent_tops<C: Capacities>(
+            held: Option<[usize; LISTS]>,
+        ) -> Option<([usize; KINDS], usize)> {
             let mut caps = None;
             TileStorage::<C>::lend(held, &mut |lists| {
-                caps = lists
-                    .as_ref()
-                    .map(|l| core::array::from_fn(|k| l.camera[k].capacity()));
-                let shadow = lists
-                    .as_ref()
-                    .map(|l| core::array::from_fn(|k| l.shadow[k].capacity()));
-                assert_eq!(caps, shadow);
+                caps = lists.as_ref().map(|l| {
+                    let kinds: [usize; KINDS] = core::array::from_fn(|k| l.camera[k].capacity());
+                    let shadow: [usize; KINDS] = core::array::from_fn(|k| l.shadow[k].capacity());
+                    assert_eq!(kinds, shadow);
+                    assert_eq!(l.tops.capacity(), l.top_shadow.capacity());
+                    (kinds, l.tops.capacity())
+                });
             });
             caps
         }
@@ -1043,6 +1192,23 @@ mod tests {
             )),
             None
         );
+        // The tops: none without a mesh, FEW_TOPS or MAX_TOPS entries, no lists
+        // beyond.
+        let with = |tops: usize| {
+            let mut held = [0; LISTS];
+            held[0] = 4;
+            held[KINDS] = tops;
+            lent_tops::<crate::capacities!(spheres: 4, planes: 1)>(Some(held)).map(|(_, t)| t)
+        };
+        #[cfg(feature = "bvh")]
+        {
+            assert_eq!(with(0), Some(0));
+            assert_eq!(with(1), Some(FEW_TOPS));
+            assert_eq!(with(FEW_TOPS), Some(FEW_TOPS));
+            assert_eq!(with(FEW_TOPS + 1), Some(MAX_TOPS));
+            assert_eq!(with(MAX_TOPS), Some(MAX_TOPS));
+        }
+        assert_eq!(with(MAX_TOPS + 1), None);
     }
 
     /// The RAM of a tile's lists, as the docs state it: 6 bytes a primitive of capacity
@@ -1064,6 +1230,9 @@ mod tests {
             showcase >= lengths + 6 * 11 && showcase <= lengths + 6 * 11 + 16,
             "{showcase}"
         );
-        assert_eq!(size_of::<TileLists<'_>>(), size_of::<[usize; 4 * KINDS]>());
+        assert_eq!(
+            size_of::<TileLists<'_>>(),
+            size_of::<[usize; 4 * KINDS + 4]>()
+        );
     }
 }

@@ -26,8 +26,9 @@
 //!
 //! The top level is a list, not a tree: an instance's box test is one slab
 //! test, and a scene holds few instances (a tree pays from some tens of boxes;
-//! `MAX_INSTANCES` bounds what the hit's index holds). A view with instances,
-//! like one with meshes, builds no tile lists: every ray searches the boxes.
+//! `MAX_INSTANCES` bounds what the hit's index holds). A tile's culling lists
+//! the instances and meshes its rays may reach (module `cull`), by the same
+//! boxes: its camera and shadow rays test only those.
 
 use crate::cull::Hull;
 use crate::error::{Error, Field, List, MAX_EXTENT, flush};
@@ -218,7 +219,7 @@ impl Instance {
 #[derive(Clone, Copy, Debug)]
 pub struct Placed<'a> {
     pub(crate) mesh: &'a Mesh<'a>,
-    index: u16,
+    pub(crate) index: u16,
     placement: Placement,
     affine: Affine,
     /// The box of its faces in the world, grown as the culling's hulls are.
@@ -357,6 +358,13 @@ impl Placed<'_> {
     #[inline(always)]
     fn point(&self, p: Vec3) -> Vec3 {
         self.affine.to_world.apply(p) + self.affine.t
+    }
+
+    /// The largest magnitude of its scale: no length grows more when carried
+    /// into the world (the rotation keeps lengths).
+    pub(crate) fn largest_scale(&self) -> f32 {
+        let [x, y, z] = self.placement.scale.map(crate::math::abs);
+        crate::math::max(x, crate::math::max(y, z))
     }
 
     /// Face `f` in the world: its vertices carried there.
@@ -672,7 +680,10 @@ impl<'a, const N: usize> Instances<'a, N> {
                     range: "the scene's extent for every point of the placed mesh (2^60)",
                 });
             }
-            placed.hull = Hull::new(min, max);
+            // A point of the mesh far from the mesh's origin may cancel the
+            // translation: the carried point's rounding then scales with both.
+            let far = placed.affine.t.abs().max_element();
+            placed.hull = Hull::reaching(min, max, far);
         }
         Ok(placed)
     }
@@ -991,6 +1002,82 @@ mod tests {
         let mut q = [0.0, 0.0, 0.0, s];
         q[axis] = s;
         q
+    }
+
+    /// A tile lists the instances it may see and no more: of two instances
+    /// far left and far right, the tiles of the left half list the left one
+    /// only, those of the right half the right one only, the sky's none; a
+    /// floor tile may list a shadow's caster without seeing it. Culled or not,
+    /// the same bytes.
+    #[test]
+    fn tiles_list_the_instances_they_may_see() {
+        use crate::cull::{LISTS, PLANE_RECEIVERS, TileStorage};
+        use crate::kind::KINDS;
+        let parts = sphere(8, 12);
+        let meshes = [parts.mesh()];
+        let s = scene();
+        let view = s.view().with_meshes(&meshes).unwrap();
+        let mut inst: Instances<'_, 2> = Instances::new(&view);
+        for x in [-1.6, 1.6] {
+            let at = Placement::new([0.0, 0.0, 0.0, 1.0], [0.5; 3], [x, 0.0, 0.0]);
+            inst.push(Instance::new(0, at)).unwrap();
+        }
+        let placed = view.with_instances(&inst).unwrap();
+        let held = placed.culled_lists().unwrap();
+        assert_eq!(held[KINDS], 3); // the mesh (drawn only by its instances) and two
+        let renderer = Renderer::try_new(
+            &camera_in(PLAIN),
+            Viewport::new(W, H),
+            RenderSettings::default(),
+        )
+        .unwrap();
+        let (left, right) = (MAX_MESHES as u16, MAX_MESHES as u16 + 1);
+        // Per tile of 8, row by row: its camera list of tops, and the tops
+        // that may shadow the floor it sees from the first light.
+        let mut tiles = StdVec::new();
+        for ty in 0..H / 8 {
+            for tx in 0..W / 8 {
+                let (x0, y0) = (f32::from(tx) * 8.0, f32::from(ty) * 8.0);
+                TileStorage::<Caps>::lend(Some(held), &mut |lists| {
+                    let picks = lists.unwrap().build(
+                        renderer.basis(),
+                        &placed,
+                        (x0, y0, x0 + 8.0, y0 + 8.0),
+                    );
+                    let camera: [&[u16]; LISTS] = picks.camera.unwrap();
+                    let floor = picks.shadow.map_or_else(StdVec::new, |sh| {
+                        sh.lists[KINDS]
+                            .iter()
+                            .filter(|&&e| e & 1 << PLANE_RECEIVERS != 0)
+                            .map(|&e| (e & 0xffff) as u16)
+                            .collect()
+                    });
+                    tiles.push((tx, camera[KINDS].to_vec(), floor));
+                });
+            }
+        }
+        let half = W / 16;
+        for (tx, camera, _) in &tiles {
+            assert!(!camera.contains(&0), "{tiles:?}"); // drawn by its instances only
+            let wrong = if *tx < half { right } else { left };
+            assert!(!camera.contains(&wrong), "{tiles:?}");
+        }
+        let sees = |top: u16| tiles.iter().any(|(_, c, _)| c.contains(&top));
+        assert!(sees(left) && sees(right), "{tiles:?}");
+        assert!(tiles.iter().any(|(_, c, _)| c.is_empty()), "{tiles:?}");
+        // A shadow list culls too: some tile's floor lists a caster it does not
+        // see, and some lists neither.
+        assert!(
+            tiles
+                .iter()
+                .any(|(_, c, f)| f.iter().any(|t| !c.contains(t))),
+            "{tiles:?}"
+        );
+        assert!(
+            tiles.iter().any(|(_, c, f)| !c.is_empty() && f.len() < 2),
+            "{tiles:?}"
+        );
+        assert_eq!(render(&placed), render(&placed.without_culling_hook()));
     }
 
     /// An instance placed where the mesh lies draws what the mesh draws there.

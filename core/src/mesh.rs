@@ -243,6 +243,26 @@ impl<'a> Mesh<'a> {
         }
     }
 
+    /// How far from its face [`Mesh::lift`] may move a point: each vertex's
+    /// term moves it by at most its distance to the vertex (a projection on
+    /// the unit normal), and the weights add up to 1, so by at most the
+    /// largest face's diameter, bounded here by twice its largest extent on an
+    /// axis (more than `sqrt(3)` times it, with room for rounding). 0 for a
+    /// flat mesh, which lifts nothing. Linear in the faces.
+    pub(crate) fn lift_bound(&self) -> f32 {
+        if self.normals.is_empty() {
+            return 0.0;
+        }
+        let extent = (0..self.faces.len())
+            .filter_map(|f| self.triangle(f))
+            .map(|t| {
+                let [a, b, c] = t.vertices();
+                (a.max(b).max(c) - a.min(b).min(c)).max_element()
+            })
+            .fold(0.0, crate::math::max);
+        2.0 * extent
+    }
+
     /// Checks the mesh for a scene of `materials` materials: its faces (each
     /// vertex index in range, each triangle as [`Triangle::try_new`] makes it), its
     /// normals (none, or one per vertex, each of unit length to
@@ -458,6 +478,56 @@ mod tests {
         for (p, q) in flat_px.iter().zip(&smooth_px) {
             assert_eq!(*p == [0, 0, 0], *q == [0, 0, 0]);
         }
+    }
+
+    /// A shadow ray of a smooth mesh leaves from its hit lifted towards the
+    /// curved surface the normals describe: never further from the face than
+    /// [`Mesh::lift_bound`], yet beyond the faces' own box (a coarse sphere's
+    /// faces lie inside the box of its vertices, the curved surface bulges out
+    /// of it), so the tile lists' box of visible points must grow by it.
+    #[test]
+    fn the_lift_stays_within_its_bound_and_may_leave_the_faces_box() {
+        let (v, f, n) = uv_sphere(4, 6);
+        let (nodes, order, reach) = bvh_of(&v, &f);
+        let mesh = Mesh::new(
+            &v,
+            &f,
+            &n,
+            MaterialId(0),
+            BakedBvh::new(&nodes, &order, reach),
+        );
+        mesh.check(1).unwrap();
+        let bound = mesh.lift_bound();
+        let root = nodes[0];
+        let (mut largest, mut outside) = (0.0f32, 0.0f32);
+        for face in 0..f.len() {
+            let [a, b, c] = mesh.triangle(face).unwrap().vertices();
+            for i in 0..=8u8 {
+                for j in 0..=8 - i {
+                    let (b1, b2) = (f32::from(i) / 8.0, f32::from(j) / 8.0);
+                    let bary = [1.0 - b1 - b2, b1, b2];
+                    let p = a * bary[0] + b * b1 + c * b2;
+                    for out in [1.0, -1.0] {
+                        let lift = mesh.lift(face, bary, p, out);
+                        largest = crate::math::max(largest, lift.length());
+                        let q = p + lift;
+                        let beyond = (root.min - q).max(q - root.max).max_element();
+                        outside = crate::math::max(outside, beyond);
+                    }
+                }
+            }
+        }
+        assert!(largest > 0.0 && largest <= bound, "{largest} {bound}");
+        assert!(outside > 0.01, "{outside}");
+        // A flat mesh lifts nothing.
+        let flat = Mesh::new(
+            &v,
+            &f,
+            &[],
+            MaterialId(0),
+            BakedBvh::new(&nodes, &order, reach),
+        );
+        assert_eq!(flat.lift_bound(), 0.0);
     }
 
     /// Every face of `(v, f)` as a triangle of `list`'s triangle list, material 0.

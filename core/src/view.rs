@@ -5,11 +5,12 @@
 #[cfg(feature = "bvh")]
 use crate::bvh::{BakedBvh, check_faces, list_bounds};
 use crate::color::Color;
+use crate::cull::LISTS;
 use crate::error::Error;
 #[cfg(feature = "bvh")]
 use crate::error::List;
 use crate::geometry::{Aabb, Plane, Sphere, Triangle};
-use crate::kind::{KINDS, Primitives};
+use crate::kind::Primitives;
 use crate::light::Light;
 use crate::material::{Material, MaterialId};
 #[cfg(feature = "bvh")]
@@ -52,6 +53,8 @@ impl<'a> Lists<'a> {
             sphere_bvh: None,
             #[cfg(feature = "bvh")]
             meshes: &[],
+            #[cfg(feature = "bvh")]
+            lifts: [0.0; MAX_MESHES],
             #[cfg(feature = "instances")]
             instances: &[],
             #[cfg(feature = "instances")]
@@ -105,6 +108,10 @@ pub struct SceneView<'a> {
     /// The indexed meshes ([`SceneView::with_meshes`]), searched after every list.
     #[cfg(feature = "bvh")]
     pub(crate) meshes: &'a [crate::mesh::Mesh<'a>],
+    /// How far a shadow ray may leave from each mesh's faces
+    /// ([`Mesh::lift_bound`], in the mesh's space), for the tile lists.
+    #[cfg(feature = "bvh")]
+    pub(crate) lifts: [f32; MAX_MESHES],
     /// The meshes' instances ([`SceneView::with_instances`]), searched after
     /// the meshes drawn in place.
     #[cfg(feature = "instances")]
@@ -257,12 +264,13 @@ impl<'a> SceneView<'a> {
         })
     }
 
-    /// True when something is searched through a hierarchy (triangles, spheres,
-    /// meshes): the searches go through it and the tiles build no lists.
+    /// True when a list is searched through a hierarchy (triangles, spheres):
+    /// the searches go through it and the tiles build no lists. (The meshes'
+    /// hierarchies are searched from a tile's list of meshes and instances.)
     #[inline(always)]
     pub(crate) fn through(&self) -> bool {
         #[cfg(feature = "bvh")]
-        let through = self.bvh.is_some() || self.sphere_bvh.is_some() || !self.meshes.is_empty();
+        let through = self.bvh.is_some() || self.sphere_bvh.is_some();
         #[cfg(not(feature = "bvh"))]
         let through = false;
         through
@@ -278,12 +286,21 @@ impl<'a> SceneView<'a> {
         }
     }
 
-    /// The lengths of the lists a tile culls (spheres, planes, triangles, boxes),
-    /// or `None` when its tiles build no lists: everything is searched through a
-    /// hierarchy, or culling is off.
+    /// The lengths of the lists a tile culls (spheres, planes, triangles, boxes,
+    /// then the meshes drawn where they lie and the instances: see
+    /// [`crate::cull::LISTS`]), or `None` when its tiles build no lists: a list
+    /// is searched through a hierarchy, or culling is off.
     #[inline(always)]
-    pub(crate) fn culled_lists(&self) -> Option<[usize; KINDS]> {
-        (self.culling && !self.through()).then_some(self.primitives.lens())
+    pub(crate) fn culled_lists(&self) -> Option<[usize; LISTS]> {
+        let kinds = self.primitives.lens();
+        #[cfg(feature = "bvh")]
+        let tops = self.meshes.len();
+        #[cfg(not(feature = "bvh"))]
+        let tops = 0;
+        #[cfg(feature = "instances")]
+        let tops = tops + self.instances.len();
+        let lens = core::array::from_fn(|k| kinds.get(k).copied().unwrap_or(tops));
+        (self.culling && !self.through()).then_some(lens)
     }
 
     /// The depth that rays reach in this scene when `max_depth` is asked for: at
@@ -575,10 +592,16 @@ impl<'a> SceneView<'a> {
                 capacity: MAX_MESHES,
             });
         }
-        for m in meshes {
+        let mut lifts = [0.0; MAX_MESHES];
+        for (m, lift) in meshes.iter().zip(&mut lifts) {
             m.check(self.materials.len())?;
+            *lift = m.lift_bound();
         }
-        Ok(Self { meshes, ..*self })
+        Ok(Self {
+            meshes,
+            lifts,
+            ..*self
+        })
     }
 
     /// The same view with the meshes drawn where `instances` place them: a
@@ -656,5 +679,40 @@ impl crate::cull::Source for SceneView<'_> {
     #[inline(always)]
     fn lights(&self) -> &[Light] {
         self.lights
+    }
+
+    /// The meshes drawn where they lie, each in its root box (its faces' exact
+    /// bounds); then the instances, each in its hull's grown box, its lift
+    /// scaled by its largest scale (the rotation keeps lengths).
+    #[cfg(feature = "bvh")]
+    fn each_top(&self, mut f: impl FnMut(usize, Option<crate::cull::TopBox>)) {
+        #[cfg(feature = "instances")]
+        let instanced = self.instanced;
+        #[cfg(not(feature = "instances"))]
+        let instanced = 0u16;
+        for (m, (mesh, &lift)) in self.meshes.iter().zip(&self.lifts).enumerate() {
+            if instanced >> m & 1 != 0 {
+                continue;
+            }
+            if let Some(root) = mesh.bvh().nodes.first() {
+                let (min, max) = (root.min, root.max);
+                f(m, Some(crate::cull::TopBox { min, max, lift }));
+            }
+        }
+        #[cfg(feature = "instances")]
+        for (i, p) in self.instances.iter().enumerate() {
+            if p.mesh.bvh().nodes.is_empty() {
+                continue;
+            }
+            let lift = self
+                .lifts
+                .get(usize::from(p.index))
+                .map(|&l| l * p.largest_scale());
+            let b = p.hull.zip(lift).map(|(h, lift)| {
+                let (min, max) = h.corners();
+                crate::cull::TopBox { min, max, lift }
+            });
+            f(MAX_MESHES + i, b);
+        }
     }
 }

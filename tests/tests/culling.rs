@@ -280,3 +280,169 @@ fn coincident(copies: Copies, plane_point: Vec3, normal: Vec3) {
     // The copies are seen (the background is black).
     assert!(flat.pixels().filter(|p| p.0 != [0, 0, 0]).count() > 1000);
 }
+
+/// One instance of [`instanced_scene`]: which mesh (0 smooth, 1 flat, 2 far
+/// from its own origin), its rotation in degrees, its scale per axis (a
+/// negative one mirrors) and where its mesh's origin goes.
+type Placement = (usize, [f32; 3], [f32; 3], [f32; 3]);
+
+/// A scene file of meshes and their instances over a floor: the icosahedron
+/// smooth (its large faces lift the shadow rays' origins furthest from the
+/// faces), flat, and flat baked 1,000 to the side of its origin (its
+/// instances' translations cancel its coordinates); each mesh without an
+/// instance drawn where it lies. `mirror`: the floor reflects (bounced rays).
+/// `sun`: a directional light beside the point light.
+fn instanced_scene(instances: &[Placement], mirror: bool, sun: bool) -> String {
+    let ico = tessera_tests::firmware::repo_root().join("scenes/examples/icosahedron.obj");
+    let ico = ico.display();
+    let mut t = format!(
+        r#"ambient = [0.1, 0.1, 0.1]
+background = [0.5, 0.7, 0.9]
+[render]
+sampler = "centre"
+depth = {depth}
+[camera]
+position = [0.0, 2.5, 7.0]
+look_at = [0.0, 0.5, 0.0]
+up = [0.0, 1.0, 0.0]
+fovy = 60.0
+near = 0.1
+far = 100.0
+[[material]]
+name = "floor"
+color = [0.7, 0.7, 0.7]
+reflectivity = {reflect}
+[[material]]
+name = "red"
+color = [0.8, 0.2, 0.1]
+specular = 0.5
+shininess = 30.0
+[[material]]
+name = "blue"
+color = [0.2, 0.3, 0.9]
+[[plane]]
+point = [0, 0, 0]
+normal = [0, 1, 0]
+material = "floor"
+[[sphere]]
+center = [2.5, 0.6, -1.0]
+radius = 0.6
+material = "blue"
+[[mesh]]
+obj = "{ico}"
+smooth = true
+material = "red"
+scale = 0.5
+name = "smooth"
+[[mesh]]
+obj = "{ico}"
+material = "blue"
+scale = 0.4
+translate = [-2.0, 0.8, 0.5]
+name = "flat"
+[[mesh]]
+obj = "{ico}"
+material = "red"
+scale = 0.3
+translate = [1000.0, 0.0, 0.0]
+name = "far"
+[[light]]
+position = [-3.0, 6.0, 4.0]
+intensity = 40.0
+"#,
+        depth = if mirror { 2 } else { 0 },
+        reflect = if mirror { 0.6 } else { 0.0 },
+    );
+    if sun {
+        t += "[[light]]\ndirection = [0.6, -1.0, -0.3]\nintensity = 0.6\n";
+    }
+    for (i, (mesh, rotate, scale, translate)) in instances.iter().enumerate() {
+        let name = ["smooth", "flat", "far"][*mesh];
+        // The far mesh's origin is 1,000 to the side of its faces.
+        let translate = if *mesh == 2 {
+            [translate[0] - 1000.0, translate[1], translate[2]]
+        } else {
+            *translate
+        };
+        t += &format!(
+            "[[instance]]\nmesh = \"{name}\"\nname = \"i{i}\"\nrotate = {rotate:?}\nscale = {scale:?}\ntranslate = {translate:?}\n"
+        );
+    }
+    t
+}
+
+/// Renders [`instanced_scene`] culled and not ([`same_culled_or_not`]) at 40x30.
+fn instanced_same_culled_or_not(instances: &[Placement], mirror: bool, sun: bool) -> RgbImage {
+    instanced_frame(instances, (mirror, sun), Viewport::new(40, 30))
+}
+
+/// [`instanced_same_culled_or_not`] in `frame`.
+fn instanced_frame(
+    instances: &[Placement],
+    (mirror, sun): (bool, bool),
+    frame: Viewport,
+) -> RgbImage {
+    let text = instanced_scene(instances, mirror, sun);
+    let desc = tessera_host::file::parse(&text, "instances").unwrap_or_else(|e| panic!("{e}"));
+    let scene = desc.to_core().unwrap();
+    let renderer = scene
+        .lists()
+        .renderer(frame, desc.settings().unwrap())
+        .unwrap();
+    scene.with_view(|v| {
+        assert_eq!(v.instance_count(), instances.len());
+        same_culled_or_not(v, &renderer, &text)
+    })
+}
+
+fn placement() -> impl Strategy<Value = Placement> {
+    let scale = (0.15f32..1.2, any::<bool>()).prop_map(|(s, neg)| if neg { -s } else { s });
+    (
+        0..3usize,
+        [-180.0f32..180.0, -180.0f32..180.0, -180.0f32..180.0],
+        [scale.clone(), scale.clone(), scale],
+        [-4.0f32..4.0, -0.5f32..3.0, -4.0f32..2.0],
+    )
+}
+
+proptest! {
+    // 48 random placements of up to 24 instances (the tiles' lists of meshes
+    // and instances hold 16, then 64), each scene rendered culled and not.
+    #![proptest_config(ProptestConfig { cases: 48, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_instances_render_the_same_culled_or_not(
+        instances in prop::collection::vec(placement(), 0..=24),
+        mirror in any::<bool>(),
+        sun in any::<bool>(),
+    ) {
+        instanced_same_culled_or_not(&instances, mirror, sun);
+    }
+}
+
+/// More meshes and instances than a tile lists ([`tessera_core`]'s 64): the
+/// tiles build no lists, and the picture is the same; at 64 they do.
+#[test]
+fn more_instances_than_a_tile_lists_render_the_same() {
+    let grid = |n: usize| -> Vec<Placement> {
+        (0..n)
+            .map(|i| {
+                let (x, z) = ((i % 10) as f32 * 0.8 - 3.6, (i / 10) as f32 * -0.8 + 1.0);
+                (i % 3, [0.0, 15.0 * i as f32, 0.0], [0.25; 3], [x, 0.3, z])
+            })
+            .collect()
+    };
+    // 3 meshes, each instanced: 61 or 70 tops.
+    for n in [61, 70] {
+        let image = instanced_frame(&grid(n), (false, true), Viewport::new(120, 90));
+        if std::env::var_os("TESSERA_SAVE").is_some() {
+            image.save(format!("/tmp/instances-{n}.png")).unwrap();
+        }
+        // The instances are seen: much of the picture is neither floor nor sky.
+        let red = image
+            .pixels()
+            .filter(|p| i32::from(p.0[0]) > i32::from(p.0[2]) + 40)
+            .count();
+        assert!(red > 100, "{n} instances: {red} red pixels");
+    }
+}

@@ -10,6 +10,7 @@ use crate::bvh::{BvhView, DEPTH, Known, NodeRay};
 use crate::bvh::{VISITS, count_visit};
 use crate::geometry::Candidate;
 use crate::geometry::triangle::{Shear, with_axes};
+use crate::mesh::MAX_MESHES;
 use crate::ray::Ray;
 use crate::view::SceneView;
 use heapless::Vec;
@@ -165,107 +166,159 @@ fn visit_known<const FIRST: bool>(
     found
 }
 
-/// The nearest face of the view's meshes but `skip` nearer than `*t` (after
-/// every list: a face at the time of another primitive does not replace it);
-/// with `FIRST`, the first found. Among faces, the mesh listed first, then the
-/// face listed first, is kept; the meshes drawn in place come before the
-/// instances (feature `instances`), which come in their order.
-#[inline(always)]
+/// The nearest face of the view's meshes and instances among `tops` but
+/// `skip` nearer than `*t` (after every list: a face at the time of another
+/// primitive does not replace it); with `FIRST`, the first found. Among faces,
+/// the mesh listed first, then the face listed first, is kept; the meshes
+/// drawn in place come before the instances (feature `instances`), which come
+/// in their order (as every list of tops holds them). Out of line: the camera
+/// rays' inlined search of a tile's lists only calls it for a view with
+/// meshes.
+#[inline(never)]
 pub(super) fn meshes<const FIRST: bool>(
     view: &SceneView<'_>,
+    tops: super::Tops<'_>,
     ray: &Ray,
     skip: Skip,
     t: &mut f32,
 ) -> Option<Nearest> {
-    let meshes = view.meshes;
-    if meshes.is_empty() {
-        return None;
-    }
-    let sk = skip.index(Kind::Mesh);
-    // The face to skip, if it is one of this mesh's (or instance's).
-    let skipped = MeshFace::of(sk);
-    let face_of = |m: usize| {
-        if skipped.mesh == m {
-            skipped.face
-        } else {
-            usize::MAX
-        }
-    };
-    #[cfg(feature = "instances")]
-    let instanced = view.instanced;
-    #[cfg(not(feature = "instances"))]
-    let instanced = 0u16;
+    let mut search = TopSearch::new(view, ray, skip);
     let mut best = None;
-    let shear = Shear::new(ray);
-    for (m, mesh) in meshes.iter().enumerate() {
-        if instanced >> m & 1 != 0 {
-            continue;
+    let mut one = |top: usize, t: &mut f32| {
+        let found = search.top::<FIRST>(top, t);
+        if found.is_some() {
+            best = found;
         }
-        let face = face_of(m);
-        let found = with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), ray, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None);
-        if let Some((f, hit)) = found {
-            best = Some(Nearest {
-                kind: Kind::Mesh,
-                index: MeshFace { mesh: m, face: f }.index(),
-                hit,
-            });
-            if FIRST {
-                return best;
+        FIRST && found.is_some()
+    };
+    match tops {
+        super::Tops::All => {
+            #[cfg(feature = "instances")]
+            let (instanced, placed) = (view.instanced, view.instances.len());
+            #[cfg(not(feature = "instances"))]
+            let (instanced, placed) = (0u16, 0usize);
+            let meshes = (0..view.meshes.len()).filter(|m| instanced >> m & 1 == 0);
+            for top in meshes.chain((0..placed).map(|i| MAX_MESHES + i)) {
+                if one(top, t) {
+                    break;
+                }
             }
         }
-    }
-    #[cfg(feature = "instances")]
-    if let Some(n) = instances::<FIRST>(view.instances, ray, skipped, t) {
-        best = Some(n);
+        super::Tops::Listed(list) => {
+            for &top in list {
+                if one(usize::from(top), t) {
+                    break;
+                }
+            }
+        }
+        super::Tops::Masked(list, bit) => {
+            for &e in list {
+                if e & bit != 0 && one((e & 0xffff) as usize, t) {
+                    break;
+                }
+            }
+        }
     }
     best
 }
 
-/// [`meshes`] for the instances: each whose box the ray may pass through
-/// before `*t` searched in its mesh's space (see [`crate::instance`]), its
-/// faces named `MAX_MESHES + instance` in a hit's index.
-#[cfg(feature = "instances")]
-#[inline(never)]
-fn instances<const FIRST: bool>(
-    placed: &[crate::instance::Placed<'_>],
-    ray: &Ray,
+/// One ray's search of the meshes and instances, with what it computes once
+/// for all of them on first use.
+struct TopSearch<'v, 'r> {
+    view: &'v SceneView<'v>,
+    ray: &'r Ray,
+    /// The face to skip.
     skipped: MeshFace,
-    t: &mut f32,
-) -> Option<Nearest> {
-    if placed.is_empty() {
-        return None;
-    }
-    let inv = crate::geometry::aabb_inverse(ray.dir);
-    let mag = ray.origin.abs().max_element();
-    let mut best = None;
-    for (i, p) in placed.iter().enumerate() {
-        if let Some(h) = p.hull
-            && !h.may_hit(ray.origin, mag, inv, *t)
-        {
-            continue;
+    /// The ray's frame for the meshes drawn where they lie.
+    shear: Option<Shear>,
+    /// The reciprocal direction and largest origin component, for the
+    /// instances' boxes.
+    #[cfg(feature = "instances")]
+    reach: Option<(crate::vec::Vec3, f32)>,
+}
+
+impl<'v, 'r> TopSearch<'v, 'r> {
+    fn new(view: &'v SceneView<'v>, ray: &'r Ray, skip: Skip) -> Self {
+        Self {
+            view,
+            ray,
+            skipped: MeshFace::of(skip.index(Kind::Mesh)),
+            shear: None,
+            #[cfg(feature = "instances")]
+            reach: None,
         }
-        let at = crate::mesh::MAX_MESHES + i;
+    }
+
+    /// The face of `top` to skip (`usize::MAX`: none).
+    fn skip_in(&self, top: usize) -> usize {
+        if self.skipped.mesh == top {
+            self.skipped.face
+        } else {
+            usize::MAX
+        }
+    }
+
+    /// The nearest face of top `top` nearer than `*t` (a mesh drawn where it
+    /// lies below `MAX_MESHES`, an instance from there).
+    #[inline(always)]
+    fn top<const FIRST: bool>(&mut self, top: usize, t: &mut f32) -> Option<Nearest> {
+        let face = self.skip_in(top);
+        let ray = self.ray;
+        let found = if let Some(mesh) = self.view.meshes.get(top) {
+            let shear = *self.shear.get_or_insert_with(|| Shear::new(ray));
+            with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), ray, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None)
+        } else {
+            self.instance::<FIRST>(top, face, t)
+        };
+        let (f, hit) = found?;
+        Some(Nearest {
+            kind: Kind::Mesh,
+            index: MeshFace { mesh: top, face: f }.index(),
+            hit,
+        })
+    }
+
+    /// [`TopSearch::top`] for instance `top - MAX_MESHES`, if its box the ray may
+    /// pass through before `*t`: searched in its mesh's space (see
+    /// [`crate::instance`]).
+    #[cfg(feature = "instances")]
+    #[inline(never)]
+    fn instance<const FIRST: bool>(
+        &mut self,
+        top: usize,
+        face: usize,
+        t: &mut f32,
+    ) -> Option<(usize, Candidate)> {
+        let p = self.view.instances.get(top.checked_sub(MAX_MESHES)?)?;
+        let ray = self.ray;
+        if let Some(h) = p.hull {
+            let (inv, mag) = *self.reach.get_or_insert_with(|| {
+                (
+                    crate::geometry::aabb_inverse(ray.dir),
+                    ray.origin.abs().max_element(),
+                )
+            });
+            if !h.may_hit(ray.origin, mag, inv, *t) {
+                return None;
+            }
+        }
         let local = p.ray(ray);
         let shear = Shear::new(&local);
         let mesh = p.mesh;
-        let face = if skipped.mesh == at {
-            skipped.face
-        } else {
-            usize::MAX
-        };
-        let found = with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), &local, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None);
-        if let Some((f, hit)) = found {
-            best = Some(Nearest {
-                kind: Kind::Mesh,
-                index: MeshFace { mesh: at, face: f }.index(),
-                hit,
-            });
-            if FIRST {
-                break;
-            }
-        }
+        with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), &local, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None)
     }
-    best
+
+    /// No instance without the feature `instances`.
+    #[cfg(not(feature = "instances"))]
+    #[inline(always)]
+    fn instance<const FIRST: bool>(
+        &mut self,
+        _top: usize,
+        _face: usize,
+        _t: &mut f32,
+    ) -> Option<(usize, Candidate)> {
+        None
+    }
 }
 
 #[cfg(test)]

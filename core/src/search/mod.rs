@@ -55,7 +55,7 @@ use crate::ray::Ray;
 use crate::vec::Vec3;
 use crate::view::SceneView;
 
-use crate::kind::KINDS;
+use crate::cull::LISTS;
 pub(crate) use crate::kind::Kind;
 
 /// A primitive a ray must not test: the one it leaves (see the module doc). One
@@ -141,10 +141,9 @@ pub(crate) trait Source<'v>: Copy {
     /// True when list `kind` has no candidate.
     fn none<G>(self, list: &[Primitive<G>], kind: Kind) -> bool;
 
-    /// Whether the view's meshes are among the candidates (only every
-    /// primitive's source: a view with meshes builds no tile lists).
+    /// The view's meshes and instances among the candidates.
     #[cfg(feature = "bvh")]
-    const MESHES: bool = false;
+    fn tops(&self) -> Tops<'_>;
 
     /// The hierarchy list `kind` is searched through, if any.
     #[cfg(feature = "bvh")]
@@ -178,29 +177,54 @@ impl<'v> Whole<'v> {
 #[derive(Clone, Copy)]
 pub(crate) struct Every;
 
-/// A tile's camera lists: per kind, the indices its culling kept.
+/// A tile's camera lists: per kind, the indices its culling kept, then the
+/// tops' (see [`crate::cull::LISTS`]).
 #[derive(Clone, Copy)]
-pub(crate) struct Listed<'l>(pub(crate) &'l [&'l [u16]; KINDS]);
+pub(crate) struct Listed<'l>(pub(crate) &'l [&'l [u16]; LISTS]);
 
-/// A tile's shadow lists for one light: per kind, entries `index | mask << 16`,
-/// of which those with the light's bit.
+/// A tile's shadow lists for one light: per kind, then of the tops, entries
+/// `index | mask << 16`, of which those with the light's bit.
 #[derive(Clone, Copy)]
-pub(crate) struct Masked<'l>(pub(crate) &'l [&'l [u32]; KINDS], pub(crate) u32);
+pub(crate) struct Masked<'l>(pub(crate) &'l [&'l [u32]; LISTS], pub(crate) u32);
+
+/// The meshes and instances a search visits (see [`crate::cull::LISTS`]), in
+/// their order: the meshes drawn where they lie, then the instances.
+#[cfg(feature = "bvh")]
+#[derive(Clone, Copy)]
+pub(crate) enum Tops<'l> {
+    /// All of them.
+    All,
+    /// A tile's camera list.
+    Listed(&'l [u16]),
+    /// A tile's shadow list: the entries with this bit.
+    Masked(&'l [u32], u32),
+}
 
 /// The list of kind `kind` among a tile's.
 #[inline(always)]
-fn of<'l, T>(lists: &[&'l [T]; KINDS], kind: Kind) -> &'l [T] {
+fn of<'l, T>(lists: &[&'l [T]; LISTS], kind: Kind) -> &'l [T] {
     lists.get(kind as usize).copied().unwrap_or(&[])
+}
+
+/// The tops' list among a tile's.
+#[cfg(feature = "bvh")]
+#[inline(always)]
+fn tops_of<'l, T>(lists: &[&'l [T]; LISTS]) -> &'l [T] {
+    lists.get(Kind::Mesh as usize).copied().unwrap_or(&[])
 }
 
 #[cfg(feature = "bvh")]
 impl<'v> Source<'v> for Whole<'v> {
     const HULLS: bool = true;
-    const MESHES: bool = true;
 
     #[inline(always)]
     fn each<G>(self, list: &[Primitive<G>], kind: Kind, f: impl FnMut(usize, &G) -> bool) -> bool {
         Every.each(list, kind, f)
+    }
+
+    #[inline(always)]
+    fn tops(&self) -> Tops<'_> {
+        Tops::All
     }
 
     #[inline(always)]
@@ -221,6 +245,12 @@ impl<'v> Source<'v> for Whole<'v> {
 impl<'v> Source<'v> for Every {
     const HULLS: bool = true;
 
+    #[cfg(feature = "bvh")]
+    #[inline(always)]
+    fn tops(&self) -> Tops<'_> {
+        Tops::All
+    }
+
     #[inline(always)]
     fn each<G>(self, list: &[Primitive<G>], _: Kind, mut f: impl FnMut(usize, &G) -> bool) -> bool {
         for (i, p) in list.iter().enumerate() {
@@ -239,6 +269,12 @@ impl<'v> Source<'v> for Every {
 
 impl<'v> Source<'v> for Listed<'_> {
     const HULLS: bool = false;
+
+    #[cfg(feature = "bvh")]
+    #[inline(always)]
+    fn tops(&self) -> Tops<'_> {
+        Tops::Listed(tops_of(self.0))
+    }
 
     #[inline(always)]
     fn each<G>(
@@ -266,6 +302,12 @@ impl<'v> Source<'v> for Listed<'_> {
 
 impl<'v> Source<'v> for Masked<'_> {
     const HULLS: bool = true;
+
+    #[cfg(feature = "bvh")]
+    #[inline(always)]
+    fn tops(&self) -> Tops<'_> {
+        Tops::Masked(tops_of(self.0), self.1)
+    }
 
     #[inline(always)]
     fn each<G>(
@@ -567,8 +609,8 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
         }
     });
     #[cfg(feature = "bvh")]
-    if S::MESHES
-        && let Some(m) = bvh::meshes::<FIRST>(view, ray, skip, &mut t)
+    if !view.meshes.is_empty()
+        && let Some(m) = bvh::meshes::<FIRST>(view, src.tops(), ray, skip, &mut t)
     {
         best = Some(m);
     }
