@@ -90,9 +90,14 @@ use heapless::vec::VecView;
 /// camera lists, or every primitive) and the shadow rays of its hit (a tile's shadow
 /// lists, entries `index | mask << 16`, or every primitive). Reflected and
 /// refracted rays, which may go anywhere, always search every primitive.
+///
+/// A tile that lists meshes or instances gives its camera lists as `with_tops`
+/// (searched out of line), `camera` then `None`: the camera ray's inlined search
+/// of a tile without them is what it is without meshes.
 #[derive(Clone, Copy, Default)]
 pub(crate) struct Picks<'l> {
     pub(crate) camera: Option<[&'l [u16]; LISTS]>,
+    pub(crate) with_tops: Option<[&'l [u16]; LISTS]>,
     pub(crate) shadow: Option<ShadowLists<'l>>,
 }
 
@@ -387,7 +392,12 @@ impl TileLists<'_> {
         } else {
             self.build_shadow(&f, view, seen_tops)
         };
-        let camera = Some(lists_of(&self.camera, self.tops));
+        let lists = lists_of(&self.camera, self.tops);
+        let (camera, with_tops) = if self.tops.is_empty() {
+            (Some(lists), None)
+        } else {
+            (None, Some(lists))
+        };
         let shadow = shadow.map(|()| {
             let lists = lists_of(&self.shadow, self.top_shadow);
             let lights = lists.iter().flat_map(|l| l.iter()).fold(0, |m, e| m | e);
@@ -396,7 +406,11 @@ impl TileLists<'_> {
                 lights: lights & !0xffff,
             }
         });
-        Picks { camera, shadow }
+        Picks {
+            camera,
+            with_tops,
+            shadow,
+        }
     }
 
     /// The shadow lists, from the camera lists and the box `seen_tops` of where

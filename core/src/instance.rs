@@ -1044,7 +1044,7 @@ mod tests {
                         &placed,
                         (x0, y0, x0 + 8.0, y0 + 8.0),
                     );
-                    let camera: [&[u16]; LISTS] = picks.camera.unwrap();
+                    let camera: [&[u16]; LISTS] = picks.camera.or(picks.with_tops).unwrap();
                     let floor = picks.shadow.map_or_else(StdVec::new, |sh| {
                         sh.lists[KINDS]
                             .iter()

@@ -318,7 +318,9 @@ fn primary<C: Observer>(
     count.primary();
     let nearest = match &picks.camera {
         Some(lists) => search::nearest(view, ray, t_max, Listed(lists), Skip::NONE),
-        None => search::nearest_whole(view, ray, t_max, Skip::NONE),
+        // Every primitive, or a tile's lists with its meshes and instances,
+        // out of line.
+        None => search::nearest_untiled(view, ray, t_max, picks.with_tops.as_ref()),
     };
     let Some(nearest) = nearest else {
         if C::SIGNS {

@@ -182,143 +182,111 @@ pub(super) fn meshes<const FIRST: bool>(
     skip: Skip,
     t: &mut f32,
 ) -> Option<Nearest> {
-    let mut search = TopSearch::new(view, ray, skip);
+    #[cfg(feature = "instances")]
+    let (instanced, placed) = (view.instanced, view.instances.len());
+    #[cfg(not(feature = "instances"))]
+    let (instanced, placed) = (0u16, 0usize);
+    let meshes = view.meshes;
+    // The ray's frame for the meshes drawn where they lie, once (none when
+    // every mesh is drawn through its instances).
+    let in_place = meshes.len() > instanced.count_ones() as usize;
+    let shear = in_place.then(|| Shear::new(ray));
+    #[cfg(feature = "instances")]
+    let mut reach = None;
+    let skipped = MeshFace::of(skip.index(Kind::Mesh));
     let mut best = None;
-    let mut one = |top: usize, t: &mut f32| {
-        let found = search.top::<FIRST>(top, t);
-        if found.is_some() {
-            best = found;
-        }
-        FIRST && found.is_some()
-    };
-    match tops {
-        super::Tops::All => {
+    // One loop over the tops, whatever their list: one copy of the searches.
+    let mut k = 0usize;
+    loop {
+        let top = match tops {
+            super::Tops::All => {
+                // The meshes drawn where they lie, then the instances.
+                while k < meshes.len() && instanced >> k & 1 != 0 {
+                    k += 1;
+                }
+                if k < meshes.len() {
+                    k
+                } else if k - meshes.len() < placed {
+                    MAX_MESHES + (k - meshes.len())
+                } else {
+                    break;
+                }
+            }
+            super::Tops::Listed(list) => match list.get(k) {
+                Some(&top) => usize::from(top),
+                None => break,
+            },
+            super::Tops::Masked(list, bit) => {
+                while list.get(k).is_some_and(|&e| e & bit == 0) {
+                    k += 1;
+                }
+                match list.get(k) {
+                    Some(&e) => (e & 0xffff) as usize,
+                    None => break,
+                }
+            }
+        };
+        k += 1;
+        let face = if skipped.mesh == top {
+            skipped.face
+        } else {
+            usize::MAX
+        };
+        let found = match (meshes.get(top), &shear) {
+            (Some(mesh), Some(shear)) => {
+                with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), ray, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(shear, limit)), None)
+            }
+            // A mesh drawn only through instances is never a top.
+            (Some(_), None) => None,
             #[cfg(feature = "instances")]
-            let (instanced, placed) = (view.instanced, view.instances.len());
+            (None, _) => instance::<FIRST>(view, top, ray, face, t, &mut reach),
             #[cfg(not(feature = "instances"))]
-            let (instanced, placed) = (0u16, 0usize);
-            let meshes = (0..view.meshes.len()).filter(|m| instanced >> m & 1 == 0);
-            for top in meshes.chain((0..placed).map(|i| MAX_MESHES + i)) {
-                if one(top, t) {
-                    break;
-                }
-            }
-        }
-        super::Tops::Listed(list) => {
-            for &top in list {
-                if one(usize::from(top), t) {
-                    break;
-                }
-            }
-        }
-        super::Tops::Masked(list, bit) => {
-            for &e in list {
-                if e & bit != 0 && one((e & 0xffff) as usize, t) {
-                    break;
-                }
+            (None, _) => None,
+        };
+        if let Some((f, hit)) = found {
+            best = Some(Nearest {
+                kind: Kind::Mesh,
+                index: MeshFace { mesh: top, face: f }.index(),
+                hit,
+            });
+            if FIRST {
+                break;
             }
         }
     }
     best
 }
 
-/// One ray's search of the meshes and instances, with what it computes once
-/// for all of them on first use.
-struct TopSearch<'v, 'r> {
-    view: &'v SceneView<'v>,
-    ray: &'r Ray,
-    /// The face to skip.
-    skipped: MeshFace,
-    /// The ray's frame for the meshes drawn where they lie.
-    shear: Option<Shear>,
-    /// The reciprocal direction and largest origin component, for the
-    /// instances' boxes.
-    #[cfg(feature = "instances")]
-    reach: Option<(crate::vec::Vec3, f32)>,
-}
-
-impl<'v, 'r> TopSearch<'v, 'r> {
-    fn new(view: &'v SceneView<'v>, ray: &'r Ray, skip: Skip) -> Self {
-        Self {
-            view,
-            ray,
-            skipped: MeshFace::of(skip.index(Kind::Mesh)),
-            shear: None,
-            #[cfg(feature = "instances")]
-            reach: None,
+/// The nearest face but `face` of instance `top - MAX_MESHES` nearer than
+/// `*t`, if its box the ray may pass through before `*t`: searched in its
+/// mesh's space (see [`crate::instance`]). `reach`: the ray's reciprocal
+/// direction and largest origin component, computed on first use.
+#[cfg(feature = "instances")]
+#[inline(never)]
+fn instance<const FIRST: bool>(
+    view: &SceneView<'_>,
+    top: usize,
+    ray: &Ray,
+    face: usize,
+    t: &mut f32,
+    reach: &mut Option<(crate::vec::Vec3, f32)>,
+) -> Option<(usize, Candidate)> {
+    let p = view.instances.get(top.checked_sub(MAX_MESHES)?)?;
+    if let Some(h) = p.hull {
+        let (inv, mag) = *reach.get_or_insert_with(|| {
+            (
+                crate::geometry::aabb_inverse(ray.dir),
+                ray.origin.abs().max_element(),
+            )
+        });
+        if !h.may_hit(ray.origin, mag, inv, *t) {
+            return None;
         }
     }
-
-    /// The face of `top` to skip (`usize::MAX`: none).
-    fn skip_in(&self, top: usize) -> usize {
-        if self.skipped.mesh == top {
-            self.skipped.face
-        } else {
-            usize::MAX
-        }
-    }
-
-    /// The nearest face of top `top` nearer than `*t` (a mesh drawn where it
-    /// lies below `MAX_MESHES`, an instance from there).
-    #[inline(always)]
-    fn top<const FIRST: bool>(&mut self, top: usize, t: &mut f32) -> Option<Nearest> {
-        let face = self.skip_in(top);
-        let ray = self.ray;
-        let found = if let Some(mesh) = self.view.meshes.get(top) {
-            let shear = *self.shear.get_or_insert_with(|| Shear::new(ray));
-            with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), ray, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None)
-        } else {
-            self.instance::<FIRST>(top, face, t)
-        };
-        let (f, hit) = found?;
-        Some(Nearest {
-            kind: Kind::Mesh,
-            index: MeshFace { mesh: top, face: f }.index(),
-            hit,
-        })
-    }
-
-    /// [`TopSearch::top`] for instance `top - MAX_MESHES`, if its box the ray may
-    /// pass through before `*t`: searched in its mesh's space (see
-    /// [`crate::instance`]).
-    #[cfg(feature = "instances")]
-    #[inline(never)]
-    fn instance<const FIRST: bool>(
-        &mut self,
-        top: usize,
-        face: usize,
-        t: &mut f32,
-    ) -> Option<(usize, Candidate)> {
-        let p = self.view.instances.get(top.checked_sub(MAX_MESHES)?)?;
-        let ray = self.ray;
-        if let Some(h) = p.hull {
-            let (inv, mag) = *self.reach.get_or_insert_with(|| {
-                (
-                    crate::geometry::aabb_inverse(ray.dir),
-                    ray.origin.abs().max_element(),
-                )
-            });
-            if !h.may_hit(ray.origin, mag, inv, *t) {
-                return None;
-            }
-        }
-        let local = p.ray(ray);
-        let shear = Shear::new(&local);
-        let mesh = p.mesh;
-        with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), &local, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None)
-    }
-
-    /// No instance without the feature `instances`.
-    #[cfg(not(feature = "instances"))]
-    #[inline(always)]
-    fn instance<const FIRST: bool>(
-        &mut self,
-        _top: usize,
-        _face: usize,
-        _t: &mut f32,
-    ) -> Option<(usize, Candidate)> {
-        None
-    }
+    let local = p.ray(ray);
+    let shear = Shear::new(&local);
+    let mesh = p.mesh;
+    with_axes!(shear.axes, A => visit_known::<FIRST>(&mesh.bvh(), &local, Known::of::<A>(), face, t, |f, limit| mesh.triangle(f)?.hit_with::<A>(&shear, limit)), None)
 }
 
 #[cfg(test)]

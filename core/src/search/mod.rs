@@ -141,9 +141,12 @@ pub(crate) trait Source<'v>: Copy {
     /// True when list `kind` has no candidate.
     fn none<G>(self, list: &[Primitive<G>], kind: Kind) -> bool;
 
-    /// The view's meshes and instances among the candidates.
+    /// Whether the view's meshes and instances are among the candidates (only
+    /// every primitive's source: a tile's lists of them are searched after its
+    /// other lists, by [`nearest_tops`] and [`any_masked`], so that a tile or a
+    /// view without meshes runs the search it runs without the feature).
     #[cfg(feature = "bvh")]
-    fn tops(&self) -> Tops<'_>;
+    const MESHES: bool = false;
 
     /// The hierarchy list `kind` is searched through, if any.
     #[cfg(feature = "bvh")]
@@ -209,22 +212,18 @@ fn of<'l, T>(lists: &[&'l [T]; LISTS], kind: Kind) -> &'l [T] {
 /// The tops' list among a tile's.
 #[cfg(feature = "bvh")]
 #[inline(always)]
-fn tops_of<'l, T>(lists: &[&'l [T]; LISTS]) -> &'l [T] {
+pub(crate) fn tops_of<'l, T>(lists: &[&'l [T]; LISTS]) -> &'l [T] {
     lists.get(Kind::Mesh as usize).copied().unwrap_or(&[])
 }
 
 #[cfg(feature = "bvh")]
 impl<'v> Source<'v> for Whole<'v> {
     const HULLS: bool = true;
+    const MESHES: bool = true;
 
     #[inline(always)]
     fn each<G>(self, list: &[Primitive<G>], kind: Kind, f: impl FnMut(usize, &G) -> bool) -> bool {
         Every.each(list, kind, f)
-    }
-
-    #[inline(always)]
-    fn tops(&self) -> Tops<'_> {
-        Tops::All
     }
 
     #[inline(always)]
@@ -245,12 +244,6 @@ impl<'v> Source<'v> for Whole<'v> {
 impl<'v> Source<'v> for Every {
     const HULLS: bool = true;
 
-    #[cfg(feature = "bvh")]
-    #[inline(always)]
-    fn tops(&self) -> Tops<'_> {
-        Tops::All
-    }
-
     #[inline(always)]
     fn each<G>(self, list: &[Primitive<G>], _: Kind, mut f: impl FnMut(usize, &G) -> bool) -> bool {
         for (i, p) in list.iter().enumerate() {
@@ -269,12 +262,6 @@ impl<'v> Source<'v> for Every {
 
 impl<'v> Source<'v> for Listed<'_> {
     const HULLS: bool = false;
-
-    #[cfg(feature = "bvh")]
-    #[inline(always)]
-    fn tops(&self) -> Tops<'_> {
-        Tops::Listed(tops_of(self.0))
-    }
 
     #[inline(always)]
     fn each<G>(
@@ -302,12 +289,6 @@ impl<'v> Source<'v> for Listed<'_> {
 
 impl<'v> Source<'v> for Masked<'_> {
     const HULLS: bool = true;
-
-    #[cfg(feature = "bvh")]
-    #[inline(always)]
-    fn tops(&self) -> Tops<'_> {
-        Tops::Masked(tops_of(self.0), self.1)
-    }
 
     #[inline(always)]
     fn each<G>(
@@ -530,7 +511,7 @@ pub(crate) fn nearest_whole(
     skip: Skip,
 ) -> Option<Nearest> {
     #[cfg(feature = "bvh")]
-    if view.through() {
+    if view.through() || !view.meshes.is_empty() {
         return nearest_through(view, ray, t_max, skip);
     }
     nearest(view, ray, t_max, Every, skip)
@@ -548,7 +529,7 @@ fn nearest_through(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> O
 #[inline(never)]
 pub(crate) fn any_whole(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> bool {
     #[cfg(feature = "bvh")]
-    if view.through() {
+    if view.through() || !view.meshes.is_empty() {
         return any_through(view, ray, t_max, skip);
     }
     any(view, ray, t_max, Every, skip)
@@ -561,8 +542,8 @@ fn any_through(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> bool 
     any(view, ray, t_max, Whole::of(view), skip)
 }
 
-/// [`any`] over a tile's shadow lists for one light, out of line (see the module
-/// doc).
+/// [`any`] over a tile's shadow lists for one light, then its list of
+/// meshes and instances, out of line (see the module doc).
 #[inline(never)]
 pub(crate) fn any_masked(
     view: &SceneView<'_>,
@@ -571,7 +552,58 @@ pub(crate) fn any_masked(
     src: Masked<'_>,
     skip: Skip,
 ) -> bool {
-    any(view, ray, t_max, src, skip)
+    if any(view, ray, t_max, src, skip) {
+        return true;
+    }
+    #[cfg(feature = "bvh")]
+    {
+        let tops = tops_of(src.0);
+        if !tops.is_empty() {
+            let mut t = t_max;
+            return bvh::meshes::<true>(view, Tops::Masked(tops, src.1), ray, skip, &mut t)
+                .is_some();
+        }
+    }
+    false
+}
+
+/// The nearest hit of a camera ray that the tile's inlined search of its
+/// lists does not find: every primitive ([`nearest_whole`]) for a tile
+/// without lists, or a tile's lists and its meshes and instances `with_tops`
+/// ([`nearest_listed`]). Out of line: a tile without meshes searches inline
+/// what it searches without the feature `bvh`.
+#[inline(never)]
+pub(crate) fn nearest_untiled(
+    view: &SceneView<'_>,
+    ray: &Ray,
+    t_max: f32,
+    with_tops: Option<&[&[u16]; LISTS]>,
+) -> Option<Nearest> {
+    #[cfg(feature = "bvh")]
+    if let Some(lists) = with_tops {
+        return nearest_listed(view, ray, t_max, lists);
+    }
+    #[cfg(not(feature = "bvh"))]
+    let _ = with_tops;
+    nearest_whole(view, ray, t_max, Skip::NONE)
+}
+
+/// [`nearest`] over a tile's camera lists, then the nearest face of the
+/// meshes and instances of its list of them (which only replaces a nearer
+/// hit: what [`nearest`] over [`Whole`] finds after the lists), out of line
+/// (see the module doc).
+#[cfg(feature = "bvh")]
+#[inline(always)]
+fn nearest_listed(
+    view: &SceneView<'_>,
+    ray: &Ray,
+    t_max: f32,
+    lists: &[&[u16]; LISTS],
+) -> Option<Nearest> {
+    let found = nearest(view, ray, t_max, Listed(lists), Skip::NONE);
+    let mut t = found.map_or(t_max, |n| n.hit.t);
+    let tops = Tops::Listed(tops_of(lists));
+    bvh::meshes::<false>(view, tops, ray, Skip::NONE, &mut t).or(found)
 }
 
 /// The search itself: the nearest hit, or with `FIRST` the first hit found (its
@@ -609,8 +641,9 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
         }
     });
     #[cfg(feature = "bvh")]
-    if !view.meshes.is_empty()
-        && let Some(m) = bvh::meshes::<FIRST>(view, src.tops(), ray, skip, &mut t)
+    if S::MESHES
+        && !view.meshes.is_empty()
+        && let Some(m) = bvh::meshes::<FIRST>(view, Tops::All, ray, skip, &mut t)
     {
         best = Some(m);
     }
