@@ -75,8 +75,9 @@
 //! and a 16-bit mask of the lights it may block), 6 bytes for each primitive of
 //! capacity, plus two lengths and two views (the camera's and the shadows') per
 //! kind, which [`TileLists`] holds: 24 bytes a kind on a 32-bit core. A view with
-//! meshes is lent lists of tops the same way: 6 bytes a top for [`FEW_TOPS`] or
-//! [`MAX_TOPS`] of them (96 or 384 bytes), none without a mesh.
+//! meshes is lent lists of tops the same way: 6 bytes a top for [`FEW_TOPS`],
+//! [`SOME_TOPS`] or [`MAX_TOPS`] of them (24, 96 or 384 bytes), none without a
+//! mesh.
 
 use crate::camera::CameraBasis;
 use crate::geometry::{Extent, Kinded, Plane};
@@ -120,9 +121,14 @@ pub(crate) const LISTS: usize = KINDS + 1;
 /// lists (every ray searches every primitive).
 pub(crate) const MAX_TOPS: usize = 64;
 
-/// The tops' storage lent to a view with at most this many (`MAX_TOPS` beyond).
+/// The tops' storage lent to a view with at most this many (then
+/// [`SOME_TOPS`], then [`MAX_TOPS`]): a tile's lists are on the stack.
 #[cfg_attr(not(feature = "bvh"), allow(dead_code))]
-const FEW_TOPS: usize = 16;
+const FEW_TOPS: usize = 4;
+
+/// See [`FEW_TOPS`].
+#[cfg_attr(not(feature = "bvh"), allow(dead_code))]
+const SOME_TOPS: usize = 16;
 
 /// What the tile lists need of a mesh drawn where it lies or of an instance:
 /// the box of its faces in the world (an instance's grown as its hull is), and
@@ -287,8 +293,8 @@ impl<C: Capacities> TileStorage<C> {
     /// cost. Such a scene, when every list holds at most [`FEW`], is lent storage
     /// for [`FEW`] of each kind. A firmware's scene, whose capacities are what it
     /// holds, is lent exactly its capacities (the branch is decided at compile
-    /// time). The tops' lists hold none (no mesh), [`FEW_TOPS`] or [`MAX_TOPS`]
-    /// entries.
+    /// time). The tops' lists hold none (no mesh), [`FEW_TOPS`], [`SOME_TOPS`]
+    /// or [`MAX_TOPS`] entries.
     pub(crate) fn lend(held: Option<[usize; LISTS]>, f: &mut WithLists<'_>) {
         let Some(held) = held else {
             return f(None);
@@ -308,8 +314,12 @@ impl<C: Capacities> TileStorage<C> {
     /// Lends `f` lists of every capacity, with room for `tops` tops.
     fn lend_tops(tops: usize, f: &mut WithLists<'_>) {
         #[cfg(feature = "bvh")]
-        if tops > FEW_TOPS {
+        if tops > SOME_TOPS {
             return Self::lend_all::<MAX_TOPS>(f);
+        }
+        #[cfg(feature = "bvh")]
+        if tops > FEW_TOPS {
+            return Self::lend_all::<SOME_TOPS>(f);
         }
         #[cfg(feature = "bvh")]
         if tops > 0 {
@@ -319,7 +329,9 @@ impl<C: Capacities> TileStorage<C> {
         Self::lend_all::<0>(f);
     }
 
-    /// Lends `f` lists of every capacity, and `T` entries for the tops.
+    /// Lends `f` lists of every capacity, and `T` entries for the tops. Out of
+    /// line: only the storage of the one lent is on the stack.
+    #[inline(never)]
     fn lend_all<const T: usize>(f: &mut WithLists<'_>) {
         let mut st = Self {
             camera: PerKind::EMPTY,
@@ -1219,7 +1231,9 @@ mod tests {
             assert_eq!(with(0), Some(0));
             assert_eq!(with(1), Some(FEW_TOPS));
             assert_eq!(with(FEW_TOPS), Some(FEW_TOPS));
-            assert_eq!(with(FEW_TOPS + 1), Some(MAX_TOPS));
+            assert_eq!(with(FEW_TOPS + 1), Some(SOME_TOPS));
+            assert_eq!(with(SOME_TOPS), Some(SOME_TOPS));
+            assert_eq!(with(SOME_TOPS + 1), Some(MAX_TOPS));
             assert_eq!(with(MAX_TOPS), Some(MAX_TOPS));
         }
         assert_eq!(with(MAX_TOPS + 1), None);

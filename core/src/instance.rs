@@ -219,7 +219,7 @@ impl Instance {
 #[derive(Clone, Copy, Debug)]
 pub struct Placed<'a> {
     pub(crate) mesh: &'a Mesh<'a>,
-    pub(crate) index: u16,
+    index: u16,
     placement: Placement,
     affine: Affine,
     /// The box of its faces in the world, grown as the culling's hulls are.

@@ -24,6 +24,51 @@ use crate::vec::Vec3;
 /// names its mesh and face in one index, `mesh << 16 | face`.
 pub const MAX_MESHES: usize = 16;
 
+/// How far from its face [`Mesh::lift`] may move a point of a mesh of these
+/// parts: each vertex's term moves it by at most its distance to the vertex
+/// (a projection on the unit normal), and the weights add up to 1, so by at
+/// most the largest face's diameter, bounded here by twice its largest extent
+/// on an axis (more than `sqrt(3)` times it, with room for rounding). 0 for a
+/// flat mesh, which lifts nothing; a face with an index out of range counts
+/// for nothing (the view refuses the mesh). Linear in the faces; a `const fn`,
+/// so that a baked mesh's is computed when it is compiled.
+#[allow(clippy::indexing_slicing)] // every index is checked just before
+const fn lift_of(vertices: &[[f32; 3]], faces: &[[u16; 3]], normals: &[[f32; 3]]) -> f32 {
+    if normals.is_empty() {
+        return 0.0;
+    }
+    let mut largest = 0.0f32;
+    let mut f = 0;
+    while f < faces.len() {
+        let face = faces[f];
+        let mut axis = 0;
+        while axis < 3 {
+            let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+            let mut k = 0;
+            while k < 3 {
+                let i = face[k] as usize;
+                if i < vertices.len() {
+                    let x = vertices[i][axis];
+                    if x < lo {
+                        lo = x;
+                    }
+                    if x > hi {
+                        hi = x;
+                    }
+                }
+                k += 1;
+            }
+            // NaN or no vertex: no extent (the view refuses such a mesh).
+            if hi - lo > largest {
+                largest = hi - lo;
+            }
+            axis += 1;
+        }
+        f += 1;
+    }
+    2.0 * largest
+}
+
 /// An indexed triangle mesh (see the module doc). Build with [`Mesh::new`] (a
 /// `const fn`, for baked data) and give it to a view with
 /// [`crate::SceneView::with_meshes`], which checks it.
@@ -35,6 +80,9 @@ pub struct Mesh<'a> {
     uvs: &'a [[f32; 2]],
     material: MaterialId,
     bvh: BakedBvh<'a>,
+    /// [`Mesh::lift_bound`], computed when built (at compile time for a
+    /// baked mesh).
+    lift: f32,
 }
 
 /// How far from 1 a vertex normal's squared length may be, in units of
@@ -64,6 +112,7 @@ impl<'a> Mesh<'a> {
             uvs: &[],
             material,
             bvh,
+            lift: lift_of(vertices, faces, normals),
         }
     }
 
@@ -243,24 +292,10 @@ impl<'a> Mesh<'a> {
         }
     }
 
-    /// How far from its face [`Mesh::lift`] may move a point: each vertex's
-    /// term moves it by at most its distance to the vertex (a projection on
-    /// the unit normal), and the weights add up to 1, so by at most the
-    /// largest face's diameter, bounded here by twice its largest extent on an
-    /// axis (more than `sqrt(3)` times it, with room for rounding). 0 for a
-    /// flat mesh, which lifts nothing. Linear in the faces.
+    /// How far from its face [`Mesh::lift`] may move a point (see
+    /// `lift_of`; 0 for a flat mesh).
     pub(crate) fn lift_bound(&self) -> f32 {
-        if self.normals.is_empty() {
-            return 0.0;
-        }
-        let extent = (0..self.faces.len())
-            .filter_map(|f| self.triangle(f))
-            .map(|t| {
-                let [a, b, c] = t.vertices();
-                (a.max(b).max(c) - a.min(b).min(c)).max_element()
-            })
-            .fold(0.0, crate::math::max);
-        2.0 * extent
+        self.lift
     }
 
     /// Checks the mesh for a scene of `materials` materials: its faces (each

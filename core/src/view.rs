@@ -53,8 +53,6 @@ impl<'a> Lists<'a> {
             sphere_bvh: None,
             #[cfg(feature = "bvh")]
             meshes: &[],
-            #[cfg(feature = "bvh")]
-            lifts: [0.0; MAX_MESHES],
             #[cfg(feature = "instances")]
             instances: &[],
             #[cfg(feature = "instances")]
@@ -108,10 +106,6 @@ pub struct SceneView<'a> {
     /// The indexed meshes ([`SceneView::with_meshes`]), searched after every list.
     #[cfg(feature = "bvh")]
     pub(crate) meshes: &'a [crate::mesh::Mesh<'a>],
-    /// How far a shadow ray may leave from each mesh's faces
-    /// ([`Mesh::lift_bound`], in the mesh's space), for the tile lists.
-    #[cfg(feature = "bvh")]
-    pub(crate) lifts: [f32; MAX_MESHES],
     /// The meshes' instances ([`SceneView::with_instances`]), searched after
     /// the meshes drawn in place.
     #[cfg(feature = "instances")]
@@ -592,16 +586,10 @@ impl<'a> SceneView<'a> {
                 capacity: MAX_MESHES,
             });
         }
-        let mut lifts = [0.0; MAX_MESHES];
-        for (m, lift) in meshes.iter().zip(&mut lifts) {
+        for m in meshes {
             m.check(self.materials.len())?;
-            *lift = m.lift_bound();
         }
-        Ok(Self {
-            meshes,
-            lifts,
-            ..*self
-        })
+        Ok(Self { meshes, ..*self })
     }
 
     /// The same view with the meshes drawn where `instances` place them: a
@@ -690,12 +678,12 @@ impl crate::cull::Source for SceneView<'_> {
         let instanced = self.instanced;
         #[cfg(not(feature = "instances"))]
         let instanced = 0u16;
-        for (m, (mesh, &lift)) in self.meshes.iter().zip(&self.lifts).enumerate() {
+        for (m, mesh) in self.meshes.iter().enumerate() {
             if instanced >> m & 1 != 0 {
                 continue;
             }
             if let Some(root) = mesh.bvh().nodes.first() {
-                let (min, max) = (root.min, root.max);
+                let (min, max, lift) = (root.min, root.max, mesh.lift_bound());
                 f(m, Some(crate::cull::TopBox { min, max, lift }));
             }
         }
@@ -704,11 +692,8 @@ impl crate::cull::Source for SceneView<'_> {
             if p.mesh.bvh().nodes.is_empty() {
                 continue;
             }
-            let lift = self
-                .lifts
-                .get(usize::from(p.index))
-                .map(|&l| l * p.largest_scale());
-            let b = p.hull.zip(lift).map(|(h, lift)| {
+            let lift = p.mesh.lift_bound() * p.largest_scale();
+            let b = p.hull.map(|h| {
                 let (min, max) = h.corners();
                 crate::cull::TopBox { min, max, lift }
             });

@@ -407,7 +407,7 @@ fn placement() -> impl Strategy<Value = Placement> {
 
 proptest! {
     // 48 random placements of up to 24 instances (the tiles' lists of meshes
-    // and instances hold 16, then 64), each scene rendered culled and not.
+    // and instances hold 4, 16, then 64), each scene rendered culled and not.
     #![proptest_config(ProptestConfig { cases: 48, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]

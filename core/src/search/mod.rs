@@ -8,17 +8,19 @@
 //! | source | its candidates | searched by |
 //! |---|---|---|
 //! | [`Every`] | every primitive, list by list | bounced rays and their shadow rays; every ray of a tile without lists |
-//! | [`Whole`] (feature `bvh`) | every primitive; the spheres, triangles and meshes through the view's hierarchies | the same rays, in a view with hierarchies |
-//! | [`Listed`] | a tile's camera lists (module `cull`) | the camera rays of a tile |
-//! | [`Masked`] | a tile's shadow lists, for one light | the shadow rays of a tile's camera hits |
+//! | [`Whole`] (feature `bvh`) | every primitive of the lists, the spheres and triangles through the view's hierarchies; then the meshes and instances, each through its own | the same rays, in a view with hierarchies or meshes |
+//! | [`Listed`] | a tile's camera lists (module `cull`); then its list of meshes and instances, if any ([`nearest_untiled`]) | the camera rays of a tile |
+//! | [`Masked`] | a tile's shadow lists, for one light, then its meshes and instances ([`any_masked`]) | the shadow rays of a tile's camera hits |
 //!
 //! Where each instantiation lives, and why:
 //!
 //! | instantiation | inlined? | why |
 //! |---|---|---|
 //! | `nearest` over [`Listed`] | into the camera ray's shading (module `shade`) | once per camera ray: a call and the state it spills would cost more than the search of a short list |
+//! | `nearest` over [`Listed`] and a tile's meshes and instances ([`nearest_untiled`]) | out of line | only a tile that lists a mesh or an instance: the others' inlined search is what it is without meshes |
 //! | `nearest` over [`Every`] ([`nearest_whole`]) | out of line | the bounces and the tiles without lists share one copy, which keeps the camera ray's loop small |
 //! | `nearest` over [`Whole`] (`nearest_through`) | out of line, called by [`nearest_whole`] for a view with hierarchies | a view without one never enters it: its walks would crowd the flat loops' registers |
+//! | the meshes' and instances' search (`bvh::meshes`) | out of line, called after the lists' search returns | the two searches' frames (each with a walk's stack) are never on the stack together |
 //! | `any` over [`Every`] ([`any_whole`]), [`Whole`] (`any_through`), [`Masked`] ([`any_masked`]) | out of line | the light loop that calls them stays small |
 //! | `any` (every source) | the primitive tests' hit details compile away (`FIRST`) | a shadow ray asks only whether something blocks it |
 //! | a list's loop ([`Source::each`]) | always | its closure is the primitive test, specialised per kind |
@@ -141,13 +143,6 @@ pub(crate) trait Source<'v>: Copy {
     /// True when list `kind` has no candidate.
     fn none<G>(self, list: &[Primitive<G>], kind: Kind) -> bool;
 
-    /// Whether the view's meshes and instances are among the candidates (only
-    /// every primitive's source: a tile's lists of them are searched after its
-    /// other lists, by [`nearest_tops`] and [`any_masked`], so that a tile or a
-    /// view without meshes runs the search it runs without the feature).
-    #[cfg(feature = "bvh")]
-    const MESHES: bool = false;
-
     /// The hierarchy list `kind` is searched through, if any.
     #[cfg(feature = "bvh")]
     #[inline(always)]
@@ -219,7 +214,6 @@ pub(crate) fn tops_of<'l, T>(lists: &[&'l [T]; LISTS]) -> &'l [T] {
 #[cfg(feature = "bvh")]
 impl<'v> Source<'v> for Whole<'v> {
     const HULLS: bool = true;
-    const MESHES: bool = true;
 
     #[inline(always)]
     fn each<G>(self, list: &[Primitive<G>], kind: Kind, f: impl FnMut(usize, &G) -> bool) -> bool {
@@ -517,10 +511,31 @@ pub(crate) fn nearest_whole(
     nearest(view, ray, t_max, Every, skip)
 }
 
-/// [`nearest`] over [`Whole`] (see the module doc).
+/// [`nearest`] over [`Whole`], then the nearest face of the meshes and
+/// instances (which only replaces a nearer hit), out of line (see the module
+/// doc).
 #[cfg(feature = "bvh")]
 #[inline(never)]
 fn nearest_through(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> Option<Nearest> {
+    let found = nearest_through_lists(view, ray, t_max, skip);
+    if view.meshes.is_empty() {
+        return found;
+    }
+    let mut t = found.map_or(t_max, |n| n.hit.t);
+    bvh::meshes::<false>(view, Tops::All, ray, skip, &mut t).or(found)
+}
+
+/// [`nearest`] over [`Whole`] but the meshes, out of line: its frame (and
+/// its walks' stacks) and the meshes' search's are never on the stack
+/// together.
+#[cfg(feature = "bvh")]
+#[inline(never)]
+fn nearest_through_lists(
+    view: &SceneView<'_>,
+    ray: &Ray,
+    t_max: f32,
+    skip: Skip,
+) -> Option<Nearest> {
     nearest(view, ray, t_max, Whole::of(view), skip)
 }
 
@@ -535,10 +550,23 @@ pub(crate) fn any_whole(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip)
     any(view, ray, t_max, Every, skip)
 }
 
-/// [`any`] over [`Whole`] (see the module doc).
+/// [`any`] over [`Whole`], then the meshes and instances, out of line (see
+/// the module doc).
 #[cfg(feature = "bvh")]
 #[inline(never)]
 fn any_through(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> bool {
+    if any_through_lists(view, ray, t_max, skip) {
+        return true;
+    }
+    let mut t = t_max;
+    !view.meshes.is_empty() && bvh::meshes::<true>(view, Tops::All, ray, skip, &mut t).is_some()
+}
+
+/// [`any`] over [`Whole`] but the meshes, out of line (as
+/// [`nearest_through_lists`]).
+#[cfg(feature = "bvh")]
+#[inline(never)]
+fn any_through_lists(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> bool {
     any(view, ray, t_max, Whole::of(view), skip)
 }
 
@@ -552,7 +580,7 @@ pub(crate) fn any_masked(
     src: Masked<'_>,
     skip: Skip,
 ) -> bool {
-    if any(view, ray, t_max, src, skip) {
+    if any_masked_lists(view, ray, t_max, src, skip) {
         return true;
     }
     #[cfg(feature = "bvh")]
@@ -565,6 +593,19 @@ pub(crate) fn any_masked(
         }
     }
     false
+}
+
+/// [`any`] over a tile's shadow lists for one light but its tops, out of
+/// line: its frame and the tops' search's are never on the stack together.
+#[inline(never)]
+fn any_masked_lists(
+    view: &SceneView<'_>,
+    ray: &Ray,
+    t_max: f32,
+    src: Masked<'_>,
+    skip: Skip,
+) -> bool {
+    any(view, ray, t_max, src, skip)
 }
 
 /// The nearest hit of a camera ray that the tile's inlined search of its
@@ -600,10 +641,23 @@ fn nearest_listed(
     t_max: f32,
     lists: &[&[u16]; LISTS],
 ) -> Option<Nearest> {
-    let found = nearest(view, ray, t_max, Listed(lists), Skip::NONE);
+    let found = nearest_lists(view, ray, t_max, lists);
     let mut t = found.map_or(t_max, |n| n.hit.t);
     let tops = Tops::Listed(tops_of(lists));
     bvh::meshes::<false>(view, tops, ray, Skip::NONE, &mut t).or(found)
+}
+
+/// [`nearest`] over a tile's camera lists but its tops, out of line: its
+/// frame and the tops' search's are never on the stack together.
+#[cfg(feature = "bvh")]
+#[inline(never)]
+fn nearest_lists(
+    view: &SceneView<'_>,
+    ray: &Ray,
+    t_max: f32,
+    lists: &[&[u16]; LISTS],
+) -> Option<Nearest> {
+    nearest(view, ray, t_max, Listed(lists), Skip::NONE)
 }
 
 /// The search itself: the nearest hit, or with `FIRST` the first hit found (its
@@ -640,13 +694,6 @@ fn search<'v, S: Source<'v>, const FIRST: bool>(
             }
         }
     });
-    #[cfg(feature = "bvh")]
-    if S::MESHES
-        && !view.meshes.is_empty()
-        && let Some(m) = bvh::meshes::<FIRST>(view, Tops::All, ray, skip, &mut t)
-    {
-        best = Some(m);
-    }
     best
 }
 
