@@ -429,6 +429,47 @@ mod st7789 {
     pub const LANDSCAPE: u8 = 0x70;
     /// COLMOD: 16 bits a pixel (RGB565), for the RGB and the serial interface.
     pub const RGB565: u8 = 0x55;
+
+    /// The panel's registers as Waveshare's demo code for the Pico-LCD-1.3 sets
+    /// them, each command with its parameters (the ST7789V datasheet's names).
+    /// Those that differ from the controller's reset values: VCOMS (VCOM 0.725 V
+    /// against 0.9 V), VRHS (VRH 4.45 V against 4.1 V) and both gamma curves;
+    /// the rest are the reset values, written as the demo writes them.
+    pub const PANEL: [(u8, &[u8]); 11] = [
+        // PORCTRL: back and front porch 12 lines each, separate porch control
+        // off, idle and partial modes' porches 3 and 3 (reset values).
+        (0xB2, &[0x0C, 0x0C, 0x00, 0x33, 0x33]),
+        // GCTRL: VGH 13.26 V, VGL -10.43 V (reset value).
+        (0xB7, &[0x35]),
+        // VCOMS: VCOM 0.725 V (reset 0x20, 0.9 V).
+        (0xBB, &[0x19]),
+        // LCMCTRL (reset value).
+        (0xC0, &[0x2C]),
+        // VDVVRHEN: VDV and VRH from the commands below (reset value).
+        (0xC2, &[0x01]),
+        // VRHS: VRH 4.45 V (reset 0x0B, 4.1 V).
+        (0xC3, &[0x12]),
+        // VDVS: VDV 0 V (reset value).
+        (0xC4, &[0x20]),
+        // FRCTRL2: 60 frames a second in normal mode (reset value).
+        (0xC6, &[0x0F]),
+        // PWCTRL1: AVDD 6.8 V, AVCL -4.8 V, VDS 2.3 V (reset value).
+        (0xD0, &[0xA4, 0xA1]),
+        // PVGAMCTRL: the positive gamma curve.
+        (
+            0xE0,
+            &[
+                0xD0, 0x04, 0x0D, 0x11, 0x13, 0x2B, 0x3F, 0x54, 0x4C, 0x18, 0x0D, 0x0B, 0x1F, 0x23,
+            ],
+        ),
+        // NVGAMCTRL: the negative gamma curve.
+        (
+            0xE1,
+            &[
+                0xD0, 0x04, 0x0C, 0x11, 0x13, 0x2C, 0x3F, 0x44, 0x51, 0x2F, 0x1F, 0x1F, 0x20, 0x23,
+            ],
+        ),
+    ];
 }
 
 /// Why the panel link failed.
@@ -519,10 +560,11 @@ impl DmaPanel {
     }
 
     /// Resets the controller through `rst` and sets it up: awake, landscape as
-    /// Waveshare's demo, RGB565, colours inverted (the IPS panel), display on.
-    /// Its memory still holds noise: the backlight is turned on after the first
-    /// frame. Waveshare's demo also sets the porch, voltage and gamma registers;
-    /// this leaves them at the controller's reset values.
+    /// Waveshare's demo, RGB565, the panel's registers as Waveshare's demo for
+    /// the Pico-LCD-1.3 sets them (porch, gate, VCOM, power and gamma: see
+    /// [`st7789::PANEL`]), colours inverted (the IPS panel), display on. Its
+    /// memory still holds noise: the backlight is turned on after the first
+    /// frame.
     fn init(
         &mut self,
         rst: &mut impl OutputPin,
@@ -532,15 +574,18 @@ impl DmaPanel {
         delay.delay_ms(10);
         let _ = rst.set_high();
         delay.delay_ms(120);
-        let steps: [(u8, &[u8], u32); 6] = [
+        let before: [(u8, &[u8], u32); 3] = [
             (st7789::SLPOUT, &[], 120),
             (st7789::MADCTL, &[st7789::LANDSCAPE], 0),
             (st7789::COLMOD, &[st7789::RGB565], 0),
+        ];
+        let panel = st7789::PANEL.map(|(command, params)| (command, params, 0));
+        let after: [(u8, &[u8], u32); 3] = [
             (st7789::INVON, &[], 0),
             (st7789::NORON, &[], 0),
             (st7789::DISPON, &[], 20),
         ];
-        for (command, params, wait_ms) in steps {
+        for (command, params, wait_ms) in before.into_iter().chain(panel).chain(after) {
             self.command(command, params)?;
             self.deselect();
             delay.delay_ms(wait_ms);
