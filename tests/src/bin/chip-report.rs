@@ -752,6 +752,36 @@ impl Measured {
                 psnr
             );
         }
+        // Where the exact path stands against the per-pixel figures that were
+        // once its targets (guards now: the baseline files), centre sampling.
+        let standing: Vec<String> = [
+            ("chapter-direct", 0, 350.0),
+            ("chapter-reflect", 1, 430.0),
+            ("teapot", 0, 2500.0),
+        ]
+        .into_iter()
+        .filter_map(|(scene, depth, mark)| {
+            let (_, e) = runs.iter().zip(&exact.out.runs).find(|(r, _)| {
+                r.encoding == Encoding::Srgb
+                    && r.scene.name() == scene
+                    && r.depth == depth
+                    && r.sampler.to_string() == "centre"
+                    && r.width == SIZE
+            })?;
+            let now = e.instructions_per_pixel();
+            Some(format!(
+                "{scene} (depth {depth}) {now:.0} against {mark:.0} ({:.2} times)",
+                now / mark
+            ))
+        })
+        .collect();
+        let _ = writeln!(
+            w,
+            "\nThe exact path, centre sampling, against the instructions a pixel at {SIZE}x{SIZE} \
+             that were once its targets (now only reported; the baseline files guard the \
+             counts): {}.",
+            standing.join("; ")
+        );
     }
 
     /// The cost of the sRGB encoding: each scene's own settings, linear and sRGB.
