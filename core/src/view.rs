@@ -132,7 +132,7 @@ impl<'a> SceneView<'a> {
     /// Renders to the same bytes (the point of the culling's conservative bounds,
     /// which the tests check this way); slower. A test hook, with the feature
     /// `testing`.
-    #[cfg(any(test, feature = "testing"))]
+    #[cfg(any(feature = "testing", all(test, feature = "instances")))]
     #[must_use]
     pub(crate) fn without_culling_hook(&self) -> Self {
         Self {
