@@ -525,14 +525,9 @@ impl TileLists<'_> {
         view.each_top(|top, b| {
             // Every top has a box here (`build` gave up otherwise).
             let mask = b.map_or(u32::MAX << PLANE_RECEIVERS, |b| {
-                let e = Extent::Box {
-                    min: b.min,
-                    max: b.max,
-                };
-                match (ball_of(e), Bounds::of(e)) {
-                    (Some((c, r)), Some(b)) => blocks(c, r, b),
-                    _ => u32::MAX << PLANE_RECEIVERS,
-                }
+                let b = Bounds::new(b.min, b.max);
+                let (c, r) = b.ball();
+                blocks(c, r, b)
             });
             if mask != 0 {
                 full |= self.top_shadow.push(index(top) | mask).is_err();
@@ -607,7 +602,7 @@ fn ball_of(e: Extent) -> Option<(Vec3, f32)> {
     match e {
         Extent::Ball { center, radius } => Some((center, radius)),
         Extent::Points(p) => Some(ball(&p)),
-        Extent::Box { min, max } => Some(((min + max) * 0.5, ((max - min) * 0.5).length())),
+        Extent::Box { min, max } => Some(Bounds::new(min, max).ball()),
         Extent::Plane { .. } => None,
     }
 }
@@ -785,6 +780,14 @@ impl Bounds {
         self.min.is_finite() && self.max.is_finite()
     }
 
+    /// The ball around the box: its centre and half its diagonal.
+    fn ball(&self) -> (Vec3, f32) {
+        (
+            (self.min + self.max) * 0.5,
+            ((self.max - self.min) * 0.5).length(),
+        )
+    }
+
     /// Grown by `m` on every side.
     fn grown(self, m: f32) -> Self {
         Self::new(self.min - Vec3::splat(m), self.max + Vec3::splat(m))
@@ -800,8 +803,7 @@ impl Bounds {
     /// light, the segments are half-lines towards it: the capsule runs from the
     /// box's centre without end.
     fn capsule_misses(&self, light: LightKind, c: Vec3, r: f32) -> bool {
-        let m = (self.min + self.max) * 0.5;
-        let rho = ((self.max - self.min) * 0.5).length();
+        let (m, rho) = self.ball();
         let (closest, reach) = match light {
             LightKind::Point(light) => {
                 let axis = m - light;

@@ -258,6 +258,18 @@ impl<'a> SceneView<'a> {
         })
     }
 
+    /// The meshes drawn only through instances (a bit each) and the number of
+    /// instances: none of either without the feature `instances`.
+    #[cfg(feature = "bvh")]
+    #[inline(always)]
+    pub(crate) fn instancing(&self) -> (u16, usize) {
+        #[cfg(feature = "instances")]
+        let instancing = (self.instanced, self.instances.len());
+        #[cfg(not(feature = "instances"))]
+        let instancing = (0, 0);
+        instancing
+    }
+
     /// True when a list is searched through a hierarchy (triangles, spheres):
     /// the searches go through it and the tiles build no lists. (The meshes'
     /// hierarchies are searched from a tile's list of meshes and instances.)
@@ -288,11 +300,9 @@ impl<'a> SceneView<'a> {
     pub(crate) fn culled_lists(&self) -> Option<[usize; LISTS]> {
         let kinds = self.primitives.lens();
         #[cfg(feature = "bvh")]
-        let tops = self.meshes.len();
+        let tops = self.meshes.len() + self.instancing().1;
         #[cfg(not(feature = "bvh"))]
         let tops = 0;
-        #[cfg(feature = "instances")]
-        let tops = tops + self.instances.len();
         let lens = core::array::from_fn(|k| kinds.get(k).copied().unwrap_or(tops));
         (self.culling && !self.through()).then_some(lens)
     }
@@ -674,10 +684,7 @@ impl crate::cull::Source for SceneView<'_> {
     /// scaled by its largest scale (the rotation keeps lengths).
     #[cfg(feature = "bvh")]
     fn each_top(&self, mut f: impl FnMut(usize, Option<crate::cull::TopBox>)) {
-        #[cfg(feature = "instances")]
-        let instanced = self.instanced;
-        #[cfg(not(feature = "instances"))]
-        let instanced = 0u16;
+        let (instanced, _) = self.instancing();
         for (m, mesh) in self.meshes.iter().enumerate() {
             if instanced >> m & 1 != 0 {
                 continue;

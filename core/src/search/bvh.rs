@@ -182,10 +182,7 @@ pub(super) fn meshes<const FIRST: bool>(
     skip: Skip,
     t: &mut f32,
 ) -> Option<Nearest> {
-    #[cfg(feature = "instances")]
-    let (instanced, placed) = (view.instanced, view.instances.len());
-    #[cfg(not(feature = "instances"))]
-    let (instanced, placed) = (0u16, 0usize);
+    let (instanced, placed) = view.instancing();
     let meshes = view.meshes;
     // The ray's frame for the meshes drawn where they lie, once (none when
     // every mesh is drawn through its instances).

@@ -521,8 +521,39 @@ fn nearest_through(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> O
     if view.meshes.is_empty() {
         return found;
     }
+    nearer_in_tops(view, ray, t_max, found, Tops::All, skip)
+}
+
+/// `found` (the nearest hit of the lists before `t_max`), or the nearest face
+/// of the meshes and instances `tops` if one is nearer: what [`nearest`]
+/// finds after the lists (a face at `found`'s time does not replace it).
+#[cfg(feature = "bvh")]
+#[inline(always)]
+fn nearer_in_tops(
+    view: &SceneView<'_>,
+    ray: &Ray,
+    t_max: f32,
+    found: Option<Nearest>,
+    tops: Tops<'_>,
+    skip: Skip,
+) -> Option<Nearest> {
     let mut t = found.map_or(t_max, |n| n.hit.t);
-    bvh::meshes::<false>(view, Tops::All, ray, skip, &mut t).or(found)
+    bvh::meshes::<false>(view, tops, ray, skip, &mut t).or(found)
+}
+
+/// True when a face of the meshes and instances `tops` blocks `ray` before
+/// `t_max`.
+#[cfg(feature = "bvh")]
+#[inline(always)]
+fn blocked_in_tops(
+    view: &SceneView<'_>,
+    ray: &Ray,
+    t_max: f32,
+    tops: Tops<'_>,
+    skip: Skip,
+) -> bool {
+    let mut t = t_max;
+    bvh::meshes::<true>(view, tops, ray, skip, &mut t).is_some()
 }
 
 /// [`nearest`] over [`Whole`] but the meshes, out of line: its frame (and
@@ -558,8 +589,7 @@ fn any_through(view: &SceneView<'_>, ray: &Ray, t_max: f32, skip: Skip) -> bool 
     if any_through_lists(view, ray, t_max, skip) {
         return true;
     }
-    let mut t = t_max;
-    !view.meshes.is_empty() && bvh::meshes::<true>(view, Tops::All, ray, skip, &mut t).is_some()
+    !view.meshes.is_empty() && blocked_in_tops(view, ray, t_max, Tops::All, skip)
 }
 
 /// [`any`] over [`Whole`] but the meshes, out of line (as
@@ -587,9 +617,7 @@ pub(crate) fn any_masked(
     {
         let tops = tops_of(src.0);
         if !tops.is_empty() {
-            let mut t = t_max;
-            return bvh::meshes::<true>(view, Tops::Masked(tops, src.1), ray, skip, &mut t)
-                .is_some();
+            return blocked_in_tops(view, ray, t_max, Tops::Masked(tops, src.1), skip);
         }
     }
     false
@@ -610,9 +638,9 @@ fn any_masked_lists(
 
 /// The nearest hit of a camera ray that the tile's inlined search of its
 /// lists does not find: every primitive ([`nearest_whole`]) for a tile
-/// without lists, or a tile's lists and its meshes and instances `with_tops`
-/// ([`nearest_listed`]). Out of line: a tile without meshes searches inline
-/// what it searches without the feature `bvh`.
+/// without lists, or a tile's lists, then its meshes and instances, for a
+/// tile that lists some (`with_tops`). Out of line: a tile without meshes
+/// searches inline what it searches without the feature `bvh`.
 #[inline(never)]
 pub(crate) fn nearest_untiled(
     view: &SceneView<'_>,
@@ -622,29 +650,19 @@ pub(crate) fn nearest_untiled(
 ) -> Option<Nearest> {
     #[cfg(feature = "bvh")]
     if let Some(lists) = with_tops {
-        return nearest_listed(view, ray, t_max, lists);
+        let found = nearest_lists(view, ray, t_max, lists);
+        return nearer_in_tops(
+            view,
+            ray,
+            t_max,
+            found,
+            Tops::Listed(tops_of(lists)),
+            Skip::NONE,
+        );
     }
     #[cfg(not(feature = "bvh"))]
     let _ = with_tops;
     nearest_whole(view, ray, t_max, Skip::NONE)
-}
-
-/// [`nearest`] over a tile's camera lists, then the nearest face of the
-/// meshes and instances of its list of them (which only replaces a nearer
-/// hit: what [`nearest`] over [`Whole`] finds after the lists), out of line
-/// (see the module doc).
-#[cfg(feature = "bvh")]
-#[inline(always)]
-fn nearest_listed(
-    view: &SceneView<'_>,
-    ray: &Ray,
-    t_max: f32,
-    lists: &[&[u16]; LISTS],
-) -> Option<Nearest> {
-    let found = nearest_lists(view, ray, t_max, lists);
-    let mut t = found.map_or(t_max, |n| n.hit.t);
-    let tops = Tops::Listed(tops_of(lists));
-    bvh::meshes::<false>(view, tops, ray, Skip::NONE, &mut t).or(found)
 }
 
 /// [`nearest`] over a tile's camera lists but its tops, out of line: its

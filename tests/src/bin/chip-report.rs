@@ -755,20 +755,20 @@ impl Measured {
         // Where the exact path stands against the per-pixel figures that were
         // once its targets (guards now: the baseline files), centre sampling.
         let standing: Vec<String> = [
-            ("chapter-direct", 0, 350.0),
-            ("chapter-reflect", 1, 430.0),
-            ("teapot", 0, 2500.0),
+            (Builtin::ChapterDirect, 0, 350.0),
+            (Builtin::ChapterReflect, 1, 430.0),
+            (Builtin::Teapot, 0, 2500.0),
         ]
         .into_iter()
-        .filter_map(|(scene, depth, mark)| {
+        .filter_map(|(b, depth, mark)| {
             let (_, e) = runs.iter().zip(&exact.out.runs).find(|(r, _)| {
                 r.encoding == Encoding::Srgb
-                    && r.scene.name() == scene
+                    && r.scene == SceneRef::Builtin(b)
                     && r.depth == depth
-                    && r.sampler.to_string() == "centre"
+                    && r.sampler == Centre
                     && r.width == SIZE
             })?;
-            let now = e.instructions_per_pixel();
+            let (scene, now) = (b.name(), e.instructions_per_pixel());
             Some(format!(
                 "{scene} (depth {depth}) {now:.0} against {mark:.0} ({:.2} times)",
                 now / mark
