@@ -112,6 +112,9 @@ own_workspaces() {
   say "Pico 2 example (examples/pico2-st7789): format and clippy"
   run cargo fmt --manifest-path examples/pico2-st7789/Cargo.toml -- --check
   run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
+  # Its bench (docs/bench.md) and its flash-only layout (everything run from
+  # flash, without ram.x).
+  run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf --features bench,flash-only -- -D warnings
 
   # The firmware to copy (a scene file on qemu's Cortex-M4F): its own workspace; the
   # tests `examples::qemu::...` in `cargo test-all` build it in its folder, as a user
@@ -119,6 +122,11 @@ own_workspaces() {
   say "qemu example (examples/qemu-m4f): format and clippy"
   run cargo fmt --manifest-path examples/qemu-m4f/Cargo.toml -- --check
   run cargo clippy --release --manifest-path examples/qemu-m4f/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+  # The bench for any Cortex-M (docs/bench.md), beside it; the test
+  # `examples::qemu::the_bench_...` builds it in the example's target folder.
+  say "the bench (examples/qemu-m4f/bench): format and clippy"
+  run cargo fmt --manifest-path examples/qemu-m4f/bench/Cargo.toml -- --check
+  run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/qemu-m4f/bench/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
 
   # The board example (an STM32F411 Black Pill and an ST7789 panel): its own
   # workspace, linted and built in the qemu example's target folder (its test
@@ -128,6 +136,7 @@ own_workspaces() {
   say "board example (examples/blackpill-st7789): format and clippy"
   run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
   run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+  run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf --features bench -- -D warnings
 
   say "no-panic proof (tests/nopanic): format and clippy, both backends"
   run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check

@@ -15,9 +15,12 @@
 //! it always plays an animation) rather than forwards one by one as the other
 //! examples do.
 //!
-//! The link: memory.x where the linker finds it, the binaries linked with
-//! cortex-m-rt's `link.x` (which includes it) and `--nmagic`; with the feature
-//! `defmt`, also with defmt's `defmt.x`, and defmt's default log level set.
+//! The link: memory.x and ram.x where the linker finds them, the binaries
+//! linked with ram.x (tessera's code in SRAM; not with the feature
+//! `flash-only`), then cortex-m-rt's `link.x` (which includes memory.x), the
+//! binaries linked with cortex-m-rt's `link.x` (which includes it) and
+//! `--nmagic`; with the feature `defmt`, also with defmt's `defmt.x`, and
+//! defmt's default log level set.
 
 use std::env;
 use std::fs;
@@ -61,16 +64,24 @@ fn bake() -> Result<(), String> {
     Ok(())
 }
 
-/// Puts memory.x where the linker finds it and links with `--nmagic`,
+/// Puts memory.x and ram.x where the linker finds them and links with `--nmagic`,
 /// cortex-m-rt's `link.x` (and defmt's `defmt.x`). Here rather than in a
 /// `.cargo/config.toml`, so that the crate links the same wherever it is built
 /// from (a copy outside this repository too).
 fn link(out: &Path) {
     fs::write(out.join("memory.x"), include_bytes!("memory.x")).expect("write memory.x");
+    fs::write(out.join("ram.x"), include_bytes!("ram.x")).expect("write ram.x");
     println!("cargo::rustc-link-search={}", out.display());
     // No page alignment of the sections (as rp235x-hal's examples link), so no
     // flash is lost to padding.
     println!("cargo::rustc-link-arg-bins=--nmagic");
+    // tessera's code in SRAM (ram.x, src/ram.rs), unless the feature
+    // `flash-only` keeps everything in flash. Before link.x: a linker gives an
+    // input section to the first pattern that matches it in the order it reads
+    // them.
+    if env::var_os("CARGO_FEATURE_FLASH_ONLY").is_none() {
+        println!("cargo::rustc-link-arg-bins=-Tram.x");
+    }
     println!("cargo::rustc-link-arg-bins=-Tlink.x");
     if env::var_os("CARGO_FEATURE_DEFMT").is_some() {
         // defmt's linker script (its build script puts it on the search path):
@@ -86,5 +97,6 @@ fn link(out: &Path) {
         }
     }
     println!("cargo::rerun-if-changed=memory.x");
+    println!("cargo::rerun-if-changed=ram.x");
     println!("cargo::rerun-if-changed=build.rs");
 }

@@ -2,7 +2,8 @@
 //! write the images a test renders, the numerical-stability battery
 //! ([`extremes`]), the firmware test image under qemu
 //! ([`firmware`]), its instruction profile ([`profile`], attributed to source
-//! functions by [`dwarf`], weighted by the cycle model [`cycles`]), the guarded
+//! functions by [`dwarf`], weighted by the cycle model [`cycles`], its stalls in each board's memory path by
+//! [`memory`]), the guarded
 //! instruction counts ([`baseline`]), the host's profile under callgrind
 //! ([`callgrind`]), the sections of the profile document ([`profile_doc`]), the
 //! speed/accuracy trade report ([`trade_report`]), the profile of the chips
@@ -28,6 +29,8 @@ pub mod extremes;
 pub mod cycles;
 
 pub mod profile;
+
+pub mod memory;
 
 pub mod dwarf;
 

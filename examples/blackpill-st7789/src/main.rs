@@ -28,6 +28,11 @@
 //! picture took, and every error with its value ([`log`]); a panic's message goes
 //! there too (panic-probe). Without a probe the log costs nothing but its flash
 //! (RTT does not wait for a reader until one attaches).
+//!
+//! With the feature `bench` (off by default) it first times each built-in scene
+//! at 240x240 with the cycle counter and prints the figures and each frame's
+//! checksum over RTT, then draws its scene as always ([`bench`];
+//! docs/bench.md).
 #![no_std]
 #![no_main]
 #![deny(unsafe_code)]
@@ -53,6 +58,8 @@ use stm32f4xx_hal::timer::SysDelay;
 use tessera_core::display::Drawing;
 use tessera_core::{Viewport, dither::Dither};
 
+#[cfg(feature = "bench")]
+mod bench;
 mod log;
 
 /// The scene: its tables (`SCENE`, `MATERIALS`, the meshes...) are statics in
@@ -199,6 +206,8 @@ fn main() -> ! {
         .freeze(Config::hse(HSE_MHZ.MHz()).sysclk(SYSCLK_MHZ.MHz()));
     let mut delay = cp.SYST.delay(&rcc.clocks);
     log::start_clock(&mut cp.DCB, &mut cp.DWT);
+    #[cfg(feature = "bench")]
+    bench::run(&mut cp.DCB, &mut cp.DWT);
     let gpioa = dp.GPIOA.split(&mut rcc);
     let gpiob = dp.GPIOB.split(&mut rcc);
     let gpioc = dp.GPIOC.split(&mut rcc);

@@ -59,6 +59,11 @@
 //! feature `defmt` (on by default) it also logs over RTT, for a probe: the start,
 //! each frame's time, and every error with its value, from either core ([`log`]);
 //! a panic's message goes there too (panic-probe).
+//!
+//! With the feature `bench` (off by default) it first times each built-in scene
+//! at 240x240 on one core and on both with the cycle counter and prints the
+//! figures and each frame's checksum over RTT, then animates as always
+//! ([`bench`]; docs/bench.md).
 #![no_std]
 #![no_main]
 
@@ -85,8 +90,12 @@ use tessera_core::display::{Drawing, Rgb565Wire, TileSink, tile_area, wire_bytes
 use tessera_core::tile::TileQueue;
 use tessera_core::{Renderer, SceneView, Tile, Viewport};
 
+#[cfg(feature = "bench")]
+mod bench;
 mod label;
 mod log;
+#[cfg(not(feature = "flash-only"))]
+mod ram;
 
 use label::Label;
 
@@ -780,6 +789,8 @@ fn renderer() -> Result<Renderer, tessera_core::Error> {
 /// view (and so the instances) only between its acquire load of the frame's
 /// number and its release store of it in [`CORE1_DONE`].
 fn core1_main(mut tiles: handoff::Producer) -> ! {
+    #[cfg(feature = "bench")]
+    bench::serve();
     let mut seen = 0;
     loop {
         let frame = FRAME.load(Ordering::Acquire);
@@ -1036,6 +1047,8 @@ fn main() -> ! {
                 }
                 _ => false,
             };
+            #[cfg(feature = "bench")]
+            bench::run(two_cores, clocks.system_clock.freq().to_Hz());
             log::started(two_cores, scene::ANIMATION.looped_frames(scene::FPS));
             let mut sender = Sender {
                 panel,

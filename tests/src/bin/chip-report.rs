@@ -39,6 +39,11 @@ use tessera_core::testing::Extreme;
 use tessera_core::{Encoding, Viewport};
 use tessera_core::{Sampler, Sampler::*};
 use tessera_tests::firmware::{self, Core, Output, Run, SceneRef, Sizes, repo_relative};
+use tessera_tests::memory::{
+    self,
+    board::{Imxrt1062, Rp2350, Stm32f411},
+    frames::{Board, RAM_CRATES, Traced},
+};
 use tessera_tests::{
     baseline, cycles, dualcore, profile, qemu_example, thousands, thousands_rounded,
 };
@@ -369,6 +374,8 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     let dual = dual_core()?;
     println!("the qemu example's scene files...");
     let files = scene_files()?;
+    println!("the frames through the boards' memory paths...");
+    let memory = memory_paths(&exact.elf, &cores)?;
     let m4f_sqrt = firmware::check_sqrt(&firmware::CORTEX_M4F, &exact.elf)?;
     if m4f_sqrt != firmware::SqrtReport::host() {
         return Err(format!("Cortex-M4F: sqrt {m4f_sqrt:?}"));
@@ -385,6 +392,7 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
         cores,
         dual,
         files,
+        memory,
     };
     let mut d = String::new();
     m.setup(&mut d);
@@ -400,11 +408,34 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     m.cores(&mut d);
     m.both_cores(&mut d);
     m.frames(&mut d);
+    m.memory_model(&mut d);
     m.animation(&mut d);
     m.regenerate(&mut d);
     let path = firmware::repo_root().join("docs").join("chip-cost.md");
     std::fs::write(&path, d).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     Ok(path)
+}
+
+/// The layout each board's example ships, by [`Board::ALL`]'s order: the
+/// Black Pill from flash, the Pico 2 with tessera's code in SRAM, the Teensy
+/// 4.1 as teensy4-bsp links it.
+const SHIPPED: [&str; 3] = ["flash", "tessera in RAM", "teensy4-bsp: .rodata in OCRAM"];
+
+/// Traces the frame runs on the Cortex-M4F (`m4f`), the Cortex-M33 and the
+/// Cortex-M7 images, through the memory paths of the boards they stand for.
+fn memory_paths(m4f: &std::path::Path, cores: &[CoreMeasure]) -> Result<Vec<Traced>, String> {
+    let elf = |t: &str| {
+        cores
+            .iter()
+            .find(|c| c.core.title == t)
+            .map(|c| c.elf.as_path())
+            .ok_or_else(|| format!("the {t} was not measured"))
+    };
+    let started = Instant::now();
+    let traced =
+        memory::frames::measure(&frame_runs(), [m4f, elf("Cortex-M33")?, elf("Cortex-M7")?])?;
+    println!("traced in {:.0} s", started.elapsed().as_secs_f64());
+    Ok(traced)
 }
 
 /// What [`measure_all`] measured: both backends of the Cortex-M4F, the exact one's
@@ -601,6 +632,8 @@ struct Measured {
     dual: Vec<dualcore::SceneCounts>,
     /// The qemu example built and run for each of [`SCENE_FILES`].
     files: Vec<qemu_example::Run>,
+    /// The frame runs ([`frame_runs`]) through each board's memory path.
+    memory: Vec<Traced>,
 }
 
 impl Measured {
@@ -1150,119 +1183,366 @@ impl Measured {
         let _ = write!(w, "{}", dualcore::table(&self.dual));
     }
 
-    /// Frame times and rates on three boards, estimated from the counts above.
+    /// Frame times and rates on three boards, each as its example ships,
+    /// without and with its memory path ([`Measured::memory_model`]).
     fn frames(&self, w: &mut String) {
-        let Self {
-            runs,
-            exact,
-            est,
-            cores,
-            ..
-        } = self;
         let px = f64::from(FRAME) * f64::from(FRAME);
         // The SPI transfer of a frame of RGB565 at the wire's clock, in ms.
         let spi_ms = px * 2.0 * 8.0 / SPI_HZ * 1e3;
         let _ = writeln!(w, "\n## Frames per second: estimates for three boards\n");
         let _ = writeln!(
             w,
-            "**Estimates, not measurements: none of these boards is here.** Each built-in \
-             scene with its own settings and centre sampling, a frame of {FRAME}x{FRAME} \
-             pixels ({} of them), at the instructions per pixel measured above at \
-             {SIZE}x{SIZE} (the same picture, sampled more finely: its cost per pixel is \
-             taken to be the same). Cycles: \
-             **Black Pill** (STM32F411, one Cortex-M4F at 100 MHz): the Cortex-M4 cycle \
-             model of [chip-profile.md](chip-profile.md) (`est. cycles/px` above). \
-             **Pico 2** (RP2350, two Cortex-M33 at 150 MHz): the Cortex-M33's \
-             instructions per pixel (the per-core table) times the Cortex-M4F model's \
-             cycles per instruction for the same scene (both cores have a three-stage \
-             pipeline and single-cycle FPU arithmetic; no M33 model is made), for one \
-             core, and for two at the speed-up measured on both cores of \
-             `mps2-an521` (the section above, with the 16 tiles of a 64x64 frame; the \
-             225 of a 240x240 frame should split at least as evenly). \
-             **Teensy 4.1** (i.MX RT1062, one Cortex-M7 at 600 MHz): a range, from the \
-             Cortex-M7's instructions per pixel at two instructions a cycle (its dual \
-             issue at every cycle: the best case) to the Cortex-M4F model's cycles per \
-             instruction (no dual issue at all). All assume zero-wait memory: the \
-             RP2350 runs from QSPI flash through a 16 KiB cache and the F411's flash \
-             has wait states at 100 MHz, so real frames are slower. \
-             The panel: {FRAME}x{FRAME} RGB565 is {} bytes, {spi_ms:.1} ms on a {} MHz \
-             SPI wire; sent tile after tile while the next renders \
-             (`Drawing::send`, a DMA channel) it hides behind the rendering but for the \
-             last tile; sent by a blocking write it adds at least that to every frame \
-             (`fps, blocking SPI`).\n",
+            "**Estimates, not measurements: none of these boards is here** \
+             ([bench.md](bench.md) measures them on a board). Each built-in scene with \
+             its own settings and centre sampling, a frame of {FRAME}x{FRAME} pixels \
+             ({} of them), run at that size. Cycles without waiting on memory \
+             (`zero-wait`): **Black Pill** (STM32F411, one Cortex-M4F at 100 MHz): the \
+             Cortex-M4 cycle model of [chip-profile.md](chip-profile.md) on the \
+             frame's profile. **Pico 2** (RP2350, two Cortex-M33 at 150 MHz): the \
+             Cortex-M33's instructions for the frame times the Cortex-M4F model's cycles \
+             per instruction for the same frame (both cores have a three-stage pipeline \
+             and single-cycle FPU arithmetic; no M33 model is made), for one core, and \
+             for two at the speed-up measured on both cores of `mps2-an521` (the section \
+             above, with the 16 tiles of a 64x64 frame; the 225 of a 240x240 frame \
+             should split at least as evenly). **Teensy 4.1** (i.MX RT1062, one \
+             Cortex-M7 at 600 MHz): a range, from the Cortex-M7's instructions at two a \
+             cycle (its dual issue at every cycle: the best case) to the Cortex-M4F \
+             model's cycles per instruction (no dual issue at all). `with memory`: the \
+             same plus the cycles the board's memory path stalls, under the layout its \
+             example ships (the Black Pill from flash behind the ART accelerator; the \
+             Pico 2 with tessera's code in SRAM; the Teensy 4.1 as teensy4-bsp links \
+             it); [the memory model](#frames-per-second-with-the-memory-model) has the \
+             model, the other layouts and the sparse sampler. The panel: \
+             {FRAME}x{FRAME} RGB565 is {} bytes, {spi_ms:.1} ms on a {} MHz SPI wire; \
+             sent tile after tile while the next renders (`Drawing::send`, a DMA \
+             channel) it hides behind the rendering but for the last tile; sent by a \
+             blocking write it adds at least that to every frame (`fps, blocking \
+             SPI`).\n",
             thousands(px as u64),
             thousands((px * 2.0) as u64),
             SPI_HZ / 1e6
         );
-        let title = |t: &str| cores.iter().find(|c| c.core.title == t);
-        let (Some(m33), Some(m7)) = (title("Cortex-M33"), title("Cortex-M7")) else {
-            let _ = writeln!(w, "(the Cortex-M33 or Cortex-M7 was not measured)");
-            return;
+        let _ = writeln!(
+            w,
+            "| scene | Black Pill: cycles/px, zero-wait | with memory | fps | fps, blocking SPI | Pico 2: cycles/px, zero-wait | with memory | one core: fps | two cores: fps | Teensy 4.1: cycles/px, zero-wait | with memory | fps |"
+        );
+        let _ = writeln!(w, "|---|---|---|---|---|---|---|---|---|---|---|---|");
+        let stalls = |b: Board, scene: Builtin| {
+            let layout = SHIPPED[Board::ALL.iter().position(|x| *x == b).unwrap_or(0)];
+            self.traced(b, scene, Centre)
+                .iter()
+                .find(|t| t.layout == layout)
+                .map(|t| t.stalls_px)
+        };
+        let range =
+            |lo: f64, hi: f64| format!("{} to {}", thousands_rounded(lo), thousands_rounded(hi));
+        for &scene in Builtin::ALL {
+            let (Some((bp, _)), Some((pico, _)), Some((t_lo, Some(t_hi)))) = (
+                self.zero_wait(Board::BlackPill, scene, Centre),
+                self.zero_wait(Board::Pico2, scene, Centre),
+                self.zero_wait(Board::Teensy41, scene, Centre),
+            ) else {
+                continue;
+            };
+            let (Some(bp_s), Some(pico_s), Some(t_s)) = (
+                stalls(Board::BlackPill, scene),
+                stalls(Board::Pico2, scene),
+                stalls(Board::Teensy41, scene),
+            ) else {
+                continue;
+            };
+            let bp_ms = (bp + bp_s) * px / BLACK_PILL_HZ * 1e3;
+            let pico_one = PICO2_HZ / ((pico + pico_s) * px);
+            let _ = writeln!(
+                w,
+                "| {} | {} | {} | {:.2} | {:.2} | {} | {} | {:.2} | {:.2} | {} | {} | {:.1} to {:.1} |",
+                scene.name(),
+                thousands_rounded(bp),
+                thousands_rounded(bp + bp_s),
+                1e3 / bp_ms,
+                1e3 / (bp_ms + spi_ms),
+                thousands_rounded(pico),
+                thousands_rounded(pico + pico_s),
+                pico_one,
+                self.speedup(scene) * pico_one,
+                range(t_lo, t_hi),
+                range(t_lo + t_s, t_hi + t_s),
+                TEENSY_HZ / ((t_hi + t_s) * px),
+                TEENSY_HZ / ((t_lo + t_s) * px),
+            );
+        }
+        self.sparse_frames(w);
+    }
+
+    /// The frame-rate estimates with each board's memory path: the model, where
+    /// each board keeps code and data, and per board a table of each scene,
+    /// centre and sparse, without and with the model, under each layout.
+    fn memory_model(&self, w: &mut String) {
+        let px = f64::from(FRAME) * f64::from(FRAME);
+        let _ = writeln!(w, "\n## Frames per second with the memory model\n");
+        let _ = writeln!(
+            w,
+            "**Estimates, not measurements: no board is here.** The cycle model \
+             assumes zero-wait memory. Here each frame of the estimates ({FRAME}x{FRAME}, \
+             each built-in scene with its own settings, centre and sparse sampling) runs \
+             once more under qemu on the core of each board, with the plugin \
+             `tests/profiler/mem_trace.c` streaming every instruction fetch and data \
+             access of the render; a model of the board's memory path \
+             (`tests/src/memory/`, with its unit tests on address traces of known hit \
+             counts) adds the cycles each access would wait on the board. The cycles \
+             without the model are the cycle model's for the same {FRAME}x{FRAME} run \
+             (the Cortex-M4F's profile; the Cortex-M33's and Cortex-M7's instructions \
+             times the Cortex-M4F's cycles per instruction for that run, as above). The \
+             images traced are the test firmware for each core, with every built-in \
+             scene linked: the cache sets its hot code falls in are that image's, not a \
+             board example's.\n"
+        );
+        let _ = writeln!(w, "### The model's parameters\n");
+        let _ = writeln!(
+            w,
+            "| board | memory path | parameters | sources |\n|---|---|---|---|"
+        );
+        let _ = writeln!(
+            w,
+            "| Pico 2 (RP2350, 150 MHz) | flash through the XIP cache, shared by fetches and loads; SRAM zero-wait | 16 KiB, 2 ways, 8-byte lines, LRU (policy undocumented), a hit costs nothing; a miss {} cycles, {} for the line after the last miss while the QMI's transfer is open | RP2350 datasheet 4.4 (XIP); pico-sdk `hardware/xip_cache.h`; the bootrom's QMI set-up (`EBh` quad read without continuous mode, 4 dummy clocks, `CLKDIV` 3: SCK 50 MHz), which rp235x-hal leaves as it is |",
+            Rp2350::MISS,
+            Rp2350::NEXT
+        );
+        let _ = writeln!(
+            w,
+            "| Black Pill (STM32F411, 100 MHz) | flash through the ART accelerator; SRAM zero-wait | {} wait states, 128-bit lines; prefetch of the next line; instruction cache 64 lines, data cache 8 lines, LRU, modelled fully associative (sets undocumented); a miss waits the wait states, a prefetched line what its read time exceeds the previous line's instructions | RM0383 3.4 (table 5) and 3.4.2 (ART); stm32f4xx-hal 0.23 `rcc::freeze` turns on prefetch and both caches |",
+            Stm32f411::WAIT_STATES
+        );
+        let _ = writeln!(
+            w,
+            "| Teensy 4.1 (i.MX RT1062, 600 MHz) | ITCM and DTCM zero-wait; OCRAM uncached (the BSP leaves the caches off) | an OCRAM load {} cycles (undocumented: an assumption to measure) | i.MX RT1060 reference manual 31 (FlexRAM); imxrt-rt `RuntimeBuilder::from_flexspi` (`.rodata` in OCRAM); teensy4-bsp's build script and changelog |",
+            Imxrt1062::OCRAM_LOAD
+        );
+        let _ = writeln!(
+            w,
+            "\nNot modelled: two cores missing at once in the Pico 2's shared XIP cache; \
+             bus contention in SRAM. Code run from SRAM is fetched over the bus its own \
+             loads and stores use (the Cortex-M4's S-bus, the Cortex-M33's S-AHB): the \
+             `shared/px` columns count the RAM accesses that could delay a fetch by a \
+             cycle, a bound the core's fetch buffer mostly hides.\n"
+        );
+        let _ = writeln!(w, "### Where code and data sit\n");
+        let (code_bytes, rodata_bytes) = memory::Image::of(&self.exact.elf)
+            .map(|i| i.sizes())
+            .unwrap_or((0, 0));
+        let ram_code = |b: Board| {
+            self.memory
+                .iter()
+                .find(|t| t.board == b && t.layout == "tessera in RAM")
+                .map_or(0, |t| t.code_in_ram)
         };
         let _ = writeln!(
             w,
-            "| scene | Black Pill: cycles/px | ms/frame | fps | fps, blocking SPI | Pico 2: cycles/px | one core: fps | two cores: fps | Teensy 4.1: cycles/px | fps |"
+            "| board | layout | code | read-only data (scene tables, sRGB table) | data, stack, tiles |\n|---|---|---|---|---|"
         );
-        let _ = writeln!(w, "|---|---|---|---|---|---|---|---|---|---|");
-        let fps = |cycles_px: f64, hz: f64| hz / (cycles_px * px);
-        // The measured dual-core speed-up of a scene (1: not measured).
-        let speedup = |name: &str| {
-            self.dual
-                .iter()
-                .find(|c| c.scene.name() == name)
-                .map_or(1.0, dualcore::SceneCounts::speedup)
-        };
-        let mut chapter = None;
-        for (i, r) in core_runs().iter().enumerate() {
-            if r.sampler != Centre {
-                continue;
-            }
-            let Some(j) = runs.iter().position(|x| x == r) else {
-                continue;
-            };
-            let m4f_px = exact.out.runs[j].instructions_per_pixel();
-            let m4f_cyc = est[j] as f64 / exact.out.runs[j].pixels_count.max(1) as f64;
-            let cpi = m4f_cyc / m4f_px.max(1.0);
-            let m33_cyc = m33.out.runs[i].instructions_per_pixel() * cpi;
-            let m7_px = m7.out.runs[i].instructions_per_pixel();
-            let (m7_lo, m7_hi) = (m7_px / 2.0, m7_px * cpi);
-            let bp_ms = m4f_cyc * px / BLACK_PILL_HZ * 1e3;
-            let _ = writeln!(
-                w,
-                "| {} | {} | {} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {} to {} | {:.1} to {:.1} |",
-                r.scene.name(),
-                thousands_rounded(m4f_cyc),
-                thousands_rounded(bp_ms),
-                1e3 / bp_ms,
-                1e3 / (bp_ms + spi_ms),
-                thousands_rounded(m33_cyc),
-                fps(m33_cyc, PICO2_HZ),
-                speedup(r.scene.name()) * fps(m33_cyc, PICO2_HZ),
-                thousands_rounded(m7_lo),
-                thousands_rounded(m7_hi),
-                fps(m7_hi, TEENSY_HZ),
-                fps(m7_lo, TEENSY_HZ),
-            );
-            if r.scene.name() == Builtin::ChapterReflect.name() {
-                chapter = Some((m33_cyc, speedup(r.scene.name())));
-            }
+        let crates = RAM_CRATES.join("`, `");
+        let _ = writeln!(
+            w,
+            "| Black Pill | flash (cortex-m-rt's default) | flash | flash | SRAM |\n\
+             | Black Pill | tessera in RAM | the code of `{crates}` in SRAM ({} in the Cortex-M4F's test image), the rest in flash | flash | SRAM |\n\
+             | Pico 2 | flash (cortex-m-rt's default) | flash (XIP) | flash (XIP) | SRAM |\n\
+             | Pico 2 | tessera in RAM | the code of `{crates}` in SRAM ({} in the Cortex-M33's test image), the rest in flash | flash (XIP) | SRAM |\n\
+             | Teensy 4.1 | teensy4-bsp's default | ITCM | OCRAM | DTCM |\n\
+             | Teensy 4.1 | `.rodata` in DTCM | ITCM | DTCM | DTCM |\n",
+            kib(ram_code(Board::BlackPill)),
+            kib(ram_code(Board::Pico2)),
+        );
+        let _ = writeln!(
+            w,
+            "(The Cortex-M4F's test image: {} of code, {} of read-only data.)\n",
+            kib(code_bytes),
+            kib(rodata_bytes)
+        );
+        for b in Board::ALL {
+            self.memory_table(w, b, px);
         }
-        // Ten frames a second on both cores of a Pico 2: the cycles a pixel
-        // each core can spend.
+        // Ten frames a second of chapter-reflect on the Pico 2's two cores.
         let budget = 2.0 * PICO2_HZ / (10.0 * px);
-        if let Some((c, two)) = chapter {
-            let _ = writeln!(
-                w,
-                "\nTen frames a second of the chapter's scene (chapter-reflect) at \
-                 {FRAME}x{FRAME} on a Pico 2's two cores leaves {budget:.0} cycles a \
-                 pixel on each; the estimate above is {} ({:.1} times that), about {:.1} \
-                 frames a second with the measured speed-up of {two:.3}.",
-                thousands_rounded(c),
-                c / budget,
-                two * fps(c, PICO2_HZ)
-            );
+        let lines: Vec<String> = [Centre, Sampler::sparse()]
+            .iter()
+            .filter_map(|&sampler| {
+                let (zero, _) = self.zero_wait(Board::Pico2, Builtin::ChapterReflect, sampler)?;
+                let two = self.speedup(Builtin::ChapterReflect);
+                let parts: Vec<String> = self
+                    .traced(Board::Pico2, Builtin::ChapterReflect, sampler)
+                    .iter()
+                    .map(|t| {
+                        let c = zero + t.stalls_px;
+                        format!(
+                            "{} cycles a pixel with {} ({:.1} frames a second)",
+                            thousands_rounded(c),
+                            t.layout,
+                            two * PICO2_HZ / (c * px)
+                        )
+                    })
+                    .collect();
+                Some(format!("{}: {}", sampler, parts.join(", ")))
+            })
+            .collect();
+        let _ = writeln!(
+            w,
+            "\nTen frames a second of chapter-reflect on the Pico 2's two cores leave \
+             {budget:.0} cycles a pixel on each. With the memory model: {}.",
+            lines.join("; ")
+        );
+    }
+
+    /// One board's table of [`Measured::memory_model`].
+    fn memory_table(&self, w: &mut String, b: Board, px: f64) {
+        let layouts: Vec<&str> = {
+            let mut l: Vec<&str> = Vec::new();
+            for t in self.memory.iter().filter(|t| t.board == b) {
+                if !l.contains(&t.layout) {
+                    l.push(t.layout);
+                }
+            }
+            l
+        };
+        let (hz, cores) = match b {
+            Board::BlackPill => (BLACK_PILL_HZ, "one core"),
+            Board::Pico2 => (PICO2_HZ, "two cores at the measured speed-up"),
+            Board::Teensy41 => (TEENSY_HZ, "one core; cycles a range, as above"),
+        };
+        let _ = writeln!(w, "\n### {} ({cores})\n", b.name());
+        let mut head = String::from(
+            "| scene | sampler | FLIP against the scene's own | pixels off by more than 2 | zero-wait: cycles/px | fps |",
+        );
+        let mut rule = String::from("|---|---|---|---|---|---|");
+        for l in &layouts {
+            let _ = write!(head, " {l}: stalls/px | cycles/px | fps |");
+            rule.push_str("---|---|---|");
+            if matches!(b, Board::BlackPill | Board::Pico2) && *l != "flash" {
+                head.push_str(" shared/px |");
+                rule.push_str("---|");
+            }
         }
-        self.sparse_frames(w, m33, budget);
+        let _ = writeln!(w, "{head}\n{rule}");
+        for &scene in Builtin::ALL {
+            for sampler in [Centre, Sampler::sparse()] {
+                let Some((zero, zero_hi)) = self.zero_wait(b, scene, sampler) else {
+                    continue;
+                };
+                let gain = if b == Board::Pico2 {
+                    self.speedup(scene)
+                } else {
+                    1.0
+                };
+                let fps = |c: f64| gain * hz / (c * px);
+                let cyc = |lo: f64, hi: Option<f64>| match hi {
+                    Some(hi) => format!("{} to {}", thousands_rounded(lo), thousands_rounded(hi)),
+                    None => thousands_rounded(lo),
+                };
+                let rate = |lo: f64, hi: Option<f64>| match hi {
+                    Some(hi) => format!("{:.1} to {:.1}", fps(hi), fps(lo)),
+                    None => format!("{:.2}", fps(lo)),
+                };
+                let (flip, off) = self.accuracy(scene, sampler);
+                let mut row = format!(
+                    "| {} | {} | {flip} | {off} | {} | {} |",
+                    scene.name(),
+                    sampler,
+                    cyc(zero, zero_hi),
+                    rate(zero, zero_hi)
+                );
+                let traced = self.traced(b, scene, sampler);
+                for l in &layouts {
+                    let Some(t) = traced.iter().find(|t| t.layout == *l) else {
+                        row.push_str(" | | |");
+                        continue;
+                    };
+                    let (lo, hi) = (zero + t.stalls_px, zero_hi.map(|h| h + t.stalls_px));
+                    let _ = write!(
+                        row,
+                        " {:.0} | {} | {} |",
+                        t.stalls_px,
+                        cyc(lo, hi),
+                        rate(lo, hi)
+                    );
+                    if matches!(b, Board::BlackPill | Board::Pico2) && *l != "flash" {
+                        let _ = write!(row, " {:.0} |", t.shared_px);
+                    }
+                }
+                let _ = writeln!(w, "{row}");
+            }
+        }
+    }
+
+    /// The traced rows of `scene` with `sampler` on board `b`, one a layout.
+    fn traced(&self, b: Board, scene: Builtin, sampler: Sampler) -> Vec<&Traced> {
+        self.memory
+            .iter()
+            .filter(|t| {
+                t.board == b && t.run.scene == SceneRef::Builtin(scene) && t.run.sampler == sampler
+            })
+            .collect()
+    }
+
+    /// Zero-wait cycles a pixel of the frame run of `scene` with `sampler` on
+    /// board `b` (and the top of the range on the Teensy): the Cortex-M4F's
+    /// cycle model for that run; on the other cores their traced instructions
+    /// times its cycles per instruction.
+    fn zero_wait(&self, b: Board, scene: Builtin, sampler: Sampler) -> Option<(f64, Option<f64>)> {
+        let r = Run {
+            sampler,
+            tile: TILE,
+            ..Run::of(scene, FRAME, FRAME)
+        };
+        let j = self.runs.iter().position(|x| *x == r)?;
+        let res = &self.exact.out.runs[j];
+        let m4f_cyc = self.est[j] as f64 / res.pixels_count.max(1) as f64;
+        let cpi = m4f_cyc / res.instructions_per_pixel().max(1.0);
+        let instr = |b: Board| self.traced(b, scene, sampler).first().map(|t| t.instr_px);
+        match b {
+            Board::BlackPill => Some((m4f_cyc, None)),
+            Board::Pico2 => Some((instr(b)? * cpi, None)),
+            Board::Teensy41 => {
+                let i = instr(b)?;
+                Some((i / 2.0, Some(i * cpi)))
+            }
+        }
+    }
+
+    /// The dual-core speed-up measured for `scene` (1 when not measured).
+    fn speedup(&self, scene: Builtin) -> f64 {
+        self.dual
+            .iter()
+            .find(|c| c.scene == scene)
+            .map_or(1.0, dualcore::SceneCounts::speedup)
+    }
+
+    /// Mean FLIP and the pixels off by more than 2 levels of the frame with
+    /// `sampler` against the frame with the scene's own sampler (the chip's
+    /// pixels, which are the host's); dashes for the scene's own sampler.
+    fn accuracy(&self, scene: Builtin, sampler: Sampler) -> (String, String) {
+        let own = scene.settings().sampler;
+        if sampler == own {
+            return ("(its own)".into(), "(its own)".into());
+        }
+        let frame = |s: Sampler| {
+            let r = Run {
+                sampler: s,
+                tile: TILE,
+                ..Run::of(scene, FRAME, FRAME)
+            };
+            let j = self.runs.iter().position(|x| *x == r)?;
+            Some(&self.exact.out.runs[j].pixels)
+        };
+        let (Some(a), Some(b)) = (frame(own), frame(sampler)) else {
+            return ("(not run)".into(), "(not run)".into());
+        };
+        let flip = tessera_host::compare::mean_flip(a, b)
+            .map_or_else(|e| format!("({e})"), |f| format!("{f:.4}"));
+        let off = a
+            .pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 2))
+            .count();
+        (flip, thousands(off as u64))
     }
 
     /// The animated scene's frames on the Cortex-M4F (the qemu example's
@@ -1356,27 +1636,42 @@ impl Measured {
         }
         if !per_px.is_empty() {
             let mean = per_px.iter().sum::<f64>() / per_px.len() as f64;
+            let teapot_stalls = self
+                .traced(Board::Pico2, Builtin::Teapot, Centre)
+                .iter()
+                .find(|t| t.layout == SHIPPED[1])
+                .map(|t| t.stalls_px)
+                .zip(
+                    self.zero_wait(Board::Pico2, Builtin::Teapot, Centre)
+                        .map(|z| z.0),
+                );
             let _ = writeln!(
                 w,
                 "\nThe Pico 2 example's estimate, the mean of these frames: {} cycles a \
                  pixel, {:.2} frames a second on both cores. A frame's set-up is a few \
-                 thousand instructions of a render's tens of millions.",
+                 thousand instructions of a render's tens of millions. These are \
+                 zero-wait figures: this scene file runs through the qemu example, \
+                 which the memory trace does not arm. The Pico 2 example keeps \
+                 tessera's code in SRAM, where what is left to wait on is the read-only \
+                 data's misses in the XIP cache: of the traced scenes, the teapot's \
+                 mesh tables cost the most, {} cycles a pixel, {:.1} % of its cycles \
+                 ([the memory model](#frames-per-second-with-the-memory-model)).",
                 thousands_rounded(mean),
-                two * PICO2_HZ / (mean * pixels as f64)
+                two * PICO2_HZ / (mean * pixels as f64),
+                teapot_stalls.map_or_else(|| "(not traced)".into(), |(s, _)| thousands_rounded(s)),
+                teapot_stalls.map_or(f64::NAN, |(s, z)| 100.0 * s / (s + z)),
             );
         }
     }
 
-    /// The fps estimates again with the sparse sampler, from the Cortex-M4F runs
-    /// at the frame's own size ([`frame_runs`]): how much it saves depends on
-    /// the size (the larger the frame, the smoother the picture between two
-    /// pixels), so it is measured at 240x240, against centre sampling at the
-    /// same size.
-    fn sparse_frames(&self, w: &mut String, m33: &CoreMeasure, budget: f64) {
+    /// What the sparse sampler saves, from the Cortex-M4F runs at the frame's
+    /// own size ([`frame_runs`]): how much depends on the size (the larger the
+    /// frame, the smoother the picture between two pixels), so it is measured
+    /// at 240x240, against centre sampling at the same size.
+    fn sparse_frames(&self, w: &mut String) {
         let Self {
             runs, exact, est, ..
         } = self;
-        let px = f64::from(FRAME) * f64::from(FRAME);
         let _ = writeln!(
             w,
             "\n### With the sparse sampler\n\n`sampler = \"sparse\"` traces a ray through \
@@ -1385,19 +1680,17 @@ impl Measured {
              within {} levels, else traces it too ([the sampler](../core/src/sample.rs); \
              its error against a converged picture is in [trade.md](trade.md)). Its saving \
              depends on the frame's size, so it is measured at {FRAME}x{FRAME} on the \
-             Cortex-M4F (qemu, exact counts; cycles by the model), beside centre sampling \
-             at the same size; camera rays counted on the host (the same core code). The \
-             Pico 2's estimate is its centre row above times the Cortex-M4F's ratio of \
-             estimated cycles, sparse to centre, at {FRAME}x{FRAME}; two cores at the \
-             scene's measured speed-up. **Estimates, not measurements.**\n",
+             Cortex-M4F (qemu, exact counts; cycles by the model, zero-wait), beside \
+             centre sampling at the same size; camera rays counted on the host (the same \
+             core code). The boards' frame rates with it, and with their memory paths, \
+             are in [the memory model's tables](#frames-per-second-with-the-memory-model).\n",
             Sampler::SPARSE_THRESHOLD
         );
         let _ = writeln!(
             w,
-            "| scene | camera rays/px | M4F instr/px, centre | sparse | est. cycles/px, centre | sparse | sparse/centre | Black Pill: fps | Pico 2: cycles/px | two cores: fps |"
+            "| scene | camera rays/px | M4F instr/px, centre | sparse | est. cycles/px, centre | sparse | sparse/centre |"
         );
-        let _ = writeln!(w, "|---|---|---|---|---|---|---|---|---|---|");
-        let mut chapter = None;
+        let _ = writeln!(w, "|---|---|---|---|---|---|---|");
         let at = |b: Builtin, sampler: Sampler| {
             let r = Run {
                 sampler,
@@ -1415,49 +1708,14 @@ impl Measured {
                 continue;
             };
             let rays = camera_rays(&sr).unwrap_or(f64::NAN);
-            let Some(i) = core_runs()
-                .iter()
-                .position(|r| r.scene == SceneRef::Builtin(b) && r.sampler == Centre)
-            else {
-                continue;
-            };
-            let Some(j) = runs.iter().position(|x| *x == core_runs()[i]) else {
-                continue;
-            };
-            let cpi = est[j] as f64
-                / exact.out.runs[j].pixels_count.max(1) as f64
-                / exact.out.runs[j].instructions_per_pixel().max(1.0);
-            let m33_cyc = m33.out.runs[i].instructions_per_pixel() * cpi * (sc / cc);
-            let two = self
-                .dual
-                .iter()
-                .find(|c| c.scene == b)
-                .map_or(1.0, dualcore::SceneCounts::speedup);
             let _ = writeln!(
                 w,
-                "| {} | {rays:.2} | {ci:.0} | {si:.0} | {} | {} | {:.2} | {:.2} | {} | {:.2} |",
+                "| {} | {rays:.2} | {ci:.0} | {si:.0} | {} | {} | {:.2} |",
                 b.name(),
                 thousands_rounded(cc),
                 thousands_rounded(sc),
                 sc / cc,
-                BLACK_PILL_HZ / (sc * px),
-                thousands_rounded(m33_cyc),
-                two * PICO2_HZ / (m33_cyc * px),
             );
-            if b == Builtin::ChapterReflect {
-                chapter = Some(format!(
-                    "\nWith it, the chapter's scene at {FRAME}x{FRAME} on the Pico 2 comes to an \
-                     estimated {} cycles a pixel a core against the {budget:.0} that ten \
-                     frames a second leave ({:.2} times that), about {:.1} frames a second \
-                     on both cores.",
-                    thousands_rounded(m33_cyc),
-                    m33_cyc / budget,
-                    two * PICO2_HZ / (m33_cyc * px)
-                ));
-            }
-        }
-        if let Some(c) = chapter {
-            let _ = writeln!(w, "{c}");
         }
     }
 

@@ -61,8 +61,10 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
         size(".bi_entries"),
         size(".end_block"),
     );
-    let flash = s.flash() + start_block + bi_entries + end_block;
-    let statics = s.ram();
+    // tessera's code, stored in flash and run from SRAM (ram.x).
+    let ram_text = size(".ram_text");
+    let flash = s.flash() + start_block + bi_entries + end_block + ram_text;
+    let statics = s.ram() + ram_text;
 
     let (flash_region, ram_region) = firmware::memory_regions(&dir.join("memory.x")).unwrap();
     assert_eq!(
@@ -84,6 +86,44 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
         boot.address() + start_block <= FLASH_ORIGIN + BOOT_SEARCH,
         "the boot block ends at {:#x}, beyond the first 4 KiB of flash",
         boot.address() + start_block
+    );
+
+    // tessera's code runs from SRAM: stored after the boot block, `.text`
+    // after it, the renderer's functions at SRAM addresses, and the copy
+    // (`__pre_init`) in flash, where it runs before SRAM holds anything.
+    let ram_code = section(".ram_text").expect("a .ram_text section (ram.x)");
+    assert!(
+        ram_text > 64 * 1024 && (0x2000_0000..0x2008_0000).contains(&ram_code.address()),
+        ".ram_text: {ram_text} bytes at {:#x}",
+        ram_code.address()
+    );
+    let text = section(".text").expect("a .text section");
+    let load = symbol("__siram_text").expect("__siram_text");
+    assert_eq!(
+        (load, text.address()),
+        (boot.address() + start_block, load + ram_text),
+        "tessera's code is stored right after the boot block and .text after it"
+    );
+    let in_ram = |name: &str| {
+        firmware::symbols(&elf)
+            .unwrap()
+            .into_iter()
+            .filter(|sym| sym.name.contains(name))
+            .map(|sym| sym.address)
+            .collect::<Vec<_>>()
+    };
+    let renders = in_ram("tessera_core::tile::renderer::Renderer::render_tile");
+    assert!(
+        !renders.is_empty()
+            && renders
+                .iter()
+                .all(|a| (0x2000_0000..0x2008_0000).contains(a)),
+        "the tile renderer is not in SRAM: {renders:#x?}"
+    );
+    let pre_init = symbol("__pre_init").expect("__pre_init (src/ram.rs)");
+    assert!(
+        (FLASH_ORIGIN..FLASH_ORIGIN + PICO2_FLASH).contains(&pre_init),
+        "__pre_init at {pre_init:#x}, not in flash"
     );
 
     // Core 0's stack is SRAM8 and SRAM9: cortex-m-rt's symbols, and the initial
@@ -141,6 +181,7 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
     for (name, truth) in [
         (".vector_table", s.vector_table),
         (".start_block", start_block),
+        (".ram_text", ram_text),
         (".text", s.text),
         (".bi_entries", bi_entries),
         (".rodata", s.rodata),
@@ -154,7 +195,10 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
     expect("flash", said_flash, flash);
     expect(
         "static RAM",
-        figure_after(&readme, "- **Static RAM** (`.data` + `.bss` + `.uninit`): "),
+        figure_after(
+            &readme,
+            "- **Static RAM** (`.ram_text` + `.data` + `.bss` + `.uninit`): ",
+        ),
         statics,
     );
     // The llvm-size row of the default build: Berkeley text (every flash
@@ -237,4 +281,121 @@ fn pico2_estimate() -> [String; 2] {
         format!("{cycles} cycles a pixel"),
         format!("{fps} frames a second"),
     ]
+}
+
+/// The Pico 2's code placement (`ram.x`, `src/ram.rs`), run where it can run:
+/// the qemu example, copied to a scratch folder and linked with the same
+/// script (anchored after the vector table, which is where that chip's image
+/// starts, and with 512 KiB of RAM, which qemu's `mps2-an386` has), renders
+/// its default scene on the Cortex-M4F from SRAM: the copy at reset and the
+/// linker's thunks between flash and SRAM work, the renderer lies in SRAM, and
+/// the picture is the host's, byte for byte.
+#[test]
+fn the_pico2_code_placement_runs_from_sram_under_qemu() {
+    use tessera_tests::qemu_example;
+    let pico2 = example();
+    let template = qemu_example::example();
+    let scratch = firmware::TempDir::new().unwrap();
+    let dir = scratch.path().join("qemu-m4f-in-sram");
+    let repo = firmware::repo_root();
+    // The example's files, its symbolic links followed; its dependencies by
+    // absolute path.
+    for rel in [
+        "Cargo.toml",
+        "Cargo.lock",
+        "build.rs",
+        "scene.toml",
+        "icosahedron.obj",
+        "src/main.rs",
+        "src/animation.rs",
+        "src/clock.rs",
+        "src/ppm.rs",
+        "src/stack.rs",
+        ".cargo/config.toml",
+    ] {
+        let to = dir.join(rel);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        let text = std::fs::read_to_string(template.join(rel))
+            .unwrap_or_else(|e| panic!("examples/qemu-m4f/{rel}: {e}"));
+        let mut text = text.replace("\"../../", &format!("\"{}/", repo.display()));
+        if rel == "Cargo.toml" {
+            // Its own name: the ELF shares the example's target folder, where
+            // the qemu example's tests build and run theirs.
+            text = text.replace("name = \"qemu-m4f\"", "name = \"qemu-m4f-in-sram\"");
+        }
+        std::fs::write(&to, text).unwrap();
+    }
+    let ram_x = std::fs::read_to_string(pico2.join("ram.x")).unwrap();
+    assert!(
+        ram_x.contains("ADDR(.start_block) + SIZEOF(.start_block)"),
+        "ram.x stores the code after the boot block"
+    );
+    let memory = std::fs::read_to_string(template.join("memory.x"))
+        .unwrap()
+        .replace("LENGTH = 128K", "LENGTH = 512K");
+    let ram_here = ram_x.replace(
+        "ADDR(.start_block) + SIZEOF(.start_block)",
+        "ADDR(.vector_table) + SIZEOF(.vector_table)",
+    );
+    // The qemu example's memory.x does not set `_stext` (link.x provides it
+    // after the vector table): `.text` goes after the stored code.
+    std::fs::write(
+        dir.join("memory.x"),
+        format!("{memory}\n{ram_here}\n_stext = __siram_text + __ram_text_size;\n"),
+    )
+    .unwrap();
+    let main = dir.join("src/main.rs");
+    let mut text = std::fs::read_to_string(&main).unwrap();
+    text.push_str(&format!(
+        "\n#[path = \"{}\"]\nmod ram;\n",
+        pico2.join("src/ram.rs").display()
+    ));
+    std::fs::write(&main, text).unwrap();
+
+    let target = template.join("target");
+    firmware::checked(
+        firmware::cargo()
+            .current_dir(&dir)
+            .args(["build", "--release", "--target-dir"])
+            .arg(&target)
+            .env_remove("TESSERA_SCENE"),
+        "cargo to build the qemu example with the Pico 2's code placement",
+        "building the qemu example with ram.x failed",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let elf = target.join("thumbv7em-none-eabihf/release/qemu-m4f-in-sram");
+    let bytes = std::fs::read(&elf).unwrap();
+    let file = object::File::parse(&*bytes).unwrap();
+    let ram_text = file
+        .section_by_name(".ram_text")
+        .expect("a .ram_text section");
+    assert!(
+        ram_text.size() > 64 * 1024 && ram_text.address() == 0x2000_0000,
+        ".ram_text: {} bytes at {:#x}",
+        ram_text.size(),
+        ram_text.address()
+    );
+    let renders: Vec<u64> = firmware::symbols(&elf)
+        .unwrap()
+        .into_iter()
+        .filter(|s| {
+            s.name
+                .contains("tessera_core::tile::renderer::Renderer::render_tile")
+        })
+        .map(|s| s.address)
+        .collect();
+    assert!(
+        !renders.is_empty() && renders.iter().all(|a| *a >= 0x2000_0000),
+        "the tile renderer is not in RAM: {renders:#x?}"
+    );
+
+    let run = firmware::TempDir::new().unwrap();
+    let stdout = firmware::run_in(run.path(), &elf).unwrap_or_else(|e| panic!("{e}"));
+    let picture =
+        qemu_example::ppm(&std::fs::read(run.path().join(qemu_example::PICTURE)).unwrap()).unwrap();
+    let host = qemu_example::host(&template.join(qemu_example::DEFAULT));
+    assert!(
+        picture.as_raw() == host.as_raw(),
+        "from SRAM, the qemu example's picture is not the host's:\n{stdout}"
+    );
 }

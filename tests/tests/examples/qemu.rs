@@ -529,3 +529,63 @@ fn a_firmware_made_by_tessera_new_draws_the_hosts_picture() {
         (ran - built).as_secs_f64()
     );
 }
+
+/// The bench for any Cortex-M (`examples/qemu-m4f/bench`, docs/bench.md), built
+/// in its folder and run under qemu, where the cycle counter does not count:
+/// it says so and prints no cycle figure, and each built-in scene's checksum is
+/// the host's picture's at 240x240 (its own settings, tiles of 16), as are the
+/// checksums and the output docs/bench.md shows.
+#[test]
+fn the_bench_says_the_counter_does_not_count_and_draws_the_hosts_pictures() {
+    use tessera_core::Viewport;
+    use tessera_core::builtin::Builtin;
+    firmware::qemu_version().unwrap_or_else(|e| panic!("{e}"));
+    let dir = example().join("bench");
+    // In the example's target folder: the core and cortex-m-rt are compiled
+    // once for both.
+    let target = example().join("target");
+    firmware::checked(
+        firmware::cargo()
+            .current_dir(&dir)
+            .args(["build", "--release", "--target-dir"])
+            .arg(&target),
+        "cargo to build examples/qemu-m4f/bench",
+        "building examples/qemu-m4f/bench failed",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let elf = target.join("thumbv7em-none-eabihf/release/qemu-m4f-bench");
+    let out = firmware::run_alone(&elf).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        out.contains("cycle counter: absent or stopped") && !out.contains("cycles="),
+        "the bench gives a cycle figure under qemu, or does not say the counter is stopped:\n{out}"
+    );
+    let docs = std::fs::read_to_string(firmware::repo_root().join("docs/bench.md")).unwrap();
+    for &b in Builtin::ALL {
+        let line = out
+            .lines()
+            .find(|l| l.starts_with(&format!("{}: ", b.name())))
+            .unwrap_or_else(|| panic!("no line for {}:\n{out}", b.name()));
+        assert!(line.contains("no cycle figure"), "{line}");
+        assert!(number(line, "instructions") > 0, "{line}");
+        let host = b
+            .with_baked_scene(|view, cam| {
+                tessera_host::render(view, cam, Viewport::new(240, 240), b.settings(), 16)
+            })
+            .unwrap()
+            .unwrap();
+        let want = format!("{:016x}", tile_order_fnv1a64(&host, 16));
+        assert_eq!(field(line, "checksum"), want, "{}: {line}", b.name());
+        assert!(
+            docs.contains(&format!("| {} | `{want}` |", b.name())),
+            "docs/bench.md lacks the host's checksum of {}: {want}",
+            b.name()
+        );
+        // The output docs/bench.md shows: the line up to its instructions
+        // (which move as the core changes), and its checksum.
+        let head = line.split(" instructions=").next().unwrap_or(line);
+        assert!(
+            docs.contains(head) && docs.contains(&format!("checksum={want}")),
+            "docs/bench.md does not show the bench's line under qemu: {line}"
+        );
+    }
+}
