@@ -486,3 +486,75 @@ fn the_cost_pages_figures_are_read_by_scene_depth_and_sampler() {
     let later = later.replace("## Next\n", "## Next\n| a | 1 | centre | 1 | 77 | 0 |\n");
     assert_eq!(page_instr_per_px(&later, "a", 1, "centre"), None);
 }
+
+/// The memory model's address stream (`tests/profiler/mem_trace.c`, read by
+/// `tessera_tests::memory::trace`) covers the render that SysTick counts: its
+/// fetch runs add up to the same instructions (within the markers' calls, as
+/// the instruction profile's do), it was armed once a tile, the frame is the
+/// host's; and the boards' paths make of it what their layouts say: nothing to
+/// wait for with everything in RAM, stalls from flash, all of them in the
+/// image's symbols.
+#[test]
+fn the_memory_models_stream_counts_what_systick_counts() {
+    use tessera_tests::memory::{self, Image, Layout, Sink, board};
+    use tessera_tests::profile;
+    let elf = elf();
+    let plugin = memory::build_plugin().unwrap_or_else(|e| panic!("{e}"));
+    let markers = profile::markers(&elf).unwrap();
+    let image = Image::of(&elf).unwrap();
+    let run = Run::of(Builtin::ChapterReflect, 64, 64);
+    let path = || Box::new(board::Stm32f411::new());
+    let mut sinks = vec![
+        Sink::new(&image, Layout::Flash, board::Stm32f411::FLASH, path()),
+        Sink::new(&image, Layout::AllInRam, board::Stm32f411::FLASH, path()),
+        Sink::new(
+            &image,
+            Layout::crates(&image, &["tessera_core", "libm"]),
+            board::Stm32f411::FLASH,
+            path(),
+        ),
+    ];
+    let res = memory::trace(
+        &firmware::CORTEX_M4F,
+        &elf,
+        &plugin,
+        markers,
+        &run,
+        &mut sinks,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        res.pixels == host(&run),
+        "{run}: the traced frame is not the host's"
+    );
+    let [flash, ram, crates] = &sinks[..] else {
+        unreachable!()
+    };
+    profile::agree(&run, res.instructions, flash.tally.instructions)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(ram.tally.instructions, flash.tally.instructions);
+    assert_eq!((ram.tally.stalls, ram.tally.flash_events), (0, 0));
+    assert!(
+        flash.tally.stalls > 0 && flash.tally.flash_events > 0,
+        "{:?}",
+        flash.tally
+    );
+    assert_eq!(
+        flash.tally.stalls,
+        flash.tally.fetch_stalls + flash.tally.load_stalls,
+        "the F411's stores to flash cost nothing"
+    );
+    assert_eq!(flash.tally.by_span.iter().sum::<u64>(), flash.tally.stalls);
+    assert_eq!(
+        flash.tally.by_span.last(),
+        Some(&0),
+        "a stall outside the image's symbols"
+    );
+    // The renderer's code in RAM: fewer stalls, and RAM accesses met while
+    // running from it.
+    assert!(
+        crates.tally.stalls < flash.tally.stalls && crates.tally.shared_bus > 0,
+        "{:?}",
+        crates.tally
+    );
+}
