@@ -112,9 +112,11 @@ own_workspaces() {
   say "Pico 2 example (examples/pico2-st7789): format and clippy"
   run cargo fmt --manifest-path examples/pico2-st7789/Cargo.toml -- --check
   run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf -- -D warnings
-  # Its bench (docs/bench.md) and its flash-only layout (everything run from
-  # flash, without ram.x).
+  # Its bench (docs/bench.md), linted with the flash-only layout (everything
+  # run from flash, without ram.x) and linked with the default one: the bench
+  # and the teapot fit the Pico 2.
   run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf --features bench,flash-only -- -D warnings
+  run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo build --release --manifest-path examples/pico2-st7789/Cargo.toml --target thumbv8m.main-none-eabihf --features bench
 
   # The firmware to copy (a scene file on qemu's Cortex-M4F): its own workspace; the
   # tests `examples::qemu::...` in `cargo test-all` build it in its folder, as a user
@@ -136,7 +138,9 @@ own_workspaces() {
   say "board example (examples/blackpill-st7789): format and clippy"
   run cargo fmt --manifest-path examples/blackpill-st7789/Cargo.toml -- --check
   run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf -- -D warnings
+  # Its bench, linted and linked (the bench and the teapot fit the F411).
   run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo clippy --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf --features bench -- -D warnings
+  run env CARGO_TARGET_DIR=examples/qemu-m4f/target cargo build --release --manifest-path examples/blackpill-st7789/Cargo.toml --target thumbv7em-none-eabihf --features bench
 
   say "no-panic proof (tests/nopanic): format and clippy, both backends"
   run cargo fmt --manifest-path tests/nopanic/Cargo.toml -- --check

@@ -8,12 +8,15 @@
  * the `end` one is not.
  *
  * The stream is cut to 8-byte granules (the smallest cache line modelled, the
- * RP2350's XIP cache line): a fetch event is written when an instruction starts
- * in another granule than the instruction executed before it, a data event when
- * a load or store touches another granule, or is of another kind, than the data
- * access before it. A repeated access to the granule just used is a hit in any
- * cache whose lines are whole granules, so nothing a model counts is lost, but
- * for the order between a fetch stream and a data stream sharing one cache (see
+ * RP2350's XIP cache line). A fetch event is written for each run of
+ * instructions in one granule with no data access among them: when an
+ * instruction starts in another granule, and before each data event. A data
+ * event is written when a load or store touches another granule, or is of
+ * another kind, than the data access before it, or when a fetch of another
+ * granule came between. What is merged is only an access to the granule its
+ * stream used last with nothing but accesses to one other granule between:
+ * a hit in any cache whose lines are whole granules (nothing was filled in
+ * between), though the recency order it leaves may differ (see
  * tests/src/memory/mod.rs).
  *
  * Arguments (QEMU 7.2 syntax: `-plugin mem_trace.so,begin=0x..,end=0x..,out=FILE`):
@@ -93,6 +96,11 @@ static void on_exec(unsigned int vcpu, void *udata)
     uint64_t pc = (uint64_t)(uintptr_t)udata;
     (void)vcpu;
     if (pc == begin_pc) {
+        if (armed) {
+            /* Armed again without the end marker: close the span before. */
+            flush_fetch();
+            emit(KIND_MARK, 0);
+        }
         arms++;
         armed = true;
         fetch_granule = UINT64_MAX;
@@ -107,9 +115,13 @@ static void on_exec(unsigned int vcpu, void *udata)
     }
     uint64_t g = pc & GRANULE_MASK;
     if (g != fetch_granule) {
-        /* The fetch event is written when the next one starts, with its count. */
+        /* The fetch event is written when the next one starts, with its count;
+           the next data access is written whatever granule it touches, since a
+           fetch of another granule came between (a cache both streams share
+           may have lost its line). */
         flush_fetch();
         fetch_granule = g;
+        data_granule = UINT64_MAX;
     }
     since_fetch++;
 }

@@ -98,6 +98,13 @@ pub fn serve() {
     }
 }
 
+/// Where the code runs in this build (src/ram.rs; the feature `flash-only`).
+const LAYOUT: &str = if cfg!(feature = "flash-only") {
+    "layout flash-only: code and tables in flash through the XIP cache"
+} else {
+    "layout default: tessera's code in SRAM, the rest and the tables in flash through the XIP cache"
+};
+
 /// Core 0: checks the cycle counter, then renders, times and prints each
 /// built-in scene on one core and, if core 1 runs, on both (`hz`: the system
 /// clock). A scene tessera refuses is logged and skipped. Lets core 1 go on at
@@ -106,13 +113,14 @@ pub fn run(two_cores: bool, hz: u32) {
     let counting = cortex_m::Peripherals::take()
         .is_some_and(|mut cp| counter_counts(&mut cp.DCB, &mut cp.DWT));
     defmt::info!(
-        "bench: {=usize} built-in scene(s) at {=u16}x{=u16} in {=usize}x{=usize} tiles, each with its own settings, drawn nowhere; {=u32} MHz, code and tables in flash through the XIP cache; {=u8} core(s)",
+        "bench: {=usize} built-in scene(s) at {=u16}x{=u16} in {=usize}x{=usize} tiles, each with its own settings, drawn nowhere; {=u32} MHz, {=str}; {=u8} core(s)",
         Builtin::ALL.len(),
         PICTURE.0,
         PICTURE.1,
         TILE,
         TILE,
         hz / 1_000_000,
+        LAYOUT,
         if two_cores { 2 } else { 1 }
     );
     if !counting {

@@ -16,7 +16,7 @@
 //! barriers make the core fetch the copied code, not what it held before.
 
 core::arch::global_asm!(
-    ".section .text.__pre_init,\"ax\",%progbits",
+    ".pushsection .text.__pre_init,\"ax\",%progbits",
     ".global __pre_init",
     ".type __pre_init,%function",
     ".thumb_func",
@@ -33,4 +33,6 @@ core::arch::global_asm!(
     "    isb",
     "    bx lr",
     ".ltorg",
+    ".size __pre_init, . - __pre_init",
+    ".popsection",
 );

@@ -22,7 +22,8 @@ use super::{Event, Kind, Mem, MemoryPath};
 ///   in pico-sdk issue 1903). An isolated miss costs [`Rp2350::MISS`]; a miss of
 ///   the line right after the last one missed, while the QMI still holds the
 ///   transfer open (`COOLDOWN`: 64 system cycles, modelled as at most 64
-///   instructions since that miss), only its data clocks, [`Rp2350::NEXT`].
+///   instructions since that miss) and not across a 1 KiB page, only its
+///   data clocks, [`Rp2350::NEXT`].
 /// - SRAM (520 KiB in ten banks, datasheet section 2.2) is zero-wait. Code run
 ///   from SRAM is fetched over the Cortex-M33's S-AHB port, which its own loads
 ///   and stores share; the stall that costs is not modelled (the count of
@@ -46,8 +47,13 @@ impl Rp2350 {
     /// Cycles a miss of the next line costs while the transfer is open: its 16
     /// data clocks, 48 system cycles.
     pub const NEXT: u64 = 48;
-    /// The QMI's cooldown window in system cycles (64 x `COOLDOWN` = 1).
+    /// The QMI's cooldown window in system cycles (64 x `COOLDOWN` = 1),
+    /// taken as 64 instructions (an instruction is at least a cycle: this
+    /// counts a continued transfer where the chip may have closed it).
     const WINDOW: u64 = 64;
+    /// The QMI's page: no transfer goes on across a 1 KiB boundary
+    /// (`M0_TIMING.PAGEBREAK` as the bootrom sets it).
+    const PAGE: u64 = 1024;
 
     /// The path as the bootrom leaves the flash.
     #[must_use]
@@ -77,8 +83,10 @@ impl MemoryPath for Rp2350 {
         let stall = match (mem, e.kind) {
             (Mem::Flash, Kind::Fetch | Kind::Load) if !self.xip.access(addr) => {
                 let line = self.xip.line_of(addr);
+                // The QMI ends a transfer at each 1 KiB page (`PAGEBREAK`).
                 let next = self.last_miss.is_some_and(|l| l + 1 == line)
-                    && self.since_miss <= Self::WINDOW;
+                    && self.since_miss <= Self::WINDOW
+                    && !addr.is_multiple_of(Self::PAGE);
                 self.last_miss = Some(line);
                 self.since_miss = 0;
                 if next { Self::NEXT } else { Self::MISS }
@@ -283,8 +291,7 @@ mod tests {
     #[test]
     fn rp2350_misses_once_per_line_of_a_loop_that_fits() {
         // A loop over 4 KiB of code, 8-byte granules of two instructions, run 10
-        // times: 512 misses the first time, none after. The first miss is
-        // isolated; the other 511 follow the line missed just before.
+        // times: 512 misses the first time, none after.
         let mut p = Rp2350::new();
         let mut stalls = 0;
         for _ in 0..10 {
@@ -293,9 +300,16 @@ mod tests {
             }
         }
         assert_eq!((p.cache().misses, p.cache().hits), (512, 5120 - 512));
-        assert_eq!(stalls, Rp2350::MISS + 511 * Rp2350::NEXT);
-        // SRAM and stores cost nothing and do not touch the cache.
+        // Each 1 KiB page starts a new transfer: 4 isolated misses, 508 that
+        // continue one.
+        assert_eq!(stalls, 4 * Rp2350::MISS + 508 * Rp2350::NEXT);
+        // SRAM, and stores, cost nothing and do not touch the cache.
         assert_eq!(p.stall(&load(0x2000_0000), Mem::Ram, 0x2000_0000), 0);
+        let store = Event {
+            kind: Kind::Store,
+            ..load(Rp2350::FLASH)
+        };
+        assert_eq!(p.stall(&store, Mem::Flash, Rp2350::FLASH), 0);
         assert_eq!(p.cache().misses + p.cache().hits, 5120);
     }
 

@@ -43,11 +43,13 @@ impl Board {
     }
 
     /// The layouts the board is offered, by name: the first is its runtime's
-    /// default.
+    /// default. The Black Pill's second, the hottest code in RAM, is chosen
+    /// from the first's stalls ([`HOT_NAME`], [`measure`]).
     #[must_use]
     pub fn layouts(self, image: &Image) -> Vec<(&'static str, Layout)> {
         match self {
-            Board::BlackPill | Board::Pico2 => vec![
+            Board::BlackPill => vec![("flash", Layout::Flash)],
+            Board::Pico2 => vec![
                 ("flash", Layout::Flash),
                 ("tessera in RAM", Layout::crates(image, RAM_CRATES)),
             ],
@@ -78,6 +80,14 @@ impl Board {
 /// The crates whose code the "tessera in RAM" layout copies to RAM: the
 /// renderer and the math library it calls (`libm`).
 pub const RAM_CRATES: &[&str] = &["tessera_core", "libm"];
+
+/// The SRAM the Black Pill's hottest code may take: half the F411's 128 KiB,
+/// the rest left to the statics, the stack and the tiles (tessera's code,
+/// about 148 KB in that firmware, does not fit).
+pub const HOT_BUDGET: u64 = 64 * 1024;
+
+/// The name of the Black Pill's layout with its hottest code in RAM.
+pub const HOT_NAME: &str = "hottest 64 KiB of code in RAM";
 
 /// One run of one board under one layout.
 #[derive(Clone, Debug, PartialEq)]
@@ -134,13 +144,57 @@ pub fn measure(runs: &[Run], elfs: [&Path; 3]) -> Result<Vec<Traced>, String> {
 
 fn measure_board(b: Board, elf: &Path, plugin: &Path, runs: &[Run]) -> Result<Vec<Traced>, String> {
     let image = Image::of(elf)?;
-    let markers = profile::markers(elf)?;
     let layouts = b.layouts(&image);
-    let mut out = Vec::new();
+    let (mut out, stalls) = trace_runs(b, &image, elf, plugin, runs, &layouts)?;
+    if b == Board::BlackPill {
+        let hot = vec![(HOT_NAME, hottest(&image, &stalls, HOT_BUDGET))];
+        out.extend(trace_runs(b, &image, elf, plugin, runs, &hot)?.0);
+    }
+    Ok(out)
+}
+
+/// The code spans of `image` that waited most in `stalls` (each run's stalls
+/// by span under the first layout, each run weighed as much as the others),
+/// most first, as long as they fit `budget` bytes together.
+fn hottest(image: &Image, stalls: &[Vec<u64>], budget: u64) -> Layout {
+    let mut share = vec![0.0f64; image.spans.len()];
+    for run in stalls {
+        let total = run.iter().sum::<u64>().max(1) as f64;
+        for (i, &s) in run.iter().take(share.len()).enumerate() {
+            share[i] += s as f64 / total;
+        }
+    }
+    let mut order: Vec<usize> = (0..share.len())
+        .filter(|&i| image.spans[i].area == super::Area::Code && share[i] > 0.0)
+        .collect();
+    order.sort_by(|&a, &b| share[b].total_cmp(&share[a]));
+    let (mut taken, mut spans) = (0, Vec::new());
+    for i in order {
+        let s = &image.spans[i];
+        if taken + (s.end - s.start) <= budget {
+            taken += s.end - s.start;
+            spans.push((s.start, s.end));
+        }
+    }
+    Layout::Some(spans)
+}
+
+/// Traces each of `runs` under each of `layouts`; returns the rows and, per
+/// run, the first layout's stalls by span.
+fn trace_runs(
+    b: Board,
+    image: &Image,
+    elf: &Path,
+    plugin: &Path,
+    runs: &[Run],
+    layouts: &[(&'static str, Layout)],
+) -> Result<(Vec<Traced>, Vec<Vec<u64>>), String> {
+    let markers = profile::markers(elf)?;
+    let (mut out, mut stalls) = (Vec::new(), Vec::new());
     for run in runs {
         let mut sinks: Vec<Sink<'_>> = layouts
             .iter()
-            .map(|(_, l)| Sink::new(&image, l.clone(), b.flash(), b.path()))
+            .map(|(_, l)| Sink::new(image, l.clone(), b.flash(), b.path()))
             .collect();
         let res = super::trace(&b.core(), elf, plugin, markers, run, &mut sinks)?;
         let px = res.pixels_count.max(1) as f64;
@@ -154,9 +208,15 @@ fn measure_board(b: Board, elf: &Path, plugin: &Path, runs: &[Run]) -> Result<Ve
                 stalls_px: t.stalls as f64 / px,
                 fetch_px: t.fetch_stalls as f64 / px,
                 shared_px: t.shared_bus as f64 / px,
-                code_in_ram: layout.code_bytes(&image),
+                code_in_ram: layout.code_bytes(image),
             });
         }
+        stalls.push(
+            sinks
+                .first()
+                .map(|s| s.tally.by_span.clone())
+                .unwrap_or_default(),
+        );
     }
-    Ok(out)
+    Ok((out, stalls))
 }

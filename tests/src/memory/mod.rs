@@ -18,11 +18,12 @@
 //!   stall cycles each one costs, from its caches ([`cache`]) and the
 //!   parameters of its vendor's documents (cited there).
 //!
-//! What the stream loses: repeated accesses to the granule just used are
-//! merged, per stream (fetch, data). Such an access is a hit in any cache of
-//! whole granules, but for one case: a cache shared by fetches and loads (the
-//! RP2350's XIP cache) where a load between two fetches of one granule evicts
-//! it; the model then misses once less than the chip would. Each qemu image is
+//! What the stream loses: an access to the granule its stream (fetch or
+//! data) used last, with nothing but accesses to one other granule between, is
+//! merged with the one before. It is a hit in any cache of whole granules
+//! (nothing was filled between the two), so the hits and misses are the
+//! chip's, but the recency order it leaves may differ in a cache that both
+//! streams share (the RP2350's XIP cache). Each qemu image is
 //! the test firmware built for the board's core, not the board example: its
 //! code is laid out with every built-in scene linked, so the sets its hot code
 //! falls in are those of that image, not of a board's (a cache's conflicts

@@ -101,7 +101,10 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
     let load = symbol("__siram_text").expect("__siram_text");
     assert_eq!(
         (load, text.address()),
-        (boot.address() + start_block, load + ram_text),
+        (
+            boot.address() + start_block,
+            (load + ram_text).next_multiple_of(text.align())
+        ),
         "tessera's code is stored right after the boot block and .text after it"
     );
     let in_ram = |name: &str| {
@@ -256,6 +259,48 @@ fn the_pico2_example_links_within_the_rp2350_and_its_readme_has_its_sizes() {
         "examples/pico2-st7789/README.md is not the linked ELF ({}): {wrong:#?}",
         elf.display()
     );
+
+    // The flash-only layout (everything run from flash): built after the
+    // default in the same folder, so here rather than in a test of its own,
+    // which would build in parallel over the same ELF.
+    let elf = firmware::CORTEX_M33
+        .build_elf(
+            &dir.join("Cargo.toml"),
+            &tessera_tests::qemu_example::example().join("target"),
+            &["flash-only"],
+            "pico2-st7789",
+            "the Pico 2 example, flash-only",
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+    let s: Sizes = firmware::sections(&elf).unwrap();
+    let bytes = std::fs::read(&elf).unwrap();
+    let file = object::File::parse(&*bytes).unwrap();
+    assert!(
+        file.section_by_name(".ram_text").is_none(),
+        "flash-only has a .ram_text"
+    );
+    let size = |name: &str| file.section_by_name(name).map_or(0, |sec| sec.size());
+    let boot = file.section_by_name(".start_block").expect("a boot block");
+    let text = file.section_by_name(".text").expect("a .text section");
+    assert_eq!(
+        text.address(),
+        (boot.address() + boot.size()).next_multiple_of(text.align()),
+        ".text right after the boot block"
+    );
+    let flash = s.flash() + size(".start_block") + size(".bi_entries") + size(".end_block");
+    let mut wrong = Vec::new();
+    for (what, said, truth) in llvm_size_row(
+        &readme,
+        "| `--features flash-only`",
+        [flash - s.data, s.data, s.bss + s.uninit, flash],
+    ) {
+        if !within(said, truth, 1) {
+            wrong.push(format!(
+                "flash-only llvm-size {what}: the README says {said:?}, the ELF {truth}"
+            ));
+        }
+    }
+    assert!(wrong.is_empty(), "{wrong:#?}");
 }
 
 /// What docs/chip-cost.md's section on the animated scene estimates for the
