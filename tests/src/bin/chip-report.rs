@@ -42,7 +42,7 @@ use tessera_tests::firmware::{self, Core, Output, Run, SceneRef, Sizes, repo_rel
 use tessera_tests::memory::{
     self,
     board::{Imxrt1062, Rp2350, Stm32f411},
-    frames::{Board, HOT_NAME, RAM_CRATES, Traced},
+    frames::{Board, FLASH, HOT_NAME, RAM_CRATES, TESSERA_IN_RAM, Traced},
 };
 use tessera_tests::{
     baseline, cycles, dualcore, profile, qemu_example, thousands, thousands_rounded,
@@ -416,6 +416,11 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
     Ok(path)
 }
 
+/// A frame's accuracy against its scene's own sampler: the scene, the
+/// sampler, its mean FLIP and its pixels off by more than 2 levels, as the
+/// tables print them ([`Measured::accuracy`]).
+type Accuracy = (Builtin, Sampler, String, String);
+
 /// A frame's cycles a pixel on the Pico 2's two cores, from one core's `c`
 /// cycles a pixel of which `stalls` wait on the flash: the measured speed-up
 /// `two`, but not below `stalls`, the time the one QSPI flash both cores share
@@ -423,11 +428,6 @@ fn report(bless: Bless) -> Result<PathBuf, String> {
 fn two_cores(c: f64, stalls: f64, two: f64) -> f64 {
     (c / two).max(stalls)
 }
-
-/// The layout each board's example ships, by [`Board::ALL`]'s order: the
-/// Black Pill from flash, the Pico 2 with tessera's code in SRAM, the Teensy
-/// 4.1 as teensy4-bsp links it.
-const SHIPPED: [&str; 3] = ["flash", "tessera in RAM", "teensy4-bsp: .rodata in OCRAM"];
 
 /// Traces the frame runs on the Cortex-M4F (`m4f`), the Cortex-M33 and the
 /// Cortex-M7 images, through the memory paths of the boards they stand for.
@@ -1237,7 +1237,7 @@ impl Measured {
         );
         let _ = writeln!(w, "|---|---|---|---|---|---|---|---|---|---|---|---|");
         let stalls = |b: Board, scene: Builtin| {
-            let layout = SHIPPED[Board::ALL.iter().position(|x| *x == b).unwrap_or(0)];
+            let layout = b.shipped();
             self.traced(b, scene, Centre)
                 .iter()
                 .find(|t| t.layout == layout)
@@ -1361,7 +1361,7 @@ impl Measured {
              | Teensy 4.1 | `.rodata` in DTCM | ITCM | DTCM | DTCM |\n",
             kib(memory::frames::HOT_BUDGET),
             kib(ram_code(Board::BlackPill, HOT_NAME)),
-            kib(ram_code(Board::Pico2, "tessera in RAM")),
+            kib(ram_code(Board::Pico2, TESSERA_IN_RAM)),
         );
         let _ = writeln!(
             w,
@@ -1369,8 +1369,17 @@ impl Measured {
             kib(code_bytes),
             kib(rodata_bytes)
         );
+        // Each frame's accuracy, once for the three boards' tables.
+        let accuracy: Vec<Accuracy> = Builtin::ALL
+            .iter()
+            .flat_map(|&scene| [Centre, Sampler::sparse()].map(|sampler| (scene, sampler)))
+            .map(|(scene, sampler)| {
+                let (flip, off) = self.accuracy(scene, sampler);
+                (scene, sampler, flip, off)
+            })
+            .collect();
         for b in Board::ALL {
-            self.memory_table(w, b, px);
+            self.memory_table(w, b, px, &accuracy);
         }
         // Ten frames a second of chapter-reflect on the Pico 2's two cores.
         let budget = 2.0 * PICO2_HZ / (10.0 * px);
@@ -1404,7 +1413,7 @@ impl Measured {
     }
 
     /// One board's table of [`Measured::memory_model`].
-    fn memory_table(&self, w: &mut String, b: Board, px: f64) {
+    fn memory_table(&self, w: &mut String, b: Board, px: f64, accuracy: &[Accuracy]) {
         let layouts: Vec<&str> = {
             let mut l: Vec<&str> = Vec::new();
             for t in self.memory.iter().filter(|t| t.board == b) {
@@ -1430,7 +1439,7 @@ impl Measured {
         for l in &layouts {
             let _ = write!(head, " {l}: stalls/px | cycles/px | fps |");
             rule.push_str("---|---|---|");
-            if matches!(b, Board::BlackPill | Board::Pico2) && *l != "flash" {
+            if matches!(b, Board::BlackPill | Board::Pico2) && *l != FLASH {
                 head.push_str(" shared/px |");
                 rule.push_str("---|");
             }
@@ -1462,7 +1471,10 @@ impl Measured {
                     Some(hi) => format!("{:.1} to {:.1}", fps(hi, stalls), fps(lo, stalls)),
                     None => format!("{:.2}", fps(lo, stalls)),
                 };
-                let (flip, off) = self.accuracy(scene, sampler);
+                let (flip, off) = accuracy
+                    .iter()
+                    .find(|a| a.0 == scene && a.1 == sampler)
+                    .map_or(("(not run)", "(not run)"), |a| (a.2.as_str(), a.3.as_str()));
                 let mut row = format!(
                     "| {} | {} | {flip} | {off} | {} | {} |",
                     scene.name(),
@@ -1484,7 +1496,7 @@ impl Measured {
                         cyc(lo, hi),
                         rate(lo, hi, t.stalls_px)
                     );
-                    if matches!(b, Board::BlackPill | Board::Pico2) && *l != "flash" {
+                    if matches!(b, Board::BlackPill | Board::Pico2) && *l != FLASH {
                         let _ = write!(row, " {:.0} |", t.shared_px);
                     }
                 }
@@ -1660,7 +1672,7 @@ impl Measured {
             let teapot_stalls = self
                 .traced(Board::Pico2, Builtin::Teapot, Centre)
                 .iter()
-                .find(|t| t.layout == SHIPPED[1])
+                .find(|t| t.layout == Board::Pico2.shipped())
                 .map(|t| t.stalls_px)
                 .zip(
                     self.zero_wait(Board::Pico2, Builtin::Teapot, Centre)

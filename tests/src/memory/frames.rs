@@ -48,15 +48,26 @@ impl Board {
     #[must_use]
     pub fn layouts(self, image: &Image) -> Vec<(&'static str, Layout)> {
         match self {
-            Board::BlackPill => vec![("flash", Layout::Flash)],
+            Board::BlackPill => vec![(FLASH, Layout::Flash)],
             Board::Pico2 => vec![
-                ("flash", Layout::Flash),
-                ("tessera in RAM", Layout::crates(image, RAM_CRATES)),
+                (FLASH, Layout::Flash),
+                (TESSERA_IN_RAM, Layout::crates(image, RAM_CRATES)),
             ],
             Board::Teensy41 => vec![
-                ("teensy4-bsp: .rodata in OCRAM", Layout::CodeInRam),
+                (TEENSY_BSP, Layout::CodeInRam),
                 (".rodata in DTCM", Layout::AllInRam),
             ],
+        }
+    }
+
+    /// The name of the layout the board's example ships (the Teensy 4.1: the
+    /// one its BSP links).
+    #[must_use]
+    pub fn shipped(self) -> &'static str {
+        match self {
+            Board::BlackPill => FLASH,
+            Board::Pico2 => TESSERA_IN_RAM,
+            Board::Teensy41 => TEENSY_BSP,
         }
     }
 
@@ -76,6 +87,15 @@ impl Board {
         }
     }
 }
+
+/// The layout cortex-m-rt links: code and read-only data in flash.
+pub const FLASH: &str = "flash";
+
+/// The Pico 2 example's layout: tessera's code in RAM ([`RAM_CRATES`]).
+pub const TESSERA_IN_RAM: &str = "tessera in RAM";
+
+/// The Teensy 4.1's layout as teensy4-bsp links it.
+pub const TEENSY_BSP: &str = "teensy4-bsp: .rodata in OCRAM";
 
 /// The crates whose code the "tessera in RAM" layout copies to RAM: the
 /// renderer and the math library it calls (`libm`).
@@ -102,8 +122,6 @@ pub struct Traced {
     pub instr_px: f64,
     /// Stall cycles a pixel.
     pub stalls_px: f64,
-    /// Of those, of instruction fetches.
-    pub fetch_px: f64,
     /// RAM accesses a pixel that may meet a fetch on a shared bus
     /// ([`super::Tally::shared_bus`]).
     pub shared_px: f64,
@@ -176,7 +194,7 @@ fn hottest(image: &Image, stalls: &[Vec<u64>], budget: u64) -> Layout {
             spans.push((s.start, s.end));
         }
     }
-    Layout::Some(spans)
+    Layout::Some(super::Spans::new(spans))
 }
 
 /// Traces each of `runs` under each of `layouts`; returns the rows and, per
@@ -206,7 +224,6 @@ fn trace_runs(
                 run: *run,
                 instr_px: t.instructions as f64 / px,
                 stalls_px: t.stalls as f64 / px,
-                fetch_px: t.fetch_stalls as f64 / px,
                 shared_px: t.shared_bus as f64 / px,
                 code_in_ram: layout.code_bytes(image),
             });

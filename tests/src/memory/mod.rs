@@ -236,7 +236,42 @@ pub enum Layout {
     /// Both copied to RAM at start.
     AllInRam,
     /// Flash, but for these spans of the image, copied to RAM (by symbol).
-    Some(Vec<(u64, u64)>),
+    Some(Spans),
+}
+
+/// Address ranges of the image, sorted and merged where they touch, so that
+/// finding the one holding an address is a binary search: [`Layout::mem`]
+/// asks it for every event of a stream.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Spans(Vec<(u64, u64)>);
+
+impl Spans {
+    /// The ranges `[start, end)` of `spans`, in any order.
+    #[must_use]
+    pub fn new(mut spans: Vec<(u64, u64)>) -> Self {
+        spans.sort_unstable();
+        let mut merged: Vec<(u64, u64)> = Vec::with_capacity(spans.len());
+        for (a, b) in spans {
+            match merged.last_mut() {
+                Some(last) if a <= last.1 => last.1 = last.1.max(b),
+                _ => merged.push((a, b)),
+            }
+        }
+        Self(merged)
+    }
+
+    /// Whether `addr` lies in one of the ranges.
+    #[must_use]
+    pub fn contains(&self, addr: u64) -> bool {
+        let i = self.0.partition_point(|&(a, _)| a <= addr);
+        i > 0 && addr < self.0[i - 1].1
+    }
+
+    /// The ranges, sorted and disjoint.
+    #[must_use]
+    pub fn ranges(&self) -> &[(u64, u64)] {
+        &self.0
+    }
 }
 
 impl Layout {
@@ -245,9 +280,7 @@ impl Layout {
     pub fn mem(&self, area: Area, addr: u64) -> Mem {
         match (self, area) {
             (_, Area::Ram) | (Layout::AllInRam, _) | (Layout::CodeInRam, Area::Code) => Mem::Ram,
-            (Layout::Some(spans), _) if spans.iter().any(|&(a, b)| (a..b).contains(&addr)) => {
-                Mem::Ram
-            }
+            (Layout::Some(spans), _) if spans.contains(addr) => Mem::Ram,
             _ => Mem::Flash,
         }
     }
@@ -258,14 +291,14 @@ impl Layout {
     /// script does with the input sections `.text.*<crate>*`.
     #[must_use]
     pub fn crates(image: &Image, crates: &[&str]) -> Self {
-        Layout::Some(
+        Layout::Some(Spans::new(
             image
                 .spans
                 .iter()
                 .filter(|s| s.area == Area::Code && crates.iter().any(|c| s.name.contains(c)))
                 .map(|s| (s.start, s.end))
                 .collect(),
-        )
+        ))
     }
 
     /// Bytes of the image's code this layout copies to RAM.
@@ -275,21 +308,11 @@ impl Layout {
             Layout::Flash => 0,
             Layout::CodeInRam | Layout::AllInRam => image.sizes().0,
             Layout::Some(spans) => spans
+                .ranges()
                 .iter()
                 .filter(|&&(a, _)| image.area(a) == Area::Code)
                 .map(|&(a, b)| b - a)
                 .sum(),
-        }
-    }
-
-    /// Its name in reports.
-    #[must_use]
-    pub fn name(&self) -> &'static str {
-        match self {
-            Layout::Flash => "flash",
-            Layout::CodeInRam => "code in RAM",
-            Layout::AllInRam => "code and rodata in RAM",
-            Layout::Some(_) => "some code in RAM",
         }
     }
 }
@@ -528,13 +551,21 @@ mod tests {
 
     #[test]
     fn layouts_place_areas() {
-        let hot = Layout::Some(vec![(0x100, 0x140)]);
+        let hot = Layout::Some(Spans::new(vec![
+            (0x200, 0x210),
+            (0x100, 0x140),
+            (0x130, 0x150),
+        ]));
         assert_eq!(Layout::Flash.mem(Area::Code, 0x100), Mem::Flash);
         assert_eq!(Layout::Flash.mem(Area::Ram, 0x2000_0000), Mem::Ram);
         assert_eq!(Layout::CodeInRam.mem(Area::Code, 0x100), Mem::Ram);
         assert_eq!(Layout::CodeInRam.mem(Area::Rodata, 0x9000), Mem::Flash);
         assert_eq!(Layout::AllInRam.mem(Area::Rodata, 0x9000), Mem::Ram);
         assert_eq!(hot.mem(Area::Code, 0x13c), Mem::Ram);
-        assert_eq!(hot.mem(Area::Code, 0x140), Mem::Flash);
+        assert_eq!(hot.mem(Area::Code, 0x14f), Mem::Ram);
+        assert_eq!(hot.mem(Area::Code, 0x150), Mem::Flash);
+        assert_eq!(hot.mem(Area::Code, 0xff), Mem::Flash);
+        assert_eq!(hot.mem(Area::Code, 0x208), Mem::Ram);
+        assert_eq!(hot.mem(Area::Code, 0x210), Mem::Flash);
     }
 }
