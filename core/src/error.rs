@@ -222,6 +222,8 @@ pub enum Error {
     BadSampleCount,
     /// An adaptive or sparse sampler's threshold that is not an integer from 0 to 255.
     BadThreshold,
+    /// A sparse sampler's spacing that is neither 2 nor 4 (`sparse:T,S`).
+    BadSpacing,
     /// Sampler text that is none of `corner`, `centre`, `prefiltered`,
     /// `offset:X,Y`, `stratified:K`, `random:N`, `adaptive:K[,T]`.
     UnknownSampler,
@@ -299,11 +301,15 @@ impl fmt::Display for Error {
                 "the adaptive and sparse samplers' threshold is a colour difference in \
                  8-bit units, an integer from 0 to 255 (adaptive:K,T or sparse:T)",
             ),
+            Self::BadSpacing => f.write_str(
+                "the sparse sampler's spacing is the distance between the rays of its first \
+                 grid, 2 or 4 pixels (sparse:T,S)",
+            ),
             Self::UnknownSampler => f.write_str(
                 "unknown sampler: the samplers are corner, centre, prefiltered, offset:X,Y \
                  (each in [0, 1)), stratified:K (1-64), random:N (1-4096), \
-                 adaptive:K (2-64) or adaptive:K,T (T: 0-255), and sparse or sparse:T \
-                 (T: 0-255)",
+                 adaptive:K (2-64) or adaptive:K,T (T: 0-255), and sparse, sparse:T \
+                 (T: 0-255) or sparse:T,S (S: 2 or 4)",
             ),
             Self::TileOutOfFrame => f.write_str("tile coordinate is outside the frame"),
             Self::NotLinked => f.write_str(

@@ -116,11 +116,29 @@ pub enum Sampler {
     /// the image is the same for every tile size, order and thread count; a
     /// tile traces the even pixels of a one-pixel apron around it, two rows of
     /// them at a time.
+    ///
+    /// With `spacing` 4, the even pixels are themselves found so from a
+    /// coarser grid first: the ray through every pixel whose coordinates are
+    /// both multiples of 4, a sixteenth of them; each other even pixel the mean
+    /// of its two or four coarse neighbours (4 pixels apart) where those met
+    /// the same things, agree within `threshold` and lie on no texture, else
+    /// its own ray. The coarse level is taken only where it cannot lose a whole
+    /// primitive: when every primitive of the scene is sure to cover, seen
+    /// from the camera, a disc of at least twice the spacing across (its
+    /// outline then holds a coarse ray), a frame with any other (a flat
+    /// triangle or disk that may be seen edge-on, an open cylinder, a mesh)
+    /// takes spacing 2. What a spacing of 4 may still smooth or miss is what
+    /// spacing 2 may at half the size: detail of shading, texture and
+    /// reflections narrower than 4 pixels, and the part of a primitive that
+    /// shows less than that (cut by the frame's edge or by what is in front).
+    /// A tile then traces the coarse pixels of a three-pixel apron around it.
     Sparse {
         /// Largest channel difference (8-bit units of the output's encoding)
         /// between the traced neighbours of a pixel that still interpolates it
         /// ([`Sampler::SPARSE_THRESHOLD`] by default).
         threshold: u8,
+        /// The spacing of the first traced grid: 2 (the default) or 4.
+        spacing: u8,
     },
 }
 
@@ -134,6 +152,17 @@ impl Sampler {
     pub const fn sparse() -> Self {
         Self::Sparse {
             threshold: Self::SPARSE_THRESHOLD,
+            spacing: 2,
+        }
+    }
+
+    /// Sparse sampling with the default threshold from a grid of `spacing`
+    /// (2 or 4) pixels.
+    #[must_use]
+    pub const fn sparse_spaced(spacing: u8) -> Self {
+        Self::Sparse {
+            threshold: Self::SPARSE_THRESHOLD,
+            spacing,
         }
     }
 
@@ -157,6 +186,7 @@ impl Sampler {
             Self::Stratified(k) if k == 0 || k > 64 => Err(Error::BadSampleCount),
             Self::Adaptive { k, .. } if !(2..=64).contains(&k) => Err(Error::BadSampleCount),
             Self::Random(n) if n == 0 || n > 4096 => Err(Error::BadSampleCount),
+            Self::Sparse { spacing, .. } if spacing != 2 && spacing != 4 => Err(Error::BadSpacing),
             // A baked offset (SubPixel::baked) is what try_new makes of it.
             Self::Offset(p) if SubPixel::try_new(p.x, p.y)? != p => Err(Error::OutOfRange {
                 field: Field::SubPixelOffset,
@@ -204,7 +234,8 @@ impl Sampler {
 /// The text form of every sampler, as scene files and the command line write it:
 /// `corner`, `centre`, `prefiltered`, `offset:X,Y`, `stratified:K`, `random:N`,
 /// `adaptive:K` (the default threshold) or `adaptive:K,T`, `sparse` (the default
-/// threshold) or `sparse:T`.
+/// threshold) or `sparse:T`, and `sparse:T,S` for a first grid of spacing `S`
+/// (2 or 4; `sparse:T,2` is written `sparse:T`).
 /// [`Sampler::from_str`](core::str::FromStr::from_str) reads it back (and `center`).
 impl core::fmt::Display for Sampler {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -219,10 +250,15 @@ impl core::fmt::Display for Sampler {
                 write!(f, "adaptive:{k}")
             }
             Self::Adaptive { k, threshold } => write!(f, "adaptive:{k},{threshold}"),
-            Self::Sparse { threshold } if threshold == Self::SPARSE_THRESHOLD => {
-                f.write_str("sparse")
-            }
-            Self::Sparse { threshold } => write!(f, "sparse:{threshold}"),
+            Self::Sparse {
+                threshold,
+                spacing: 2,
+            } if threshold == Self::SPARSE_THRESHOLD => f.write_str("sparse"),
+            Self::Sparse {
+                threshold,
+                spacing: 2,
+            } => write!(f, "sparse:{threshold}"),
+            Self::Sparse { threshold, spacing } => write!(f, "sparse:{threshold},{spacing}"),
         }
     }
 }
@@ -256,9 +292,16 @@ impl core::str::FromStr for Sampler {
                 "sparse" => Self::sparse(),
                 _ => return Err(Error::UnknownSampler),
             },
-            Some(("sparse", t)) => Self::Sparse {
-                threshold: digits(t, Error::BadThreshold)?,
-            },
+            Some(("sparse", rest)) => {
+                let (t, spacing) = match rest.split_once(',') {
+                    Some((t, s)) => (t, digits(s, Error::BadSpacing)?),
+                    None => (rest, 2),
+                };
+                Self::Sparse {
+                    threshold: digits(t, Error::BadThreshold)?,
+                    spacing,
+                }
+            }
             Some(("stratified", k)) => Self::Stratified(digits(k, Error::BadSampleCount)?),
             Some(("random", n)) => Self::Random(digits(n, Error::BadSampleCount)?),
             Some(("adaptive", rest)) => {
@@ -386,7 +429,21 @@ mod tests {
             (Sampler::adaptive(4), "adaptive:4"),
             (Sampler::Adaptive { k: 3, threshold: 0 }, "adaptive:3,0"),
             (Sampler::sparse(), "sparse"),
-            (Sampler::Sparse { threshold: 0 }, "sparse:0"),
+            (
+                Sampler::Sparse {
+                    threshold: 0,
+                    spacing: 2,
+                },
+                "sparse:0",
+            ),
+            (Sampler::sparse_spaced(4), "sparse:4,4"),
+            (
+                Sampler::Sparse {
+                    threshold: 9,
+                    spacing: 4,
+                },
+                "sparse:9,4",
+            ),
         ] {
             let mut shown = heapless::String::<32>::new();
             write!(shown, "{sampler}").unwrap();
@@ -406,8 +463,17 @@ mod tests {
         assert_eq!(Sampler::adaptive(4).count(), 17);
         assert_eq!(
             "sparse: 255".parse(),
-            Ok(Sampler::Sparse { threshold: 255 })
+            Ok(Sampler::Sparse {
+                threshold: 255,
+                spacing: 2
+            })
         );
+        assert_eq!(
+            "sparse:4,2".parse(),
+            Ok(Sampler::sparse()),
+            "spacing 2 prints as `sparse`"
+        );
+        assert_eq!(Sampler::sparse_spaced(4).count(), 1);
         assert_eq!(
             "sparse:4".parse(),
             Ok(Sampler::sparse()),
@@ -477,6 +543,15 @@ mod tests {
                 Err(Error::BadThreshold),
                 "{text:?}"
             );
+        }
+        for text in [
+            "sparse:4,3",
+            "sparse:4,8",
+            "sparse:4,",
+            "sparse:4,x",
+            "sparse:4,+4",
+        ] {
+            assert_eq!(text.parse::<Sampler>(), Err(Error::BadSpacing), "{text:?}");
         }
         assert!(matches!(
             "offset:1,0".parse::<Sampler>(),

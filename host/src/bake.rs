@@ -456,7 +456,9 @@ fn sampler(s: tessera_core::Sampler) -> Result<String, DescError> {
         S::Adaptive { k, threshold } => {
             format!("Sampler::Adaptive {{ k: {k}, threshold: {threshold} }}")
         }
-        S::Sparse { threshold } => format!("Sampler::Sparse {{ threshold: {threshold} }}"),
+        S::Sparse { threshold, spacing } => {
+            format!("Sampler::Sparse {{ threshold: {threshold}, spacing: {spacing} }}")
+        }
         _ => return Err(unknown("render", "sampler")),
     })
 }

@@ -53,6 +53,7 @@ pub fn grid(base: RenderSettings) -> Vec<Setting> {
         Sampler::Random(16),
         Sampler::adaptive(4),
         Sampler::sparse(),
+        Sampler::sparse_spaced(4),
     ] {
         let depths: &[u8] = if base.max_depth == 0 {
             &[0]
@@ -524,12 +525,12 @@ mod tests {
 
     #[test]
     fn grid_is_the_product_of_samplers_and_depths_without_duplicates() {
-        // Ten samplers at depths 0, 1 and 3 (the scene's own is 1), two more tiles.
+        // Eleven samplers at depths 0, 1 and 3 (the scene's own is 1), two more tiles.
         let g = grid(Builtin::ChapterReflect.settings());
-        assert_eq!(g.len(), 10 * 3 + 2);
+        assert_eq!(g.len(), 11 * 3 + 2);
         // The showcase's own depth, 5, adds a fourth; a scene without bounces has one.
-        assert_eq!(grid(Builtin::Showcase.settings()).len(), 10 * 4 + 2);
-        assert_eq!(grid(Builtin::ChapterDirect.settings()).len(), 10 + 2);
+        assert_eq!(grid(Builtin::Showcase.settings()).len(), 11 * 4 + 2);
+        assert_eq!(grid(Builtin::ChapterDirect.settings()).len(), 11 + 2);
         for (i, a) in g.iter().enumerate() {
             assert!(!g[i + 1..].contains(a));
         }

@@ -64,7 +64,20 @@ fn antialiased_renders_agree_with_the_reference() {
         (Builtin::Showcase, Sampler::adaptive(3)),
         (Builtin::Interference, Sampler::adaptive(3)),
         (Builtin::Showcase, Sampler::sparse()),
-        (Builtin::Teapot, Sampler::Sparse { threshold: 255 }),
+        (
+            Builtin::Teapot,
+            Sampler::Sparse {
+                threshold: 255,
+                spacing: 2,
+            },
+        ),
+        (
+            Builtin::ChapterDirect,
+            Sampler::Sparse {
+                threshold: 255,
+                spacing: 4,
+            },
+        ),
     ] {
         let settings = RenderSettings {
             sampler,
@@ -92,6 +105,8 @@ fn srgb_renders_agree_with_the_reference() {
     cases.push((Builtin::ChapterDirect, Sampler::adaptive(2)));
     cases.push((Builtin::ChapterReflect, Sampler::sparse()));
     cases.push((Builtin::Interference, Sampler::sparse()));
+    cases.push((Builtin::ChapterReflect, Sampler::sparse_spaced(4)));
+    cases.push((Builtin::Interference, Sampler::sparse_spaced(4)));
     for (b, sampler) in cases {
         let settings = RenderSettings {
             sampler,

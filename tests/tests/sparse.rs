@@ -9,6 +9,7 @@
 //! that image.
 
 use super::adaptive::{H, W, class, scene};
+use tessera_core::testing::ViewHooks as _;
 use tessera_core::{
     Camera, Color, Encoding, RenderSettings, Sampler, Scene, Tile, TileCoord, Vec3, Viewport,
     builtin::Builtin, geometry::Sphere, material::Material, trace::RayCount,
@@ -27,17 +28,17 @@ fn settings(sampler: Sampler) -> RenderSettings {
 /// The traced neighbours of `(x, y)` by the rule, `None` where one lies beyond
 /// the frame, empty for a traced pixel.
 fn neighbours(x: u32, y: u32) -> Option<Vec<(u32, u32)>> {
-    let (w, h) = (u32::from(W), u32::from(H));
-    let xs: Vec<u32> = if x.is_multiple_of(2) {
-        vec![x]
-    } else {
-        vec![x - 1, x + 1]
-    };
-    let ys: Vec<u32> = if y.is_multiple_of(2) {
-        vec![y]
-    } else {
-        vec![y - 1, y + 1]
-    };
+    spaced_neighbours(x, y, 1, (u32::from(W), u32::from(H)))
+}
+
+/// The neighbours of `(x, y)` on the grid of step `2 s` (`s` 1: the even
+/// pixels; 2: the multiples of 4) that it is the mean of, for a point of the
+/// grid of step `s`: `None` where one lies beyond the frame `(w, h)`, empty for
+/// a point of the coarser grid.
+fn spaced_neighbours(x: u32, y: u32, s: u32, (w, h): (u32, u32)) -> Option<Vec<(u32, u32)>> {
+    let on = |v: u32| v.is_multiple_of(2 * s);
+    let xs: Vec<u32> = if on(x) { vec![x] } else { vec![x - s, x + s] };
+    let ys: Vec<u32> = if on(y) { vec![y] } else { vec![y - s, y + s] };
     if xs.iter().any(|&a| a >= w) || ys.iter().any(|&b| b >= h) {
         return None;
     }
@@ -51,54 +52,98 @@ fn neighbours(x: u32, y: u32) -> Option<Vec<(u32, u32)>> {
     )
 }
 
-/// Each pixel's expected value under threshold `t` (`None`: its own ray, the
-/// prefiltered pixel) and how many pixels take their own ray.
-fn expected(t: u8) -> (Vec<Option<[u8; 3]>>, usize) {
+/// The mean of `px` (each channel rounded half up) when they are of one class
+/// and each channel spans at most `t`.
+fn mean_of(px: &[([u8; 3], u8)], t: u8) -> Option<([u8; 3], u8)> {
+    let same = px.iter().all(|p| p.1 == px[0].1);
+    let spread = (0..3).all(|c| {
+        let lo = px.iter().map(|p| p.0[c]).min().unwrap();
+        let hi = px.iter().map(|p| p.0[c]).max().unwrap();
+        hi - lo <= t
+    });
+    let k = px.len() as u32;
+    let mean = |c: usize| {
+        let sum: u32 = px.iter().map(|p| u32::from(p.0[c])).sum();
+        ((sum + k / 2) / k) as u8
+    };
+    (same && spread).then(|| ([mean(0), mean(1), mean(2)], px[0].1))
+}
+
+/// Each pixel's expected value under threshold `t` and spacing `spacing`
+/// (`None`: its own ray, the prefiltered pixel) and how many pixels take
+/// their own ray (with spacing 4, the even pixels that do too).
+fn expected_spaced(t: u8, spacing: u32) -> (Vec<Option<[u8; 3]>>, usize) {
     let s = scene();
     let view = s.view();
     let pre = s
         .renderer(Viewport::new(W, H), settings(Sampler::Prefiltered))
         .unwrap();
-    let colour = |x: u32, y: u32| pre.pixel_color(&view, x, y, &mut ());
-    let byte = |c: Color| {
-        let q = c.to_rgb8();
-        [q.r, q.g, q.b]
+    let frame = (u32::from(W), u32::from(H));
+    let own_px = |x: u32, y: u32| {
+        let q = pre.pixel_color(&view, x, y, &mut ()).to_rgb8();
+        ([q.r, q.g, q.b], class([q.r, q.g, q.b]))
     };
-    let (mut want, mut own) = (Vec::new(), 0);
-    for y in 0..u32::from(H) {
-        for x in 0..u32::from(W) {
-            let Some(n) = neighbours(x, y).filter(|n| !n.is_empty()) else {
-                want.push(None);
-                own += 1;
-                continue;
+    let mut own = 0;
+    // The even pixels: their own ray, or with spacing 4 the mean of their
+    // coarse neighbours.
+    let mut even = std::collections::HashMap::new();
+    for y in (0..frame.1).step_by(2) {
+        for x in (0..frame.0).step_by(2) {
+            let coarse = match spacing {
+                4 => spaced_neighbours(x, y, 2, frame).filter(|n| !n.is_empty()),
+                _ => None,
             };
-            let cs: Vec<Color> = n.iter().map(|&(a, b)| colour(a, b)).collect();
-            let px: Vec<[u8; 3]> = cs.iter().map(|&c| byte(c)).collect();
-            let same = px.iter().all(|p| class(*p) == class(px[0]));
-            let spread = (0..3).all(|c| {
-                let lo = px.iter().map(|p| p[c]).min().unwrap();
-                let hi = px.iter().map(|p| p[c]).max().unwrap();
-                hi - lo <= t
+            let blended = coarse.and_then(|n| {
+                let px: Vec<_> = n.iter().map(|&(a, b)| own_px(a, b)).collect();
+                mean_of(&px, t)
             });
-            if same && spread {
-                // Each channel's mean, rounded half up.
-                let k = px.len() as u32;
-                let mean = |c: usize| {
-                    let sum: u32 = px.iter().map(|p| u32::from(p[c])).sum();
-                    ((sum + k / 2) / k) as u8
-                };
-                want.push(Some([mean(0), mean(1), mean(2)]));
-            } else {
-                want.push(None);
+            let v = blended.unwrap_or_else(|| {
+                own += 1;
+                own_px(x, y)
+            });
+            even.insert((x, y), v);
+        }
+    }
+    let mut want = Vec::new();
+    for y in 0..frame.1 {
+        for x in 0..frame.0 {
+            if x % 2 == 0 && y % 2 == 0 {
+                want.push(Some(even[&(x, y)].0));
+                continue;
+            }
+            let blended = neighbours(x, y).and_then(|n| {
+                let px: Vec<_> = n.iter().map(|a| even[a]).collect();
+                mean_of(&px, t)
+            });
+            if blended.is_none() {
                 own += 1;
             }
+            want.push(blended.map(|b| b.0));
         }
     }
     (want, own)
 }
 
-#[test]
-fn interpolates_exactly_where_the_rule_says() {
+/// [`expected_spaced`] for spacing 2, where every even pixel takes its ray
+/// (counted in `own`).
+fn expected(t: u8) -> (Vec<Option<[u8; 3]>>, usize) {
+    let (mut want, own) = expected_spaced(t, 2);
+    for (i, w) in want.iter_mut().enumerate() {
+        let (x, y) = (i % usize::from(W), i / usize::from(W));
+        if x % 2 == 0 && y % 2 == 0 {
+            *w = None;
+        }
+    }
+    (want, own)
+}
+
+/// Renders the test scene with threshold `t` and `spacing`, and checks each
+/// pixel against `want` (`None`: the prefiltered pixel); returns the renderer.
+fn renders_as_the_rule_says(
+    t: u8,
+    spacing: u8,
+    want: &[Option<[u8; 3]>],
+) -> tessera_core::Renderer {
     let s = scene();
     let pre = {
         let r = s
@@ -106,21 +151,34 @@ fn interpolates_exactly_where_the_rule_says() {
             .unwrap();
         render_tiles::<16>(&s.view(), &r, None).unwrap()
     };
+    let r = s
+        .renderer(
+            Viewport::new(W, H),
+            settings(Sampler::Sparse {
+                threshold: t,
+                spacing,
+            }),
+        )
+        .unwrap();
+    let img = render_tiles::<16>(&s.view(), &r, None).unwrap();
+    for (i, w) in want.iter().enumerate() {
+        let (x, y) = ((i % usize::from(W)) as u32, (i / usize::from(W)) as u32);
+        let w = w.unwrap_or(pre.get_pixel(x, y).0);
+        assert_eq!(
+            img.get_pixel(x, y).0,
+            w,
+            "threshold {t}, spacing {spacing}: pixel ({x}, {y})"
+        );
+    }
+    r
+}
+
+#[test]
+fn interpolates_exactly_where_the_rule_says() {
     let mut interpolated = Vec::new();
     for t in [0, 8, 255] {
-        let r = s
-            .renderer(
-                Viewport::new(W, H),
-                settings(Sampler::Sparse { threshold: t }),
-            )
-            .unwrap();
-        let img = render_tiles::<16>(&s.view(), &r, None).unwrap();
         let (want, _) = expected(t);
-        for (i, w) in want.iter().enumerate() {
-            let (x, y) = ((i % usize::from(W)) as u32, (i / usize::from(W)) as u32);
-            let w = w.unwrap_or(pre.get_pixel(x, y).0);
-            assert_eq!(img.get_pixel(x, y).0, w, "threshold {t}: pixel ({x}, {y})");
-        }
+        renders_as_the_rule_says(t, 2, &want);
         interpolated.push(want.iter().filter(|w| w.is_some()).count());
     }
     // A larger threshold interpolates more; at 255 only the classes' edges and
@@ -141,7 +199,10 @@ fn traces_the_even_pixels_of_tile_and_apron_then_only_what_it_cannot_interpolate
     let r = s
         .renderer(
             Viewport::new(W, H),
-            settings(Sampler::Sparse { threshold: t }),
+            settings(Sampler::Sparse {
+                threshold: t,
+                spacing: 2,
+            }),
         )
         .unwrap();
     let (across, down) = r.tile_grid(16);
@@ -278,4 +339,154 @@ fn an_empty_view_counts_the_rays_it_does_not_trace() {
         .count();
     assert_eq!(edge, usize::from(W), "the last row, odd");
     assert_eq!(count.primary as usize, grid + edge);
+}
+
+/// With spacing 4, every pixel is what the rule gives from the prefiltered
+/// image: the coarse pixels and the even pixels it cannot interpolate their
+/// own rays, the other even pixels the means of their coarse neighbours, and
+/// the odd pixels as with spacing 2 from those; over one tile that covers the
+/// frame, the camera rays are exactly the pixels that take their own ray.
+#[test]
+fn from_the_coarse_grid_interpolates_and_traces_exactly_where_the_rule_says() {
+    let s = scene();
+    let mut owns = Vec::new();
+    for t in [0, 8, 255] {
+        let (want, own) = expected_spaced(t, 4);
+        let r = renders_as_the_rule_says(t, 4, &want);
+        let mut count = RayCount::default();
+        let mut one = Tile::<64>::new();
+        r.render_tile(&s.view(), TileCoord::new(0, 0), &mut one, &mut count)
+            .unwrap();
+        assert_eq!(count.primary as usize, own, "threshold {t}");
+        owns.push(own);
+    }
+    // Fewer rays than spacing 2 at the same threshold, fewer at a larger one.
+    let (_, own2) = expected(8);
+    assert!(owns[1] < own2, "{owns:?} against {own2}");
+    assert!(owns[0] > owns[1] && owns[1] > owns[2], "{owns:?}");
+}
+
+/// A primitive whose outline may be narrower than twice the coarse spacing
+/// turns the coarse grid off: a sphere 2 pixels in radius between the coarse
+/// rays is drawn as spacing 2 draws it (the same image), where the coarse grid
+/// alone would have missed it; at 5 pixels the coarse grid is taken.
+#[test]
+fn a_primitive_narrower_than_the_coarse_grid_keeps_spacing_2() {
+    // The test scene's sphere is 5.2 pixels in radius at 45x34 (the focal
+    // length 36.5 pixels, 0.8 units at 5.66).
+    let small_at = |radius_px: f32| {
+        let mut s: Scene<
+            tessera_core::capacities!(spheres: 2, planes: 1, materials: 2, lights: 1),
+        > = Scene::new(*scene().camera());
+        let base = scene();
+        let view = base.view();
+        s.set_ambient(Color::splat(1.0)).unwrap();
+        s.set_background(Color::new(0.0, 0.0, 0.7)).unwrap();
+        for m in view.materials() {
+            s.add_material(*m).unwrap();
+        }
+        s.add_sphere(view.spheres()[0].geometry, view.spheres()[0].material)
+            .unwrap();
+        s.add_plane(view.planes()[0].geometry, view.planes()[0].material)
+            .unwrap();
+        s.add_light(view.lights()[0]).unwrap();
+        // Seen from the camera at a distance of 5 units, through the point
+        // between four coarse rays (pixel (34, 10) and its diagonal
+        // neighbours, 2 away).
+        let r = s
+            .renderer(Viewport::new(W, H), settings(Sampler::Prefiltered))
+            .unwrap();
+        let (ray, _) = r.basis().ray(34.5, 10.5);
+        let dir = ray.dir();
+        let center = s.camera().position() + dir * 5.0;
+        let f = f32::from(H) / 2.0 / (25.0f32.to_radians()).tan();
+        let radius = radius_px * 5.0 / f;
+        s.add_sphere(
+            Sphere::try_new(center, radius).unwrap(),
+            view.spheres()[0].material,
+        )
+        .unwrap();
+        s
+    };
+    let render = |s: &Scene<_>, spacing| {
+        let r = s
+            .renderer(
+                Viewport::new(W, H),
+                settings(Sampler::Sparse {
+                    threshold: 8,
+                    spacing,
+                }),
+            )
+            .unwrap();
+        render_tiles::<16>(&s.view(), &r, None).unwrap()
+    };
+    let small = small_at(2.0);
+    let (two, four) = (render(&small, 2), render(&small, 4));
+    let red = |img: &image::RgbImage| {
+        (33..36).any(|x| (9..12).any(|y| class(img.get_pixel(x, y).0) == 1))
+    };
+    assert!(red(&two), "spacing 2 draws the small sphere");
+    assert_eq!(two, four, "a sphere 2 pixels in radius: spacing 2");
+    let large = small_at(5.0);
+    assert_ne!(
+        render(&large, 2),
+        render(&large, 4),
+        "5 pixels: the coarse grid"
+    );
+    assert!(red(&render(&large, 4)));
+}
+
+/// Where no primitive reaches a tile, the coarse grid's rays are counted as
+/// tracing them would cast them: the same count as with culling off (every
+/// ray traced, all missing), for every tile size and an odd frame.
+#[test]
+fn an_empty_view_counts_the_coarse_grids_rays_as_tracing_them_would() {
+    let cam = Camera::try_new(
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, -1.0),
+        Vec3::Y,
+        50.0,
+        0.1,
+        100.0,
+    )
+    .unwrap();
+    let mut s: Scene<tessera_core::capacities!(spheres: 1, materials: 1)> = Scene::new(cam);
+    let m = s.add_material(Material::matte(Color::WHITE)).unwrap();
+    // Behind the camera: no tile's lists hold it, and it takes the coarse grid.
+    s.add_sphere(Sphere::try_new(Vec3::new(0.0, 0.0, 5.0), 1.0).unwrap(), m)
+        .unwrap();
+    for (w, h) in [(W, H), (45, 35), (46, 34), (47, 33), (44, 36)] {
+        let r = s
+            .renderer(Viewport::new(w, h), settings(Sampler::sparse_spaced(4)))
+            .unwrap();
+        let count = |view: &tessera_core::SceneView<'_>, n: usize| match n {
+            5 => camera_rays::<5>(view, &r),
+            8 => camera_rays::<8>(view, &r),
+            _ => camera_rays::<16>(view, &r),
+        };
+        for n in [5, 8, 16] {
+            let view = s.view();
+            assert_eq!(
+                count(&view, n),
+                count(&view.without_culling(), n),
+                "{w}x{h}, tiles of {n}"
+            );
+        }
+    }
+}
+
+/// The camera rays of a frame rendered in tiles of `N`.
+fn camera_rays<const N: usize>(
+    view: &tessera_core::SceneView<'_>,
+    r: &tessera_core::Renderer,
+) -> u64 {
+    let (across, down) = r.tile_grid(N);
+    let (mut count, mut buf) = (RayCount::default(), Tile::<N>::new());
+    for ty in 0..down {
+        for tx in 0..across {
+            r.render_tile(view, TileCoord::new(tx, ty), &mut buf, &mut count)
+                .unwrap();
+        }
+    }
+    count.primary
 }

@@ -33,7 +33,17 @@ fn tile_size_and_order_do_not_change_a_pixel() {
             // The apron's traced pixels decide; threshold 255 interpolates
             // wherever the signatures agree.
             Sampler::sparse(),
-            Sampler::Sparse { threshold: 255 },
+            Sampler::Sparse {
+                threshold: 255,
+                spacing: 2,
+            },
+            // From the coarse grid where the scene allows it (the chapter's),
+            // its three-pixel apron.
+            Sampler::sparse_spaced(4),
+            Sampler::Sparse {
+                threshold: 255,
+                spacing: 4,
+            },
         ] {
             let settings = RenderSettings {
                 sampler,

@@ -355,6 +355,19 @@ impl super::Kinded for Cylinder {
         Self::try_new(self.base * f, self.top * f, self.radius * f, self.capped)
     }
 
+    /// Closed, the ball at its middle that touches its side or its caps;
+    /// open, a tube whose outline seen end-on is a ring.
+    fn girth(&self) -> super::Girth {
+        if !self.capped {
+            return super::Girth::Thin;
+        }
+        let length = (self.top - self.base).length();
+        super::Girth::Ball {
+            center: (self.base + self.top) * 0.5,
+            radius: math::min(self.radius, length * 0.5),
+        }
+    }
+
     /// The box of the two end discs: along each world axis `i`, a disc of
     /// radius `r` and normal `w` reaches `r sqrt(1 - w_i^2)` from its centre;
     /// widened by its roundings.

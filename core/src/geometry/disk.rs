@@ -155,6 +155,11 @@ impl super::Kinded for Disk {
         )
     }
 
+    /// Flat: seen edge-on, a line.
+    fn girth(&self) -> super::Girth {
+        super::Girth::Thin
+    }
+
     /// The box of the disk: along each world axis `i`, `r sqrt(1 - n_i^2)` from
     /// its centre, widened by its roundings.
     #[inline]

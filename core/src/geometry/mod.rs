@@ -53,6 +53,10 @@ pub(crate) trait Kinded: Locate + Sized {
     /// What holds it, for the culling of a tile's lists ([`Extent`]).
     fn extent(&self) -> Extent;
 
+    /// What its outline is sure to cover, for the sparse sampler's coarse
+    /// level ([`Girth`]).
+    fn girth(&self) -> Girth;
+
     /// Whether a value read from baked tables is what the checked constructor
     /// makes of its own numbers (`false`: not a value the constructor makes).
     ///
@@ -102,6 +106,26 @@ pub(crate) enum Extent {
         /// Its unit normal.
         normal: Vec3,
     },
+}
+
+/// What a primitive's outline, seen from a point, is sure to cover: what
+/// decides whether the sparse sampler's coarse grid could miss all of it
+/// (module `tile::sparse`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Girth {
+    /// A ball inside the primitive's solid: seen from outside the ball, the
+    /// primitive's outline covers the ball's.
+    Ball {
+        /// Its centre.
+        center: Vec3,
+        /// Its radius.
+        radius: f32,
+    },
+    /// A whole plane: its outline is a half of every view that sees it.
+    HalfSpace,
+    /// Nothing sure: flat, or thin somewhere (a triangle or a disk seen
+    /// edge-on, an open tube seen end-on).
+    Thin,
 }
 
 /// A kind's candidates for one ray, as the search hands them to

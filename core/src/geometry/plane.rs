@@ -198,6 +198,10 @@ impl super::Kinded for Plane {
         Self::try_new(self.point() * f, self.normal())
     }
 
+    fn girth(&self) -> super::Girth {
+        super::Girth::HalfSpace
+    }
+
     #[inline(always)]
     fn extent(&self) -> super::Extent {
         super::Extent::Plane {

@@ -298,6 +298,13 @@ impl super::Kinded for Sphere {
         Self::try_new(self.center() * f, self.radius() * f)
     }
 
+    fn girth(&self) -> super::Girth {
+        super::Girth::Ball {
+            center: self.center(),
+            radius: self.radius(),
+        }
+    }
+
     #[inline(always)]
     fn extent(&self) -> super::Extent {
         super::Extent::Ball {

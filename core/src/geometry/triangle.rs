@@ -459,6 +459,11 @@ impl super::Kinded for Triangle {
         Self::try_new(a * f, b * f, c * f)
     }
 
+    /// Flat: seen edge-on, a line.
+    fn girth(&self) -> super::Girth {
+        super::Girth::Thin
+    }
+
     #[inline(always)]
     fn extent(&self) -> super::Extent {
         super::Extent::Points(self.vertices())

@@ -3,7 +3,7 @@
 use super::adaptive::{CentrePixel, CentreSample, NEIGHBOURS, Window};
 use super::buffer::TilePixel;
 use super::renderer::Renderer;
-use super::sparse::{Grid, Parents, sparse_blend, sparse_parents};
+use super::sparse::{Grid, Parents, coarse_blend, sparse_blend, sparse_parents};
 use crate::color::{Color, Rgb8};
 use crate::cull::Picks;
 use crate::prefilter::Footprint;
@@ -145,9 +145,10 @@ impl<'a, C: Observer> Pass<'a, C> {
     /// [`Pass::fill`] for the sparse sampler: row after row, the traced pixels
     /// (both coordinates even, [`Sampler::Sparse`]) of the rows the row needs
     /// (its own when even, the one above and the one below when odd), over the
-    /// tile's columns and the apron's, kept two rows at a time ([`Grid`]); then
-    /// each pixel its traced colour, the mean of its traced neighbours
-    /// ([`sparse_blend`]), or its own ray.
+    /// tile's columns and the apron's, kept a few rows at a time ([`Grid`],
+    /// [`Pass::grid_row`]); then each pixel its traced colour, the mean of its
+    /// traced neighbours ([`sparse_blend`]), or its own ray. With `coarse`,
+    /// the even pixels come from the grid of spacing 4 first.
     ///
     /// Out of line and small: its cells are on its own frame, not on that of
     /// the tile loop that calls it, whose other loops then do not carry them.
@@ -156,17 +157,27 @@ impl<'a, C: Observer> Pass<'a, C> {
         self,
         pixels: &mut [P],
         area: (u32, u32, usize, usize),
-        threshold: u8,
+        (threshold, coarse): (u8, bool),
     ) where
         C: RayCounter,
     {
-        // A row of the grid holds at most N / 2 + 2 traced pixels: N of them
-        // from 4 on, 4 below.
-        let mut big = [[CentrePixel::default(); N]; 2];
-        let mut small = [[CentrePixel::default(); 4]; 2];
-        let ([b0, b1], [s0, s1]) = (&mut big, &mut small);
-        let cells: [&mut [CentrePixel]; 2] = if N >= 4 { [b0, b1] } else { [s0, s1] };
-        self.fill_sparse_in::<P, BOUNCES>(pixels, area, threshold, Grid::new(cells));
+        // A row of the grid holds at most N / 2 + 5 traced pixels (N / 2 + 1
+        // for a tile of a multiple of 4): from 30 on, three fit in 2 N (as
+        // for a tile of 32, whose two rows of spacing 2 take as much);
+        // below, three rows of N from 10, of 10 below. Each branch's cells are
+        // its own: the other, dead for this N, takes no stack.
+        if N >= 30 {
+            let mut flat = [[CentrePixel::default(); N]; 2];
+            let (a, rest) = flat.as_flattened_mut().split_at_mut(2 * N / 3);
+            let (b, c) = rest.split_at_mut(2 * N / 3);
+            let grid = Grid::new([a, b, c]);
+            return self.fill_sparse_in::<P, BOUNCES>(pixels, area, (threshold, coarse), grid);
+        }
+        let mut big = [[CentrePixel::default(); N]; 3];
+        let mut small = [[CentrePixel::default(); 10]; 3];
+        let ([b0, b1, b2], [s0, s1, s2]) = (&mut big, &mut small);
+        let cells: [&mut [CentrePixel]; 3] = if N >= 10 { [b0, b1, b2] } else { [s0, s1, s2] };
+        self.fill_sparse_in::<P, BOUNCES>(pixels, area, (threshold, coarse), Grid::new(cells));
     }
 
     /// [`Pass::fill_sparse`] in the rows of `grid`: one copy whatever the tile
@@ -176,7 +187,7 @@ impl<'a, C: Observer> Pass<'a, C> {
         mut self,
         pixels: &mut [P],
         (x0, y0, tw, th): (u32, u32, usize, usize),
-        threshold: u8,
+        (threshold, coarse): (u8, bool),
         mut grid: Grid<'_>,
     ) where
         C: RayCounter,
@@ -187,8 +198,7 @@ impl<'a, C: Observer> Pass<'a, C> {
             self.renderer.dither,
         );
         let frame = (u32::from(vp.width), u32::from(vp.height));
-        // The even columns of [x0 - 1, x0 + tw] within the frame.
-        let columns = (x0 & !1, (x0 + tw as u32).min(frame.0.saturating_sub(1)));
+        let columns = sparse_columns(x0, tw, frame.0, coarse);
         for (j, row) in pixels.chunks_mut(tw.max(1)).enumerate() {
             let live = if j < th { tw } else { 0 };
             let Some((live, rest)) = row.split_at_mut_checked(live) else {
@@ -198,11 +208,20 @@ impl<'a, C: Observer> Pass<'a, C> {
             if !live.is_empty() {
                 for g in [y & !1, (y | 1) + 1] {
                     if g < frame.1 && (g == y || y % 2 == 1) && !grid.holds(g) {
-                        let slot = grid.slot_for(g);
-                        for (k, gx) in (columns.0..=columns.1).step_by(2).enumerate() {
-                            let c = self.centre::<BOUNCES>(gx, g);
-                            slot.set(k, c.encoded(encoding));
+                        // A level-1 row's coarse rows first.
+                        if coarse && g % 4 == 2 && g + 2 < frame.1 {
+                            for r in [g - 2, g + 2] {
+                                if !grid.holds(r) {
+                                    self.grid_row::<BOUNCES>(
+                                        &mut grid,
+                                        r,
+                                        columns,
+                                        (threshold, coarse),
+                                    );
+                                }
+                            }
                         }
+                        self.grid_row::<BOUNCES>(&mut grid, g, columns, (threshold, coarse));
                     }
                 }
             }
@@ -217,7 +236,7 @@ impl<'a, C: Observer> Pass<'a, C> {
             };
             for (i, px) in live.iter_mut().enumerate() {
                 let x = x0 + i as u32;
-                let k = ((x - columns.0) / 2) as usize;
+                let k = ((x - columns.lo) / 2) as usize;
                 let odd_x = x % 2 == 1;
                 let mean = match rows {
                     // A neighbour beyond the frame.
@@ -243,25 +262,135 @@ impl<'a, C: Observer> Pass<'a, C> {
         }
     }
 
+    /// Traces even row `g` of the frame into `grid` over `columns`
+    /// ([`sparse_columns`]): with spacing 2 (or on a frame's row with no
+    /// coarse row below it) every even pixel's ray; with `coarse`, the coarse
+    /// pixels' rays (both coordinates multiples of 4) and each other even
+    /// pixel of the tile's columns the mean of its coarse neighbours
+    /// ([`coarse_blend`]) or its own ray; a row between two coarse rows takes
+    /// them from `grid` (traced before it). Out of line: one copy for the
+    /// three calls of the tile loop.
+    #[inline(never)]
+    fn grid_row<const BOUNCES: bool>(
+        &mut self,
+        grid: &mut Grid<'_>,
+        g: u32,
+        columns: SparseColumns,
+        (threshold, coarse): (u8, bool),
+    ) where
+        C: RayCounter,
+    {
+        let vp = self.renderer.viewport();
+        let (w, h) = (u32::from(vp.width), u32::from(vp.height));
+        let encoding = self.renderer.settings.encoding;
+        let level1_row = coarse && g % 4 == 2 && g + 2 < h;
+        grid.slot_for(g);
+        let (Some(row), up, down) = grid.rows_at(g, g.wrapping_sub(2), g + 2) else {
+            return;
+        };
+        // The columns the tile needs, `k` counted from the row's first.
+        let needed = (columns.first..=columns.last)
+            .step_by(2)
+            .enumerate()
+            .map(|(k, gx)| (k + ((columns.first - columns.lo) / 2) as usize, gx));
+        if !coarse || g % 4 == 2 && !level1_row {
+            // Spacing 2, or a level-1 row with no coarse row below: every
+            // needed pixel's ray.
+            for (k, gx) in needed {
+                row.set(k, self.centre::<BOUNCES>(gx, g).encoded(encoding));
+            }
+            return;
+        }
+        let coarse_row = g.is_multiple_of(4);
+        if coarse_row {
+            // The coarse pixels first: the others between them take them.
+            for (k, gx) in (columns.lo..=columns.hi).step_by(2).enumerate() {
+                if gx.is_multiple_of(4) {
+                    row.set(k, self.centre::<BOUNCES>(gx, g).encoded(encoding));
+                }
+            }
+        }
+        for (k, gx) in needed {
+            let coarse_x = gx.is_multiple_of(4);
+            if coarse_row && coarse_x {
+                continue;
+            }
+            // A level-1 pixel: between two coarse pixels of its row, its
+            // column, or four diagonally; its own ray where one lies beyond
+            // the frame.
+            let blend = match (up, down) {
+                _ if !coarse_x && gx + 2 >= w => None,
+                _ if coarse_row => coarse_blend([row.at(k - 1), row.at(k + 1)], threshold),
+                (Some(u), Some(l)) if coarse_x => coarse_blend([u.at(k), l.at(k)], threshold),
+                (Some(u), Some(l)) => coarse_blend(
+                    [u.at(k - 1), u.at(k + 1), l.at(k - 1), l.at(k + 1)],
+                    threshold,
+                ),
+                _ => None,
+            };
+            let s = blend.unwrap_or_else(|| self.centre::<BOUNCES>(gx, g).encoded(encoding));
+            row.set(k, s);
+        }
+    }
+
     /// The sparse sampler's linear colour of pixel `(x, y)` on its own: the rule
     /// of [`Pass::fill_sparse`], its traced neighbours traced here.
-    pub(super) fn sparse_pixel(&mut self, x: u32, y: u32, threshold: u8) -> Color
+    pub(super) fn sparse_pixel(&mut self, x: u32, y: u32, (threshold, coarse): (u8, bool)) -> Color
     where
         C: RayCounter,
     {
         let vp = self.renderer.viewport();
         let frame = (u32::from(vp.width), u32::from(vp.height));
-        let encoding = self.renderer.settings.encoding;
-        let traced =
-            |pass: &mut Self, (gx, gy): (u32, u32)| pass.centre::<true>(gx, gy).encoded(encoding);
+        let even = |pass: &mut Self, at: (u32, u32)| {
+            let coarse = coarse.then(|| pass.coarse_mean(at, threshold)).flatten();
+            coarse.unwrap_or_else(|| pass.traced(at))
+        };
         let blended = match sparse_parents((x, y), frame) {
+            // An even pixel: its own ray, or the mean of its coarse neighbours.
+            Parents::Own if x.is_multiple_of(2) && y.is_multiple_of(2) && coarse => {
+                self.coarse_mean((x, y), threshold).map(|c| c.color)
+            }
             Parents::Own => None,
-            Parents::Two(at) => sparse_blend(at.map(|a| traced(self, a)).each_ref(), threshold),
-            Parents::Four(at) => sparse_blend(at.map(|a| traced(self, a)).each_ref(), threshold),
+            Parents::Two(at) => sparse_blend(at.map(|a| even(self, a)).each_ref(), threshold),
+            Parents::Four(at) => sparse_blend(at.map(|a| even(self, a)).each_ref(), threshold),
         };
         match blended {
-            Some(rgb) => encoding.decode(rgb),
+            Some(rgb) => self.renderer.settings.encoding.decode(rgb),
             None => self.pixel::<true>(x, y),
+        }
+    }
+
+    /// The 8-bit pixel and signature of even pixel `(x, y)`'s own ray.
+    fn traced(&mut self, (x, y): (u32, u32)) -> CentrePixel
+    where
+        C: RayCounter,
+    {
+        let encoding = self.renderer.settings.encoding;
+        self.centre::<true>(x, y).encoded(encoding)
+    }
+
+    /// Even pixel `(x, y)` as [`Pass::grid_row`] interpolates it from the
+    /// coarse grid (`None`: a coarse pixel, or one that takes its own ray).
+    fn coarse_mean(&mut self, (x, y): (u32, u32), threshold: u8) -> Option<CentrePixel>
+    where
+        C: RayCounter,
+    {
+        let vp = self.renderer.viewport();
+        // The even pixels are a frame of half the size, whose own even pixels
+        // are the coarse ones.
+        let half = (
+            u32::from(vp.width).div_ceil(2),
+            u32::from(vp.height).div_ceil(2),
+        );
+        let twice = |(a, b): (u32, u32)| (2 * a, 2 * b);
+        match sparse_parents((x / 2, y / 2), half) {
+            Parents::Own => None,
+            Parents::Two(at) => {
+                coarse_blend(at.map(|a| self.traced(twice(a))).each_ref(), threshold)
+            }
+            Parents::Four(at) => {
+                coarse_blend(at.map(|a| self.traced(twice(a))).each_ref(), threshold)
+            }
         }
     }
 
@@ -363,4 +492,39 @@ impl Renderer {
 #[inline(always)]
 pub(super) fn encode<const SRGB: bool>(c: Color) -> Rgb8 {
     if SRGB { c.to_srgb8() } else { c.to_rgb8() }
+}
+
+/// The even columns a sparse tile's rows hold: from `lo` to `hi`, of which the
+/// tile's pixels need those from `first` to `last` (the even columns from
+/// `x0 - 1` to `x0 + tw` within the frame); with spacing 4, `lo` and `hi`
+/// reach out to the coarse columns around those (within the frame).
+#[derive(Clone, Copy)]
+pub(super) struct SparseColumns {
+    pub(super) lo: u32,
+    pub(super) first: u32,
+    pub(super) last: u32,
+    pub(super) hi: u32,
+}
+
+/// The [`SparseColumns`] of a tile of `tw` columns from `x0` in a frame `w`
+/// wide.
+#[inline(always)]
+pub(super) fn sparse_columns(x0: u32, tw: usize, w: u32, coarse: bool) -> SparseColumns {
+    let first = x0 & !1;
+    let last = (x0 + tw as u32).min(w.saturating_sub(1)) & !1;
+    if coarse {
+        SparseColumns {
+            lo: first & !3,
+            first,
+            last,
+            hi: ((last + 2) & !3).min(w.saturating_sub(1) & !1),
+        }
+    } else {
+        SparseColumns {
+            lo: first,
+            first,
+            last,
+            hi: last,
+        }
+    }
 }

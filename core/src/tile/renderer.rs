@@ -2,8 +2,9 @@
 
 use super::adaptive::NEIGHBOURS;
 use super::buffer::{Tile, TileCoord, TilePixel};
-use super::pass::Pass;
+use super::pass::{Pass, sparse_columns};
 use super::settings::{AllLoops, Loops, RenderSettings, TileLoop, links_any};
+use super::sparse::coarse_fits;
 use crate::camera::{Camera, CameraBasis, Viewport};
 use crate::color::{Color, Encoding, Rgb8};
 use crate::cull::{Picks, TileLists};
@@ -181,7 +182,8 @@ impl Renderer {
         let picks = Picks::default();
         let mut pass = Pass::new(self, scene, &picks, depth, count);
         if let Some(threshold) = self.sparse() {
-            return pass.sparse_pixel(x, y, threshold);
+            let coarse = self.coarse(scene);
+            return pass.sparse_pixel(x, y, (threshold, coarse));
         }
         let Some(threshold) = self.adaptive else {
             return pass.pixel::<true>(x, y);
@@ -242,24 +244,63 @@ impl Renderer {
     }
 
     /// The camera rays the sparse sampler casts for the tile of `tw x th` pixels
-    /// at `(x0, y0)` where every ray misses: its traced pixels of the tile and of
-    /// its apron (the grid of even pixels over them) and the tile's pixels with a
-    /// neighbour beyond the frame (every other pixel is interpolated).
-    pub(super) fn sparse_background_rays(&self, (x0, y0, tw, th): (u32, u32, usize, usize)) -> u32 {
+    /// at `(x0, y0)` where every ray misses, all alike (every mean is then
+    /// taken): the rays [`Pass::fill_sparse`] casts of its grid's rows, and the
+    /// tile's pixels with a neighbour beyond the frame.
+    pub(super) fn sparse_background_rays(
+        &self,
+        (x0, y0, tw, th): (u32, u32, usize, usize),
+        coarse: bool,
+    ) -> u32 {
         let vp = self.viewport();
         let (w, h) = (u32::from(vp.width), u32::from(vp.height));
-        // The even coordinates of [a - 1, a + n] within the frame.
-        let evens = |a: u32, n: usize, size: u32| {
-            let lo = a & !1;
-            let hi = (a + n as u32).min(size - 1);
-            (hi - lo) / 2 + 1
+        let columns = sparse_columns(x0, tw, w, coarse);
+        let evens = |a: u32, b: u32| if a > b { 0 } else { (b - a) / 2 + 1 };
+        // The even columns of [a, b] that are multiples of 4.
+        let fours = |a: u32, b: u32| {
+            let a = (a + 3) & !3;
+            if a > b { 0 } else { (b - a) / 4 + 1 }
         };
-        let grid = evens(x0, tw, w) * evens(y0, th, h);
+        let needed = evens(columns.first, columns.last);
+        // What one grid row casts (`Pass::grid_row`): every needed column's
+        // ray at spacing 2 and on a level-1 row with no coarse row below; the
+        // coarse columns' on a coarse row, and its level-1 pixels' whose right
+        // neighbour lies beyond the frame; on a level-1 row, those whose
+        // diagonal neighbours do (never its coarse columns').
+        let row_rays = |g: u32| -> u32 {
+            let edge = u32::from(columns.last % 4 == 2 && columns.last + 2 >= w);
+            if !coarse || g % 4 == 2 && g + 2 >= h {
+                needed
+            } else if g.is_multiple_of(4) {
+                fours(columns.lo, columns.hi) + edge
+            } else {
+                edge
+            }
+        };
+        // The grid rows the tile's rows take (its even rows, and for an odd
+        // row the rows either side), and with spacing 4 the coarse rows
+        // either side of a level-1 row.
+        let (first, last) = (y0 & !1, (y0 + th as u32).min(h.saturating_sub(1)) & !1);
+        let mut rays = 0;
+        let mut g = first;
+        while g <= last {
+            rays += row_rays(g);
+            g += 2;
+        }
+        if coarse {
+            // The coarse rows around the level-1 rows at either end.
+            if first % 4 == 2 && first + 2 < h {
+                rays += row_rays(first - 2);
+            }
+            if last % 4 == 2 && last + 2 < h {
+                rays += row_rays(last + 2);
+            }
+        }
         let (x1, y1) = (x0 + tw as u32, y0 + th as u32);
         // The last column and row when they are odd: a neighbour beyond the frame.
         let col = u32::from(x1 == w && w % 2 == 0);
         let row = u32::from(y1 == h && h % 2 == 0);
-        grid + col * th as u32 + row * tw as u32 - col * row
+        rays + col * th as u32 + row * tw as u32 - col * row
     }
 
     /// What a pixel comes to when every ray misses: the background, averaged over
@@ -321,9 +362,27 @@ impl Renderer {
     /// The sparse sampler's threshold (`None` for the other samplers).
     pub(super) fn sparse(&self) -> Option<u8> {
         match self.settings.sampler {
-            Sampler::Sparse { threshold } => Some(threshold),
+            Sampler::Sparse { threshold, .. } => Some(threshold),
             _ => None,
         }
+    }
+
+    /// The spacing of the sparse sampler's first grid for `scene`: 4 where it
+    /// was asked for and every primitive's outline is sure to hold a ray of
+    /// that grid ([`crate::Sampler::Sparse`]), else 2; `None` for the other
+    /// samplers.
+    #[must_use]
+    pub fn sparse_spacing(&self, scene: &SceneView<'_>) -> Option<u8> {
+        self.sparse()
+            .map(|_| if self.coarse(scene) { 4 } else { 2 })
+    }
+
+    /// Whether the sparse sampler starts from its grid of spacing 4 in
+    /// `scene`: asked for, and sure to hold a ray in every primitive's outline
+    /// ([`coarse_fits`]).
+    pub(super) fn coarse(&self, scene: &SceneView<'_>) -> bool {
+        matches!(self.settings.sampler, Sampler::Sparse { spacing: 4, .. })
+            && coarse_fits(&self.basis, scene)
     }
 
     /// Whether `L` links the loop this frame's tiles take for `scene`
@@ -360,8 +419,14 @@ impl Renderer {
         tile.width = u16::try_from(tw).unwrap_or(0);
         tile.height = u16::try_from(th).unwrap_or(0);
         // Every sample of the tile lies in [x0, x0 + tw] x [y0, y0 + th]; the
-        // adaptive and sparse samplers' also in the one-pixel apron around it.
-        let apron = usize::from(self.adaptive.is_some() || self.sparse().is_some());
+        // adaptive and sparse samplers' also in the one-pixel apron around it,
+        // the sparse sampler's from its coarse grid in a three-pixel one.
+        let coarse = self.coarse(scene);
+        let apron = if coarse {
+            3
+        } else {
+            usize::from(self.adaptive.is_some() || self.sparse().is_some())
+        };
         let rect = (
             x0.saturating_sub(apron) as f32,
             y0.saturating_sub(apron) as f32,
@@ -383,7 +448,7 @@ impl Renderer {
                 // No primitive reaches the tile: every ray misses alike. Its rays
                 // are counted, not traced.
                 let rays = if self.sparse().is_some() {
-                    self.sparse_background_rays(area)
+                    self.sparse_background_rays(area, coarse)
                 } else {
                     (tw * th) as u32 * self.background_rays()
                 };
@@ -394,6 +459,7 @@ impl Renderer {
             }
             let depth = scene.depth(self.settings.max_depth);
             let threshold = self.adaptive.or(self.sparse()).unwrap_or(0);
+            let sparse = (threshold, coarse);
             // The tile's pixels are packed: rows of `tw` (see `Tile::as_slice`).
             let rows = tile.pixels.as_flattened_mut();
             // The loop's instantiations, one per tile loop: with bounces or without
@@ -431,10 +497,10 @@ impl Renderer {
                     run!(TileLoop::Adaptive { bounces: true }, depth => fill_adaptive::<N, P, true>(rows, area, threshold))
                 }
                 TileLoop::Sparse { bounces: false } => {
-                    run!(TileLoop::Sparse { bounces: false }, 0 => fill_sparse::<N, P, false>(rows, area, threshold))
+                    run!(TileLoop::Sparse { bounces: false }, 0 => fill_sparse::<N, P, false>(rows, area, sparse))
                 }
                 TileLoop::Sparse { bounces: true } => {
-                    run!(TileLoop::Sparse { bounces: true }, depth => fill_sparse::<N, P, true>(rows, area, threshold))
+                    run!(TileLoop::Sparse { bounces: true }, depth => fill_sparse::<N, P, true>(rows, area, sparse))
                 }
             }
         };

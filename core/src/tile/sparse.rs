@@ -1,10 +1,17 @@
 //! The sparse sampler's rule and memory ([`crate::Sampler::Sparse`]): which
 //! traced pixels a pixel is interpolated from, when they agree and their mean,
-//! and the two rows of traced pixels a tile keeps. Its pixel loop is
+//! and the rows of traced pixels a tile keeps. Its pixel loop is
 //! `Pass::fill_sparse` (module `pass`).
 
 use super::adaptive::CentrePixel;
+use crate::camera::CameraBasis;
 use crate::color::Rgb8;
+use crate::cull::Source;
+use crate::geometry::{Girth, Kinded};
+use crate::kind::{Geometry, each_kind};
+use crate::math;
+use crate::vec::Vec3;
+use crate::view::SceneView;
 
 /// Which traced pixels the sparse sampler may interpolate pixel `(x, y)` from.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -75,12 +82,87 @@ pub(super) fn sparse_blend<const K: usize>(
     Some(Rgb8::new(mean(sum[0]), mean(sum[1]), mean(sum[2])))
 }
 
-/// Two rows of the sparse sampler's traced pixels (even rows), each over the
-/// even columns from the tile's first on: at most `N / 2 + 2` of them for a
+/// The level-1 pixel of the coarse grid ([`crate::Sampler::Sparse`] with spacing 4):
+/// the mean of `samples` (its two or four coarse neighbours) as
+/// [`sparse_blend`] takes it, with their signature, when none lies on a
+/// texture (a texture's detail between rays four pixels apart is not
+/// interpolated); `None` otherwise.
+#[inline(always)]
+pub(super) fn coarse_blend<const K: usize>(
+    samples: [&CentrePixel; K],
+    threshold: u8,
+) -> Option<CentrePixel> {
+    if samples.iter().any(|s| s.textured) {
+        return None;
+    }
+    let color = sparse_blend(samples, threshold)?;
+    Some(CentrePixel {
+        color,
+        sig: samples.first()?.sig,
+        textured: false,
+    })
+}
+
+/// The radius, in pixels, of the disc every primitive's outline must be sure
+/// to cover for the coarse grid: twice the spacing across, wider than the
+/// spacing times `sqrt(2)` that a disc needs to hold a point of a grid of
+/// that spacing.
+const COARSE_RADIUS: f32 = 4.0;
+
+/// Whether the sparse sampler may start from the grid of spacing 4 in `scene`
+/// seen through `basis`: whether every primitive's outline is sure to hold a
+/// pixel of that grid ([`crate::Sampler::Sparse`]). A ball inside a primitive, of
+/// radius `r` and centre at distance `d` from the camera, lying wholly
+/// between the camera's plane and its far plane, has an outline (an ellipse)
+/// whose smaller half-axis is at least `f r / d` pixels, `f` the distance
+/// from the camera to the near plane in pixels; a ball that holds the camera
+/// fills the view, and one wholly behind the camera or beyond the far plane
+/// is not seen. Any other ball (across the camera's plane or the far plane),
+/// a flat or thin primitive, a mesh or an instance: spacing 2. Computed in
+/// `f32` with a margin of `2^-10`, far above its roundings.
+pub(super) fn coarse_fits(basis: &CameraBasis, scene: &SceneView<'_>) -> bool {
+    let mut tops = false;
+    scene.each_top(|_, _| tops = true);
+    if tops {
+        return false;
+    }
+    let (forward, near, far) = basis.depth_axis();
+    let pixel = math::max(basis.u1().length(), basis.u2().length());
+    let eye = basis.position();
+    let margin = 1.0 + 1.0 / 1024.0;
+    let wide = |center: Vec3, radius: f32| {
+        let to = center - eye;
+        let (d, along) = (to.length(), to.dot(forward));
+        let seen = along + radius > 0.0 && along - radius < far;
+        d * margin < radius
+            || !seen
+            || along > radius * margin
+                && along + radius < far
+                && near * radius >= COARSE_RADIUS * pixel * d * margin
+    };
+    let primitives = scene.primitives;
+    let mut fits = true;
+    each_kind!(|G| {
+        for p in G::of(&primitives) {
+            fits &= match p.geometry.girth() {
+                Girth::HalfSpace => true,
+                Girth::Thin => false,
+                Girth::Ball { center, radius } => wide(center, radius),
+            };
+        }
+    });
+    // NaN anywhere fails a comparison above: spacing 2.
+    fits
+}
+
+/// Three rows of the sparse sampler's traced pixels (even rows), each over the
+/// even columns from the grid's first on: at most `N / 2 + 5` of them for a
 /// tile of `N`, in the cells the tile loop lends ([`Grid::new`]), so that the
-/// loop has one copy whatever the tile size.
+/// loop has one copy whatever the tile size. Spacing 2 keeps two rows (its own
+/// or the two around an odd row); spacing 4 also the two coarse rows around a
+/// level-1 row.
 pub(super) struct Grid<'a> {
-    rows: [GridRow<'a>; 2],
+    rows: [GridRow<'a>; 3],
 }
 
 /// One row of a [`Grid`]: its `y` (`u32::MAX` before it is traced).
@@ -112,19 +194,10 @@ impl GridRow<'_> {
 }
 
 impl<'a> Grid<'a> {
-    /// Two rows in `cells`, each at least `N / 2 + 2` long for tiles of `N`.
-    pub(super) fn new([a, b]: [&'a mut [CentrePixel]; 2]) -> Self {
+    /// Three rows in `cells`, each at least `N / 2 + 5` long for tiles of `N`.
+    pub(super) fn new(cells: [&'a mut [CentrePixel]; 3]) -> Self {
         Self {
-            rows: [
-                GridRow {
-                    y: u32::MAX,
-                    cells: a,
-                },
-                GridRow {
-                    y: u32::MAX,
-                    cells: b,
-                },
-            ],
+            rows: cells.map(|cells| GridRow { y: u32::MAX, cells }),
         }
     }
 
@@ -134,25 +207,50 @@ impl<'a> Grid<'a> {
         self.rows.iter().any(|r| r.y == y)
     }
 
-    /// The slot row `y` is traced into: the one of a row above the other's
-    /// (rows are asked for from the top down, a row at most two above the one
-    /// before).
+    /// The slot row `y` is traced into: a free one, else the one of the
+    /// topmost row kept (rows are asked for from the top down; a row
+    /// interpolated from two others is asked for after them, which are then
+    /// the two lowest).
     #[inline(always)]
     pub(super) fn slot_for(&mut self, y: u32) -> &mut GridRow<'a> {
-        let [a, b] = &mut self.rows;
-        let older = if a.y == u32::MAX || b.y != u32::MAX && a.y < b.y {
-            a
-        } else {
-            b
-        };
-        older.y = y;
-        older
+        let [a, b, c] = &mut self.rows;
+        let older =
+            |p: &GridRow<'_>, q: &GridRow<'_>| p.y == u32::MAX || q.y != u32::MAX && p.y < q.y;
+        let ab = if older(a, b) { a } else { b };
+        let oldest = if older(ab, c) { ab } else { c };
+        oldest.y = y;
+        oldest
     }
 
     /// Row `y`, if it is kept.
     #[inline(always)]
     pub(super) fn row(&self, y: u32) -> Option<&GridRow<'a>> {
         self.rows.iter().find(|r| r.y == y)
+    }
+
+    /// Row `y` to write and rows `a` and `b` to read, those of them kept.
+    #[inline(always)]
+    pub(super) fn rows_at(
+        &mut self,
+        y: u32,
+        a: u32,
+        b: u32,
+    ) -> (
+        Option<&mut GridRow<'a>>,
+        Option<&GridRow<'a>>,
+        Option<&GridRow<'a>>,
+    ) {
+        let (mut w, mut ra, mut rb) = (None, None, None);
+        for r in &mut self.rows {
+            if r.y == y {
+                w = Some(r);
+            } else if r.y == a {
+                ra = Some(&*r);
+            } else if r.y == b {
+                rb = Some(&*r);
+            }
+        }
+        (w, ra, rb)
     }
 }
 
@@ -170,7 +268,7 @@ mod tests {
 
     #[test]
     fn a_traced_pixel_takes_8_bytes_of_a_row() {
-        // Two rows of N: the 16 N bytes the tile module's doc gives.
+        // Three rows of N: the 24 N bytes the tile module's doc gives.
         assert_eq!(core::mem::size_of::<CentrePixel>(), 8);
     }
 

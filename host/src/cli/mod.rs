@@ -258,7 +258,9 @@ struct Common {
     size: Option<(u16, u16)>,
     /// Samples per pixel: corner, centre, prefiltered, offset:X,Y, stratified:K, random:N,
     /// adaptive:K or adaptive:K,T (K x K samples only where a pixel needs them), sparse or
-    /// sparse:T (a ray through a quarter of the pixels, the others interpolated where they agree)
+    /// sparse:T (a ray through a quarter of the pixels, the others interpolated where they agree),
+    /// sparse:T,4 (the same from a ray through a sixteenth first, where every primitive shows 8
+    /// pixels across)
     #[arg(long)]
     sampler: Option<tessera_core::Sampler>,
     /// Reflection/refraction depth: 0 (no reflected or refracted ray) to 8

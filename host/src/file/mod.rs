@@ -1073,8 +1073,8 @@ color = [0.9, 0.1, 0.1]
             msg(&text),
             "t.toml:11: render: sampler \"gauss\": unknown sampler: the samplers are corner, \
              centre, prefiltered, offset:X,Y (each in [0, 1)), stratified:K (1-64), random:N \
-             (1-4096), adaptive:K (2-64) or adaptive:K,T (T: 0-255), and sparse or sparse:T \
-             (T: 0-255)"
+             (1-4096), adaptive:K (2-64) or adaptive:K,T (T: 0-255), and sparse, sparse:T \
+             (T: 0-255) or sparse:T,S (S: 2 or 4)"
         );
         let text = format!("{HEAD}\n[render]\nsampler = \"offset:0.5,1\"\n");
         assert_eq!(

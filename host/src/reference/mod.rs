@@ -29,7 +29,7 @@ pub mod shade;
 pub mod vec;
 
 use crate::desc::{CameraDesc, DescError, SceneDesc, flush};
-use geometry::Ray;
+use geometry::{Ray, Shape};
 use scene::RefScene;
 use shade::{Signature, Tracer};
 use vec::V3;
@@ -228,13 +228,14 @@ pub fn render(
             threshold,
         ));
     }
-    if let tessera_core::Sampler::Sparse { threshold } = settings.sampler {
+    if let tessera_core::Sampler::Sparse { threshold, spacing } = settings.sampler {
+        let coarse = spacing == 4 && coarse_fits(&camera, &scene);
         return Ok(sparse(
             &tracer,
             &camera,
             (width, height),
             settings,
-            threshold,
+            (threshold, coarse),
         ));
     }
     // Every pixel of the frame and of the ring around it (signatures only).
@@ -354,92 +355,161 @@ fn centre(
     (color, sig, probe, textured, bytes)
 }
 
+/// Whether the sparse sampler of spacing 4 starts from its coarse grid: every
+/// object is a sphere, a box or a closed cylinder whose largest inner ball
+/// (the sphere; the ball touching the box's nearest faces; the one at the
+/// cylinder's middle touching its side or caps) is sure to show as a disc of
+/// radius at least 4 pixels, or a plane. A ball shows so when it holds the
+/// camera, lies wholly behind the camera or beyond the far plane (unseen),
+/// or lies wholly between them with `near r >= 4 pixel d` (`d` the distance
+/// of its centre, `pixel` a pixel's side on the near plane): the smaller
+/// half-axis of its outline is `near tan(asin(r / d)) / pixel >= near r / (d
+/// pixel)` pixels.
+fn coarse_fits(camera: &RefCamera, scene: &RefScene) -> bool {
+    let near = camera.near_forward.length();
+    let forward = camera.near_forward * (1.0 / near);
+    let far = near * (camera.far_over_near_minus_one + 1.0);
+    let pixel = camera.u1.length().max(camera.u2.length());
+    let shows = |center: V3, r: f64| {
+        let to = center - camera.position;
+        let (d, along) = (to.length(), to.dot(forward));
+        d < r
+            || along + r <= 0.0
+            || along - r >= far
+            || along > r && along + r < far && near * r >= 4.0 * pixel * d
+    };
+    scene.objects.iter().all(|o| match o.shape {
+        Shape::Sphere { center, radius } => shows(center, radius),
+        Shape::Box { min, max } => {
+            let half = (max - min) * 0.5;
+            shows((min + max) * 0.5, half.x.min(half.y).min(half.z))
+        }
+        Shape::Cylinder {
+            base,
+            top,
+            radius,
+            capped: true,
+        } => shows((base + top) * 0.5, radius.min((top - base).length() * 0.5)),
+        Shape::Plane { .. } => true,
+        _ => false,
+    })
+}
+
 /// The sparse sampler in `f64`: the prefiltered centre ray of every pixel
 /// whose coordinates are both even; each other pixel the mean of the 8-bit
 /// pixels of its two or four traced neighbours (in its row or column, or
 /// diagonally) when they met the same things and each 8-bit channel spans at
 /// most `threshold` over them, else (and when a neighbour lies beyond the
-/// frame) its own prefiltered centre ray. The pixels of the ring outside the
-/// frame are signed by their own centre ray.
-///
-/// A row at a time: only the traced rows a row needs are kept (its own, or the
-/// one above and the one below it), so the image and its signatures are all it
-/// holds of the frame.
+/// frame) its own prefiltered centre ray. With `coarse` (spacing 4, where
+/// [`coarse_fits`]), the even pixels are found so first from those whose
+/// coordinates are both multiples of 4, a mean taken only of neighbours on no
+/// texture. The pixels of the ring outside the frame are signed by their own
+/// centre ray.
 fn sparse(
     tracer: &Tracer<'_>,
     camera: &RefCamera,
     (width, height): (u32, u32),
     settings: &tessera_core::RenderSettings,
-    threshold: u8,
+    (threshold, coarse): (u8, bool),
 ) -> RefImage {
     let e = settings.encoding;
     let (w, h) = (i64::from(width), i64::from(height));
-    let trace_row = |y: u32| -> Vec<Centre> {
-        (0..width)
-            .step_by(2)
-            .map(|x| centre(tracer, camera, (x, y), e))
-            .collect()
+    // The pixels `(x, y)` of a frame `(w, h)` that pixel `(x, y)` is the mean
+    // of: its row's two either side (odd x), its column's (odd y) or the four
+    // diagonal ones (both odd); none for a pixel with both even or with a
+    // neighbour beyond the frame.
+    let near = |x: u32, y: u32, (w, h): (u32, u32)| -> Vec<(u32, u32)> {
+        let beyond = x % 2 == 1 && x + 1 >= w || y % 2 == 1 && y + 1 >= h;
+        match (x % 2, y % 2) {
+            _ if beyond => vec![],
+            (1, 0) => vec![(x - 1, y), (x + 1, y)],
+            (0, 1) => vec![(x, y - 1), (x, y + 1)],
+            (1, 1) => vec![
+                (x - 1, y - 1),
+                (x + 1, y - 1),
+                (x - 1, y + 1),
+                (x + 1, y + 1),
+            ],
+            _ => vec![],
+        }
+    };
+    // The mean of `n`'s 8-bit pixels, rounded half up, with the first's
+    // signature and what it met, when they met the same things (and with
+    // `flat` lie on no texture) and each channel spans at most `threshold`.
+    let blend = |n: &[&Centre], flat: bool| -> Option<Centre> {
+        let first = *n.first()?;
+        let agree = n.iter().all(|s| s.2 == first.2 && !(flat && s.3))
+            && (0..3).all(|c| {
+                let (lo, hi) = n
+                    .iter()
+                    .fold((u8::MAX, 0), |(lo, hi), s| (lo.min(s.4[c]), hi.max(s.4[c])));
+                hi - lo <= threshold
+            });
+        // In linear terms: the smallest value the encoding writes as it.
+        agree.then(|| {
+            let k = n.len() as u32;
+            let mean = |c: usize| {
+                let sum: u32 = n.iter().map(|s| u32::from(s.4[c])).sum();
+                ((sum + k / 2) / k) as u8
+            };
+            let bytes = [mean(0), mean(1), mean(2)];
+            let p = tessera_core::color::Rgb8::new(bytes[0], bytes[1], bytes[2]);
+            let c = e.decode(p);
+            let c = V3::new(f64::from(c.r), f64::from(c.g), f64::from(c.b));
+            (c, first.1, first.2, false, bytes)
+        })
+    };
+    // The even pixels, `grid[y / 2][x / 2]`: with `coarse`, the coarse ones
+    // traced and the others interpolated from them where they can be, as the
+    // even pixels of a frame of half the size.
+    let half = (width.div_ceil(2), height.div_ceil(2));
+    let mut grid: Vec<Vec<Option<Centre>>> = (0..half.1)
+        .map(|gy| {
+            (0..half.0)
+                .map(|gx| {
+                    let coarse_px = gx % 2 == 0 && gy % 2 == 0;
+                    (!coarse || coarse_px).then(|| centre(tracer, camera, (2 * gx, 2 * gy), e))
+                })
+                .collect()
+        })
+        .collect();
+    if coarse {
+        for gy in 0..half.1 {
+            for gx in 0..half.0 {
+                if grid[gy as usize][gx as usize].is_some() {
+                    continue;
+                }
+                let parents: Vec<&Centre> = near(gx, gy, half)
+                    .iter()
+                    .filter_map(|&(px, py)| grid[py as usize][px as usize].as_ref())
+                    .collect();
+                let value = blend(&parents, true)
+                    .unwrap_or_else(|| centre(tracer, camera, (2 * gx, 2 * gy), e));
+                grid[gy as usize][gx as usize] = Some(value);
+            }
+        }
+    }
+    let traced = |x: u32, y: u32| -> Option<&Centre> {
+        if !x.is_multiple_of(2) || !y.is_multiple_of(2) {
+            return None;
+        }
+        grid.get((y / 2) as usize)?.get((x / 2) as usize)?.as_ref()
     };
     let ring = |x: i64, y: i64| centre_signature(tracer, camera, (x, y));
     let mut pixels = Vec::with_capacity((width * height) as usize);
     let mut signature = Vec::with_capacity(framed_len(width, height));
     signature.extend((-1..=w).map(|x| ring(x, -1)));
-    // The traced rows kept: `(y, its centres at x = 0, 2, 4 ...)`.
-    let mut rows: Vec<(u32, Vec<Centre>)> = Vec::with_capacity(2);
     for y in 0..height {
-        rows.retain(|(r, _)| *r + 1 >= y);
-        for r in [y - y % 2, y + y % 2] {
-            if r < height && !rows.iter().any(|(q, _)| *q == r) {
-                rows.push((r, trace_row(r)));
-            }
-        }
-        let traced = |x: u32, y: u32| -> Option<&Centre> {
-            if !x.is_multiple_of(2) || !y.is_multiple_of(2) {
-                return None;
-            }
-            let (_, row) = rows.iter().find(|(r, _)| *r == y)?;
-            row.get((x / 2) as usize)
-        };
         signature.push(ring(-1, i64::from(y)));
         for x in 0..width {
-            let near: Vec<(u32, u32)> = match (x % 2, y % 2) {
-                (1, 0) => vec![(x - 1, y), (x + 1, y)],
-                (0, 1) => vec![(x, y - 1), (x, y + 1)],
-                (1, 1) => vec![
-                    (x - 1, y - 1),
-                    (x + 1, y - 1),
-                    (x - 1, y + 1),
-                    (x + 1, y + 1),
-                ],
-                _ => vec![],
-            };
-            let near: Option<Vec<_>> = near.iter().map(|&(x, y)| traced(x, y)).collect();
-            let blend = near.filter(|n| !n.is_empty()).and_then(|n| {
-                let first = n[0];
-                let agree = n.iter().all(|s| s.2 == first.2)
-                    && (0..3).all(|c| {
-                        let (lo, hi) = n
-                            .iter()
-                            .fold((u8::MAX, 0), |(lo, hi), s| (lo.min(s.4[c]), hi.max(s.4[c])));
-                        hi - lo <= threshold
-                    });
-                // The mean of their 8-bit codes, rounded half up, in linear
-                // terms: the smallest value the encoding writes as it.
-                agree.then(|| {
-                    let k = n.len() as u32;
-                    let mean = |c: usize| {
-                        let sum: u32 = n.iter().map(|s| u32::from(s.4[c])).sum();
-                        ((sum + k / 2) / k) as u8
-                    };
-                    let p = tessera_core::color::Rgb8::new(mean(0), mean(1), mean(2));
-                    let c = e.decode(p);
-                    let c = V3::new(f64::from(c.r), f64::from(c.g), f64::from(c.b));
-                    (c, first.1)
-                })
-            });
-            let (color, sig) = match (traced(x, y), blend) {
+            let parents: Option<Vec<&Centre>> = near(x, y, (width, height))
+                .iter()
+                .map(|&(x, y)| traced(x, y))
+                .collect();
+            let mean = parents.and_then(|n| blend(&n, false));
+            let (color, sig) = match (traced(x, y), mean) {
                 (Some(t), _) => (t.0, t.1),
-                (None, Some(b)) => b,
+                (None, Some(b)) => (b.0, b.1),
                 (None, None) => {
                     let mut sig = Signature::default();
                     let c = prefiltered(tracer, camera, (x.into(), y.into()), &mut sig);

@@ -1,7 +1,7 @@
 //! The run list: one run per line,
 //! `<scene>[@k] <sampler> <depth> <tile 8|16|32> <width> <height> <seed> [<encoding>]`
 //! (`@k` scales the scene by `2^k`), with the sampler in its text form (`corner`,
-//! `centre`, `prefiltered`, `stratified:K`, `random:N`, `adaptive:K[,T]`, `sparse[:T]`: not
+//! `centre`, `prefiltered`, `stratified:K`, `random:N`, `adaptive:K[,T]`, `sparse[:T[,S]]`: not
 //! `offset`, see [`sampler`]) and the encoding
 //! `linear` or `srgb` (absent: the default, srgb). Blank lines and lines starting
 //! with `#` are skipped.
@@ -162,9 +162,16 @@ fn sampler(token: &str) -> Result<Sampler, &'static str> {
             "sparse" => Sampler::sparse(),
             _ => return Err("bad sampler"),
         },
-        Some(("sparse", t)) => Sampler::Sparse {
-            threshold: t.parse().map_err(|_| "bad sparse threshold")?,
-        },
+        Some(("sparse", rest)) => {
+            let (t, spacing) = match rest.split_once(',') {
+                Some((t, s)) => (t, s.parse().map_err(|_| "bad sparse spacing")?),
+                None => (rest, 2),
+            };
+            Sampler::Sparse {
+                threshold: t.parse().map_err(|_| "bad sparse threshold")?,
+                spacing,
+            }
+        }
         Some(("stratified", k)) => Sampler::Stratified(count(k)?),
         Some(("random", n)) => Sampler::Random(count(n)?),
         Some(("adaptive", rest)) => match rest.split_once(',') {

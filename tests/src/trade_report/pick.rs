@@ -496,9 +496,30 @@ fn sparse(p: &mut String, entries: &[Entry]) -> Result<(), String> {
         );
     }
     p.pop();
+    let coarse = tessera_core::Sampler::sparse_spaced(4).to_string();
     let _ = write!(
         p,
-        ". The larger the frame, the more it saves (at 240x240 on the chip: \
+        ". From its coarse grid (`{coarse}`, a ray through every pixel whose coordinates \
+         are multiples of 4 first; taken where every primitive is sure to show 8 pixels \
+         across, else the same as `sparse`), at {}:",
+        super::SIZE
+    );
+    for b in super::SCENES {
+        let (s, d) = (b.name(), b.settings().max_depth);
+        let co = find(entries, s, EXACT, &coarse, d, 16)?;
+        let sp = find(entries, s, EXACT, "sparse", d, 16)?;
+        let _ = write!(
+            p,
+            " {s}, FLIP {} against sparse's {} at {:.0}% of sparse's host time;",
+            flip(co.row.flip),
+            flip(sp.row.flip),
+            100.0 * co.row.ns_median / sp.row.ns_median,
+        );
+    }
+    p.pop();
+    let _ = write!(
+        p,
+        ". The larger the frame, the more both save (at 240x240 on the chip: \
          [chip-cost.md](chip-cost.md#with-the-sparse-sampler)). "
     );
     Ok(())
