@@ -327,7 +327,7 @@ impl<'a> Placed<'a> {
 
     /// True when `other` is the same instance to the bit (NaN a hull's
     /// absence on both).
-    fn same(&self, other: &Self) -> bool {
+    pub(crate) fn same(&self, other: &Self) -> bool {
         let bits = |p: &Self| {
             let (a, h) = p.numbers();
             let mut out = [0u32; 31];

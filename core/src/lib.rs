@@ -96,6 +96,8 @@ pub use kind::{Capacities, Geometry, Primitives};
 pub use primitive::Primitive;
 pub use sample::Sampler;
 pub use scene::Scene;
+#[cfg(feature = "instances")]
+pub use tile::{Moved, moved_instances};
 pub use tile::{RenderSettings, Renderer, Tile, TileCoord};
 pub use vec::Vec3;
 pub use view::SceneView;

@@ -3,6 +3,7 @@
 mod adaptive;
 mod analytic;
 mod builtin_images;
+mod changes;
 mod convergence;
 mod cores;
 mod culling;

@@ -22,6 +22,8 @@
 
 mod adaptive;
 mod buffer;
+#[cfg(feature = "instances")]
+mod changes;
 mod pass;
 mod queue;
 mod renderer;
@@ -31,6 +33,8 @@ mod sparse;
 mod tests;
 
 pub use buffer::{Tile, TileCoord, TilePixel};
+#[cfg(feature = "instances")]
+pub use changes::{Moved, moved_instances};
 pub use queue::Interleave;
 #[cfg(target_has_atomic = "32")]
 pub use queue::TileQueue;

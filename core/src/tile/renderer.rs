@@ -34,6 +34,12 @@ pub struct Renderer {
     pub(super) dither: Dither,
 }
 
+/// A rectangle of the viewport, `(x0, y0, x1, y1)` in pixel units.
+pub(super) type Rect = (f32, f32, f32, f32);
+
+/// A tile's pixels: `(x0, y0, width, height)`.
+pub(super) type Area = (u32, u32, usize, usize);
+
 impl Renderer {
     /// The frame of `camera` over `viewport` with `settings` (checked).
     pub fn try_new(
@@ -398,30 +404,24 @@ impl Renderer {
         }
     }
 
-    /// The tile loop: the tile's candidate lists first ([`crate::cull`]), then
-    /// every pixel, or the background at once when no primitive reaches the tile.
-    pub(super) fn render_tile_with<const N: usize, C: RayCounter, P: TilePixel, L: Loops>(
+    /// The rectangle (pixel units) every sample of tile `coord` of tiles of
+    /// `N` lies in, what its lists are culled for, and its area `(x0, y0,
+    /// width, height)`; `None` for a tile outside the frame. The samples lie
+    /// in `[x0, x0 + tw] x [y0, y0 + th]`; the adaptive and sparse samplers'
+    /// also in the one-pixel apron around it, the sparse sampler's from its
+    /// coarse grid (`coarse`, [`Renderer::coarse`]) in a three-pixel one.
+    pub(super) fn tile_rect<const N: usize>(
         &self,
-        scene: &SceneView<'_>,
         coord: TileCoord,
-        tile: &mut Tile<N, P>,
-        count: &mut C,
-    ) -> Result<(), Error> {
+        coarse: bool,
+    ) -> Option<(Rect, Area)> {
         let vp = self.viewport();
         let (x0, y0) = (usize::from(coord.tx) * N, usize::from(coord.ty) * N);
         let (w, h) = (usize::from(vp.width), usize::from(vp.height));
         if x0 >= w || y0 >= h {
-            return Err(Error::TileOutOfFrame);
+            return None;
         }
         let (tw, th) = ((w - x0).min(N), (h - y0).min(N));
-        tile.coord = coord;
-        // Both fit in u16: they are at most N <= 256.
-        tile.width = u16::try_from(tw).unwrap_or(0);
-        tile.height = u16::try_from(th).unwrap_or(0);
-        // Every sample of the tile lies in [x0, x0 + tw] x [y0, y0 + th]; the
-        // adaptive and sparse samplers' also in the one-pixel apron around it,
-        // the sparse sampler's from its coarse grid in a three-pixel one.
-        let coarse = self.coarse(scene);
         let apron = if coarse {
             3
         } else {
@@ -433,7 +433,26 @@ impl Renderer {
             (x0 + tw + apron).min(w) as f32,
             (y0 + th + apron).min(h) as f32,
         );
-        let (x0, y0) = (x0 as u32, y0 as u32);
+        Some((rect, (x0 as u32, y0 as u32, tw, th)))
+    }
+
+    /// The tile loop: the tile's candidate lists first ([`crate::cull`]), then
+    /// every pixel, or the background at once when no primitive reaches the tile.
+    pub(super) fn render_tile_with<const N: usize, C: RayCounter, P: TilePixel, L: Loops>(
+        &self,
+        scene: &SceneView<'_>,
+        coord: TileCoord,
+        tile: &mut Tile<N, P>,
+        count: &mut C,
+    ) -> Result<(), Error> {
+        let coarse = self.coarse(scene);
+        let Some((rect, (x0, y0, tw, th))) = self.tile_rect::<N>(coord, coarse) else {
+            return Err(Error::TileOutOfFrame);
+        };
+        tile.coord = coord;
+        // Both fit in u16: they are at most N <= 256.
+        tile.width = u16::try_from(tw).unwrap_or(0);
+        tile.height = u16::try_from(th).unwrap_or(0);
         let tile_loop = self.tile_loop(scene);
         if !L::links(tile_loop) {
             return Err(Error::NotLinked);
