@@ -490,3 +490,68 @@ fn camera_rays<const N: usize>(
     }
     count.primary
 }
+
+/// A solid the camera cannot see keeps no frame from the coarse grid (a box
+/// wholly behind it), and one that reaches into the view does, wherever the
+/// ball inside it lies: a thin box from behind the camera into the frame,
+/// whose inner ball is behind the camera, keeps spacing 2. A flat primitive
+/// keeps spacing 2 wherever it lies.
+#[test]
+fn the_coarse_grid_follows_what_the_camera_can_see() {
+    type Caps = tessera_core::capacities!(spheres: 1, planes: 1, triangles: 1, boxes: 2, materials: 2, lights: 1);
+    let with = |triangle: bool, hidden_box: bool, thin_box: bool| {
+        let base = scene();
+        let view = base.view();
+        let mut s: Scene<Caps> = Scene::new(*base.camera());
+        s.set_ambient(Color::splat(1.0)).unwrap();
+        for m in view.materials() {
+            s.add_material(*m).unwrap();
+        }
+        let red = view.spheres()[0].material;
+        s.add_sphere(view.spheres()[0].geometry, red).unwrap();
+        s.add_plane(view.planes()[0].geometry, view.planes()[0].material)
+            .unwrap();
+        s.add_light(view.lights()[0]).unwrap();
+        // The camera stands at (0, 5, 4) and looks down towards -z: z > 4
+        // and above it lies behind.
+        if triangle {
+            let t = tessera_core::geometry::Triangle::try_new(
+                Vec3::new(0.0, 5.0, 8.0),
+                Vec3::new(1.0, 5.0, 8.0),
+                Vec3::new(0.0, 6.0, 8.0),
+            )
+            .unwrap();
+            s.add_triangle(t, red).unwrap();
+        }
+        if hidden_box {
+            let b = tessera_core::geometry::Aabb::try_new(
+                Vec3::new(0.0, 5.0, 8.0),
+                Vec3::new(0.5, 5.5, 8.5),
+            )
+            .unwrap();
+            s.add_box(b, red).unwrap();
+        }
+        if thin_box {
+            // 0.04 across, from z = 12 (behind) to z = 1.5 (in the middle of
+            // the frame): its inner ball, at z = 6.75, is behind the camera.
+            let b = tessera_core::geometry::Aabb::try_new(
+                Vec3::new(0.0, 2.8, 1.5),
+                Vec3::new(0.04, 2.84, 12.0),
+            )
+            .unwrap();
+            s.add_box(b, red).unwrap();
+        }
+        let r = s
+            .renderer(Viewport::new(W, H), settings(Sampler::sparse_spaced(4)))
+            .unwrap();
+        r.sparse_spacing(&s.view())
+    };
+    assert_eq!(with(false, false, false), Some(4));
+    assert_eq!(with(false, true, false), Some(4), "a box behind the camera");
+    assert_eq!(
+        with(false, true, true),
+        Some(2),
+        "a thin box reaching into the view"
+    );
+    assert_eq!(with(true, false, false), Some(2), "a triangle, even behind");
+}

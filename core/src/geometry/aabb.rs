@@ -248,12 +248,14 @@ impl super::Kinded for Aabb {
         Self::try_new(self.min() * f, self.max() * f)
     }
 
-    /// The ball at its centre that touches its nearest faces.
+    /// The ball at its centre that touches its nearest faces; its corners
+    /// half a diagonal away.
     fn girth(&self) -> super::Girth {
         let half = (self.max() - self.min()) * 0.5;
         super::Girth::Ball {
             center: (self.min() + self.max()) * 0.5,
             radius: crate::math::min(crate::math::min(half.x, half.y), half.z),
+            reach: half.length(),
         }
     }
 

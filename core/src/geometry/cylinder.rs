@@ -356,15 +356,17 @@ impl super::Kinded for Cylinder {
     }
 
     /// Closed, the ball at its middle that touches its side or its caps;
-    /// open, a tube whose outline seen end-on is a ring.
+    /// open, a tube whose outline seen end-on is a ring. Its rims lie `sqrt(r^2
+    /// + (h / 2)^2)` from its middle.
     fn girth(&self) -> super::Girth {
         if !self.capped {
             return super::Girth::Thin;
         }
-        let length = (self.top - self.base).length();
+        let half = (self.top - self.base).length() * 0.5;
         super::Girth::Ball {
             center: (self.base + self.top) * 0.5,
-            radius: math::min(self.radius, length * 0.5),
+            radius: math::min(self.radius, half),
+            reach: math::sqrt(self.radius * self.radius + half * half),
         }
     }
 

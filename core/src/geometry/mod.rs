@@ -114,12 +114,15 @@ pub(crate) enum Extent {
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Girth {
     /// A ball inside the primitive's solid: seen from outside the ball, the
-    /// primitive's outline covers the ball's.
+    /// primitive's outline covers the ball's. The ball of radius `reach`
+    /// about the same centre holds the whole primitive.
     Ball {
         /// Its centre.
         center: Vec3,
         /// Its radius.
         radius: f32,
+        /// The radius of the ball about `center` that holds the primitive.
+        reach: f32,
     },
     /// A whole plane: its outline is a half of every view that sees it.
     HalfSpace,

@@ -302,6 +302,7 @@ impl super::Kinded for Sphere {
         super::Girth::Ball {
             center: self.center(),
             radius: self.radius(),
+            reach: self.radius(),
         }
     }
 

@@ -116,10 +116,12 @@ const COARSE_RADIUS: f32 = 4.0;
 /// between the camera's plane and its far plane, has an outline (an ellipse)
 /// whose smaller half-axis is at least `f r / d` pixels, `f` the distance
 /// from the camera to the near plane in pixels; a ball that holds the camera
-/// fills the view, and one wholly behind the camera or beyond the far plane
-/// is not seen. Any other ball (across the camera's plane or the far plane),
-/// a flat or thin primitive, a mesh or an instance: spacing 2. Computed in
-/// `f32` with a margin of `2^-10`, far above its roundings.
+/// fills the view; a primitive wholly behind the camera or beyond the far
+/// plane (the ball about the inner one's centre that holds it) is not seen. Any other
+/// primitive (its ball across the camera's plane or the far plane, flat or
+/// thin where seen), or a mesh or an instance: spacing 2. Computed in `f32`
+/// with a margin of `2^-10`, far above its roundings; a NaN fails every
+/// comparison, and gives spacing 2.
 pub(super) fn coarse_fits(basis: &CameraBasis, scene: &SceneView<'_>) -> bool {
     let mut tops = false;
     scene.each_top(|_, _| tops = true);
@@ -130,12 +132,19 @@ pub(super) fn coarse_fits(basis: &CameraBasis, scene: &SceneView<'_>) -> bool {
     let pixel = math::max(basis.u1().length(), basis.u2().length());
     let eye = basis.position();
     let margin = 1.0 + 1.0 / 1024.0;
+    // The ball that holds the primitive wholly behind the camera or beyond
+    // the far plane, with room for its roundings: never seen. A NaN fails.
+    let unseen = |center: Vec3, reach: f32| {
+        let to = center - eye;
+        let (along, slack) = (to.dot(forward), reach * margin + to.length() / 1024.0);
+        along + slack < 0.0 || along - slack > far
+    };
+    // A ball inside the primitive: holding the camera, or wholly between the
+    // camera's plane and the far plane and `f r / d` pixels or more.
     let wide = |center: Vec3, radius: f32| {
         let to = center - eye;
         let (d, along) = (to.length(), to.dot(forward));
-        let seen = along + radius > 0.0 && along - radius < far;
         d * margin < radius
-            || !seen
             || along > radius * margin
                 && along + radius < far
                 && near * radius >= COARSE_RADIUS * pixel * d * margin
@@ -144,14 +153,18 @@ pub(super) fn coarse_fits(basis: &CameraBasis, scene: &SceneView<'_>) -> bool {
     let mut fits = true;
     each_kind!(|G| {
         for p in G::of(&primitives) {
-            fits &= match p.geometry.girth() {
+            let g = &p.geometry;
+            fits &= match g.girth() {
                 Girth::HalfSpace => true,
                 Girth::Thin => false,
-                Girth::Ball { center, radius } => wide(center, radius),
+                Girth::Ball {
+                    center,
+                    radius,
+                    reach,
+                } => wide(center, radius) || unseen(center, reach),
             };
         }
     });
-    // NaN anywhere fails a comparison above: spacing 2.
     fits
 }
 

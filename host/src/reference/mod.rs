@@ -359,9 +359,10 @@ fn centre(
 /// object is a sphere, a box or a closed cylinder whose largest inner ball
 /// (the sphere; the ball touching the box's nearest faces; the one at the
 /// cylinder's middle touching its side or caps) is sure to show as a disc of
-/// radius at least 4 pixels, or a plane. A ball shows so when it holds the
-/// camera, lies wholly behind the camera or beyond the far plane (unseen),
-/// or lies wholly between them with `near r >= 4 pixel d` (`d` the distance
+/// radius at least 4 pixels, or a plane; any object wholly behind the camera
+/// or beyond the far plane is never seen. A ball shows so when it holds the
+/// camera, or lies wholly between the camera's plane and the far plane with
+/// `near r >= 4 pixel d` (`d` the distance
 /// of its centre, `pixel` a pixel's side on the near plane): the smaller
 /// half-axis of its outline is `near tan(asin(r / d)) / pixel >= near r / (d
 /// pixel)` pixels.
@@ -372,26 +373,32 @@ fn coarse_fits(camera: &RefCamera, scene: &RefScene) -> bool {
     let pixel = camera.u1.length().max(camera.u2.length());
     let shows = |center: V3, r: f64| {
         let to = center - camera.position;
-        let (d, along) = (to.length(), to.dot(forward));
-        d < r
-            || along + r <= 0.0
-            || along - r >= far
-            || along > r && along + r < far && near * r >= 4.0 * pixel * d
+        let (d, a) = (to.length(), to.dot(forward));
+        d < r || a > r && a + r < far && near * r >= 4.0 * pixel * d
+    };
+    // The ball of radius `reach` about `center`, which holds the object,
+    // wholly behind the camera or beyond the far plane: never seen.
+    let unseen = |center: V3, reach: f64| {
+        let a = (center - camera.position).dot(forward);
+        a + reach < 0.0 || a - reach > far
     };
     scene.objects.iter().all(|o| match o.shape {
-        Shape::Sphere { center, radius } => shows(center, radius),
+        Shape::Sphere { center, radius } => shows(center, radius) || unseen(center, radius),
         Shape::Box { min, max } => {
-            let half = (max - min) * 0.5;
-            shows((min + max) * 0.5, half.x.min(half.y).min(half.z))
+            let (c, half) = ((min + max) * 0.5, (max - min) * 0.5);
+            shows(c, half.x.min(half.y).min(half.z)) || unseen(c, half.length())
         }
         Shape::Cylinder {
             base,
             top,
             radius,
-            capped: true,
-        } => shows((base + top) * 0.5, radius.min((top - base).length() * 0.5)),
+            capped,
+        } => {
+            let (c, half) = ((base + top) * 0.5, (top - base).length() * 0.5);
+            capped && (shows(c, radius.min(half)) || unseen(c, radius.hypot(half)))
+        }
         Shape::Plane { .. } => true,
-        _ => false,
+        Shape::Triangle { .. } | Shape::Disk { .. } => false,
     })
 }
 
