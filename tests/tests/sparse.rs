@@ -555,3 +555,70 @@ fn the_coarse_grid_follows_what_the_camera_can_see() {
     );
     assert_eq!(with(true, false, false), Some(2), "a triangle, even behind");
 }
+
+/// The rule's bound, at its edge: a sphere whose outline the rule takes as
+/// just wide enough (`f r / d` a hair above 4 pixels) holds the ray of a
+/// coarse pixel, wherever it lies in the frame (its outline inside it), near
+/// or far, off the axis or on it. 400 spheres; each coarse ray checked against
+/// the sphere in `f64`.
+#[test]
+fn a_sphere_the_coarse_grid_takes_holds_a_coarse_ray() {
+    let (w, h) = (u32::from(W), u32::from(H));
+    let base = scene();
+    let cam = *base.camera();
+    let probe = base
+        .renderer(Viewport::new(W, H), settings(Sampler::sparse_spaced(4)))
+        .unwrap();
+    let basis = *probe.basis();
+    // The focal length in pixels, as the rule computes it.
+    let f = f64::from(cam.near()) / f64::from(basis.u1().length());
+    let mut seed = 0x2545_f491_u64;
+    let mut next = || {
+        seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for k in 0..400 {
+        // A centre seen through a point of the frame at least 8 pixels from
+        // its edges, 1 to 60 units away.
+        let (px, py) = (
+            8.0 + next() * f64::from(w - 16),
+            8.0 + next() * f64::from(h - 16),
+        );
+        let (ray, _) = basis.ray(px as f32, py as f32);
+        let d = 1.0 + next() * 59.0;
+        let center = cam.position() + ray.dir() * d as f32;
+        let to = center - cam.position();
+        let dist = f64::from(to.length());
+        // Just above the rule's bound.
+        let r = 4.0 * dist / f * (1.0 + 2.0 / 1024.0);
+        let sphere = Sphere::try_new(center, r as f32).unwrap();
+        let mut s: Scene<tessera_core::capacities!(spheres: 1, materials: 1)> = Scene::new(cam);
+        let m = s.add_material(Material::matte(Color::WHITE)).unwrap();
+        s.add_sphere(sphere, m).unwrap();
+        let renderer = s
+            .renderer(Viewport::new(W, H), settings(Sampler::sparse_spaced(4)))
+            .unwrap();
+        assert_eq!(renderer.sparse_spacing(&s.view()), Some(4), "sphere {k}");
+        let c = [
+            f64::from(center.x),
+            f64::from(center.y),
+            f64::from(center.z),
+        ];
+        let hit = (0..h).step_by(4).any(|y| {
+            (0..w).step_by(4).any(|x| {
+                let (ray, _) = basis.ray(x as f32 + 0.5, y as f32 + 0.5);
+                let (o, dir) = (ray.origin(), ray.dir());
+                let o = [f64::from(o.x), f64::from(o.y), f64::from(o.z)];
+                let dir = [f64::from(dir.x), f64::from(dir.y), f64::from(dir.z)];
+                let oc: Vec<f64> = (0..3).map(|i| c[i] - o[i]).collect();
+                let t: f64 = (0..3).map(|i| oc[i] * dir[i]).sum();
+                let closest: f64 = (0..3).map(|i| (oc[i] - t * dir[i]).powi(2)).sum();
+                t > 0.0 && closest < (r * r)
+            })
+        });
+        assert!(
+            hit,
+            "sphere {k}: radius {r} at {dist} units, seen at ({px:.1}, {py:.1})"
+        );
+    }
+}
