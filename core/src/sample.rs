@@ -150,10 +150,7 @@ impl Sampler {
     /// Sparse sampling with the default threshold.
     #[must_use]
     pub const fn sparse() -> Self {
-        Self::Sparse {
-            threshold: Self::SPARSE_THRESHOLD,
-            spacing: 2,
-        }
+        Self::sparse_spaced(2)
     }
 
     /// Sparse sampling with the default threshold from a grid of `spacing`

@@ -26,6 +26,11 @@ pub(crate) const H: u16 = 34;
 /// the centre sampler's. (The sparse sampler's tests use it too.)
 pub(crate) fn scene()
 -> Scene<tessera_core::capacities!(spheres: 1, planes: 1, materials: 2, lights: 1)> {
+    scene_in()
+}
+
+/// [`scene`] in a scene of capacities `C`, room for what a test adds to it.
+pub(crate) fn scene_in<C: tessera_core::Capacities>() -> Scene<C> {
     let cam = Camera::try_new(
         Vec3::new(0.0, 5.0, 4.0),
         Vec3::new(0.0, -5.0, -4.5),

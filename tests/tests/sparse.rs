@@ -8,7 +8,7 @@
 //! as in the adaptive sampler's tests, same scene); the rule is applied to
 //! that image.
 
-use super::adaptive::{H, W, class, scene};
+use super::adaptive::{H, W, class, scene, scene_in};
 use tessera_core::testing::ViewHooks as _;
 use tessera_core::{
     Camera, Color, Encoding, RenderSettings, Sampler, Scene, Tile, TileCoord, Vec3, Viewport,
@@ -375,21 +375,9 @@ fn a_primitive_narrower_than_the_coarse_grid_keeps_spacing_2() {
     // The test scene's sphere is 5.2 pixels in radius at 45x34 (the focal
     // length 36.5 pixels, 0.8 units at 5.66).
     let small_at = |radius_px: f32| {
-        let mut s: Scene<
-            tessera_core::capacities!(spheres: 2, planes: 1, materials: 2, lights: 1),
-        > = Scene::new(*scene().camera());
-        let base = scene();
-        let view = base.view();
-        s.set_ambient(Color::splat(1.0)).unwrap();
-        s.set_background(Color::new(0.0, 0.0, 0.7)).unwrap();
-        for m in view.materials() {
-            s.add_material(*m).unwrap();
-        }
-        s.add_sphere(view.spheres()[0].geometry, view.spheres()[0].material)
-            .unwrap();
-        s.add_plane(view.planes()[0].geometry, view.planes()[0].material)
-            .unwrap();
-        s.add_light(view.lights()[0]).unwrap();
+        let mut s =
+            scene_in::<tessera_core::capacities!(spheres: 2, planes: 1, materials: 2, lights: 1)>();
+        let red = s.view().spheres()[0].material;
         // Seen from the camera at a distance of 5 units, through the point
         // between four coarse rays (pixel (34, 10) and its diagonal
         // neighbours, 2 away).
@@ -401,11 +389,8 @@ fn a_primitive_narrower_than_the_coarse_grid_keeps_spacing_2() {
         let center = s.camera().position() + dir * 5.0;
         let f = f32::from(H) / 2.0 / (25.0f32.to_radians()).tan();
         let radius = radius_px * 5.0 / f;
-        s.add_sphere(
-            Sphere::try_new(center, radius).unwrap(),
-            view.spheres()[0].material,
-        )
-        .unwrap();
+        s.add_sphere(Sphere::try_new(center, radius).unwrap(), red)
+            .unwrap();
         s
     };
     let render = |s: &Scene<_>, spacing| {
@@ -500,18 +485,8 @@ fn camera_rays<const N: usize>(
 fn the_coarse_grid_follows_what_the_camera_can_see() {
     type Caps = tessera_core::capacities!(spheres: 1, planes: 1, triangles: 1, boxes: 2, materials: 2, lights: 1);
     let with = |triangle: bool, hidden_box: bool, thin_box: bool| {
-        let base = scene();
-        let view = base.view();
-        let mut s: Scene<Caps> = Scene::new(*base.camera());
-        s.set_ambient(Color::splat(1.0)).unwrap();
-        for m in view.materials() {
-            s.add_material(*m).unwrap();
-        }
-        let red = view.spheres()[0].material;
-        s.add_sphere(view.spheres()[0].geometry, red).unwrap();
-        s.add_plane(view.planes()[0].geometry, view.planes()[0].material)
-            .unwrap();
-        s.add_light(view.lights()[0]).unwrap();
+        let mut s = scene_in::<Caps>();
+        let red = s.view().spheres()[0].material;
         // The camera stands at (0, 5, 4) and looks down towards -z: z > 4
         // and above it lies behind.
         if triangle {

@@ -14,8 +14,9 @@
 //! (3 bytes a pixel plus 8 bytes of coordinates; a unit test checks these sizes
 //! and `tests/tests/docs.rs` checks them against `docs/chip-cost.md`.) The
 //! renderer's stack does not depend on `N` (but for the sparse sampler's three
-//! rows of traced pixels, `24 N` bytes): measured on a Cortex-M4F (qemu, stack
-//! painting; `docs/chip-cost.md` has each scene's), `render_tile` needs under 3
+//! rows of traced pixels: `16 N` bytes from tiles of 30, `24 N` below):
+//! measured on a Cortex-M4F (qemu, stack painting; `docs/chip-cost.md` has
+//! each scene's), `render_tile` needs under 3
 //! KiB below its caller, the tile's culling lists (the primitives that may
 //! reach the tile, module `cull`) and the shader's pending-ray stack
 //! (`MAX_DEPTH + 1` rays) included.

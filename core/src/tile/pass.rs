@@ -3,7 +3,9 @@
 use super::adaptive::{CentrePixel, CentreSample, NEIGHBOURS, Window};
 use super::buffer::TilePixel;
 use super::renderer::Renderer;
-use super::sparse::{Grid, Parents, coarse_blend, sparse_blend, sparse_parents};
+use super::sparse::{
+    Grid, Parents, between_coarse_rows, coarse_blend, sparse_blend, sparse_parents,
+};
 use crate::color::{Color, Rgb8};
 use crate::cull::Picks;
 use crate::prefilter::Footprint;
@@ -209,7 +211,7 @@ impl<'a, C: Observer> Pass<'a, C> {
                 for g in [y & !1, (y | 1) + 1] {
                     if g < frame.1 && (g == y || y % 2 == 1) && !grid.holds(g) {
                         // A level-1 row's coarse rows first.
-                        if coarse && g % 4 == 2 && g + 2 < frame.1 {
+                        if coarse && between_coarse_rows(g, frame.1) {
                             for r in [g - 2, g + 2] {
                                 if !grid.holds(r) {
                                     self.grid_row::<BOUNCES>(
@@ -283,7 +285,7 @@ impl<'a, C: Observer> Pass<'a, C> {
         let vp = self.renderer.viewport();
         let (w, h) = (u32::from(vp.width), u32::from(vp.height));
         let encoding = self.renderer.settings.encoding;
-        let level1_row = coarse && g % 4 == 2 && g + 2 < h;
+        let level1_row = coarse && between_coarse_rows(g, h);
         grid.slot_for(g);
         let (Some(row), up, down) = grid.rows_at(g, g.wrapping_sub(2), g + 2) else {
             return;

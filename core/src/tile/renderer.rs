@@ -4,7 +4,7 @@ use super::adaptive::NEIGHBOURS;
 use super::buffer::{Tile, TileCoord, TilePixel};
 use super::pass::{Pass, sparse_columns};
 use super::settings::{AllLoops, Loops, RenderSettings, TileLoop, links_any};
-use super::sparse::coarse_fits;
+use super::sparse::{between_coarse_rows, coarse_fits};
 use crate::camera::{Camera, CameraBasis, Viewport};
 use crate::color::{Color, Encoding, Rgb8};
 use crate::cull::{Picks, TileLists};
@@ -275,7 +275,7 @@ impl Renderer {
         // diagonal neighbours do (never its coarse columns').
         let row_rays = |g: u32| -> u32 {
             let edge = u32::from(columns.last % 4 == 2 && columns.last + 2 >= w);
-            if !coarse || g % 4 == 2 && g + 2 >= h {
+            if !coarse || g % 4 == 2 && !between_coarse_rows(g, h) {
                 needed
             } else if g.is_multiple_of(4) {
                 fours(columns.lo, columns.hi) + edge
@@ -295,10 +295,10 @@ impl Renderer {
         }
         if coarse {
             // The coarse rows around the level-1 rows at either end.
-            if first % 4 == 2 && first + 2 < h {
+            if between_coarse_rows(first, h) {
                 rays += row_rays(first - 2);
             }
-            if last % 4 == 2 && last + 2 < h {
+            if between_coarse_rows(last, h) {
                 rays += row_rays(last + 2);
             }
         }

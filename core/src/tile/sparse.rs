@@ -103,6 +103,15 @@ pub(super) fn coarse_blend<const K: usize>(
     })
 }
 
+/// Whether even row `g` of a frame `h` rows high is a level-1 row of the
+/// coarse grid with a coarse row on either side (`g - 2` and `g + 2`), whose
+/// pixels may be interpolated from them; the frame's last even row when `g +
+/// 2` lies beyond it is traced as with spacing 2.
+#[inline(always)]
+pub(super) fn between_coarse_rows(g: u32, h: u32) -> bool {
+    g % 4 == 2 && g + 2 < h
+}
+
 /// The radius, in pixels, of the disc every primitive's outline must be sure
 /// to cover for the coarse grid: twice the spacing across, wider than the
 /// spacing times `sqrt(2)` that a disc needs to hold a point of a grid of
@@ -220,19 +229,18 @@ impl<'a> Grid<'a> {
         self.rows.iter().any(|r| r.y == y)
     }
 
-    /// The slot row `y` is traced into: a free one, else the one of the
-    /// topmost row kept (rows are asked for from the top down; a row
-    /// interpolated from two others is asked for after them, which are then
-    /// the two lowest).
+    /// Gives row `y` a slot to be traced into ([`Grid::rows_at`]): a free
+    /// one, else the one of the topmost row kept (rows are asked for from the
+    /// top down; a row interpolated from two others is asked for after them,
+    /// which are then the two lowest).
     #[inline(always)]
-    pub(super) fn slot_for(&mut self, y: u32) -> &mut GridRow<'a> {
+    pub(super) fn slot_for(&mut self, y: u32) {
         let [a, b, c] = &mut self.rows;
         let older =
             |p: &GridRow<'_>, q: &GridRow<'_>| p.y == u32::MAX || q.y != u32::MAX && p.y < q.y;
         let ab = if older(a, b) { a } else { b };
         let oldest = if older(ab, c) { ab } else { c };
         oldest.y = y;
-        oldest
     }
 
     /// Row `y`, if it is kept.
@@ -281,7 +289,8 @@ mod tests {
 
     #[test]
     fn a_traced_pixel_takes_8_bytes_of_a_row() {
-        // Three rows of N: the 24 N bytes the tile module's doc gives.
+        // Three rows in 2 N cells from tiles of 30, of N below: the 16 N and
+        // 24 N bytes the tile module's doc gives.
         assert_eq!(core::mem::size_of::<CentrePixel>(), 8);
     }
 
