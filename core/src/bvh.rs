@@ -19,17 +19,17 @@
 //! without it:
 //!
 //! - **conservative bounds**: a node is tested grown by a clearance of
-//!   `MARGIN (|origin| + 2 m + e)` for a ray from `origin` (`m` the largest
-//!   coordinate of the triangles' bounds, `e` their largest extent), the clearance
-//!   of the culling's argument (module `cull`: a hit the triangle test reports lies
-//!   within about `30 u (|origin| + |point|)` of the triangle), and the slab test
-//!   widens its exit (pbrt-v4); a NaN clearance or origin makes every box "hit";
+//!   [`CLEARANCE`]` (|origin| + 2 m + e)` for a ray from `origin` (`m` the largest
+//!   coordinate of the triangles' bounds, `e` their largest extent), more than 60
+//!   times the reach of the triangle test (module `cull`: a hit the triangle test
+//!   reports lies within about `30 u (|origin| + |point|)` of the triangle), and
+//!   the slab test's roundings stay far inside it ([`NodeRay`]); a NaN clearance
+//!   or origin makes every box "hit";
 //! - **the same nearest hit**: the flat search keeps, among equal times, the
 //!   earliest triangle of the list; the traversal visits triangles in another order
 //!   and so keeps the smallest `(t, index)`: a triangle at the current best time
 //!   replaces a later triangle, never a sphere or a plane found before.
 
-use crate::cull::MARGIN;
 use crate::error::{Error, List};
 use crate::geometry::triangle::Axes;
 use crate::geometry::{Sphere, Triangle};
@@ -52,6 +52,16 @@ pub const LEAF: usize = 4;
 /// both children's boxes, which on a chip costs about as much as two triangle
 /// tests, and fewer nodes take less flash.
 pub const TRAVERSAL: f32 = 2.0;
+/// The clearance a node's box is grown by, relative to the ray's origin and
+/// the hierarchy's reach: `c = CLEARANCE (|origin| + 2 m + e)` (`|origin|` its
+/// largest component; [`NodeRay`] says why no box a ray can hit is rejected).
+/// More than 60 times the triangle and sphere tests' error bounds, and about
+/// 1,000 times what the rays of the unit test
+/// `a_node_keeps_every_box_whose_triangle_a_ray_hits` need (it passes with
+/// 2^-22, fails with 2^-24). A fourth of the culling's clearance: a box grown
+/// less is entered by fewer rays (the node tests a search of `bvh-report`'s
+/// teapot table).
+pub const CLEARANCE: f32 = 1.0 / 4096.0;
 /// The fewest triangles for which [`SceneView::with_bvh`] uses a BVH: below, the
 /// flat list (and the tiles' culling) costs less. Measured on the host by
 /// `cargo run -p tessera-tests --release --bin bvh-report` (an icosphere and parts
@@ -775,8 +785,8 @@ impl BvhNode {
 }
 
 /// What a node test needs of a ray, computed once per ray: per axis, the
-/// reciprocal direction and the origin shifted by the clearance `c = MARGIN
-/// (|origin| + reach)` toward each face (module `cull` for [`MARGIN`]).
+/// reciprocal direction and the origin shifted by the clearance `c = CLEARANCE
+/// (|origin| + reach)` toward each face ([`CLEARANCE`]).
 ///
 /// Why a node test never rejects a box the ray passes through (so that the walk
 /// visits every leaf whose triangles the triangle test could report, see the
@@ -789,14 +799,15 @@ impl BvhNode {
 /// reciprocal's and the product's scale the time, which is the plane moved
 /// along the ray's direction by that fraction of its distance). With `m` the
 /// largest coordinate of the triangles' bounds, `|lo|, |hi| <= m`, so the
-/// planes move by less than `4 u (m + |o| + c) < 2^-12 c`, since `c >= 2^-10
-/// (|o| + 2 m)`. So a ray that passes through the box grown by `(1 - 2^-12) c`
+/// planes move by less than `4 u (m + |o| + c) < 2^-9 c`, since `c >= 2^-12
+/// (|o| + 2 m)`. So a ray that passes through the box grown by `(1 - 2^-9) c`
 /// between the times 0 and `t_max`, in exact arithmetic, passes the test: the
 /// computed entry time of each slab is at most the exact entry of the grown
 /// box's slab and the computed exit at least its exit. The clearance `c` is far
-/// beyond the triangle test's own error (about `30 u (|o| + |p|)`, module
-/// `cull`), and that bound (and so this argument) holds at every scale: all of
-/// it is relative to `|o| + m`. A zero direction component gives `1/d = +-inf`:
+/// beyond the triangle test's own error: about `30 u (|o| + |p|)` (module
+/// `cull`) in lengths, at most `52 u (|o| + m)` in largest components, less
+/// than `2^-6 c`. That bound (and so this argument) holds at every scale: all
+/// of it is relative to `|o| + m`. A zero direction component gives `1/d = +-inf`:
 /// the times are then `+-inf` of the right signs for an origin strictly
 /// inside the grown slab (the differences are nonzero there and rounding keeps
 /// their signs), and NaN (the slab ignored, the box kept) for an origin on its
@@ -912,7 +923,7 @@ impl NodeRay {
     pub(crate) fn new(bvh: &BvhView<'_>, ray: &crate::ray::Ray) -> Self {
         let inv = crate::geometry::aabb_inverse(ray.dir);
         let o = ray.origin;
-        let c = MARGIN * (o.abs().max_element() + bvh.reach);
+        let c = CLEARANCE * (o.abs().max_element() + bvh.reach);
         Self {
             x: Slab::new(o.x, inv.x, c),
             y: Slab::new(o.y, inv.y, c),
@@ -986,6 +997,102 @@ mod tests {
         }
         assert!(seen.iter().all(|&s| s == 1));
         assert!(bvh.node_count() < 2 * 400);
+    }
+
+    /// A node test never rejects the box of a triangle the triangle test hits,
+    /// whatever the scale: rays from near and far aimed at the vertices, at
+    /// points of the edges and just beyond them, of triangles tilted and lying
+    /// in an axis plane (a box of no thickness), at scales from 2^-40 to 2^40
+    /// and far from the origin. Each triangle is its own one-node hierarchy,
+    /// whose box is the triangle's bounds: the node test must answer `Some`
+    /// before the hit's time whenever the triangle test (the one the searches
+    /// run, `hit_with` in the ray's frame) reports a hit. With no clearance the
+    /// test fails (the rays aimed at the edges of flat triangles graze their
+    /// boxes), and with a clearance of 2^-24; it passes with 2^-22.
+    #[test]
+    fn a_node_keeps_every_box_whose_triangle_a_ray_hits() {
+        use crate::geometry::triangle::{Shear, with_axes};
+        use crate::ray::Ray;
+        let mut seed = 0x2545_f491_u32;
+        let mut rand = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let (mut hits, mut rays) = (0usize, 0usize);
+        for scale_pow in [-40i32, -20, -3, 0, 5, 20, 40] {
+            let s = libm::ldexpf(1.0, scale_pow);
+            for shape in 0..24 {
+                let centre = Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5)
+                    * (s * if shape % 3 == 0 { 1000.0 } else { 3.0 });
+                let mut corner =
+                    || Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5) * s + centre;
+                let (mut a, mut b, mut c) = (corner(), corner(), corner());
+                // A third of them lie in a plane of x, y or z.
+                if shape % 3 == 1 {
+                    match shape % 4 {
+                        0 => (a.x, b.x, c.x) = (centre.x, centre.x, centre.x),
+                        1 => (a.y, b.y, c.y) = (centre.y, centre.y, centre.y),
+                        _ => (a.z, b.z, c.z) = (centre.z, centre.z, centre.z),
+                    }
+                }
+                let Ok(t) = Triangle::try_new(a, b, c) else {
+                    continue;
+                };
+                let prim = [Primitive {
+                    geometry: t,
+                    material: crate::material::MaterialId(0),
+                }];
+                let mut bvh: Bvh<2, 2> = Bvh::new();
+                bvh.build(&prim).unwrap();
+                let view = bvh.view();
+                let node = view.nodes[0];
+                for k in 0..200 {
+                    // A vertex, a point of an edge, or a point just beyond one.
+                    let (p, q) = match k % 3 {
+                        0 => (a, b),
+                        1 => (b, c),
+                        _ => (c, a),
+                    };
+                    let along = if k % 5 == 0 { 0.0 } else { rand() };
+                    let out = match k % 4 {
+                        0 => 0.0,
+                        1 => 1e-6,
+                        2 => -1e-6,
+                        _ => 1e-3 * (rand() - 0.5),
+                    };
+                    let mid = (a + b + c) * (1.0 / 3.0);
+                    let edge = p + (q - p) * along;
+                    let target = edge + (edge - mid) * out;
+                    let away = [1.5, 20.0, 1e4][k % 3] * s;
+                    let from = Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5);
+                    let origin = target + from.normalize_or(Vec3::Y) * away;
+                    let Ok(ray) = Ray::new(origin, target - origin) else {
+                        continue;
+                    };
+                    rays += 1;
+                    let shear = Shear::new(&ray);
+                    let hit =
+                        with_axes!(shear.axes, A => t.hit_with::<A>(&shear, f32::INFINITY), None);
+                    let Some(hit) = hit else {
+                        continue;
+                    };
+                    hits += 1;
+                    let at = NodeRay::new(&view, &ray);
+                    assert!(
+                        node.entry(&at, Known::NONE, hit.t).is_some(),
+                        "scale 2^{scale_pow}, {t:?}, {ray:?}: the triangle is hit at {} but \
+                         its node is rejected",
+                        hit.t
+                    );
+                }
+            }
+        }
+        assert!(
+            rays > 30_000 && hits > rays / 3,
+            "{hits} hits of {rays} rays"
+        );
     }
 
     /// The build splits on the axis whose split is cheapest, not on the one
