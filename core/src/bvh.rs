@@ -20,11 +20,16 @@
 //!
 //! - **conservative bounds**: a node is tested grown by a clearance of
 //!   [`CLEARANCE`]` (|origin| + 2 m + e)` for a ray from `origin` (`m` the largest
-//!   coordinate of the triangles' bounds, `e` their largest extent), more than 60
-//!   times the reach of the triangle test (module `cull`: a hit the triangle test
-//!   reports lies within about `30 u (|origin| + |point|)` of the triangle), and
-//!   the slab test's roundings stay far inside it ([`NodeRay`]); a NaN clearance
-//!   or origin makes every box "hit";
+//!   coordinate of the triangles' bounds, `e` their largest extent). A ray whose
+//!   line the triangle test finds on a triangle passes within about
+//!   `30 u (|origin| + |point|)` of it (module `cull`), and the test reports a
+//!   time at which the ray lies within a fourth of that clearance of the
+//!   triangle's box (module `geometry::triangle`'s `HIT_SLACK`, which bounds
+//!   the time where the barycentrics of a ray almost in the triangle's plane
+//!   cancel); the slab test's roundings stay far inside the clearance
+//!   (`NodeRay`). So every node holding the triangle is entered before the
+//!   reported time and left after it. A NaN clearance or origin makes every
+//!   box "hit";
 //! - **the same nearest hit**: the flat search keeps, among equal times, the
 //!   earliest triangle of the list; the traversal visits triangles in another order
 //!   and so keeps the smallest `(t, index)`: a triangle at the current best time
@@ -54,13 +59,14 @@ pub const LEAF: usize = 4;
 pub const TRAVERSAL: f32 = 2.0;
 /// The clearance a node's box is grown by, relative to the ray's origin and
 /// the hierarchy's reach: `c = CLEARANCE (|origin| + 2 m + e)` (`|origin|` its
-/// largest component; [`NodeRay`] says why no box a ray can hit is rejected).
-/// More than 60 times the triangle and sphere tests' error bounds, and about
-/// 1,000 times what the rays of the unit test
-/// `a_node_keeps_every_box_whose_triangle_a_ray_hits` need (it passes with
-/// 2^-22, fails with 2^-24). A fourth of the culling's clearance: a box grown
-/// less is entered by fewer rays (the node tests a search of `bvh-report`'s
-/// teapot table).
+/// largest component; `NodeRay` says why no box holding a hit is rejected).
+/// Four times the slack the triangle test leaves its reported time, and far
+/// beyond the sphere test's error. A fourth of the culling's clearance: a box
+/// grown less is entered by fewer rays (the node tests a search of
+/// `bvh-report`'s teapot table). The unit tests
+/// `a_node_keeps_every_box_whose_triangle_a_ray_hits` (rays at the vertices and
+/// edges) and `a_node_keeps_the_box_of_a_triangle_a_grazing_ray_hits` (rays
+/// almost in the plane) check it.
 pub const CLEARANCE: f32 = 1.0 / 4096.0;
 /// The fewest triangles for which [`SceneView::with_bvh`] uses a BVH: below, the
 /// flat list (and the tiles' culling) costs less. Measured on the host by
@@ -803,10 +809,14 @@ impl BvhNode {
 /// (|o| + 2 m)`. So a ray that passes through the box grown by `(1 - 2^-9) c`
 /// between the times 0 and `t_max`, in exact arithmetic, passes the test: the
 /// computed entry time of each slab is at most the exact entry of the grown
-/// box's slab and the computed exit at least its exit. The clearance `c` is far
-/// beyond the triangle test's own error: about `30 u (|o| + |p|)` (module
-/// `cull`) in lengths, at most `52 u (|o| + m)` in largest components, less
-/// than `2^-6 c`. That bound (and so this argument) holds at every scale: all
+/// box's slab and the computed exit at least its exit. What the node must
+/// hold: a triangle's reported time is one at which the ray lies within
+/// `2^-14 r` of the triangle's box, `r <= |o| + m` the largest coordinate of its
+/// vertices about the origin (`Triangle::hit_with` bounds it so), less than
+/// `c / 4`; a sphere's hit lies within a few tens of `u (|o| + m)` of the
+/// sphere. So the node's computed entry is at most the reported time and its
+/// exit at least it, and a node is never clipped away by `t_max` or 0 before
+/// a hit it holds. That bound (and so this argument) holds at every scale: all
 /// of it is relative to `|o| + m`. A zero direction component gives `1/d = +-inf`:
 /// the times are then `+-inf` of the right signs for an origin strictly
 /// inside the grown slab (the differences are nonzero there and rounding keeps
@@ -999,6 +1009,113 @@ mod tests {
         assert!(bvh.node_count() < 2 * 400);
     }
 
+    /// Uniform numbers in `[0, 1)` from a xorshift generator seeded with `seed`.
+    fn uniform(mut seed: u32) -> impl FnMut() -> f32 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        }
+    }
+
+    /// Whether the one-node hierarchy of `t` keeps its box for `ray` up to the
+    /// time the triangle test reports (`None` for no hit).
+    fn keeps(t: Triangle, ray: &crate::ray::Ray) -> Option<bool> {
+        use crate::geometry::triangle::{Shear, with_axes};
+        let prim = [Primitive {
+            geometry: t,
+            material: MaterialId(0),
+        }];
+        let mut bvh: Bvh<2, 2> = Bvh::new();
+        bvh.build(&prim).unwrap();
+        let view = bvh.view();
+        let shear = Shear::new(ray);
+        let hit = with_axes!(shear.axes, A => t.hit_with::<A>(&shear, f32::INFINITY), None)?;
+        let at = NodeRay::new(&view, ray);
+        Some(view.nodes[0].entry(&at, Known::NONE, hit.t).is_some())
+    }
+
+    /// A ray almost in a triangle's plane: the edge functions cancel, and the
+    /// barycentrics the hit's time comes from may put the ray's point far
+    /// from the triangle; the time reported must still lie where the ray is in
+    /// the triangle's box grown by the node tests' clearance, or a node test
+    /// clipping at that time loses a hit the flat search keeps. Rays through
+    /// points inside triangles of aspect 1 to 4,096, tilted 2^0 to 2^-23
+    /// off their planes, at scales 2^-20, 1 and 2^20, and a case found so
+    /// (which fails without the triangle test's bound on its time, whatever
+    /// the clearance).
+    #[test]
+    fn a_node_keeps_the_box_of_a_triangle_a_grazing_ray_hits() {
+        use crate::ray::Ray;
+        let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+        let found = Triangle::try_new(
+            v(-0.315_491_68, 0.967_968_34, 0.544_150_1),
+            v(0.054_899_096, -0.293_787_72, -0.785_270_7),
+            v(-0.310_468_85, -0.203_953_18, -1.022_389_9),
+        )
+        .unwrap();
+        let ray = Ray::new(
+            v(-0.924_798_9, 0.517_718_5, -0.655_918_5),
+            v(0.678_623_1, 0.051_120_52, 0.732_705_5),
+        )
+        .unwrap();
+        assert_eq!(keeps(found, &ray), Some(true));
+        let mut rand = uniform(0x9e37_79b9);
+        let (mut hits, mut lost) = (0usize, std::vec::Vec::new());
+        for scale_pow in [-20i32, 0, 20] {
+            let s = libm::ldexpf(1.0, scale_pow);
+            for aspect in [1.0f32, 4.0, 256.0, 4096.0] {
+                for _ in 0..200 {
+                    let mut r3 = || v(rand() - 0.5, rand() - 0.5, rand() - 0.5);
+                    let (centre, along, across) = (r3() * (4.0 * s), r3(), r3());
+                    let along = along.normalize_or(Vec3::X);
+                    let across = across.cross(along).normalize_or(Vec3::Y);
+                    let (a, b, c) = (
+                        centre,
+                        centre + along * s,
+                        centre + along * (0.5 * s) + across * (s / aspect),
+                    );
+                    let Ok(t) = Triangle::try_new(a, b, c) else {
+                        continue;
+                    };
+                    let normal = (b - a).cross(c - a).normalize_or(Vec3::Z);
+                    for k in 0..24 {
+                        let (w1, w2) = (rand(), rand());
+                        let (w1, w2) = if w1 + w2 > 1.0 {
+                            (1.0 - w1, 1.0 - w2)
+                        } else {
+                            (w1, w2)
+                        };
+                        let target = a + (b - a) * w1 + (c - a) * w2;
+                        let spin = rand() * core::f32::consts::TAU;
+                        let flat =
+                            along * libm::cosf(spin) + normal.cross(along) * libm::sinf(spin);
+                        let dir = flat + normal * libm::ldexpf(1.0, -k);
+                        let origin =
+                            target - dir.normalize_or(Vec3::X) * (s * (1.5 + 20.0 * rand()));
+                        let Ok(ray) = Ray::new(origin, target - origin) else {
+                            continue;
+                        };
+                        match keeps(t, &ray) {
+                            Some(true) => hits += 1,
+                            Some(false) => lost.push((t, ray)),
+                            None => {}
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            lost.is_empty(),
+            "{} of {} hits lost, the first {:?}",
+            lost.len(),
+            hits + lost.len(),
+            lost.first()
+        );
+        assert!(hits > 40_000, "{hits} hits");
+    }
+
     /// A node test never rejects the box of a triangle the triangle test hits,
     /// whatever the scale: rays from near and far aimed at the vertices, at
     /// points of the edges and just beyond them, of triangles tilted and lying
@@ -1013,13 +1130,7 @@ mod tests {
     fn a_node_keeps_every_box_whose_triangle_a_ray_hits() {
         use crate::geometry::triangle::{Shear, with_axes};
         use crate::ray::Ray;
-        let mut seed = 0x2545_f491_u32;
-        let mut rand = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            (seed >> 8) as f32 / (1u32 << 24) as f32
-        };
+        let mut rand = uniform(0x2545_f491);
         let (mut hits, mut rays) = (0usize, 0usize);
         for scale_pow in [-40i32, -20, -3, 0, 5, 20, 40] {
             let s = libm::ldexpf(1.0, scale_pow);

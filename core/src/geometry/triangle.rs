@@ -107,6 +107,8 @@ pub(crate) struct Shear {
     sy: f32,
     sz: f32,
     origin: Vec3,
+    /// The direction in the frame (`(d[kx], d[ky], d[kz])`, as `origin`).
+    dir: Vec3,
 }
 
 impl Shear {
@@ -141,9 +143,19 @@ impl Shear {
             sy,
             sz,
             origin,
+            dir: d,
         }
     }
 }
+
+/// How far beyond a triangle's box the triangle test lets its ray's point at
+/// the reported time lie, relative to the largest of the vertices'
+/// coordinates about the ray's origin ([`Triangle::hit_with`]): a fourth of
+/// the clearance `bvh::CLEARANCE` that a hierarchy's node tests grow boxes
+/// by (relative to the origin's largest coordinate plus more than the
+/// vertices' largest), so that a node holding a triangle is entered by its
+/// ray before the triangle's reported time and left after it.
+pub(crate) const HIT_SLACK: f32 = 1.0 / 16384.0;
 
 /// A double-sided triangle. Its outward normal follows the winding:
 /// `(p1 - p0) x (p2 - p0)`.
@@ -315,12 +327,70 @@ impl Triangle {
             let m = math::abs(b0 * z0) + math::abs(b1 * z1) + math::abs(b2 * z2);
             self.straddling_time(shear, t, m)
         };
+        let t = self.near_box::<A>(shear, t);
         // False for NaN.
         if t > 0.0 && t < t_max {
             Some(Candidate { t, b1, b2, face: 0 })
         } else {
             None
         }
+    }
+
+    /// `t`, unless the ray's point at `t` lies more than [`HIT_SLACK`]` r`
+    /// beyond the triangle's box (`r` the largest coordinate of the vertices
+    /// about the origin): then the time nearest `t` at which it lies within
+    /// half that of the box. The edge functions decide from the ray's line, whose
+    /// distance to the triangle they bound; the time comes from barycentrics
+    /// that, for a ray almost in the triangle's plane, cancel, and may put the
+    /// point far along the ray from the triangle (a node test that clipped its
+    /// box at that time would then lose a hit the flat search keeps). Within
+    /// the box as computed here, the point lies within the box grown by the
+    /// node tests' clearance, so every node holding the triangle is entered
+    /// before `t` and left after it (module `bvh`, [`HIT_SLACK`]). NaN stays
+    /// NaN.
+    #[inline(always)]
+    fn near_box<A: Axes>(&self, shear: &Shear, t: f32) -> f32 {
+        let o = shear.origin;
+        let frame = |p: Vec3| Vec3::new(p.get(A::X) - o.x, p.get(A::Y) - o.y, p.get(A::Z) - o.z);
+        let (a, b, c) = (frame(self.p0), frame(self.p1), frame(self.p2));
+        let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+        let slack = HIT_SLACK * lo.abs().max(hi.abs()).max_element();
+        let p = shear.dir * t;
+        let (lo, hi) = (lo - Vec3::splat(slack), hi + Vec3::splat(slack));
+        if p.x < lo.x || p.y < lo.y || p.z < lo.z || p.x > hi.x || p.y > hi.y || p.z > hi.z {
+            into_box(
+                t,
+                shear.dir,
+                lo + Vec3::splat(0.5 * slack),
+                hi - Vec3::splat(0.5 * slack),
+            )
+        } else {
+            t
+        }
+    }
+}
+
+/// The time nearest `t` at which the ray `dir t` lies in the box `[lo, hi]`
+/// (`t` when it never does, or for NaN): [`Triangle::near_box`]'s rare case,
+/// out of line.
+#[cold]
+#[inline(never)]
+fn into_box(t: f32, dir: Vec3, lo: Vec3, hi: Vec3) -> f32 {
+    let (mut t0, mut t1) = (f32::NEG_INFINITY, f32::INFINITY);
+    for k in 0..3 {
+        let d = dir.get(k);
+        if d == 0.0 || d.is_nan() {
+            continue;
+        }
+        let (a, b) = (lo.get(k) / d, hi.get(k) / d);
+        let (near, far) = if d < 0.0 { (b, a) } else { (a, b) };
+        t0 = math::max(t0, near);
+        t1 = math::min(t1, far);
+    }
+    if t0 <= t1 {
+        math::min(math::max(t, t0), t1)
+    } else {
+        t
     }
 }
 
