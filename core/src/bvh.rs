@@ -811,9 +811,9 @@ impl BvhNode {
 /// computed entry time of each slab is at most the exact entry of the grown
 /// box's slab and the computed exit at least its exit. What the node must
 /// hold: a triangle's reported time is one at which the ray lies within
-/// `2^-14 r` of the triangle's box, `r <= |o| + m` the largest coordinate of its
-/// vertices about the origin (`Triangle::hit_with` bounds it so), less than
-/// `c / 4`; a sphere's hit lies within a few tens of `u (|o| + m)` of the
+/// `2^-14 r` of the triangle's box, `r <= |o| + m` the largest distance of
+/// its vertices from the origin along the ray's dominant axis
+/// (`Triangle::hit_with` bounds it so), less than `c / 4`; a sphere's hit lies within a few tens of `u (|o| + m)` of the
 /// sphere. So the node's computed entry is at most the reported time and its
 /// exit at least it, and a node is never clipped away by `t_max` or 0 before
 /// a hit it holds. That bound (and so this argument) holds at every scale: all
