@@ -321,12 +321,12 @@ impl Triangle {
         // triangle far larger than its distance (a floor reaching behind the
         // camera), more than the whole time. Then the time comes from `f64`.
         let t = if (z0.to_bits() | z1.to_bits() | z2.to_bits()) >> 31 == 0 {
-            self.near_box::<A, false>(shear, e.z, t)
+            self.near_box(shear, [A::X, A::Y, A::Z], e.z, t, false)
         } else {
             // The terms' magnitude (b_i >= 0).
             let m = math::abs(b0 * z0) + math::abs(b1 * z1) + math::abs(b2 * z2);
             let t = self.straddling_time(shear, t, m);
-            self.near_box::<A, true>(shear, e.z, t)
+            self.near_box(shear, [A::X, A::Y, A::Z], e.z, t, true)
         };
         // False for NaN.
         if t > 0.0 && t < t_max {
@@ -349,12 +349,13 @@ impl Triangle {
     /// so every node holding the triangle is entered before `t` and left after
     /// it (module `bvh`, [`HIT_SLACK`]). A time that is the barycentric mean
     /// of the depths lies within their range, so only the frame's x and y are
-    /// checked; a time from `straddling_time` (`DEPTH`) is checked on z too.
+    /// checked; a time from `straddling_time` (`depth`) is checked on z too.
+    /// `axes`: the world's axes of the frame's x, y and z.
     /// NaN stays NaN. Out of line: inlined into the searches' triangle tests
     /// it cost the teapot more than the call does (3,124 against 3,087
     /// Cortex-M4F instructions a pixel at 64x64, `chip-report`).
     #[inline(never)]
-    fn near_box<A: Axes, const DEPTH: bool>(&self, shear: &Shear, z: [f32; 3], t: f32) -> f32 {
+    fn near_box(&self, shear: &Shear, axes: [usize; 3], z: [f32; 3], t: f32, depth: bool) -> f32 {
         let (o, d) = (shear.origin, shear.dir);
         let [z0, z1, z2] = z.map(math::abs);
         let slack = HIT_SLACK * math::abs(d.z) * math::max(math::max(z0, z1), z2);
@@ -367,8 +368,9 @@ impl Triangle {
             let p = d * t;
             p < math::min(math::min(a, b), c) - slack || p > math::max(math::max(a, b), c) + slack
         };
-        if outside(A::X, o.x, d.x) || outside(A::Y, o.y, d.y) || DEPTH && outside(A::Z, o.z, d.z) {
-            self.time_in_box::<A>(shear, t, slack)
+        let [x, y, z] = axes;
+        if outside(x, o.x, d.x) || outside(y, o.y, d.y) || depth && outside(z, o.z, d.z) {
+            self.time_in_box(shear, axes, t, slack)
         } else {
             t
         }
@@ -379,9 +381,9 @@ impl Triangle {
     /// when it never does, or for NaN).
     #[cold]
     #[inline(never)]
-    fn time_in_box<A: Axes>(&self, shear: &Shear, t: f32, slack: f32) -> f32 {
-        let o = shear.origin;
-        let frame = |p: Vec3| Vec3::new(p.get(A::X) - o.x, p.get(A::Y) - o.y, p.get(A::Z) - o.z);
+    fn time_in_box(&self, shear: &Shear, axes: [usize; 3], t: f32, slack: f32) -> f32 {
+        let (o, [x, y, z]) = (shear.origin, axes);
+        let frame = |p: Vec3| Vec3::new(p.get(x) - o.x, p.get(y) - o.y, p.get(z) - o.z);
         let (a, b, c) = (frame(self.p0), frame(self.p1), frame(self.p2));
         let half = Vec3::splat(0.5 * slack);
         into_box(t, shear.dir, a.min(b).min(c) - half, a.max(b).max(c) + half)
