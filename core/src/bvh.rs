@@ -68,6 +68,7 @@ pub const TRAVERSAL: f32 = 2.0;
 /// edges) and `a_node_keeps_the_box_of_a_triangle_a_grazing_ray_hits` (rays
 /// almost in the plane) check it.
 pub const CLEARANCE: f32 = 1.0 / 4096.0;
+const _: () = assert!(4.0 * crate::geometry::triangle::HIT_SLACK <= CLEARANCE);
 /// The fewest triangles for which [`SceneView::with_bvh`] uses a BVH: below, the
 /// flat list (and the tiles' culling) costs less. Measured on the host by
 /// `cargo run -p tessera-tests --release --bin bvh-report` (an icosphere and parts

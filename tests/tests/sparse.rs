@@ -498,23 +498,17 @@ fn the_coarse_grid_follows_what_the_camera_can_see() {
             .unwrap();
             s.add_triangle(t, red).unwrap();
         }
-        if hidden_box {
-            let b = tessera_core::geometry::Aabb::try_new(
-                Vec3::new(0.0, 5.0, 8.0),
-                Vec3::new(0.5, 5.5, 8.5),
-            )
-            .unwrap();
+        let mut add_box = |min: Vec3, max: Vec3| {
+            let b = tessera_core::geometry::Aabb::try_new(min, max).unwrap();
             s.add_box(b, red).unwrap();
+        };
+        if hidden_box {
+            add_box(Vec3::new(0.0, 5.0, 8.0), Vec3::new(0.5, 5.5, 8.5));
         }
         if thin_box {
             // 0.04 across, from z = 12 (behind) to z = 1.5 (in the middle of
             // the frame): its inner ball, at z = 6.75, is behind the camera.
-            let b = tessera_core::geometry::Aabb::try_new(
-                Vec3::new(0.0, 2.8, 1.5),
-                Vec3::new(0.04, 2.84, 12.0),
-            )
-            .unwrap();
-            s.add_box(b, red).unwrap();
+            add_box(Vec3::new(0.0, 2.8, 1.5), Vec3::new(0.04, 2.84, 12.0));
         }
         let r = s
             .renderer(Viewport::new(W, H), settings(Sampler::sparse_spaced(4)))

@@ -320,6 +320,8 @@ impl Triangle {
         // them cancel, leaving an error of a few ulps of the largest term: for a
         // triangle far larger than its distance (a floor reaching behind the
         // camera), more than the whole time. Then the time comes from `f64`.
+        // Bounded before the range test, whatever `t_max`: a triangle's time
+        // is then the same in every search, whichever order it is met in.
         let t = if (z0.to_bits() | z1.to_bits() | z2.to_bits()) >> 31 == 0 {
             self.near_box(shear, [A::X, A::Y, A::Z], e.z, t, false)
         } else {
@@ -386,28 +388,23 @@ impl Triangle {
         let frame = |p: Vec3| Vec3::new(p.get(x) - o.x, p.get(y) - o.y, p.get(z) - o.z);
         let (a, b, c) = (frame(self.p0), frame(self.p1), frame(self.p2));
         let half = Vec3::splat(0.5 * slack);
-        into_box(t, shear.dir, a.min(b).min(c) - half, a.max(b).max(c) + half)
-    }
-}
-
-/// The time nearest `t` at which the ray `dir t` lies in the box `[lo, hi]`
-/// (`t` when it never does, or for NaN).
-fn into_box(t: f32, dir: Vec3, lo: Vec3, hi: Vec3) -> f32 {
-    let (mut t0, mut t1) = (f32::NEG_INFINITY, f32::INFINITY);
-    for k in 0..3 {
-        let d = dir.get(k);
-        if d == 0.0 || d.is_nan() {
-            continue;
+        let (lo, hi) = (a.min(b).min(c) - half, a.max(b).max(c) + half);
+        let (mut t0, mut t1) = (f32::NEG_INFINITY, f32::INFINITY);
+        for k in 0..3 {
+            let d = shear.dir.get(k);
+            if d == 0.0 || d.is_nan() {
+                continue;
+            }
+            let (a, b) = (lo.get(k) / d, hi.get(k) / d);
+            let (near, far) = if d < 0.0 { (b, a) } else { (a, b) };
+            t0 = math::max(t0, near);
+            t1 = math::min(t1, far);
         }
-        let (a, b) = (lo.get(k) / d, hi.get(k) / d);
-        let (near, far) = if d < 0.0 { (b, a) } else { (a, b) };
-        t0 = math::max(t0, near);
-        t1 = math::min(t1, far);
-    }
-    if t0 <= t1 {
-        math::min(math::max(t, t0), t1)
-    } else {
-        t
+        if t0 <= t1 {
+            math::min(math::max(t, t0), t1)
+        } else {
+            t
+        }
     }
 }
 
